@@ -1,0 +1,39 @@
+#pragma once
+// The bake pipeline: scene.json -> import and validate meshes -> Draco ->
+// .cxb bytes. Pure function of its inputs (no clocks, no paths of the
+// machine in the output): the same inputs give byte-identical bytes.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "caustix/bake/mesh_compress.h"
+#include "caustix/common/status.h"
+
+namespace caustix::bake {
+
+struct BakeOptions {
+  DracoOptions draco;
+};
+
+struct MeshStats {
+  std::string path;
+  std::uint32_t vertices = 0;
+  std::uint32_t triangles = 0;
+  std::uint64_t raw_bytes = 0;    // float32 positions + normals + uint32 indices
+  std::uint64_t draco_bytes = 0;
+  double max_position_error = 0;  // bound in metres (object space)
+  bool normals_from_file = false;
+};
+
+struct BakeResult {
+  std::vector<std::uint8_t> cxb;
+  std::vector<MeshStats> meshes;
+  std::vector<std::string> warnings;
+  std::vector<std::string> inputs;  // every file read (for --depfile)
+  double seconds_import = 0, seconds_compress = 0, seconds_write = 0;
+};
+
+Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);
+
+}  // namespace caustix::bake

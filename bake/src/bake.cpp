@@ -1,0 +1,82 @@
+#include "caustix/bake/bake.h"
+
+#include <chrono>
+
+#include "caustix/bake/mesh_import.h"
+#include "caustix/bake/scene_json.h"
+#include "caustix/formats/scene.h"
+
+namespace caustix::bake {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
+  BakeResult out;
+  auto doc = load_scene_json(scene_path);
+  if (!doc) return doc.error();
+  out.inputs.push_back(scene_path);
+  out.warnings = doc->warnings;
+  SceneDesc& scene = doc->scene;
+
+  std::vector<std::vector<std::uint8_t>> draco_streams;
+  for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
+    const std::string& path = doc->mesh_paths[i];
+    out.inputs.push_back(path);
+    auto t0 = Clock::now();
+    auto imported = import_mesh(path);
+    if (!imported) return imported.error();
+    for (const auto& w : imported->warnings) out.warnings.push_back(path + ": " + w);
+    const TriangleMesh& mesh = imported->mesh;
+    if (mesh.positions.size() > kMaxMeshVertices) {
+      return make_error(ErrorCode::kInput, path + ": " + std::to_string(mesh.positions.size()) +
+                                               " vertices exceeds the limit of " + std::to_string(kMaxMeshVertices));
+    }
+    out.seconds_import += seconds_since(t0);
+
+    t0 = Clock::now();
+    auto stream = encode_draco(mesh, options.draco);
+    if (!stream) return Error{stream.error().code, path + ": " + stream.error().message};
+    out.seconds_compress += seconds_since(t0);
+
+    MeshInfo& info = scene.meshes[i];
+    info.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
+    info.triangle_count = static_cast<std::uint32_t>(mesh.triangles.size());
+    info.position_bits = static_cast<std::uint8_t>(options.draco.position_bits);
+    info.normal_bits = static_cast<std::uint8_t>(options.draco.normal_bits);
+    info.bounds_min = mesh.positions[0];
+    info.bounds_max = mesh.positions[0];
+    for (const auto& p : mesh.positions) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        info.bounds_min[k] = std::min(info.bounds_min[k], p[k]);
+        info.bounds_max[k] = std::max(info.bounds_max[k], p[k]);
+      }
+    }
+
+    MeshStats st;
+    st.path = path;
+    st.vertices = info.vertex_count;
+    st.triangles = info.triangle_count;
+    st.raw_bytes = mesh.positions.size() * 24 + mesh.triangles.size() * 12;
+    st.draco_bytes = stream->size();
+    st.max_position_error = position_error_bound(info.bounds_min, info.bounds_max, options.draco.position_bits);
+    st.normals_from_file = imported->normals_from_file;
+    out.meshes.push_back(st);
+    draco_streams.push_back(std::move(*stream));
+  }
+
+  if (auto issue = validate_scene(scene)) {
+    return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
+  }
+  const auto t0 = Clock::now();
+  out.cxb = encode_scene(scene, draco_streams);
+  out.seconds_write = seconds_since(t0);
+  return out;
+}
+
+}  // namespace caustix::bake

@@ -1,0 +1,54 @@
+#include "caustix/bake/mesh_compress.h"
+
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+#include <algorithm>
+
+namespace caustix::bake {
+
+double position_error_bound(const std::array<float, 3>& lo, const std::array<float, 3>& hi, int bits) {
+  double range = 0;
+  for (int i = 0; i < 3; ++i) range = std::max(range, double{hi[static_cast<std::size_t>(i)]} - lo[static_cast<std::size_t>(i)]);
+  if (range <= 0) range = 1;  // Draco's own convention for flat ranges
+  const double delta = range / static_cast<double>((std::uint64_t{1} << bits) - 1);
+  // Half a quantisation step, plus float rounding of min + q * delta.
+  return 0.5 * delta + 4e-7 * (range + std::max(std::abs(double{lo[0]}), std::max(std::abs(double{lo[1]}), std::abs(double{lo[2]}))));
+}
+
+Result<std::vector<std::uint8_t>> encode_draco(const TriangleMesh& in, const DracoOptions& opt) {
+  if (opt.position_bits < 8 || opt.position_bits > 30 || opt.normal_bits < 6 || opt.normal_bits > 30 ||
+      opt.speed < 0 || opt.speed > 10) {
+    return make_error(ErrorCode::kUsage, "Draco options out of range");
+  }
+  draco::Mesh mesh;
+  const auto n = static_cast<std::uint32_t>(in.positions.size());
+  mesh.set_num_points(n);
+
+  auto add = [&](draco::GeometryAttribute::Type type, const std::vector<std::array<float, 3>>& values) {
+    draco::GeometryAttribute ga;
+    ga.Init(type, nullptr, 3, draco::DT_FLOAT32, false, sizeof(float) * 3, 0);
+    const int id = mesh.AddAttribute(ga, /*identity_mapping=*/true, n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      mesh.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), values[i].data());
+    }
+  };
+  add(draco::GeometryAttribute::POSITION, in.positions);
+  add(draco::GeometryAttribute::NORMAL, in.normals);
+  for (const auto& t : in.triangles) {
+    mesh.AddFace(draco::Mesh::Face{draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
+  }
+
+  draco::Encoder encoder;
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, opt.position_bits);
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, opt.normal_bits);
+  encoder.SetSpeedOptions(opt.speed, opt.speed);
+  encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+  draco::EncoderBuffer buffer;
+  const draco::Status st = encoder.EncodeMeshToBuffer(mesh, &buffer);
+  if (!st.ok()) return make_error(ErrorCode::kInternal, std::string("Draco encoding failed: ") + st.error_msg());
+  const auto* data = reinterpret_cast<const std::uint8_t*>(buffer.data());
+  return std::vector<std::uint8_t>(data, data + buffer.size());
+}
+
+}  // namespace caustix::bake

@@ -1,0 +1,383 @@
+// scene.json front end. The schema is documented in docs/scene-format.md;
+// value ranges live in formats' validate_scene(), shared with the .cxb reader.
+
+#include "caustix/bake/scene_json.h"
+
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <map>
+
+#include "caustix/formats/file_io.h"
+#include "json_locations.h"
+
+namespace caustix::bake {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Walks the DOM with the current JSON pointer, turning every problem into a
+// located error. Getters return false after recording the first error.
+class Walker {
+ public:
+  Walker(const LocatedJson& doc, std::string file) : doc_(doc), file_(std::move(file)) {}
+
+  std::string where(const std::string& pointer) const {
+    // The pointer itself, or its nearest ancestor that has a position.
+    std::string p = pointer;
+    while (true) {
+      const auto it = doc_.positions.find(p);
+      if (it != doc_.positions.end()) {
+        return file_ + ":" + std::to_string(it->second.line) + ":" + std::to_string(it->second.column);
+      }
+      if (p.empty()) return file_ + ":1:1";
+      p = p.substr(0, p.rfind('/'));
+    }
+  }
+  bool fail(const std::string& pointer, const std::string& msg) {
+    if (!error_) error_ = make_error(ErrorCode::kInput, where(pointer) + ": " + (pointer.empty() ? "/" : pointer) + ": " + msg);
+    return false;
+  }
+  void warn(const std::string& pointer, const std::string& msg) {
+    warnings_.push_back(where(pointer) + ": " + pointer + ": " + msg);
+  }
+  const std::optional<Error>& error() const { return error_; }
+  std::vector<std::string>& warnings() { return warnings_; }
+
+  // Warns about members not in `known`.
+  void check_fields(const json& obj, const std::string& ptr, std::initializer_list<const char*> known) {
+    for (const auto& [k, v] : obj.items()) {
+      bool found = false;
+      for (const char* name : known) found = found || k == name;
+      if (!found) warn(ptr + "/" + pointer_token(k), "unknown field \"" + k + "\" (ignored)");
+    }
+  }
+
+  bool object(const json& v, const std::string& ptr) {
+    return v.is_object() || fail(ptr, "expected an object, got " + type_of(v));
+  }
+  // A member that must exist.
+  const json* member(const json& obj, const std::string& ptr, const char* key) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) {
+      fail(ptr, std::string("missing required field \"") + key + "\"");
+      return nullptr;
+    }
+    return &*it;
+  }
+  static const json* optional_member(const json& obj, const char* key) {
+    const auto it = obj.find(key);
+    return it == obj.end() ? nullptr : &*it;
+  }
+
+  bool number(const json& v, const std::string& ptr, float& out) {
+    if (!v.is_number()) return fail(ptr, "expected a number, got " + type_of(v));
+    const double d = v.get<double>();
+    if (!std::isfinite(d) || std::fabs(d) > 3.0e38) return fail(ptr, "number out of range");
+    out = static_cast<float>(d);
+    return true;
+  }
+  bool integer(const json& v, const std::string& ptr, std::uint32_t& out) {
+    if (!v.is_number_integer()) return fail(ptr, "expected a whole number, got " + type_of(v));
+    if (v.is_number_unsigned() ? v.get<std::uint64_t>() > UINT32_MAX : v.get<std::int64_t>() < 0) {
+      return fail(ptr, "expected a whole number in [0, 4294967295]");
+    }
+    out = static_cast<std::uint32_t>(v.get<std::uint64_t>());
+    return true;
+  }
+  bool string(const json& v, const std::string& ptr, std::string& out) {
+    if (!v.is_string()) return fail(ptr, "expected a string, got " + type_of(v));
+    out = v.get<std::string>();
+    return true;
+  }
+  bool boolean(const json& v, const std::string& ptr, bool& out) {
+    if (!v.is_boolean()) return fail(ptr, "expected true or false, got " + type_of(v));
+    out = v.get<bool>();
+    return true;
+  }
+  template <std::size_t N>
+  bool numbers(const json& v, const std::string& ptr, std::array<float, N>& out) {
+    if (!v.is_array() || v.size() != N) {
+      return fail(ptr, "expected an array of " + std::to_string(N) + " numbers, got " + type_of(v));
+    }
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!number(v[i], ptr + "/" + std::to_string(i), out[i])) return false;
+    }
+    return true;
+  }
+  // A number applied to every component, or an array of 3.
+  bool scalar_or_vec3(const json& v, const std::string& ptr, Vec3f& out) {
+    if (v.is_number()) {
+      float f = 0;
+      if (!number(v, ptr, f)) return false;
+      out = {f, f, f};
+      return true;
+    }
+    return numbers(v, ptr, out);
+  }
+
+  static std::string type_of(const json& v) {
+    if (v.is_array()) return "an array of " + std::to_string(v.size());
+    return std::string(v.type_name());
+  }
+
+ private:
+  const LocatedJson& doc_;
+  std::string file_;
+  std::optional<Error> error_;
+  std::vector<std::string> warnings_;
+};
+
+// Column-major 4x4 product.
+Mat4f mul(const Mat4f& a, const Mat4f& b) {
+  Mat4f r{};
+  for (int c = 0; c < 4; ++c) {
+    for (int rr = 0; rr < 4; ++rr) {
+      float s = 0;
+      for (int k = 0; k < 4; ++k) s += a[static_cast<std::size_t>(k * 4 + rr)] * b[static_cast<std::size_t>(c * 4 + k)];
+      r[static_cast<std::size_t>(c * 4 + rr)] = s;
+    }
+  }
+  return r;
+}
+
+Mat4f rotation(int axis, double deg) {
+  const double r = deg * kPi / 180.0;
+  const auto c = static_cast<float>(std::cos(r)), s = static_cast<float>(std::sin(r));
+  Mat4f m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // rotate a toward b
+  m[static_cast<std::size_t>(a * 4 + a)] = c;
+  m[static_cast<std::size_t>(a * 4 + b)] = s;
+  m[static_cast<std::size_t>(b * 4 + a)] = -s;
+  m[static_cast<std::size_t>(b * 4 + b)] = c;
+  return m;
+}
+
+bool parse_transform(Walker& w, const json& v, const std::string& ptr, Mat4f& out) {
+  if (!w.object(v, ptr)) return false;
+  w.check_fields(v, ptr, {"matrix", "translate", "rotate_deg", "scale"});
+  if (const json* m = Walker::optional_member(v, "matrix")) {
+    if (v.size() != 1) return w.fail(ptr, "\"matrix\" cannot be combined with translate/rotate_deg/scale");
+    std::array<float, 16> rows{};
+    if (!w.numbers(*m, ptr + "/matrix", rows)) return false;
+    // Written row-major (as read); stored column-major.
+    for (std::size_t r = 0; r < 4; ++r) {
+      for (std::size_t c = 0; c < 4; ++c) out[c * 4 + r] = rows[r * 4 + c];
+    }
+    return true;
+  }
+  Vec3f t{0, 0, 0}, rot{0, 0, 0}, s{1, 1, 1};
+  if (const json* j = Walker::optional_member(v, "translate"); j && !w.numbers(*j, ptr + "/translate", t)) return false;
+  if (const json* j = Walker::optional_member(v, "rotate_deg"); j && !w.numbers(*j, ptr + "/rotate_deg", rot)) return false;
+  if (const json* j = Walker::optional_member(v, "scale"); j && !w.scalar_or_vec3(*j, ptr + "/scale", s)) return false;
+  // M = T * Rz * Ry * Rx * S: scale first, then rotate about x, y, z.
+  Mat4f m{s[0], 0, 0, 0, 0, s[1], 0, 0, 0, 0, s[2], 0, 0, 0, 0, 1};
+  m = mul(rotation(0, rot[0]), m);
+  m = mul(rotation(1, rot[1]), m);
+  m = mul(rotation(2, rot[2]), m);
+  m[12] = t[0];
+  m[13] = t[1];
+  m[14] = t[2];
+  out = m;
+  return true;
+}
+
+bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out) {
+  if (!w.object(v, ptr)) return false;
+  w.check_fields(v, ptr, {"albedo", "transparent", "ior"});
+  if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
+  if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
+  if (const json* j = Walker::optional_member(v, "ior")) {
+    if (!w.number(*j, ptr + "/ior", out.ior)) return false;
+    if (!out.transparent) w.warn(ptr + "/ior", "\"ior\" has no effect on an opaque material");
+  }
+  return true;
+}
+
+bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::filesystem::path& base) {
+  const json* objs = w.member(root, "", "objects");
+  if (!objs) return false;
+  if (!objs->is_array()) return w.fail("/objects", "expected an array of objects, got " + Walker::type_of(*objs));
+  std::map<std::string, std::uint32_t> mesh_by_path;
+  for (std::size_t i = 0; i < objs->size(); ++i) {
+    const json& o = (*objs)[i];
+    const std::string ptr = "/objects/" + std::to_string(i);
+    if (!w.object(o, ptr)) return false;
+    w.check_fields(o, ptr, {"name", "mesh", "role", "material", "transform"});
+    Object obj;
+    const json* name = w.member(o, ptr, "name");
+    if (!name || !w.string(*name, ptr + "/name", obj.name)) return false;
+    const json* mesh = w.member(o, ptr, "mesh");
+    std::string mesh_src;
+    if (!mesh || !w.string(*mesh, ptr + "/mesh", mesh_src)) return false;
+    if (mesh_src.empty()) return w.fail(ptr + "/mesh", "mesh path is empty");
+    if (const json* j = Walker::optional_member(o, "role")) {
+      std::string role;
+      if (!w.string(*j, ptr + "/role", role)) return false;
+      if (role == "receiver") obj.role = Role::kReceiver;
+      else if (role == "transparent") obj.role = Role::kTransparent;
+      else if (role == "both") obj.role = Role::kBoth;
+      else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\" or \"both\", got \"" + role + "\"");
+    }
+    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material)) return false;
+    if (const json* j = Walker::optional_member(o, "transform"); j && !parse_transform(w, *j, ptr + "/transform", obj.transform)) return false;
+
+    // One mesh per distinct resolved file, numbered in order of first use.
+    const std::filesystem::path resolved = (base / mesh_src).lexically_normal();
+    const auto [it, inserted] = mesh_by_path.emplace(resolved.string(), static_cast<std::uint32_t>(doc.mesh_paths.size()));
+    if (inserted) {
+      doc.mesh_paths.push_back(resolved.string());
+      MeshInfo info;
+      info.source = mesh_src;
+      doc.scene.meshes.push_back(info);
+    }
+    obj.mesh_index = it->second;
+    doc.scene.objects.push_back(obj);
+  }
+  return true;
+}
+
+bool parse_lights(Walker& w, const json& root, SceneDesc& scene) {
+  const json* lights = Walker::optional_member(root, "lights");
+  if (!lights) return true;
+  if (!lights->is_array()) return w.fail("/lights", "expected an array of lights, got " + Walker::type_of(*lights));
+  for (std::size_t i = 0; i < lights->size(); ++i) {
+    const json& l = (*lights)[i];
+    const std::string ptr = "/lights/" + std::to_string(i);
+    if (!w.object(l, ptr)) return false;
+    Light light;
+    std::string type;
+    const json* t = w.member(l, ptr, "type");
+    if (!t || !w.string(*t, ptr + "/type", type)) return false;
+    if (const json* j = Walker::optional_member(l, "name"); j && !w.string(*j, ptr + "/name", light.name)) return false;
+    if (const json* j = Walker::optional_member(l, "color"); j && !w.scalar_or_vec3(*j, ptr + "/color", light.color)) return false;
+    if (type == "directional") {
+      w.check_fields(l, ptr, {"type", "name", "color", "direction", "irradiance"});
+      light.type = LightType::kDirectional;
+      const json* d = w.member(l, ptr, "direction");
+      if (!d || !w.numbers(*d, ptr + "/direction", light.direction)) return false;
+      if (const json* j = Walker::optional_member(l, "irradiance"); j && !w.number(*j, ptr + "/irradiance", light.irradiance)) return false;
+    } else if (type == "point") {
+      w.check_fields(l, ptr, {"type", "name", "color", "position", "intensity"});
+      light.type = LightType::kPoint;
+      const json* p = w.member(l, ptr, "position");
+      if (!p || !w.numbers(*p, ptr + "/position", light.position)) return false;
+      if (const json* j = Walker::optional_member(l, "intensity"); j && !w.number(*j, ptr + "/intensity", light.intensity)) return false;
+    } else {
+      return w.fail(ptr + "/type", "expected \"directional\" or \"point\", got \"" + type + "\"");
+    }
+    scene.lights.push_back(light);
+  }
+  return true;
+}
+
+bool parse_water(Walker& w, const json& root, SceneDesc& scene) {
+  const json* wj = Walker::optional_member(root, "water");
+  if (!wj) return true;
+  const std::string ptr = "/water";
+  if (!w.object(*wj, ptr)) return false;
+  w.check_fields(*wj, ptr, {"level", "ior", "absorption", "grid", "waves"});
+  Water water;
+  const json* level = w.member(*wj, ptr, "level");
+  if (!level || !w.number(*level, ptr + "/level", water.level)) return false;
+  if (const json* j = Walker::optional_member(*wj, "ior"); j && !w.number(*j, ptr + "/ior", water.ior)) return false;
+  if (const json* j = Walker::optional_member(*wj, "absorption"); j && !w.scalar_or_vec3(*j, ptr + "/absorption", water.absorption)) return false;
+  if (const json* g = Walker::optional_member(*wj, "grid")) {
+    if (!w.object(*g, ptr + "/grid")) return false;
+    w.check_fields(*g, ptr + "/grid", {"cells", "extent"});
+    if (const json* c = Walker::optional_member(*g, "cells")) {
+      const std::string cp = ptr + "/grid/cells";
+      if (!c->is_array() || c->size() != 2) return w.fail(cp, "expected [cells_x, cells_z], got " + Walker::type_of(*c));
+      if (!w.integer((*c)[0], cp + "/0", water.cells[0]) || !w.integer((*c)[1], cp + "/1", water.cells[1])) return false;
+    }
+    if (const json* e = Walker::optional_member(*g, "extent"); e && !w.numbers(*e, ptr + "/grid/extent", water.extent)) return false;
+  }
+  if (const json* waves = Walker::optional_member(*wj, "waves")) {
+    if (!waves->is_array()) return w.fail(ptr + "/waves", "expected an array of waves, got " + Walker::type_of(*waves));
+    if (waves->size() > kMaxWaves) return w.fail(ptr + "/waves", "more than " + std::to_string(kMaxWaves) + " waves");
+    for (std::size_t i = 0; i < waves->size(); ++i) {
+      const json& wv = (*waves)[i];
+      const std::string wp = ptr + "/waves/" + std::to_string(i);
+      if (!w.object(wv, wp)) return false;
+      w.check_fields(wv, wp, {"amplitude", "wavelength", "direction", "speed", "phase"});
+      Wave wave;
+      const json* a = w.member(wv, wp, "amplitude");
+      if (!a || !w.number(*a, wp + "/amplitude", wave.amplitude)) return false;
+      const json* l = w.member(wv, wp, "wavelength");
+      if (!l || !w.number(*l, wp + "/wavelength", wave.wavelength)) return false;
+      if (const json* j = Walker::optional_member(wv, "direction"); j && !w.numbers(*j, wp + "/direction", wave.direction)) return false;
+      if (const json* j = Walker::optional_member(wv, "speed"); j && !w.number(*j, wp + "/speed", wave.speed)) return false;
+      if (const json* j = Walker::optional_member(wv, "phase"); j && !w.number(*j, wp + "/phase", wave.phase)) return false;
+      water.waves.push_back(wave);
+    }
+  }
+  scene.water = water;
+  return true;
+}
+
+bool parse_camera(Walker& w, const json& root, SceneDesc& scene) {
+  const json* cj = Walker::optional_member(root, "camera");
+  if (!cj) return true;
+  const std::string ptr = "/camera";
+  if (!w.object(*cj, ptr)) return false;
+  w.check_fields(*cj, ptr, {"position", "target", "up", "fov_y_deg", "near", "far"});
+  Camera cam;
+  const json* p = w.member(*cj, ptr, "position");
+  if (!p || !w.numbers(*p, ptr + "/position", cam.position)) return false;
+  const json* t = w.member(*cj, ptr, "target");
+  if (!t || !w.numbers(*t, ptr + "/target", cam.target)) return false;
+  if (const json* j = Walker::optional_member(*cj, "up"); j && !w.numbers(*j, ptr + "/up", cam.up)) return false;
+  if (const json* j = Walker::optional_member(*cj, "fov_y_deg"); j && !w.number(*j, ptr + "/fov_y_deg", cam.fov_y_deg)) return false;
+  if (const json* j = Walker::optional_member(*cj, "near"); j && !w.number(*j, ptr + "/near", cam.near_plane)) return false;
+  if (const json* j = Walker::optional_member(*cj, "far"); j && !w.number(*j, ptr + "/far", cam.far_plane)) return false;
+  scene.camera = cam;
+  return true;
+}
+
+}  // namespace
+
+Result<SceneDocument> parse_scene_json(const std::string& text, const std::string& path) {
+  const LocatedJson doc = parse_located_json(text);
+  if (!doc.error.empty()) {
+    // nlohmann reports "line L, column C: ..."; make it FILE:L:C.
+    std::string msg = doc.error;
+    std::size_t line = 0, col = 0;
+    if (std::sscanf(msg.c_str(), "line %zu, column %zu", &line, &col) == 2) {
+      const auto colon = msg.find(": ");
+      msg = path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " +
+            (colon == std::string::npos ? msg : msg.substr(colon + 2));
+    } else {
+      msg = path + ": " + msg;
+    }
+    return make_error(ErrorCode::kInput, msg);
+  }
+  Walker w(doc, path);
+  SceneDocument out;
+  const json& root = doc.root;
+  if (!w.object(root, "")) return *w.error();
+  w.check_fields(root, "", {"name", "objects", "lights", "water", "camera", "$schema", "comment"});
+  if (const json* j = Walker::optional_member(root, "name"); j && !w.string(*j, "/name", out.scene.name)) return *w.error();
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  if (!parse_objects(w, root, out, base) || !parse_lights(w, root, out.scene) ||
+      !parse_water(w, root, out.scene) || !parse_camera(w, root, out.scene)) {
+    return *w.error();
+  }
+  if (out.scene.lights.empty()) w.warn("/lights", "the scene has no lights; everything will be dark");
+  if (auto issue = validate_scene(out.scene, /*check_meshes=*/false)) {
+    w.fail(issue->pointer, issue->message);
+    return *w.error();
+  }
+  normalize_scene(out.scene);
+  out.warnings = std::move(w.warnings());
+  return out;
+}
+
+Result<SceneDocument> load_scene_json(const std::string& path) {
+  auto bytes = read_file(path, std::uint64_t{64} << 20);
+  if (!bytes) return bytes.error();
+  return parse_scene_json(std::string(bytes->begin(), bytes->end()), path);
+}
+
+}  // namespace caustix::bake

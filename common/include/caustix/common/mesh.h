@@ -1,0 +1,18 @@
+#pragma once
+// An indexed triangle mesh in object space: what the baker imports and the
+// runtime decodes. Plain data; invariants are established by the importer
+// (bake/mesh_import.h) and checked again by the decoder.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace caustix {
+
+struct TriangleMesh {
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<float, 3>> normals;  // unit, one per position
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise = front
+};
+
+}  // namespace caustix

@@ -1,0 +1,149 @@
+#pragma once
+// The scene description as it travels from scene.json through the .cxb to
+// the runtime: objects (with material, role, transform and mesh metadata),
+// lights, water and the default camera. Units are metres, world space is
+// right-handed with +y up, colours are linear RGB (shared/DESIGN.md).
+//
+// encode_scene() turns a SceneDesc plus one Draco stream per mesh into a
+// .cxb; decode_scene() is its inverse over a validated Container and is as
+// safe on hostile bytes as read_container(): every count, index, enum and
+// float is checked, and an error names the chunk, the byte offset in its
+// payload and the field.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/container.h"
+
+namespace caustix {
+
+using Vec2f = std::array<float, 2>;
+using Vec3f = std::array<float, 3>;
+using Mat4f = std::array<float, 16>;  // column-major, object -> world
+
+// On-disk enums: never renumber.
+enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3 };
+enum class LightType : std::uint8_t { kDirectional = 1, kPoint = 2 };
+
+inline bool is_receiver(Role r) { return r == Role::kReceiver || r == Role::kBoth; }
+inline bool is_transparent(Role r) { return r == Role::kTransparent || r == Role::kBoth; }
+
+struct Material {
+  Vec3f albedo{0.8f, 0.8f, 0.8f};  // diffuse reflectance, each in [0, 1]
+  bool transparent = false;
+  float ior = 1.5f;                // used when transparent; >= 1
+};
+
+// What the baker recorded about an encoded mesh; the runtime checks the
+// decoded mesh against it.
+struct MeshInfo {
+  std::string source;              // file name as given in scene.json
+  std::uint32_t vertex_count = 0;
+  std::uint32_t triangle_count = 0;
+  std::uint8_t position_bits = 0;  // Draco quantisation of positions
+  std::uint8_t normal_bits = 0;    // Draco quantisation of normals
+  Vec3f bounds_min{};              // object space, before quantisation
+  Vec3f bounds_max{};
+};
+
+struct Object {
+  std::string name;
+  std::uint32_t mesh_index = 0;
+  Role role = Role::kReceiver;
+  Material material;
+  Mat4f transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+};
+
+struct Light {
+  LightType type = LightType::kDirectional;
+  std::string name;
+  Vec3f color{1, 1, 1};            // linear RGB tint, each >= 0
+  Vec3f direction{0, -1, 0};       // directional: unit direction of travel
+  float irradiance = 1.0f;         // directional: E0 in W/m^2, >= 0
+  Vec3f position{0, 5, 0};         // point
+  float intensity = 1.0f;          // point: W/sr, >= 0
+};
+
+// Water height y(x, z, t) = level + sum_i A_i sin(k_i (d_i . (x, z) - c_i t) + phi_i),
+// k_i = 2 pi / wavelength_i, d_i a unit 2-D direction.
+struct Wave {
+  float amplitude = 0.0f;          // metres, >= 0
+  float wavelength = 1.0f;         // metres, > 0
+  Vec2f direction{1, 0};           // unit (x, z)
+  float speed = 0.0f;              // metres per second (phase speed)
+  float phase = 0.0f;              // radians
+};
+
+struct Water {
+  float level = 0.0f;
+  float ior = 1.33f;
+  Vec3f absorption{0, 0, 0};       // K per metre, per RGB channel, >= 0
+  std::array<std::uint32_t, 2> cells{128, 128};  // grid quads along x and z
+  std::array<float, 4> extent{-2, -2, 2, 2};     // x0, z0, x1, z1
+  std::vector<Wave> waves;
+};
+
+struct Camera {
+  Vec3f position{0, 4, 6};
+  Vec3f target{0, 0, 0};
+  Vec3f up{0, 1, 0};
+  float fov_y_deg = 45.0f;
+  float near_plane = 0.05f;
+  float far_plane = 100.0f;
+};
+
+struct SceneDesc {
+  std::string name;
+  std::vector<MeshInfo> meshes;
+  std::vector<Object> objects;
+  std::vector<Light> lights;
+  std::optional<Water> water;
+  std::optional<Camera> camera;
+};
+
+// Limits that keep hostile or absurd inputs bounded (also documented in
+// docs/scene-format.md). Exceeding one is a validation error, not a crash.
+inline constexpr std::size_t kMaxObjects = 65536;
+inline constexpr std::size_t kMaxLights = 4096;
+inline constexpr std::size_t kMaxWaves = 256;
+inline constexpr std::size_t kMaxNameLength = 4096;
+inline constexpr std::uint32_t kMaxWaterCells = 4096;  // per axis
+inline constexpr std::uint32_t kMaxMeshVertices = 1u << 26;
+inline constexpr float kMaxIor = 10.0f;
+
+// A value rule broken: `pointer` is a JSON pointer into the scene
+// ("/objects/2/material/ior") so the JSON front end can turn it into a line
+// and column, and the .cxb decoder can name the field.
+struct ValidationIssue {
+  std::string pointer;
+  std::string message;
+};
+
+// Checks every value rule of the scene (ranges, finiteness, indices, unique
+// names). Returns the first issue found, in document order. With
+// check_meshes false the mesh records (not yet imported) are not checked.
+std::optional<ValidationIssue> validate_scene(const SceneDesc& scene, bool check_meshes = true);
+
+// Normalises directions in place (lights, waves); call before encoding.
+void normalize_scene(SceneDesc& scene);
+
+// Serialises the scene and one Draco stream per mesh (meshes[i] <->
+// scene.meshes[i]) into .cxb bytes. Deterministic.
+std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
+                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes);
+
+struct DecodedScene {
+  SceneDesc scene;
+  // Draco stream per mesh, pointing into the container's buffer.
+  std::vector<std::span<const std::uint8_t>> draco_meshes;
+};
+
+// Decodes and validates the scene chunks of a validated container.
+Result<DecodedScene> decode_scene(const cxb::Container& container);
+
+}  // namespace caustix

@@ -1,0 +1,33 @@
+#pragma once
+// Chunk tags of the .cxb format: the one registry, shared by the baker, the
+// runtime and the inspector. Adding a tag is a minor change; changing what a
+// tag's payload means needs a new tag or a format version bump (SPEC.md).
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace caustix::cxb {
+
+struct Tag {
+  std::array<char, 4> c{};
+  constexpr bool operator==(const Tag&) const = default;
+  // Printable form: the four characters, or \xNN escapes for other bytes.
+  std::string str() const;
+};
+
+constexpr Tag make_tag(const char (&s)[5]) { return Tag{{s[0], s[1], s[2], s[3]}}; }
+
+// Scene description (formats/scene.h documents each payload).
+inline constexpr Tag kTagScene = make_tag("SCNE");    // required, once
+inline constexpr Tag kTagObjects = make_tag("OBJS");  // required, once
+inline constexpr Tag kTagLights = make_tag("LGHT");   // required, once
+inline constexpr Tag kTagWater = make_tag("WATR");    // required if present, at most once
+inline constexpr Tag kTagCamera = make_tag("CAMR");   // optional, at most once
+inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh, in mesh order
+
+// Whether this build knows a tag. Unknown optional chunks are skipped;
+// unknown required chunks make the reader refuse the file.
+bool is_known_tag(Tag tag);
+
+}  // namespace caustix::cxb

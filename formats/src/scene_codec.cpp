@@ -1,0 +1,318 @@
+// Payload layouts of the scene chunks (SCNE, OBJS, LGHT, WATR, CAMR, MESH);
+// formats/SPEC.md documents them field by field.
+
+#include <algorithm>
+
+#include "bytes.h"
+#include "caustix/formats/scene.h"
+
+namespace caustix {
+namespace {
+
+using cxb::detail::ByteReader;
+using cxb::detail::ByteWriter;
+
+void put(ByteWriter& w, const Vec3f& v) { for (float f : v) w.f32(f); }
+
+// --- encoding ----------------------------------------------------------------
+
+std::vector<std::uint8_t> encode_scene_chunk(const SceneDesc& s) {
+  ByteWriter w;
+  w.str(s.name);
+  w.u32(static_cast<std::uint32_t>(s.meshes.size()));
+  for (const MeshInfo& m : s.meshes) {
+    w.str(m.source);
+    w.u32(m.vertex_count);
+    w.u32(m.triangle_count);
+    w.u8(m.position_bits);
+    w.u8(m.normal_bits);
+    w.u16(0);
+    put(w, m.bounds_min);
+    put(w, m.bounds_max);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_objects(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(s.objects.size()));
+  for (const Object& o : s.objects) {
+    w.str(o.name);
+    w.u32(o.mesh_index);
+    w.u8(static_cast<std::uint8_t>(o.role));
+    w.u8(o.material.transparent ? 1 : 0);
+    w.u16(0);
+    put(w, o.material.albedo);
+    w.f32(o.material.ior);
+    for (float f : o.transform) w.f32(f);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_lights(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(s.lights.size()));
+  for (const Light& l : s.lights) {
+    w.u8(static_cast<std::uint8_t>(l.type));
+    w.u8(0);
+    w.u16(0);
+    w.str(l.name);
+    put(w, l.color);
+    put(w, l.direction);
+    w.f32(l.irradiance);
+    put(w, l.position);
+    w.f32(l.intensity);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_water(const Water& water) {
+  ByteWriter w;
+  w.f32(water.level);
+  w.f32(water.ior);
+  put(w, water.absorption);
+  w.u32(water.cells[0]);
+  w.u32(water.cells[1]);
+  for (float f : water.extent) w.f32(f);
+  w.u32(static_cast<std::uint32_t>(water.waves.size()));
+  for (const Wave& wave : water.waves) {
+    w.f32(wave.amplitude);
+    w.f32(wave.wavelength);
+    w.f32(wave.direction[0]);
+    w.f32(wave.direction[1]);
+    w.f32(wave.speed);
+    w.f32(wave.phase);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_camera(const Camera& c) {
+  ByteWriter w;
+  put(w, c.position);
+  put(w, c.target);
+  put(w, c.up);
+  w.f32(c.fov_y_deg);
+  w.f32(c.near_plane);
+  w.f32(c.far_plane);
+  return w.take();
+}
+
+// --- decoding ----------------------------------------------------------------
+
+// Reads one chunk payload; the first failed read records what was being read
+// so the error can name chunk, payload offset and field.
+class ChunkDecoder {
+ public:
+  ChunkDecoder(cxb::Tag tag, std::span<const std::uint8_t> bytes) : tag_(tag), r_(bytes) {}
+
+  bool u8(std::uint8_t& v, const char* what) { return check(r_.u8(v), what); }
+  bool u16(std::uint16_t& v, const char* what) { return check(r_.u16(v), what); }
+  bool u32(std::uint32_t& v, const char* what) { return check(r_.u32(v), what); }
+  bool f32(float& v, const char* what) { return check(r_.f32(v), what); }
+  bool vec3(Vec3f& v, const char* what) {
+    return f32(v[0], what) && f32(v[1], what) && f32(v[2], what);
+  }
+  bool str(std::string& s, const char* what) { return check(r_.str(s, kMaxNameLength), what); }
+  // A count whose records take at least min_record_bytes each.
+  bool count(std::uint32_t& n, std::size_t limit, std::size_t min_record_bytes, const char* what) {
+    if (!u32(n, what)) return false;
+    if (n > limit || std::size_t{n} * min_record_bytes > r_.remaining()) {
+      return fail(std::string(what) + " count " + std::to_string(n) +
+                  " exceeds the limit or the payload size");
+    }
+    return true;
+  }
+  bool zero16(const char* what) {
+    std::uint16_t z = 0;
+    if (!u16(z, what)) return false;
+    return z == 0 || fail(std::string(what) + " must be zero");
+  }
+  bool fail(const std::string& msg) {
+    if (error_.empty()) {
+      error_ = "chunk '" + tag_.str() + "' payload offset " + std::to_string(r_.offset()) + ": " + msg;
+    }
+    return false;
+  }
+  bool finish() {
+    return r_.remaining() == 0 ||
+           fail(std::to_string(r_.remaining()) + " unexpected trailing bytes");
+  }
+  Error error() const { return make_error(ErrorCode::kContainer, error_); }
+
+ private:
+  bool check(bool ok, const char* what) {
+    return ok || fail(std::string("truncated while reading ") + what);
+  }
+  cxb::Tag tag_;
+  ByteReader r_;
+  std::string error_;
+};
+
+// Smallest encodings, used to bound counts by the payload size.
+constexpr std::size_t kMinMeshRecord = 4 + 4 + 4 + 4 + 24;
+constexpr std::size_t kMinObjectRecord = 4 + 4 + 4 + 16 + 64;
+constexpr std::size_t kMinLightRecord = 4 + 4 + 12 + 12 + 4 + 12 + 4;
+constexpr std::size_t kWaveRecord = 24;
+
+bool decode_scene_chunk(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.str(s.name, "scene name") || !d.count(n, kMaxObjects, kMinMeshRecord, "mesh")) return false;
+  s.meshes.resize(n);
+  for (MeshInfo& m : s.meshes) {
+    if (!d.str(m.source, "mesh source") || !d.u32(m.vertex_count, "mesh vertex count") ||
+        !d.u32(m.triangle_count, "mesh triangle count") ||
+        !d.u8(m.position_bits, "mesh position bits") || !d.u8(m.normal_bits, "mesh normal bits") ||
+        !d.zero16("mesh reserved") || !d.vec3(m.bounds_min, "mesh bounds") ||
+        !d.vec3(m.bounds_max, "mesh bounds")) {
+      return false;
+    }
+  }
+  return d.finish();
+}
+
+bool decode_objects(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, kMaxObjects, kMinObjectRecord, "object")) return false;
+  s.objects.resize(n);
+  for (Object& o : s.objects) {
+    std::uint8_t role = 0, transparent = 0;
+    if (!d.str(o.name, "object name") || !d.u32(o.mesh_index, "object mesh index") ||
+        !d.u8(role, "object role") || !d.u8(transparent, "object transparent flag") ||
+        !d.zero16("object reserved") || !d.vec3(o.material.albedo, "object albedo") ||
+        !d.f32(o.material.ior, "object ior")) {
+      return false;
+    }
+    for (float& f : o.transform) {
+      if (!d.f32(f, "object transform")) return false;
+    }
+    if (role < 1 || role > 3) return d.fail("object '" + o.name + "': role " + std::to_string(role) + " is not 1..3");
+    if (transparent > 1) return d.fail("object '" + o.name + "': transparent flag is not 0 or 1");
+    o.role = static_cast<Role>(role);
+    o.material.transparent = transparent == 1;
+  }
+  return d.finish();
+}
+
+bool decode_lights(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, kMaxLights, kMinLightRecord, "light")) return false;
+  s.lights.resize(n);
+  for (Light& l : s.lights) {
+    std::uint8_t type = 0, pad8 = 0;
+    if (!d.u8(type, "light type") || !d.u8(pad8, "light reserved") || !d.zero16("light reserved") ||
+        !d.str(l.name, "light name") || !d.vec3(l.color, "light color") ||
+        !d.vec3(l.direction, "light direction") || !d.f32(l.irradiance, "light irradiance") ||
+        !d.vec3(l.position, "light position") || !d.f32(l.intensity, "light intensity")) {
+      return false;
+    }
+    if (pad8 != 0) return d.fail("light reserved byte must be zero");
+    if (type < 1 || type > 2) return d.fail("light type " + std::to_string(type) + " is not 1..2");
+    l.type = static_cast<LightType>(type);
+  }
+  return d.finish();
+}
+
+bool decode_water(ChunkDecoder& d, Water& w) {
+  std::uint32_t n = 0;
+  if (!d.f32(w.level, "water level") || !d.f32(w.ior, "water ior") ||
+      !d.vec3(w.absorption, "water absorption") || !d.u32(w.cells[0], "water cells") ||
+      !d.u32(w.cells[1], "water cells")) {
+    return false;
+  }
+  for (float& f : w.extent) {
+    if (!d.f32(f, "water extent")) return false;
+  }
+  if (!d.count(n, kMaxWaves, kWaveRecord, "wave")) return false;
+  w.waves.resize(n);
+  for (Wave& wave : w.waves) {
+    if (!d.f32(wave.amplitude, "wave") || !d.f32(wave.wavelength, "wave") ||
+        !d.f32(wave.direction[0], "wave") || !d.f32(wave.direction[1], "wave") ||
+        !d.f32(wave.speed, "wave") || !d.f32(wave.phase, "wave")) {
+      return false;
+    }
+  }
+  return d.finish();
+}
+
+bool decode_camera(ChunkDecoder& d, Camera& c) {
+  return d.vec3(c.position, "camera") && d.vec3(c.target, "camera") && d.vec3(c.up, "camera") &&
+         d.f32(c.fov_y_deg, "camera") && d.f32(c.near_plane, "camera") &&
+         d.f32(c.far_plane, "camera") && d.finish();
+}
+
+Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
+                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes) {
+  cxb::ContainerWriter w;
+  w.add_chunk(cxb::kTagScene, cxb::kChunkRequired, encode_scene_chunk(scene));
+  w.add_chunk(cxb::kTagObjects, cxb::kChunkRequired, encode_objects(scene));
+  w.add_chunk(cxb::kTagLights, cxb::kChunkRequired, encode_lights(scene));
+  if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
+  if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
+  for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
+  return w.finish();
+}
+
+Result<DecodedScene> decode_scene(const cxb::Container& c) {
+  DecodedScene out;
+  SceneDesc& s = out.scene;
+
+  // Singleton chunks: exactly once (required) or at most once (optional).
+  auto single = [&](cxb::Tag tag, bool required) -> Result<std::optional<std::size_t>> {
+    const auto idx = c.find(tag);
+    if (idx.size() > 1) {
+      return container_error("chunk '" + tag.str() + "' appears " + std::to_string(idx.size()) +
+                             " times; at most once is allowed");
+    }
+    if (idx.empty()) {
+      if (required) return container_error("required chunk '" + tag.str() + "' is missing");
+      return std::optional<std::size_t>{};
+    }
+    return std::optional<std::size_t>{idx[0]};
+  };
+  auto run = [&](cxb::Tag tag, std::size_t index, auto&& decode) -> Status {
+    ChunkDecoder d(tag, c.payload(index));
+    if (!decode(d)) return d.error();
+    return Status::success();
+  };
+
+  auto scne = single(cxb::kTagScene, true);
+  if (!scne) return scne.error();
+  CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagScene, **scne, [&](ChunkDecoder& d) { return decode_scene_chunk(d, s); }));
+  auto objs = single(cxb::kTagObjects, true);
+  if (!objs) return objs.error();
+  CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagObjects, **objs, [&](ChunkDecoder& d) { return decode_objects(d, s); }));
+  auto lght = single(cxb::kTagLights, true);
+  if (!lght) return lght.error();
+  CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagLights, **lght, [&](ChunkDecoder& d) { return decode_lights(d, s); }));
+  auto watr = single(cxb::kTagWater, false);
+  if (!watr) return watr.error();
+  if (*watr) {
+    s.water.emplace();
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagWater, **watr, [&](ChunkDecoder& d) { return decode_water(d, *s.water); }));
+  }
+  auto camr = single(cxb::kTagCamera, false);
+  if (!camr) return camr.error();
+  if (*camr) {
+    s.camera.emplace();
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagCamera, **camr, [&](ChunkDecoder& d) { return decode_camera(d, *s.camera); }));
+  }
+
+  const auto meshes = c.find(cxb::kTagMesh);
+  if (meshes.size() != s.meshes.size()) {
+    return container_error("chunk 'SCNE' lists " + std::to_string(s.meshes.size()) +
+                           " meshes but the file has " + std::to_string(meshes.size()) +
+                           " 'MESH' chunks");
+  }
+  for (std::size_t i : meshes) out.draco_meshes.push_back(c.payload(i));
+
+  if (auto issue = validate_scene(s)) {
+    return container_error("scene chunks: " + issue->pointer + ": " + issue->message);
+  }
+  return out;
+}
+
+}  // namespace caustix

@@ -1,0 +1,164 @@
+// The value rules of a scene: one place, used by the JSON front end (which
+// turns the JSON pointer into line and column) and by the .cxb decoder.
+
+#include <cmath>
+#include <set>
+
+#include "caustix/formats/scene.h"
+
+namespace caustix {
+namespace {
+
+bool finite(float v) { return std::isfinite(v); }
+bool finite(const Vec3f& v) { return finite(v[0]) && finite(v[1]) && finite(v[2]); }
+float length(const Vec3f& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+struct Checker {
+  std::optional<ValidationIssue> issue;
+  // Records the first failure; returns `ok` so checks can be chained.
+  bool expect(bool ok, const std::string& pointer, const std::string& message) {
+    if (!ok && !issue) issue = ValidationIssue{pointer, message};
+    return ok;
+  }
+  void finite_vec(const Vec3f& v, const std::string& p) { expect(finite(v), p, "must be finite numbers"); }
+  void range(float v, float lo, float hi, const std::string& p, const std::string& what) {
+    expect(finite(v) && v >= lo && v <= hi, p, what);
+  }
+};
+
+float determinant3(const Mat4f& m) {
+  // Upper-left 3x3 of a column-major 4x4.
+  const float a = m[0], b = m[4], c = m[8];
+  const float d = m[1], e = m[5], f = m[9];
+  const float g = m[2], h = m[6], i = m[10];
+  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
+}  // namespace
+
+std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_meshes) {
+  Checker c;
+  c.expect(s.name.size() <= kMaxNameLength, "/name", "longer than 4096 bytes");
+  c.expect(!s.objects.empty(), "/objects", "the scene needs at least one object");
+  c.expect(s.objects.size() <= kMaxObjects, "/objects", "more than 65536 objects");
+  c.expect(s.lights.size() <= kMaxLights, "/lights", "more than 4096 lights");
+
+  for (std::size_t i = 0; check_meshes && i < s.meshes.size(); ++i) {
+    const MeshInfo& m = s.meshes[i];
+    const std::string p = "/meshes/" + std::to_string(i);
+    c.expect(m.vertex_count >= 3 && m.vertex_count <= kMaxMeshVertices, p + "/vertex_count",
+             "must be 3.." + std::to_string(kMaxMeshVertices));
+    c.expect(m.triangle_count >= 1 && m.triangle_count <= 2 * kMaxMeshVertices, p + "/triangle_count",
+             "must be at least 1 and at most twice the vertex limit");
+    c.expect(m.position_bits >= 1 && m.position_bits <= 30, p + "/position_bits", "must be 1..30");
+    c.expect(m.normal_bits >= 1 && m.normal_bits <= 30, p + "/normal_bits", "must be 1..30");
+    c.expect(finite(m.bounds_min) && finite(m.bounds_max), p + "/bounds", "must be finite");
+  }
+
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const Object& o = s.objects[i];
+    const std::string p = "/objects/" + std::to_string(i);
+    c.expect(!o.name.empty(), p + "/name", "must not be empty");
+    c.expect(names.insert(o.name).second, p + "/name", "'" + o.name + "' is used by an earlier object");
+    c.expect(o.mesh_index < s.meshes.size(), p + "/mesh",
+             "mesh index " + std::to_string(o.mesh_index) + " is out of range");
+    c.expect(o.role == Role::kReceiver || o.role == Role::kTransparent || o.role == Role::kBoth,
+             p + "/role", "must be receiver, transparent or both");
+    for (float a : o.material.albedo) {
+      c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
+    }
+    if (o.material.transparent || is_transparent(o.role)) {
+      c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");
+      c.expect(o.material.transparent, p + "/material",
+               "an object with role transparent or both needs a transparent material");
+    }
+    bool finite_transform = true;
+    for (float f : o.transform) finite_transform = finite_transform && finite(f);
+    c.expect(finite_transform, p + "/transform", "must be finite numbers");
+    c.expect(o.transform[3] == 0 && o.transform[7] == 0 && o.transform[11] == 0 && o.transform[15] == 1,
+             p + "/transform", "must be affine (last row 0 0 0 1)");
+    c.expect(std::fabs(determinant3(o.transform)) > 1e-12f, p + "/transform",
+             "is singular (zero scale?)");
+  }
+
+  for (std::size_t i = 0; i < s.lights.size(); ++i) {
+    const Light& l = s.lights[i];
+    const std::string p = "/lights/" + std::to_string(i);
+    c.expect(l.type == LightType::kDirectional || l.type == LightType::kPoint, p + "/type",
+             "must be directional or point");
+    c.expect(finite(l.color) && l.color[0] >= 0 && l.color[1] >= 0 && l.color[2] >= 0, p + "/color",
+             "components must be finite and >= 0");
+    if (l.type == LightType::kDirectional) {
+      c.expect(finite(l.direction) && length(l.direction) > 1e-6f, p + "/direction",
+               "must be a finite, non-zero vector");
+      c.range(l.irradiance, 0.0f, 1e9f, p + "/irradiance", "must be in [0, 1e9] W/m^2");
+    } else {
+      c.finite_vec(l.position, p + "/position");
+      c.range(l.intensity, 0.0f, 1e9f, p + "/intensity", "must be in [0, 1e9] W/sr");
+    }
+  }
+
+  if (s.water) {
+    const Water& w = *s.water;
+    c.expect(finite(w.level), "/water/level", "must be finite");
+    c.range(w.ior, 1.0f, kMaxIor, "/water/ior", "must be in [1, 10]");
+    for (float k : w.absorption) c.range(k, 0.0f, 1e6f, "/water/absorption", "must be in [0, 1e6] per metre");
+    for (std::uint32_t n : w.cells) {
+      c.expect(n >= 1 && n <= kMaxWaterCells, "/water/grid/cells",
+               "each must be 1.." + std::to_string(kMaxWaterCells));
+    }
+    bool extent_ok = true;
+    for (float f : w.extent) extent_ok = extent_ok && finite(f);
+    c.expect(extent_ok && w.extent[2] > w.extent[0] && w.extent[3] > w.extent[1], "/water/grid/extent",
+             "must be finite [x0, z0, x1, z1] with x1 > x0 and z1 > z0");
+    c.expect(w.waves.size() <= kMaxWaves, "/water/waves", "more than 256 waves");
+    for (std::size_t i = 0; i < w.waves.size(); ++i) {
+      const Wave& wave = w.waves[i];
+      const std::string p = "/water/waves/" + std::to_string(i);
+      c.range(wave.amplitude, 0.0f, 1e4f, p + "/amplitude", "must be in [0, 1e4] m");
+      c.range(wave.wavelength, 1e-4f, 1e6f, p + "/wavelength", "must be in [1e-4, 1e6] m");
+      c.expect(finite(wave.direction[0]) && finite(wave.direction[1]) &&
+                   std::hypot(wave.direction[0], wave.direction[1]) > 1e-6f,
+               p + "/direction", "must be a finite, non-zero [x, z] vector");
+      c.expect(finite(wave.speed), p + "/speed", "must be finite");
+      c.expect(finite(wave.phase), p + "/phase", "must be finite");
+    }
+  }
+
+  if (s.camera) {
+    const Camera& cam = *s.camera;
+    c.finite_vec(cam.position, "/camera/position");
+    c.finite_vec(cam.target, "/camera/target");
+    c.finite_vec(cam.up, "/camera/up");
+    const Vec3f fwd{cam.target[0] - cam.position[0], cam.target[1] - cam.position[1],
+                    cam.target[2] - cam.position[2]};
+    c.expect(length(fwd) > 1e-6f, "/camera/target", "must differ from the camera position");
+    c.expect(length(cam.up) > 1e-6f, "/camera/up", "must be non-zero");
+    c.range(cam.fov_y_deg, 1.0f, 170.0f, "/camera/fov_y_deg", "must be in [1, 170] degrees");
+    c.expect(finite(cam.near_plane) && cam.near_plane > 0, "/camera/near", "must be > 0");
+    c.expect(finite(cam.far_plane) && cam.far_plane > cam.near_plane, "/camera/far",
+             "must be greater than near");
+  }
+  return c.issue;
+}
+
+void normalize_scene(SceneDesc& s) {
+  for (Light& l : s.lights) {
+    const float n = length(l.direction);
+    if (n > 0 && std::isfinite(n)) {
+      for (float& f : l.direction) f /= n;
+    }
+  }
+  if (s.water) {
+    for (Wave& w : s.water->waves) {
+      const float n = std::hypot(w.direction[0], w.direction[1]);
+      if (n > 0 && std::isfinite(n)) {
+        w.direction[0] /= n;
+        w.direction[1] /= n;
+      }
+    }
+  }
+}
+
+}  // namespace caustix

@@ -1,0 +1,130 @@
+// caustix-inspect: prints a .cxb's header, chunk table and validation result.
+// Exit codes: 0 valid, 2 usage, 3 file unreadable, 4 file invalid.
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "caustix/common/exit_codes.h"
+#include "caustix/common/version.h"
+#include "caustix/formats/container.h"
+#include "caustix/formats/file_io.h"
+#include "caustix/formats/scene.h"
+
+namespace {
+
+const char* role_name(caustix::Role r) {
+  switch (r) {
+    case caustix::Role::kReceiver: return "receiver";
+    case caustix::Role::kTransparent: return "transparent";
+    case caustix::Role::kBoth: return "both";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace caustix;
+  CLI::App app{"caustix-inspect: print and validate a .cxb file"};
+  std::string path;
+  bool as_json = false;
+  app.add_option("file", path, "the .cxb file")->required();
+  app.add_flag("--json", as_json, "machine-readable output on stdout");
+  app.set_version_flag("--version", std::string("caustix-inspect ") + kVersionString);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+
+  auto bytes = read_file(path);
+  if (!bytes) {
+    std::cerr << "caustix-inspect: " << bytes.error().message << "\n";
+    return kExitInput;
+  }
+  cxb::ReadFailure failure = cxb::ReadFailure::kNone;
+  auto container = cxb::read_container(bytes->data(), bytes->size(), &failure);
+  Result<DecodedScene> scene = container ? decode_scene(*container)
+                                         : Result<DecodedScene>(container.error());
+  const bool valid = container && scene;
+  const std::string error = valid ? "" : (container ? scene.error().message : container.error().message);
+
+  nlohmann::ordered_json j;
+  j["file"] = path;
+  j["size"] = bytes->size();
+  j["valid"] = valid;
+  if (!valid) {
+    j["error"] = error;
+    j["failure"] = cxb::to_string(failure);
+  }
+  if (container) {
+    j["version"] = container->header().version;
+    j["chunks"] = nlohmann::json::array();
+    for (const auto& ch : container->chunks()) {
+      char sum[24];
+      std::snprintf(sum, sizeof sum, "%016llx", static_cast<unsigned long long>(ch.checksum));
+      j["chunks"].push_back({{"tag", ch.tag.str()},
+                             {"required", (ch.flags & cxb::kChunkRequired) != 0},
+                             {"known", ch.known},
+                             {"offset", ch.offset},
+                             {"size", ch.size},
+                             {"checksum", sum}});
+    }
+  }
+  if (valid) {
+    const SceneDesc& s = scene->scene;
+    j["scene"]["name"] = s.name;
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const Object& o = s.objects[i];
+      const MeshInfo& m = s.meshes[o.mesh_index];
+      j["scene"]["objects"].push_back({{"name", o.name},
+                                       {"role", role_name(o.role)},
+                                       {"mesh", m.source},
+                                       {"vertices", m.vertex_count},
+                                       {"triangles", m.triangle_count},
+                                       {"position_bits", m.position_bits},
+                                       {"draco_bytes", scene->draco_meshes[o.mesh_index].size()}});
+    }
+    j["scene"]["lights"] = s.lights.size();
+    j["scene"]["water"] = s.water.has_value();
+    j["scene"]["water_waves"] = s.water ? s.water->waves.size() : 0;
+    j["scene"]["camera"] = s.camera.has_value();
+  }
+
+  if (as_json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
+    if (container) {
+      std::printf("format version %u, %zu chunks\n", container->header().version,
+                  container->chunks().size());
+      std::printf("  %-4s  %-8s  %10s  %10s  %-16s\n", "tag", "flags", "offset", "size", "xxh3-64");
+      for (const auto& ch : container->chunks()) {
+        std::printf("  %-4s  %-8s  %10llu  %10llu  %016llx%s\n", ch.tag.str().c_str(),
+                    (ch.flags & cxb::kChunkRequired) ? "required" : "optional",
+                    static_cast<unsigned long long>(ch.offset),
+                    static_cast<unsigned long long>(ch.size),
+                    static_cast<unsigned long long>(ch.checksum), ch.known ? "" : "  (unknown, skipped)");
+      }
+    }
+    if (valid) {
+      const SceneDesc& s = scene->scene;
+      std::printf("scene '%s': %zu objects, %zu lights, %s, %s\n", s.name.c_str(), s.objects.size(),
+                  s.lights.size(), s.water ? "water" : "no water", s.camera ? "camera" : "no camera");
+      for (const Object& o : s.objects) {
+        const MeshInfo& m = s.meshes[o.mesh_index];
+        std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes\n", o.name.c_str(),
+                    role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
+                    scene->draco_meshes[o.mesh_index].size());
+      }
+      std::printf("valid\n");
+    } else {
+      std::printf("INVALID: %s\n", error.c_str());
+    }
+  }
+  return valid ? kExitOk : kExitContainer;
+}
