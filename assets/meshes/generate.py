@@ -5,7 +5,7 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
   plane.obj   unit square in y = 0, centred on the origin, 8 x 8 quads, normal +y
   sphere.obj  UV sphere, radius 1, 48 segments x 24 rings
   box.obj     unit cube centred on the origin (flat-shaded faces)
-  pool.obj    open box: floor and four walls of a 1 x 1 x 1 pool, inward normals
+  walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
 """
 import math
 import os
@@ -81,11 +81,10 @@ def box():
     return verts, faces, normals
 
 
-def pool():
-    # floor at y=0 and walls up to y=1 over [-0.5,0.5]^2, facing inwards
+def walls():
+    # walls from y=0 to y=1 around [-0.5,0.5]^2, facing inwards
     verts, faces, normals = [], [], []
     quads = [
-        (((-.5, 0, -.5), (-.5, 0, .5), (.5, 0, .5), (.5, 0, -.5)), (0, 1, 0)),
         (((-.5, 0, -.5), (.5, 0, -.5), (.5, 1, -.5), (-.5, 1, -.5)), (0, 0, 1)),
         (((.5, 0, .5), (-.5, 0, .5), (-.5, 1, .5), (.5, 1, .5)), (0, 0, -1)),
         (((-.5, 0, .5), (-.5, 0, -.5), (-.5, 1, -.5), (-.5, 1, .5)), (1, 0, 0)),
@@ -106,5 +105,5 @@ if __name__ == "__main__":
     write_obj("sphere.obj", v, f, n, comment="UV sphere, radius 1.")
     v, f, n = box()
     write_obj("box.obj", v, f, n, comment="Unit cube centred on the origin.")
-    v, f, n = pool()
-    write_obj("pool.obj", v, f, n, comment="Open unit pool (floor + walls), inward normals.")
+    v, f, n = walls()
+    write_obj("walls.obj", v, f, n, comment="Four walls of a unit pool, inward normals.")

@@ -43,7 +43,7 @@ struct Material {
 // decoded mesh against it.
 struct MeshInfo {
   std::string source;              // file name as given in scene.json
-  std::uint32_t vertex_count = 0;
+  std::uint32_t vertex_count = 0;  // of the source; Draco may split non-manifold vertices
   std::uint32_t triangle_count = 0;
   std::uint8_t position_bits = 0;  // Draco quantisation of positions
   std::uint8_t normal_bits = 0;    // Draco quantisation of normals

@@ -1,0 +1,24 @@
+#pragma once
+// Loading a .cxb for rendering: validate the container and the scene chunks
+// (formats/), then decode every Draco mesh and check it against what the
+// baker recorded. Safe on hostile files: any failure is an Error (kContainer)
+// naming the file and the chunk; nothing is uploaded to GL here.
+
+#include <string>
+#include <vector>
+
+#include "caustix/common/mesh.h"
+#include "caustix/common/status.h"
+#include "caustix/formats/scene.h"
+
+namespace caustix::runtime {
+
+struct RuntimeScene {
+  SceneDesc desc;
+  std::vector<TriangleMesh> meshes;  // desc.meshes[i] <-> meshes[i]
+};
+
+Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size);
+Result<RuntimeScene> load_scene_file(const std::string& path);
+
+}  // namespace caustix::runtime

@@ -1,0 +1,75 @@
+#include "gl_program.h"
+
+#include <vector>
+
+namespace caustix::runtime::gl {
+
+void delete_buffer(GLuint id) { glDeleteBuffers(1, &id); }
+void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
+void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
+void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void delete_program(GLuint id) { glDeleteProgram(id); }
+
+Buffer make_buffer() { GLuint id = 0; glCreateBuffers(1, &id); return Buffer(id); }
+VertexArray make_vertex_array() { GLuint id = 0; glCreateVertexArrays(1, &id); return VertexArray(id); }
+Texture make_texture(GLenum target) { GLuint id = 0; glCreateTextures(target, 1, &id); return Texture(id); }
+Framebuffer make_framebuffer() { GLuint id = 0; glCreateFramebuffers(1, &id); return Framebuffer(id); }
+
+namespace {
+
+Result<GLuint> compile(GLenum type, const char* src, const std::string& name) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
+    std::vector<char> log(static_cast<std::size_t>(std::max(len, 1)));
+    glGetShaderInfoLog(s, len, nullptr, log.data());
+    glDeleteShader(s);
+    return make_error(ErrorCode::kGraphics, "shader '" + name + (type == GL_VERTEX_SHADER ? "' (vertex)" : "' (fragment)") +
+                                                " failed to compile: " + log.data());
+  }
+  return s;
+}
+
+}  // namespace
+
+Result<Program> Program::build(const std::string& name, const char* vs, const char* fs) {
+  auto v = compile(GL_VERTEX_SHADER, vs, name);
+  if (!v) return v.error();
+  auto f = compile(GL_FRAGMENT_SHADER, fs, name);
+  if (!f) {
+    glDeleteShader(*v);
+    return f.error();
+  }
+  Program p;
+  p.id_ = Handle<delete_program>(glCreateProgram());
+  glAttachShader(p.id(), *v);
+  glAttachShader(p.id(), *f);
+  glLinkProgram(p.id());
+  glDeleteShader(*v);
+  glDeleteShader(*f);
+  GLint ok = 0;
+  glGetProgramiv(p.id(), GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetProgramiv(p.id(), GL_INFO_LOG_LENGTH, &len);
+    std::vector<char> log(static_cast<std::size_t>(std::max(len, 1)));
+    glGetProgramInfoLog(p.id(), len, nullptr, log.data());
+    return make_error(ErrorCode::kGraphics, "shader program '" + name + "' failed to link: " + log.data());
+  }
+  return p;
+}
+
+Status check_gl(const char* what) {
+  const GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return Status::success();
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04X", e);
+  return make_error(ErrorCode::kGraphics, std::string("OpenGL error ") + buf + " in " + what);
+}
+
+}  // namespace caustix::runtime::gl

@@ -1,0 +1,81 @@
+#pragma once
+// Small RAII owners for GL objects and a shader program with checked
+// compilation. Internal to the runtime.
+
+#include <epoxy/gl.h>
+
+#include <glm/glm.hpp>
+#include <string>
+#include <utility>
+
+#include "caustix/common/status.h"
+
+namespace caustix::runtime::gl {
+
+// Owns one GL name; `Deleter` frees it.
+template <void (*Deleter)(GLuint)>
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(GLuint id) : id_(id) {}
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      reset();
+      id_ = std::exchange(o.id_, 0);
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+  GLuint get() const { return id_; }
+  void reset() {
+    if (id_) Deleter(id_);
+    id_ = 0;
+  }
+
+ private:
+  GLuint id_ = 0;
+};
+
+void delete_buffer(GLuint id);
+void delete_vertex_array(GLuint id);
+void delete_texture(GLuint id);
+void delete_framebuffer(GLuint id);
+void delete_program(GLuint id);
+
+using Buffer = Handle<delete_buffer>;
+using VertexArray = Handle<delete_vertex_array>;
+using Texture = Handle<delete_texture>;
+using Framebuffer = Handle<delete_framebuffer>;
+
+Buffer make_buffer();
+VertexArray make_vertex_array();
+Texture make_texture(GLenum target);
+Framebuffer make_framebuffer();
+
+class Program {
+ public:
+  // Compiles and links; the error (kGraphics) carries the driver's log and
+  // the program's name.
+  static Result<Program> build(const std::string& name, const char* vertex_src, const char* fragment_src);
+  GLuint id() const { return id_.get(); }
+  void use() const { glUseProgram(id_.get()); }
+  GLint loc(const char* uniform) const { return glGetUniformLocation(id_.get(), uniform); }
+  void set(const char* u, int v) const { glProgramUniform1i(id(), loc(u), v); }
+  void set(const char* u, float v) const { glProgramUniform1f(id(), loc(u), v); }
+  void set(const char* u, const glm::vec2& v) const { glProgramUniform2fv(id(), loc(u), 1, &v[0]); }
+  void set(const char* u, const glm::vec3& v) const { glProgramUniform3fv(id(), loc(u), 1, &v[0]); }
+  void set(const char* u, const glm::vec4& v) const { glProgramUniform4fv(id(), loc(u), 1, &v[0]); }
+  void set(const char* u, const glm::mat3& m) const { glProgramUniformMatrix3fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
+  void set(const char* u, const glm::mat4& m) const { glProgramUniformMatrix4fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
+
+ private:
+  Handle<delete_program> id_;
+};
+
+// Returns an error naming `what` if the GL error flag is set.
+Status check_gl(const char* what);
+
+}  // namespace caustix::runtime::gl

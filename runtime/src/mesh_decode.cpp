@@ -1,0 +1,77 @@
+#include "caustix/runtime/mesh_decode.h"
+
+#include <draco/compression/decode.h>
+
+#include <cmath>
+
+namespace caustix::runtime {
+namespace {
+
+Error mesh_error(const MeshInfo& info, const std::string& msg) {
+  return make_error(ErrorCode::kContainer, "mesh '" + info.source + "': " + msg);
+}
+
+}  // namespace
+
+Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const MeshInfo& info) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(stream.data()), stream.size());
+  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
+  if (!type.ok() || type.value() != draco::TRIANGULAR_MESH) {
+    return mesh_error(info, "MESH chunk is not a Draco triangle mesh");
+  }
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok()) return mesh_error(info, std::string("Draco decoding failed: ") + decoded.status().error_msg());
+  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+
+  const draco::PointAttribute* pos = mesh->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+  const draco::PointAttribute* nrm = mesh->GetNamedAttribute(draco::GeometryAttribute::NORMAL);
+  if (!pos || pos->num_components() != 3) return mesh_error(info, "no 3-component position attribute");
+  if (!nrm || nrm->num_components() != 3) return mesh_error(info, "no 3-component normal attribute");
+  // Edgebreaker keeps every triangle but may split non-manifold vertices, so
+  // the triangle count must match exactly and the vertex count is bounded.
+  if (mesh->num_faces() != info.triangle_count || mesh->num_points() == 0 ||
+      mesh->num_points() > 3 * std::uint64_t{info.triangle_count}) {
+    return mesh_error(info, "decoded " + std::to_string(mesh->num_points()) + " vertices / " +
+                                std::to_string(mesh->num_faces()) + " triangles, the scene records " +
+                                std::to_string(info.vertex_count) + " / " + std::to_string(info.triangle_count));
+  }
+
+  TriangleMesh out;
+  out.positions.resize(mesh->num_points());
+  out.normals.resize(mesh->num_points());
+  // Decoded positions may sit half a quantisation step outside the source
+  // bounds; allow a generous slack relative to the extent.
+  double extent = 0;
+  for (std::size_t k = 0; k < 3; ++k) extent = std::max(extent, double{info.bounds_max[k]} - info.bounds_min[k]);
+  const double slack = 1e-3 * std::max(extent, 1e-6);
+  for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
+    auto& p = out.positions[i.value()];
+    auto& n = out.normals[i.value()];
+    if (!pos->ConvertValue<float, 3>(pos->mapped_index(i), p.data()) ||
+        !nrm->ConvertValue<float, 3>(nrm->mapped_index(i), n.data())) {
+      return mesh_error(info, "cannot read attributes of vertex " + std::to_string(i.value()));
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!std::isfinite(p[k]) || p[k] < info.bounds_min[k] - slack || p[k] > info.bounds_max[k] + slack) {
+        return mesh_error(info, "vertex " + std::to_string(i.value()) + " lies outside the recorded bounds");
+      }
+    }
+    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!std::isfinite(len) || len < 0.5f) return mesh_error(info, "vertex " + std::to_string(i.value()) + " has an invalid normal");
+    for (float& c : n) c /= len;
+  }
+  out.triangles.resize(mesh->num_faces());
+  for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
+    const auto& face = mesh->face(f);
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = face[k].value();
+      if (v >= out.positions.size()) return mesh_error(info, "triangle " + std::to_string(f.value()) + " has an out-of-range index");
+      out.triangles[f.value()][static_cast<std::size_t>(k)] = v;
+    }
+  }
+  return out;
+}
+
+}  // namespace caustix::runtime

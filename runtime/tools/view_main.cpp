@@ -1,0 +1,215 @@
+// caustix-view: interactive viewer. Orbit camera (left drag: orbit, right
+// drag: pan, wheel: zoom), Space pauses the waves, R resets the camera, Esc
+// quits. Frame time is shown in the title bar and printed once a second.
+// --screenshot FILE --frames N renders N frames, saves the window and exits
+// (used by the tests under Xvfb).
+
+#include <epoxy/gl.h>
+#include <GLFW/glfw3.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "caustix/common/exit_codes.h"
+#include "caustix/common/version.h"
+#include "caustix/runtime/cli_common.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/image_output.h"
+#include "caustix/runtime/renderer.h"
+#include "caustix/runtime/scene_loader.h"
+
+namespace {
+
+using caustix::Camera;
+
+// Spherical coordinates about a target; converts to and from a Camera.
+struct Orbit {
+  glm::vec3 target{0};
+  float distance = 5, yaw = 0, pitch = 0.5f;
+
+  static Orbit from(const Camera& c) {
+    Orbit o;
+    o.target = {c.target[0], c.target[1], c.target[2]};
+    const glm::vec3 d = glm::vec3(c.position[0], c.position[1], c.position[2]) - o.target;
+    o.distance = glm::length(d);
+    o.yaw = std::atan2(d.x, d.z);
+    o.pitch = std::asin(std::clamp(d.y / o.distance, -1.0f, 1.0f));
+    return o;
+  }
+  Camera apply(Camera c) const {
+    const glm::vec3 eye = target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                                                        std::cos(pitch) * std::cos(yaw));
+    c.position = {eye.x, eye.y, eye.z};
+    c.target = {target.x, target.y, target.z};
+    c.up = {0, 1, 0};
+    return c;
+  }
+};
+
+struct ViewState {
+  Orbit orbit, home;
+  bool paused = false;
+  double last_x = 0, last_y = 0;
+  bool rotating = false, panning = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace caustix;
+  using namespace caustix::runtime;
+  std::string in_path, size = "1280x720", screenshot;
+  int frames = 0;
+  CLI::App app{"caustix-view: interactive viewer for a baked .cxb scene"};
+  app.footer(
+      "Controls: left drag orbit, right drag pan, wheel zoom, Space pause waves, R reset, Esc quit.\n"
+      "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
+      "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
+  app.add_option("scene", in_path, "baked scene (.cxb)")->required();
+  app.add_option("--size", size, "window size WxH")->capture_default_str();
+  app.add_option("--screenshot", screenshot, "save the window to this image after --frames frames, then exit");
+  app.add_option("--frames", frames, "frames to render before the screenshot (with --screenshot)")
+      ->check(CLI::Range(1, 100000))->capture_default_str();
+  app.set_version_flag("--version", std::string("caustix-view ") + kVersionString);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+  int width = 0, height = 0;
+  if (!parse_size(size, width, height)) {
+    std::cerr << "caustix-view: error: --size '" << size << "' is not WxH\n";
+    return kExitUsage;
+  }
+  if (!screenshot.empty() && frames == 0) frames = 1;
+  auto fail = [](const Error& e) {
+    std::cerr << "caustix-view: error: " << e.message << "\n";
+    return exit_code_for(e);
+  };
+
+  auto scene = load_scene_file(in_path);
+  if (!scene) return fail(scene.error());
+
+  glfwSetErrorCallback([](int code, const char* msg) { std::cerr << "caustix-view: GLFW error " << code << ": " << msg << "\n"; });
+  if (!glfwInit()) return fail(make_error(ErrorCode::kGraphics, "cannot initialise GLFW (no display? run under xvfb-run -a)"));
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  GLFWwindow* window = glfwCreateWindow(width, height, "caustix-view", nullptr, nullptr);
+  if (!window) {
+    glfwTerminate();
+    return fail(make_error(ErrorCode::kGraphics, "cannot open a window with an OpenGL 4.5 core context"));
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(screenshot.empty() ? 1 : 0);
+
+  int rc = kExitOk;
+  {
+    auto renderer = Renderer::create(*scene);
+    if (!renderer) {
+      glfwDestroyWindow(window);
+      glfwTerminate();
+      return fail(renderer.error());
+    }
+    const std::string gl_name = current_renderer_description();
+    ViewState state;
+    state.orbit = state.home = Orbit::from((*renderer)->default_camera());
+    glfwSetWindowUserPointer(window, &state);
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
+      auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
+      if (action != GLFW_PRESS) return;
+      if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(w, GLFW_TRUE);
+      if (key == GLFW_KEY_SPACE) s->paused = !s->paused;
+      if (key == GLFW_KEY_R) s->orbit = s->home;
+    });
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
+      auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
+      glfwGetCursorPos(w, &s->last_x, &s->last_y);
+      if (button == GLFW_MOUSE_BUTTON_LEFT) s->rotating = action == GLFW_PRESS;
+      if (button == GLFW_MOUSE_BUTTON_RIGHT) s->panning = action == GLFW_PRESS;
+    });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+      auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
+      const auto dx = static_cast<float>(x - s->last_x), dy = static_cast<float>(y - s->last_y);
+      s->last_x = x;
+      s->last_y = y;
+      if (s->rotating) {
+        s->orbit.yaw -= 0.005f * dx;
+        s->orbit.pitch = std::clamp(s->orbit.pitch + 0.005f * dy, -1.55f, 1.55f);
+      } else if (s->panning) {
+        const glm::vec3 right(std::cos(s->orbit.yaw), 0, -std::sin(s->orbit.yaw));
+        s->orbit.target += s->orbit.distance * 0.0015f * (-dx * right + dy * glm::vec3(0, 1, 0));
+      }
+    });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+      auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
+      s->orbit.distance = std::max(1e-3f, s->orbit.distance * std::pow(0.9f, static_cast<float>(dy)));
+    });
+
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto last_report = start;
+    double anim_time = 0, frame_ms_sum = 0;
+    int frame_count = 0, rendered = 0;
+    Camera base = (*renderer)->default_camera();
+    while (!glfwWindowShouldClose(window)) {
+      const auto t0 = Clock::now();
+      glfwPollEvents();
+      int fw = 0, fh = 0;
+      glfwGetFramebufferSize(window, &fw, &fh);
+      if (fw <= 0 || fh <= 0) continue;
+      FrameParams frame;
+      frame.camera = state.orbit.apply(base);
+      frame.time = static_cast<float>(anim_time);
+      frame.width = fw;
+      frame.height = fh;
+      if (Status st = (*renderer)->render(frame); !st) {
+        rc = fail(st.error());
+        break;
+      }
+      (*renderer)->present(0, fw, fh);
+      ++rendered;
+      if (!screenshot.empty() && rendered >= frames) {
+        std::vector<std::uint8_t> px(static_cast<std::size_t>(fw) * static_cast<std::size_t>(fh) * 3);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadBuffer(GL_BACK);
+        glReadPixels(0, 0, fw, fh, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+        std::vector<std::uint8_t> flipped(px.size());
+        const std::size_t row = static_cast<std::size_t>(fw) * 3;
+        for (int y = 0; y < fh; ++y) {
+          std::copy_n(px.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(fh - 1 - y) * row), row,
+                      flipped.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row));
+        }
+        if (Status st = write_u8_image(screenshot, fw, fh, 3, flipped); !st) rc = fail(st.error());
+        else std::printf("caustix-view: saved %s (%dx%d) after %d frames\n", screenshot.c_str(), fw, fh, rendered);
+        break;
+      }
+      glfwSwapBuffers(window);
+      const auto t1 = Clock::now();
+      const double dt = std::chrono::duration<double>(t1 - t0).count();
+      if (!state.paused) anim_time += dt;
+      frame_ms_sum += dt * 1e3;
+      ++frame_count;
+      if (t1 - last_report > std::chrono::seconds(1)) {
+        char title[256];
+        std::snprintf(title, sizeof title, "caustix-view  %s  %.2f ms/frame  [%s]", in_path.c_str(),
+                      frame_ms_sum / frame_count, gl_name.c_str());
+        glfwSetWindowTitle(window, title);
+        std::printf("%.2f ms/frame (%s)\n", frame_ms_sum / frame_count, gl_name.c_str());
+        std::fflush(stdout);
+        frame_ms_sum = 0;
+        frame_count = 0;
+        last_report = t1;
+      }
+    }
+  }
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return rc;
+}
