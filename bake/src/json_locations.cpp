@@ -125,8 +125,7 @@ class LocatingHandler {
   std::size_t token_start() const {
     std::size_t i = last_;
     while (i < text_.size() && (text_[i] == ' ' || text_[i] == '\t' || text_[i] == '\n' ||
-                                text_[i] == '\r' || text_[i] == ',' || text_[i] == ':' ||
-                                text_[i] == '[' || text_[i] == '{')) {
+                                text_[i] == '\r' || text_[i] == ',' || text_[i] == ':')) {
       ++i;
     }
     return i;

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# End-to-end checks of the real binaries: exit codes, error messages, atomic
+# output, inspect, headless render and the viewer under Xvfb.
+# Usage: cli_test.sh BUILD_DIR SOURCE_DIR
+set -u
+build=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+bake=$build/bake/caustix-bake
+render=$build/runtime/caustix-render
+view=$build/runtime/caustix-view
+inspect=$build/formats/caustix-inspect
+scene=$src/assets/scenes/default.json
+passed=0
+failed=0
+
+check() {  # check NAME EXPECTED_RC ACTUAL_RC
+  if [ "$2" = "$3" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $1 (exit $3, expected $2)"; fi
+}
+contains() {  # contains NAME FILE TEXT
+  if grep -qF -- "$3" "$2"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $1: '$3' not in:"; cat "$2"; fi
+}
+
+# --help and --version
+"$bake" --help >"$tmp/help" 2>&1; check "bake --help" 0 $?
+contains "help lists defaults" "$tmp/help" "--position-bits"
+contains "help lists exit codes" "$tmp/help" "Exit codes"
+"$bake" --version >"$tmp/v" 2>&1; check "bake --version" 0 $?
+"$bake" --bogus "$scene" -o "$tmp/x.cxb" 2>"$tmp/err"; check "unknown option" 2 $?
+contains "unknown option named" "$tmp/err" "--bogus"
+"$bake" "$scene" -o "$tmp/x.cxb" --position-bits 99 2>"$tmp/err"; check "out-of-range option" 2 $?
+
+# A good bake, twice: byte-identical; depfile and report.
+"$bake" "$scene" -o "$tmp/a.cxb" --depfile "$tmp/a.d" --report "$tmp/a.json" -q; check "bake" 0 $?
+"$bake" "$scene" -o "$tmp/b.cxb" -q; check "bake again" 0 $?
+cmp -s "$tmp/a.cxb" "$tmp/b.cxb"; check "bakes are byte-identical" 0 $?
+contains "depfile lists the scene" "$tmp/a.d" "default.json"
+contains "depfile lists meshes" "$tmp/a.d" "sphere.obj"
+contains "report has meshes" "$tmp/a.json" "draco_bytes"
+
+# Bad input: clear error naming the place, exit 3, old output untouched, no temp files left.
+cp "$tmp/a.cxb" "$tmp/keep.cxb"
+printf '{\n  "objects": [ { "name": "a", "mesh": 5 } ]\n}\n' >"$tmp/bad.json"
+"$bake" "$tmp/bad.json" -o "$tmp/keep.cxb" 2>"$tmp/err"; check "bad scene" 3 $?
+contains "error has line:column" "$tmp/err" "bad.json:2:31: /objects/0/mesh"
+cmp -s "$tmp/a.cxb" "$tmp/keep.cxb"; check "old output untouched" 0 $?
+"$bake" "$tmp/missing.json" -o "$tmp/m.cxb" 2>"$tmp/err"; check "missing scene" 3 $?
+[ ! -e "$tmp/m.cxb" ]; check "no output on failure" 0 $?
+printf '{"objects": [{"name": "a", "mesh": "gone.obj"}]}' >"$tmp/nomesh.json"
+"$bake" "$tmp/nomesh.json" -o "$tmp/m.cxb" 2>"$tmp/err"; check "missing mesh" 3 $?
+contains "missing mesh named" "$tmp/err" "gone.obj: mesh file not found"
+"$bake" "$scene" -o "$tmp/no/such/dir/x.cxb" 2>"$tmp/err"; check "unwritable output" 5 $?
+[ -z "$(ls -A "$tmp" | grep '\.tmp\.')" ]; check "no temporary files left" 0 $?
+
+# inspect
+"$inspect" "$tmp/a.cxb" >"$tmp/out"; check "inspect" 0 $?
+contains "inspect shows chunks" "$tmp/out" "MESH"
+"$inspect" --json "$tmp/a.cxb" >"$tmp/out.json"; check "inspect --json" 0 $?
+python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['valid'] and len(d['chunks'])>5" "$tmp/out.json"
+check "inspect json parses" 0 $?
+cp "$tmp/a.cxb" "$tmp/corrupt.cxb"
+printf '\x55' | dd of="$tmp/corrupt.cxb" bs=1 seek=2000 conv=notrunc 2>/dev/null
+"$inspect" "$tmp/corrupt.cxb" >"$tmp/out"; check "inspect corrupt" 4 $?
+contains "corruption named" "$tmp/out" "checksum mismatch"
+head -c 1000 "$tmp/a.cxb" >"$tmp/trunc.cxb"
+
+# render: PNG and EXR, and clear failures on bad files
+"$render" "$tmp/a.cxb" -o "$tmp/img.png" --size 160x120 -q; check "render png" 0 $?
+"$render" "$tmp/a.cxb" -o "$tmp/img.exr" --size 64 --time 2 -q; check "render exr" 0 $?
+iinfo "$tmp/img.png" >"$tmp/info" 2>&1; contains "png size" "$tmp/info" "160 x  120"
+iinfo "$tmp/img.exr" >"$tmp/info" 2>&1; contains "exr is float" "$tmp/info" "float"
+"$render" "$tmp/trunc.cxb" -o "$tmp/t.png" 2>"$tmp/err"; check "render truncated" 4 $?
+contains "truncation named" "$tmp/err" "truncated"
+[ ! -e "$tmp/t.png" ]; check "no image on failure" 0 $?
+"$render" "$tmp/corrupt.cxb" -o "$tmp/t.png" 2>/dev/null; check "render corrupt" 4 $?
+"$render" "$src/assets/scenes/default.json" -o "$tmp/t.png" 2>/dev/null; check "render a json" 4 $?
+"$render" "$tmp/a.cxb" -o "$tmp/t.png" --size 0x5 2>/dev/null; check "render bad size" 2 $?
+"$render" "$tmp/a.cxb" -o "$tmp/t.unknownext" 2>/dev/null; check "render bad extension" 5 $?
+
+# viewer: opens a window under Xvfb and saves a screenshot
+if command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 640x480x24" "$view" "$tmp/a.cxb" --size 320x240 --frames 3 --screenshot "$tmp/shot.png" >"$tmp/vout" 2>&1
+  check "viewer screenshot under Xvfb" 0 $?
+  iinfo "$tmp/shot.png" >"$tmp/info" 2>&1; contains "screenshot size" "$tmp/info" "320 x  240"
+else
+  failed=$((failed + 1)); echo "FAIL: xvfb-run missing (scripts/setup-deps.sh installs it)"
+fi
+env -u DISPLAY -u WAYLAND_DISPLAY "$view" "$tmp/a.cxb" --frames 1 --screenshot "$tmp/s.png" 2>"$tmp/err"; check "viewer without display" 6 $?
+
+echo "cli_test: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,85 @@
+// Headless rendering through EGL (llvmpipe here, a GPU where present):
+// something lit where a receiver is, the exact background elsewhere, a
+// shadow where the light is blocked, and no NaN/Inf anywhere.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "caustix/bake/bake.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
+
+namespace caustix {
+namespace {
+
+using runtime::FrameParams;
+using runtime::HeadlessContext;
+using runtime::Renderer;
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<float> rgba;
+  const float* at(int row, int col) const { return &rgba[(static_cast<std::size_t>(row) * w + col) * 4]; }
+};
+
+Image render(const std::string& scene_json, int w, int h, float time = 0.0f) {
+  auto baked = bake::bake_scene(std::string(CAUSTIX_SOURCE_DIR) + "/" + scene_json, {});
+  EXPECT_TRUE(baked.ok()) << baked.error().message;
+  auto scene = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  auto ctx = HeadlessContext::create();
+  EXPECT_TRUE(ctx.ok()) << ctx.error().message;
+  auto r = Renderer::create(*scene);
+  EXPECT_TRUE(r.ok()) << r.error().message;
+  FrameParams f;
+  f.camera = (*r)->default_camera();
+  f.width = w;
+  f.height = h;
+  f.time = time;
+  Status st = (*r)->render(f);
+  EXPECT_TRUE(st.ok()) << st.error().message;
+  return Image{w, h, (*r)->read_hdr()};
+}
+
+TEST(Render, LitReceiverBackgroundAndShadow) {
+  // tests/data/lit_box.json: a 3 m floor and a red unit box seen from 6 m
+  // above; sun travelling along (1, -1, 0) with E0 = 2.
+  const Image img = render("tests/data/lit_box.json", 96, 96);
+  const float* corner = img.at(0, 0);
+  EXPECT_EQ(corner[0], runtime::kSkyColor[0]);
+  EXPECT_EQ(corner[1], runtime::kSkyColor[1]);
+  EXPECT_EQ(corner[2], runtime::kSkyColor[2]);
+
+  // Box top: albedo 0.9 red * (ambient + E0 cos 45deg = 1.41).
+  const float* box = img.at(48, 48);
+  EXPECT_NEAR(box[0], 0.9f * (0.12f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_LT(box[1], box[0] * 0.5f);
+
+  // Floor left of the box is lit; right of it (downwind) is in its shadow.
+  const float* lit = img.at(48, 26);
+  const float* shadow = img.at(48, 70);
+  EXPECT_NEAR(lit[0], 0.8f * (0.12f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_LT(shadow[0], 0.15f * lit[0]);
+}
+
+TEST(Render, DefaultSceneHasNoNanAndIsNotEmpty) {
+  for (float t : {0.0f, 3.7f}) {
+    const Image img = render("assets/scenes/default.json", 160, 120, t);
+    std::size_t non_sky = 0;
+    for (std::size_t i = 0; i < img.rgba.size(); i += 4) {
+      for (std::size_t k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(img.rgba[i + k])) << "pixel " << i / 4;
+      non_sky += img.rgba[i] != runtime::kSkyColor[0] ? 1 : 0;
+    }
+    EXPECT_GT(non_sky, img.rgba.size() / 4 / 3) << "the scene covers too little of the image";
+  }
+}
+
+TEST(Render, WavesMoveWithTime) {
+  const Image a = render("assets/scenes/default.json", 80, 60, 0.0f);
+  const Image b = render("assets/scenes/default.json", 80, 60, 1.0f);
+  EXPECT_NE(a.rgba, b.rgba);
+}
+
+}  // namespace
+}  // namespace caustix

@@ -1,0 +1,200 @@
+// Scene chunks: every field survives encode -> decode; malformed payloads are
+// refused with the chunk named.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "caustix/formats/scene.h"
+#include "cxb_test_util.h"
+
+namespace caustix {
+namespace {
+
+SceneDesc full_scene() {
+  SceneDesc s;
+  s.name = "codec test";
+  MeshInfo m;
+  m.source = "meshes/thing.obj";
+  m.vertex_count = 8;
+  m.triangle_count = 12;
+  m.position_bits = 14;
+  m.normal_bits = 10;
+  m.bounds_min = {-1, -2, -3};
+  m.bounds_max = {1, 2, 3};
+  s.meshes = {m};
+  Object o;
+  o.name = "glass";
+  o.role = Role::kBoth;
+  o.material = Material{{0.1f, 0.2f, 0.3f}, true, 1.5f};
+  o.transform = {2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 4, 0, 5, 6, 7, 1};
+  s.objects = {o};
+  Light sun;
+  sun.name = "sun";
+  sun.direction = {0.6f, -0.8f, 0};
+  sun.irradiance = 3.5f;
+  sun.color = {1, 0.9f, 0.8f};
+  Light bulb;
+  bulb.type = LightType::kPoint;
+  bulb.position = {1, 2, 3};
+  bulb.intensity = 42;
+  s.lights = {sun, bulb};
+  Water w;
+  w.level = 2;
+  w.ior = 1.33f;
+  w.absorption = {0.1f, 0.2f, 0.3f};
+  w.cells = {64, 32};
+  w.extent = {-1, -2, 3, 4};
+  w.waves = {Wave{0.1f, 1.0f, {1, 0}, 0.5f, 0.25f}, Wave{0.05f, 0.3f, {0, 1}, 0.2f, 1.0f}};
+  s.water = w;
+  Camera c;
+  c.position = {1, 2, 3};
+  c.fov_y_deg = 60;
+  s.camera = c;
+  return s;
+}
+
+Result<DecodedScene> decode(const std::vector<std::uint8_t>& b) {
+  auto c = cxb::read_container(b.data(), b.size());
+  if (!c) return c.error();
+  // decode_scene keeps spans into b, which outlives the result here.
+  return decode_scene(*c);
+}
+
+TEST(SceneCodec, EveryFieldSurvives) {
+  const SceneDesc s = full_scene();
+  ASSERT_FALSE(validate_scene(s).has_value());
+  const auto b = encode_scene(s, {{1, 2, 3, 4}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  const SceneDesc& r = d->scene;
+  EXPECT_EQ(r.name, s.name);
+  ASSERT_EQ(r.meshes.size(), 1u);
+  EXPECT_EQ(r.meshes[0].source, "meshes/thing.obj");
+  EXPECT_EQ(r.meshes[0].triangle_count, 12u);
+  EXPECT_EQ(r.meshes[0].bounds_max, s.meshes[0].bounds_max);
+  ASSERT_EQ(r.objects.size(), 1u);
+  EXPECT_EQ(r.objects[0].name, "glass");
+  EXPECT_EQ(r.objects[0].role, Role::kBoth);
+  EXPECT_EQ(r.objects[0].material.albedo, s.objects[0].material.albedo);
+  EXPECT_TRUE(r.objects[0].material.transparent);
+  EXPECT_EQ(r.objects[0].material.ior, 1.5f);
+  EXPECT_EQ(r.objects[0].transform, s.objects[0].transform);
+  ASSERT_EQ(r.lights.size(), 2u);
+  EXPECT_EQ(r.lights[0].direction, s.lights[0].direction);
+  EXPECT_EQ(r.lights[0].irradiance, 3.5f);
+  EXPECT_EQ(r.lights[0].color, s.lights[0].color);
+  EXPECT_EQ(r.lights[1].type, LightType::kPoint);
+  EXPECT_EQ(r.lights[1].position, s.lights[1].position);
+  EXPECT_EQ(r.lights[1].intensity, 42.0f);
+  ASSERT_TRUE(r.water.has_value());
+  EXPECT_EQ(r.water->cells, s.water->cells);
+  EXPECT_EQ(r.water->extent, s.water->extent);
+  EXPECT_EQ(r.water->absorption, s.water->absorption);
+  ASSERT_EQ(r.water->waves.size(), 2u);
+  EXPECT_EQ(r.water->waves[1].wavelength, 0.3f);
+  EXPECT_EQ(r.water->waves[1].phase, 1.0f);
+  ASSERT_TRUE(r.camera.has_value());
+  EXPECT_EQ(r.camera->fov_y_deg, 60.0f);
+  ASSERT_EQ(d->draco_meshes.size(), 1u);
+  EXPECT_EQ(d->draco_meshes[0].size(), 4u);
+}
+
+TEST(SceneCodec, OptionalPartsAbsent) {
+  SceneDesc s = full_scene();
+  s.water.reset();
+  s.camera.reset();
+  const auto b = encode_scene(s, {{0}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_FALSE(d->scene.water.has_value());
+  EXPECT_FALSE(d->scene.camera.has_value());
+}
+
+TEST(SceneCodec, MeshChunkCountMustMatch) {
+  const auto b = encode_scene(full_scene(), {});
+  auto d = decode(b);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'MESH'"), std::string::npos) << d.error().message;
+}
+
+TEST(SceneCodec, BadEnumAndNaNAreRefusedWithThePlace) {
+  auto b = encode_scene(full_scene(), {{0}});
+  // Find the OBJS payload; its role byte follows count, name and mesh index.
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t objs = c->find(cxb::kTagObjects).at(0);
+  const std::size_t off = c->chunks()[objs].offset;
+  const std::size_t role = off + 4 + 4 + 5 + 4;  // count, name length, "glass", mesh index
+  auto bad = b;
+  bad[role] = 9;
+  test::reseal_payload(bad, objs);
+  auto d = decode(bad);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'OBJS'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("role"), std::string::npos) << d.error().message;
+
+  bad = b;
+  const float nan = std::nanf("");
+  std::memcpy(bad.data() + role + 4 + 12, &nan, 4);  // ior
+  test::reseal_payload(bad, objs);
+  d = decode(bad);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/0/material/ior"), std::string::npos) << d.error().message;
+}
+
+TEST(SceneCodec, TruncatedPayloadNamesTheField) {
+  auto b = encode_scene(full_scene(), {{0}});
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  // Rebuild the container with the CAMR chunk cut short by 4 bytes.
+  cxb::ContainerWriter w;
+  for (std::size_t i = 0; i < c->chunks().size(); ++i) {
+    auto p = c->payload(i);
+    std::vector<std::uint8_t> bytes(p.begin(), p.end());
+    if (c->chunks()[i].tag == cxb::kTagCamera) bytes.resize(bytes.size() - 4);
+    w.add_chunk(c->chunks()[i].tag, c->chunks()[i].flags, bytes);
+  }
+  const auto cut = w.finish();
+  auto d = decode(cut);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("chunk 'CAMR' payload offset 44: truncated while reading camera"),
+            std::string::npos) << d.error().message;
+}
+
+TEST(SceneCodec, DuplicateSingletonChunk) {
+  auto b = encode_scene(full_scene(), {{0}});
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  cxb::ContainerWriter w;
+  for (std::size_t i = 0; i < c->chunks().size(); ++i) {
+    auto p = c->payload(i);
+    w.add_chunk(c->chunks()[i].tag, c->chunks()[i].flags, {p.begin(), p.end()});
+    if (c->chunks()[i].tag == cxb::kTagLights) w.add_chunk(c->chunks()[i].tag, c->chunks()[i].flags, {p.begin(), p.end()});
+  }
+  const auto dup = w.finish();
+  auto d = decode(dup);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'LGHT' appears 2 times"), std::string::npos) << d.error().message;
+}
+
+TEST(SceneValidate, RulesNameTheField) {
+  SceneDesc s = full_scene();
+  s.water->cells = {1000000000u, 4};
+  auto issue = validate_scene(s);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->pointer, "/water/grid/cells");
+  s = full_scene();
+  s.lights[0].direction = {0, 0, 0};
+  issue = validate_scene(s);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->pointer, "/lights/0/direction");
+  s = full_scene();
+  s.objects.push_back(s.objects[0]);
+  issue = validate_scene(s);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->pointer, "/objects/1/name");
+}
+
+}  // namespace
+}  // namespace caustix

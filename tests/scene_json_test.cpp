@@ -1,0 +1,136 @@
+// scene.json front end: every error names file, line and column.
+
+#include <gtest/gtest.h>
+
+#include "caustix/bake/scene_json.h"
+
+namespace caustix::bake {
+namespace {
+
+const char* kMinimal = R"({
+  "objects": [
+    { "name": "floor", "mesh": "plane.obj" }
+  ],
+  "lights": [ { "type": "directional", "direction": [0, -1, 0] } ]
+})";
+
+std::string error_of(const std::string& text) {
+  auto r = parse_scene_json(text, "scene.json");
+  EXPECT_FALSE(r.ok()) << "accepted: " << text;
+  return r.ok() ? "" : r.error().message;
+}
+
+TEST(SceneJson, MinimalSceneAndDefaults) {
+  auto r = parse_scene_json(kMinimal, "dir/scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const SceneDesc& s = r->scene;
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].role, Role::kReceiver);
+  EXPECT_EQ(r->mesh_paths, std::vector<std::string>{"dir/plane.obj"});
+  EXPECT_EQ(s.meshes[0].source, "plane.obj");
+  EXPECT_FALSE(s.water.has_value());
+  EXPECT_TRUE(r->warnings.empty());
+}
+
+TEST(SceneJson, SharedMeshIsImportedOnce) {
+  auto r = parse_scene_json(R"({"objects": [{"name": "a", "mesh": "m.obj"}, {"name": "b", "mesh": "./m.obj"},
+                                            {"name": "c", "mesh": "n.obj"}]})", "s.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->mesh_paths.size(), 2u);
+  EXPECT_EQ(r->scene.objects[1].mesh_index, 0u);
+  EXPECT_EQ(r->scene.objects[2].mesh_index, 1u);
+}
+
+TEST(SceneJson, TransformAndDirectionNormalisation) {
+  auto r = parse_scene_json(R"({"objects": [{"name": "a", "mesh": "m.obj",
+      "transform": {"translate": [1, 2, 3], "rotate_deg": [0, 90, 0], "scale": 2}}],
+      "lights": [{"type": "directional", "direction": [0, -2, 0]}],
+      "water": {"level": 1, "waves": [{"amplitude": 0.1, "wavelength": 1, "direction": [3, 4]}]}})",
+                            "s.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Mat4f& m = r->scene.objects[0].transform;
+  // Ry(90) maps +x to -z; scale 2; then translate.
+  EXPECT_NEAR(m[0], 0.0f, 1e-6f);
+  EXPECT_NEAR(m[2], -2.0f, 1e-6f);
+  EXPECT_NEAR(m[5], 2.0f, 1e-6f);
+  EXPECT_EQ(m[12], 1.0f);
+  EXPECT_EQ(m[14], 3.0f);
+  EXPECT_NEAR(r->scene.lights[0].direction[1], -1.0f, 1e-6f);
+  EXPECT_NEAR(r->scene.water->waves[0].direction[0], 0.6f, 1e-6f);
+}
+
+TEST(SceneJson, SyntaxErrorHasLineAndColumn) {
+  const std::string msg = error_of("{\n  \"objects\": [\n    { \"name\": \"a\" \"mesh\": \"m.obj\" }\n  ]\n}");
+  EXPECT_EQ(msg.rfind("scene.json:3:", 0), 0u) << msg;
+}
+
+TEST(SceneJson, WrongTypePointsAtTheKey) {
+  const std::string msg = error_of(R"({
+  "objects": [
+    { "name": "floor", "mesh": "plane.obj",
+      "material": { "albedo": "white" } }
+  ]
+})");
+  EXPECT_EQ(msg.rfind("scene.json:4:21: /objects/0/material/albedo", 0), 0u) << msg;
+  EXPECT_NE(msg.find("string"), std::string::npos) << msg;
+}
+
+TEST(SceneJson, MissingFieldPointsAtTheObject) {
+  const std::string msg = error_of("{\n  \"objects\": [\n    { \"name\": \"floor\" }\n  ]\n}");
+  EXPECT_EQ(msg.rfind("scene.json:3:5: /objects/0: missing required field \"mesh\"", 0), 0u) << msg;
+}
+
+TEST(SceneJson, AbsurdValuesAreLocated) {
+  std::string msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}],
+ "water": {"level": 0, "grid": {"cells": [1000000000, 10]}}})");
+  EXPECT_EQ(msg.rfind("scene.json:2:33: /water/grid/cells", 0), 0u) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj", "transform": {"scale": 0}}]})");
+  EXPECT_NE(msg.find("/objects/0/transform"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("singular"), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "water": {"level": 0, "ior": -1}})");
+  EXPECT_NE(msg.find("scene.json:1:69: /water/ior"), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "water": {"level": 0, "grid": {"cells": [-4, 2]}}})");
+  EXPECT_NE(msg.find("/water/grid/cells/0"), std::string::npos) << msg;
+}
+
+TEST(SceneJson, DuplicateKeysAndNamesAreErrors) {
+  std::string msg = error_of("{\"objects\": [{\"name\": \"a\", \"name\": \"b\", \"mesh\": \"m.obj\"}]}");
+  EXPECT_NE(msg.find("duplicate key \"name\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("scene.json:1:"), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}, {"name": "a", "mesh": "m.obj"}]})");
+  EXPECT_NE(msg.find("/objects/1/name"), std::string::npos) << msg;
+}
+
+TEST(SceneJson, UnknownFieldsWarnWithPlace) {
+  auto r = parse_scene_json(R"({"objects": [{"name": "a", "mesh": "m.obj", "colour": [1, 0, 0]}],
+    "lights": [{"type": "directional", "direction": [0, -1, 0]}]})", "s.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_EQ(r->warnings[0].rfind("s.json:1:45: /objects/0/colour: unknown field", 0), 0u) << r->warnings[0];
+}
+
+TEST(SceneJson, NotAnObjectAndEmpty) {
+  EXPECT_NE(error_of("[1, 2]").find("expected an object"), std::string::npos);
+  EXPECT_NE(error_of("").find("scene.json:1:1"), std::string::npos);
+  EXPECT_NE(error_of("{}").find("missing required field \"objects\""), std::string::npos);
+  EXPECT_NE(error_of(R"({"objects": []})").find("at least one object"), std::string::npos);
+}
+
+TEST(SceneJson, MissingFileIsAnInputError) {
+  auto r = load_scene_json("/nonexistent/scene.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kInput);
+  EXPECT_NE(r.error().message.find("/nonexistent/scene.json"), std::string::npos);
+}
+
+TEST(SceneJson, HugeNumbersAndLightTypes) {
+  EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "directional", "direction": [1e300, 0, 0]}]})")
+                .find("/lights/0/direction/0"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot"}]})")
+                .find("/lights/0/type"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace caustix::bake
