@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "caustix/formats/container.h"
+#include "caustix/formats/scene.h"
 #include "cxb_test_util.h"
 
 namespace caustix {
@@ -205,6 +206,36 @@ TEST(Container, UnknownChunks) {
 TEST(Container, TagPrintsUnprintableBytes) {
   const cxb::Tag t{{'A', '\0', '\n', char(0xFF)}};
   EXPECT_EQ(t.str(), "A\\x00\\x0A\\xFF");
+}
+
+}  // namespace
+}  // namespace caustix
+
+namespace caustix {
+namespace {
+
+// The same corruption sweep over a real baked file (the v1 golden), through
+// the container reader and the scene decoder.
+TEST(Container, GoldenFileEveryPrefixAndFlip) {
+  const std::string path = std::string(CAUSTIX_SOURCE_DIR) + "/assets/golden/default-v1.cxb";
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  ASSERT_NE(f, nullptr) << path;
+  std::vector<std::uint8_t> b(1 << 20);
+  b.resize(std::fread(b.data(), 1, b.size(), f));
+  std::fclose(f);
+  auto whole = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  ASSERT_TRUE(decode_scene(*whole).ok());
+  for (std::size_t n = 0; n < b.size(); ++n) {
+    auto c = cxb::read_container(b.data(), n);
+    ASSERT_FALSE(c.ok()) << "prefix " << n;
+  }
+  for (std::size_t i = 0; i < b.size(); i += 3) {
+    auto t = b;
+    t[i] ^= 0x10;
+    auto c = cxb::read_container(t.data(), t.size());
+    ASSERT_FALSE(c.ok()) << "flip at " << i;
+  }
 }
 
 }  // namespace
