@@ -1,15 +1,13 @@
 // caustix-bake: scene.json + meshes -> one .cxb file. See --help and README.md
 // for the exit codes.
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <iostream>
 
 #include "caustix/bake/bake.h"
-#include "caustix/common/exit_codes.h"
-#include "caustix/common/version.h"
+#include "caustix/common/cli.h"
 #include "caustix/formats/file_io.h"
 
 namespace {
@@ -54,25 +52,17 @@ int main(int argc, char** argv) {
   app.add_option("--report", report_path, "write a JSON report of the bake");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
-  app.set_version_flag("--version", std::string("caustix-bake ") + kVersionString);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
 
   auto result = bake::bake_scene(scene_path, opt);
   if (!result) {
-    std::cerr << "caustix-bake: error: " << result.error().message << "\n";
-    return exit_code_for(result.error());
+    return cli::fail("caustix-bake", result.error());
   }
   if (!quiet) {
     for (const auto& w : result->warnings) std::cerr << "caustix-bake: warning: " << w << "\n";
   }
   if (Status st = write_file_atomically(out_path, result->cxb); !st) {
-    std::cerr << "caustix-bake: error: " << st.error().message << "\n";
-    return exit_code_for(st.error());
+    return cli::fail("caustix-bake", st.error());
   }
 
   std::uint64_t raw = 0, draco = 0;
@@ -98,16 +88,14 @@ int main(int argc, char** argv) {
                     {"write", result->seconds_write}};
     j["warnings"] = result->warnings;
     if (Status st = write_text(report_path, j.dump(2) + "\n"); !st) {
-      std::cerr << "caustix-bake: error: " << st.error().message << "\n";
-      return exit_code_for(st.error());
+      return cli::fail("caustix-bake", st.error());
     }
   }
   if (!depfile.empty()) {
     std::string text = make_escape(out_path) + ":";
     for (const auto& in : result->inputs) text += " \\\n  " + make_escape(in);
     if (Status st = write_text(depfile, text + "\n"); !st) {
-      std::cerr << "caustix-bake: error: " << st.error().message << "\n";
-      return exit_code_for(st.error());
+      return cli::fail("caustix-bake", st.error());
     }
   }
   if (verbose) {

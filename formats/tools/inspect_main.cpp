@@ -1,14 +1,12 @@
 // caustix-inspect: prints a .cxb's header, chunk table and validation result.
 // Exit codes: 0 valid, 2 usage, 3 file unreadable, 4 file invalid.
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <iostream>
 
-#include "caustix/common/exit_codes.h"
-#include "caustix/common/version.h"
+#include "caustix/common/cli.h"
 #include "caustix/formats/container.h"
 #include "caustix/formats/file_io.h"
 #include "caustix/formats/scene.h"
@@ -33,18 +31,11 @@ int main(int argc, char** argv) {
   bool as_json = false;
   app.add_option("file", path, "the .cxb file")->required();
   app.add_flag("--json", as_json, "machine-readable output on stdout");
-  app.set_version_flag("--version", std::string("caustix-inspect ") + kVersionString);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  if (auto rc = cli::parse(app, "caustix-inspect", argc, argv)) return *rc;
 
   auto bytes = read_file(path);
   if (!bytes) {
-    std::cerr << "caustix-inspect: " << bytes.error().message << "\n";
-    return kExitInput;
+    return cli::fail("caustix-inspect", bytes.error());
   }
   cxb::ReadFailure failure = cxb::ReadFailure::kNone;
   auto container = cxb::read_container(bytes->data(), bytes->size(), &failure);

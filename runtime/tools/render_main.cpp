@@ -1,16 +1,12 @@
 // caustix-render: renders a .cxb headless (EGL, no X server) to an image.
 // Exit codes: see --help.
 
-#include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 
-#include "caustix/common/exit_codes.h"
-#include "caustix/common/version.h"
-#include "caustix/runtime/cli_common.h"
+#include "caustix/common/cli.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/image_output.h"
 #include "caustix/runtime/renderer.h"
@@ -30,27 +26,15 @@ int main(int argc, char** argv) {
       "            5 image could not be written, 6 no usable OpenGL 4.5 context.");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
   app.add_option("-o,--output", out_path, "output image (.png, .exr, ...)")->required();
-  app.add_option("--size", size, "image size WxH or N (1..16384)")->capture_default_str();
+  cli::add_size_option(app, "--size", size, "image size");
   app.add_option("--time", time, "animation time in seconds (waves)")->capture_default_str()
       ->check(CLI::Range(-1e6f, 1e6f));
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print the renderer and timings");
-  app.set_version_flag("--version", std::string("caustix-render ") + kVersionString);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  if (auto rc = cli::parse(app, "caustix-render", argc, argv)) return *rc;
   int width = 0, height = 0;
-  if (!parse_size(size, width, height)) {
-    std::cerr << "caustix-render: error: --size '" << size << "' is not WxH or N with sides in 1..16384\n";
-    return kExitUsage;
-  }
-  auto fail = [](const Error& e) {
-    std::cerr << "caustix-render: error: " << e.message << "\n";
-    return exit_code_for(e);
-  };
+  cli::parse_size(size, width, height);
+  auto fail = [](const Error& e) { return cli::fail("caustix-render", e); };
 
   auto scene = load_scene_file(in_path);
   if (!scene) return fail(scene.error());

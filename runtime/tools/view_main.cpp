@@ -6,7 +6,6 @@
 
 #include <epoxy/gl.h>
 #include <GLFW/glfw3.h>
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -14,9 +13,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "caustix/common/exit_codes.h"
-#include "caustix/common/version.h"
-#include "caustix/runtime/cli_common.h"
+#include "caustix/common/cli.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/image_output.h"
 #include "caustix/runtime/renderer.h"
@@ -70,27 +67,15 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
       "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
-  app.add_option("--size", size, "window size WxH")->capture_default_str();
+  cli::add_size_option(app, "--size", size, "window size");
   app.add_option("--screenshot", screenshot, "save the window to this image after --frames frames, then exit");
   app.add_option("--frames", frames, "frames to render before the screenshot (with --screenshot)")
       ->check(CLI::Range(1, 100000))->capture_default_str();
-  app.set_version_flag("--version", std::string("caustix-view ") + kVersionString);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  if (auto rc = cli::parse(app, "caustix-view", argc, argv)) return *rc;
   int width = 0, height = 0;
-  if (!parse_size(size, width, height)) {
-    std::cerr << "caustix-view: error: --size '" << size << "' is not WxH\n";
-    return kExitUsage;
-  }
+  cli::parse_size(size, width, height);
   if (!screenshot.empty() && frames == 0) frames = 1;
-  auto fail = [](const Error& e) {
-    std::cerr << "caustix-view: error: " << e.message << "\n";
-    return exit_code_for(e);
-  };
+  auto fail = [](const Error& e) { return cli::fail("caustix-view", e); };
 
   auto scene = load_scene_file(in_path);
   if (!scene) return fail(scene.error());
