@@ -15,7 +15,7 @@ PACKAGES=(
   # windowed tests without a display
   xvfb xauth
   # small well-kept libraries: JSON, CLI parsing, checksums, threading
-  nlohmann-json3-dev libcli11-dev libxxhash-dev libtbb-dev
+  nlohmann-json3-dev libcli11-dev libxxhash-dev libzstd-dev libtbb-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots
   libgtest-dev clang-14 libclang-rt-14-dev python3
 )

@@ -25,6 +25,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   SceneDesc& scene = doc->scene;
 
   std::vector<std::vector<std::uint8_t>> draco_streams;
+  std::vector<TriangleMesh> meshes;
   for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
     const std::string& path = doc->mesh_paths[i];
     out.inputs.push_back(path);
@@ -68,14 +69,27 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     st.normals_from_file = imported->normals_from_file;
     out.meshes.push_back(st);
     draco_streams.push_back(std::move(*stream));
+    meshes.push_back(std::move(imported->mesh));
   }
 
   if (auto issue = validate_scene(scene)) {
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
   }
-  const auto t0 = Clock::now();
-  out.cxb = encode_scene(scene, draco_streams);
+  auto t0 = Clock::now();
+  auto stage = bake_level_maps(scene, meshes, options.level_maps);
+  if (!stage) return stage.error();
+  out.level_maps = std::move(*stage);
+  for (const PairReport& p : out.level_maps.pairs) {
+    if (!p.warning.empty()) {
+      out.warnings.push_back("object '" + scene.objects[p.object].name + "', light " + std::to_string(p.light) + ": " + p.warning);
+    }
+  }
+  out.seconds_level_maps = seconds_since(t0);
+
+  t0 = Clock::now();
+  out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes);
   out.seconds_write = seconds_since(t0);
+  out.scene = std::move(scene);
   return out;
 }
 

@@ -1,8 +1,10 @@
 // caustix-bake: scene.json + meshes -> one .cxb file. See --help and README.md
 // for the exit codes.
 
-#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 
+#include <map>
+#include <memory>
 #include <cstdio>
 #include <iostream>
 
@@ -31,8 +33,11 @@ caustix::Status write_text(const std::string& path, const std::string& text) {
 int main(int argc, char** argv) {
   using namespace caustix;
   bake::BakeOptions opt;
-  std::string scene_path, out_path, depfile, report_path;
+  std::string scene_path, out_path, depfile, report_path, slicing = "smart";
+  double epsilon = 0;
+  int threads = 0;
   bool quiet = false, verbose = false;
+  auto& lm = opt.level_maps;
 
   CLI::App app{"caustix-bake: bake scene.json and its meshes into one .cxb file"};
   app.footer(
@@ -48,11 +53,34 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(6, 30))->capture_default_str();
   app.add_option("--draco-speed", opt.draco.speed, "Draco speed: 0 smallest file .. 10 fastest")
       ->check(CLI::Range(0, 10))->capture_default_str();
+  app.add_option("--planes", lm.slicing.planes,
+                 "uniform slicing: n pieces, n + 1 reference planes (eq. 4-6..4-9); also sets the default "
+                 "epsilon h/(2n) of smart slicing")
+      ->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--epsilon", epsilon,
+                 "acceptance half-width in metres for smart slicing (eq. 4-22); default: h/(2n) per receiver")
+      ->check(CLI::Range(1e-9, 1e9));
+  app.add_option("--levels", lm.slicing.levels, "depth levels L of the depth profile (smart slicing, §4.7.2)")
+      ->check(CLI::Range(1, 65536))->capture_default_str();
+  app.add_option("--slicing", slicing, "plane set the runtime uses by default; both are stored")
+      ->check(CLI::IsMember({"smart", "uniform"}))->capture_default_str();
+  app.add_option("--map-size", lm.map_size, "position and diffuse map size S (S x S texels)")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
+      ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");
   app.add_option("--report", report_path, "write a JSON report of the bake");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
+
+  if (epsilon > 0) lm.slicing.epsilon = epsilon;
+  lm.slicing.slicing = slicing == "uniform" ? Slicing::kUniform : Slicing::kSmart;
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (threads > 0) {
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                         static_cast<std::size_t>(threads));
+  }
 
   auto result = bake::bake_scene(scene_path, opt);
   if (!result) {
@@ -71,23 +99,7 @@ int main(int argc, char** argv) {
     draco += m.draco_bytes;
   }
   if (!report_path.empty()) {
-    nlohmann::ordered_json j;
-    j["output"] = out_path;
-    j["bytes"] = result->cxb.size();
-    j["options"] = {{"position_bits", opt.draco.position_bits},
-                    {"normal_bits", opt.draco.normal_bits},
-                    {"draco_speed", opt.draco.speed}};
-    for (const auto& m : result->meshes) {
-      j["meshes"].push_back({{"path", m.path}, {"vertices", m.vertices}, {"triangles", m.triangles},
-                             {"raw_bytes", m.raw_bytes}, {"draco_bytes", m.draco_bytes},
-                             {"max_position_error_m", m.max_position_error},
-                             {"normals_from_file", m.normals_from_file}});
-    }
-    j["seconds"] = {{"import", result->seconds_import},
-                    {"compress", result->seconds_compress},
-                    {"write", result->seconds_write}};
-    j["warnings"] = result->warnings;
-    if (Status st = write_text(report_path, j.dump(2) + "\n"); !st) {
+    if (Status st = write_text(report_path, bake::report_json(*result, opt)); !st) {
       return cli::fail("caustix-bake", st.error());
     }
   }
@@ -98,20 +110,11 @@ int main(int argc, char** argv) {
       return cli::fail("caustix-bake", st.error());
     }
   }
-  if (verbose) {
-    for (const auto& m : result->meshes) {
-      std::printf("  %-40s %7u vertices %7u triangles  raw %8llu B  draco %7llu B  max error %.3g m%s\n",
-                  m.path.c_str(), m.vertices, m.triangles, static_cast<unsigned long long>(m.raw_bytes),
-                  static_cast<unsigned long long>(m.draco_bytes), m.max_position_error,
-                  m.normals_from_file ? "" : "  (normals computed)");
-    }
-    std::printf("  time: import %.3f s, compress %.3f s, write %.3f s\n", result->seconds_import,
-                result->seconds_compress, result->seconds_write);
-  }
+  if (verbose) std::fputs(bake::report_text(*result).c_str(), stdout);
   if (!quiet) {
-    std::printf("caustix-bake: wrote %s (%zu bytes; meshes %llu raw bytes -> %llu Draco bytes)\n",
+    std::printf("caustix-bake: wrote %s (%zu bytes; meshes %llu raw bytes -> %llu Draco bytes; %zu level maps)\n",
                 out_path.c_str(), result->cxb.size(), static_cast<unsigned long long>(raw),
-                static_cast<unsigned long long>(draco));
+                static_cast<unsigned long long>(draco), result->level_maps.maps.size());
   }
   return kExitOk;
 }

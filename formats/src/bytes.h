@@ -30,6 +30,8 @@ class ByteWriter {
   void u32(std::uint32_t v) { append(&v, 4); }
   void u64(std::uint64_t v) { append(&v, 8); }
   void f32(float v) { append(&v, 4); }
+  void f64(double v) { append(&v, 8); }
+  void raw(const void* p, std::size_t n) { append(p, n); }
   void str(const std::string& s) {
     u32(static_cast<std::uint32_t>(s.size()));
     append(s.data(), s.size());
@@ -53,6 +55,14 @@ class ByteReader {
   bool u32(std::uint32_t& v) { return read(&v, 4); }
   bool u64(std::uint64_t& v) { return read(&v, 8); }
   bool f32(float& v) { return read(&v, 4); }
+  bool f64(double& v) { return read(&v, 8); }
+  // A view of the next n bytes.
+  bool span(std::span<const std::uint8_t>& out, std::size_t n) {
+    if (n > remaining()) return false;
+    out = b_.subspan(pos_, n);
+    pos_ += n;
+    return true;
+  }
   // A length-prefixed string of at most max_len bytes.
   bool str(std::string& s, std::size_t max_len) {
     std::uint32_t n = 0;

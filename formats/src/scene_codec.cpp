@@ -5,12 +5,13 @@
 
 #include "bytes.h"
 #include "caustix/formats/scene.h"
+#include "chunk_decoder.h"
 
 namespace caustix {
 namespace {
 
-using cxb::detail::ByteReader;
 using cxb::detail::ByteWriter;
+using cxb::detail::ChunkDecoder;
 
 void put(ByteWriter& w, const Vec3f& v) { for (float f : v) w.f32(f); }
 
@@ -98,55 +99,6 @@ std::vector<std::uint8_t> encode_camera(const Camera& c) {
 }
 
 // --- decoding ----------------------------------------------------------------
-
-// Reads one chunk payload; the first failed read records what was being read
-// so the error can name chunk, payload offset and field.
-class ChunkDecoder {
- public:
-  ChunkDecoder(cxb::Tag tag, std::span<const std::uint8_t> bytes) : tag_(tag), r_(bytes) {}
-
-  bool u8(std::uint8_t& v, const char* what) { return check(r_.u8(v), what); }
-  bool u16(std::uint16_t& v, const char* what) { return check(r_.u16(v), what); }
-  bool u32(std::uint32_t& v, const char* what) { return check(r_.u32(v), what); }
-  bool f32(float& v, const char* what) { return check(r_.f32(v), what); }
-  bool vec3(Vec3f& v, const char* what) {
-    return f32(v[0], what) && f32(v[1], what) && f32(v[2], what);
-  }
-  bool str(std::string& s, const char* what) { return check(r_.str(s, kMaxNameLength), what); }
-  // A count whose records take at least min_record_bytes each.
-  bool count(std::uint32_t& n, std::size_t limit, std::size_t min_record_bytes, const char* what) {
-    if (!u32(n, what)) return false;
-    if (n > limit || std::size_t{n} * min_record_bytes > r_.remaining()) {
-      return fail(std::string(what) + " count " + std::to_string(n) +
-                  " exceeds the limit or the payload size");
-    }
-    return true;
-  }
-  bool zero16(const char* what) {
-    std::uint16_t z = 0;
-    if (!u16(z, what)) return false;
-    return z == 0 || fail(std::string(what) + " must be zero");
-  }
-  bool fail(const std::string& msg) {
-    if (error_.empty()) {
-      error_ = "chunk '" + tag_.str() + "' payload offset " + std::to_string(r_.offset()) + ": " + msg;
-    }
-    return false;
-  }
-  bool finish() {
-    return r_.remaining() == 0 ||
-           fail(std::to_string(r_.remaining()) + " unexpected trailing bytes");
-  }
-  Error error() const { return make_error(ErrorCode::kContainer, error_); }
-
- private:
-  bool check(bool ok, const char* what) {
-    return ok || fail(std::string("truncated while reading ") + what);
-  }
-  cxb::Tag tag_;
-  ByteReader r_;
-  std::string error_;
-};
 
 // Smallest encodings, used to bound counts by the payload size.
 constexpr std::size_t kMinMeshRecord = 4 + 4 + 4 + 4 + 24;
@@ -245,7 +197,9 @@ Error container_error(const std::string& msg) { return make_error(ErrorCode::kCo
 }  // namespace
 
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
-                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes) {
+                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes,
+                                       const std::vector<LevelMap>& level_maps,
+                                       const std::vector<ObjectBox>& boxes) {
   cxb::ContainerWriter w;
   w.add_chunk(cxb::kTagScene, cxb::kChunkRequired, encode_scene_chunk(scene));
   w.add_chunk(cxb::kTagObjects, cxb::kChunkRequired, encode_objects(scene));
@@ -253,6 +207,8 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
+  if (!boxes.empty()) w.add_chunk(cxb::kTagObjectBoxes, 0, encode_object_boxes(boxes));
+  for (const auto& lm : level_maps) w.add_chunk(cxb::kTagLevelMap, cxb::kChunkRequired, encode_level_map(lm));
   return w.finish();
 }
 
@@ -311,6 +267,25 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
 
   if (auto issue = validate_scene(s)) {
     return container_error("scene chunks: " + issue->pointer + ": " + issue->message);
+  }
+
+  auto obbs = single(cxb::kTagObjectBoxes, false);
+  if (!obbs) return obbs.error();
+  if (*obbs) {
+    auto boxes = decode_object_boxes(c.payload(**obbs), s);
+    if (!boxes) return boxes.error();
+    out.boxes = std::move(*boxes);
+  }
+  for (std::size_t i : c.find(cxb::kTagLevelMap)) {
+    auto lm = decode_level_map(c.payload(i), s);
+    if (!lm) return Error{lm.error().code, "chunk " + std::to_string(i) + ": " + lm.error().message};
+    for (const LevelMap& prev : out.level_maps) {
+      if (prev.object == lm->object && prev.light == lm->light) {
+        return container_error("chunk " + std::to_string(i) + " 'LMAP': a second level map for object " +
+                               std::to_string(lm->object) + " and light " + std::to_string(lm->light));
+      }
+    }
+    out.level_maps.push_back(std::move(*lm));
   }
   return out;
 }

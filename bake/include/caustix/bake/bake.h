@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "caustix/bake/level_maps.h"
 #include "caustix/bake/mesh_compress.h"
 #include "caustix/common/status.h"
 
@@ -14,6 +15,7 @@ namespace caustix::bake {
 
 struct BakeOptions {
   DracoOptions draco;
+  LevelMapOptions level_maps;
 };
 
 struct MeshStats {
@@ -28,12 +30,19 @@ struct MeshStats {
 
 struct BakeResult {
   std::vector<std::uint8_t> cxb;
+  SceneDesc scene;                  // as baked (for reports)
   std::vector<MeshStats> meshes;
   std::vector<std::string> warnings;
   std::vector<std::string> inputs;  // every file read (for --depfile)
-  double seconds_import = 0, seconds_compress = 0, seconds_write = 0;
+  LevelMapStage level_maps;         // maps moved into the .cxb; reports kept
+  double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_write = 0;
 };
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);
+
+// The bake report: JSON (--report) and a readable summary with a bar chart of
+// each depth profile (-v).
+std::string report_json(const BakeResult& result, const BakeOptions& options);
+std::string report_text(const BakeResult& result);
 
 }  // namespace caustix::bake

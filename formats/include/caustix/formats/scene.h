@@ -19,12 +19,10 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/container.h"
+#include "caustix/formats/level_map.h"
+#include "caustix/formats/types.h"
 
 namespace caustix {
-
-using Vec2f = std::array<float, 2>;
-using Vec3f = std::array<float, 3>;
-using Mat4f = std::array<float, 16>;  // column-major, object -> world
 
 // On-disk enums: never renumber.
 enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3 };
@@ -132,15 +130,20 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& scene, bool check
 // Normalises directions in place (lights, waves); call before encoding.
 void normalize_scene(SceneDesc& scene);
 
-// Serialises the scene and one Draco stream per mesh (meshes[i] <->
-// scene.meshes[i]) into .cxb bytes. Deterministic.
+// Serialises the scene, one Draco stream per mesh (meshes[i] <->
+// scene.meshes[i]), the level maps and the object boxes into .cxb bytes.
+// Deterministic.
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
-                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes);
+                                       const std::vector<std::vector<std::uint8_t>>& draco_meshes,
+                                       const std::vector<LevelMap>& level_maps = {},
+                                       const std::vector<ObjectBox>& boxes = {});
 
 struct DecodedScene {
   SceneDesc scene;
   // Draco stream per mesh, pointing into the container's buffer.
   std::vector<std::span<const std::uint8_t>> draco_meshes;
+  std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
+  std::vector<ObjectBox> boxes;
 };
 
 // Decodes and validates the scene chunks of a validated container.

@@ -25,6 +25,9 @@ inline constexpr Tag kTagLights = make_tag("LGHT");   // required, once
 inline constexpr Tag kTagWater = make_tag("WATR");    // required if present, at most once
 inline constexpr Tag kTagCamera = make_tag("CAMR");   // optional, at most once
 inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh, in mesh order
+// Level maps (formats/level_map.h).
+inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
+inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once
 
 // Whether this build knows a tag. Unknown optional chunks are skipped;
 // unknown required chunks make the reader refuse the file.

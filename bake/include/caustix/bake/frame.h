@@ -1,0 +1,47 @@
+#pragma once
+// Bounding frames for level maps (seed 000 §4.2.1): the light direction
+// refracted by the flat water surface (eq. 2-8), and the frame aligned to it
+// (eq. 4-1) with tight extents.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "caustix/formats/level_map.h"
+#include "caustix/formats/scene.h"
+
+namespace caustix::bake {
+
+using Vec3d = std::array<double, 3>;
+
+// Seed 000 eq. 2-8: T = (eta cos(theta_i) - cos(theta_r)) N + eta I, with I
+// the unit incident direction, N the unit normal on the incident side
+// (I . N <= 0) and eta = n1 / n2. Returns nothing on total internal reflection.
+std::optional<Vec3d> refract(const Vec3d& incident, const Vec3d& normal, double eta);
+
+struct LightDirection {
+  Vec3d travel{};          // unit direction of travel T at the object
+  bool refracted = false;  // whether it crossed the water surface
+};
+
+// Direction of travel of `light` at an object whose world origin is
+// `object_origin` and whose world y range is [min_y, max_y]: refracted by the
+// flat water (y = level) when the light comes from above the water and the
+// object is not entirely above it; for a point light, along the ray from the
+// light to the object's origin, refracted where it crosses the water
+// (fig. 4-7). Returns nothing, with the reason, when the light cannot reach
+// the object through the water surface.
+std::optional<LightDirection> light_direction(const Light& light, const std::optional<Water>& water,
+                                              const Vec3d& object_origin, double min_y, double max_y,
+                                              std::string* why_not);
+
+// The frame with V = -T: U and W from eq. 4-1 with N the world axis least
+// aligned with V (first of x, y, z on ties), so the choice is reproducible;
+// origin at the centre of the tight box of `world_points` along U, V, W, and
+// the thesis's symmetric size 2 max |coordinate| about `object_origin`
+// (eq. 4-3) for comparison. Extents thinner than 1e-6 of the largest are
+// widened to that, so a flat object still has a usable depth range.
+BoundingFrame make_frame(const Vec3d& travel, const std::vector<Vec3d>& world_points, const Vec3d& object_origin);
+
+}  // namespace caustix::bake

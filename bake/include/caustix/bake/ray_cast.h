@@ -1,0 +1,36 @@
+#pragma once
+// Exact ray casting against triangle meshes through CGAL's AABB tree (one
+// translation unit, behind this plain interface). Used as the independent
+// check of the position-map rasteriser, for its measurement, and for the
+// "fully shadowed" test of the level-map stage. Thread-safe queries.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "caustix/bake/frame.h"
+
+namespace caustix::bake {
+
+class RayCaster {
+ public:
+  // Triangles of several objects; owner[i] names triangle i's object.
+  RayCaster(const std::vector<Vec3d>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+            const std::vector<std::uint32_t>& owner);
+  ~RayCaster();
+  RayCaster(const RayCaster&) = delete;
+  RayCaster& operator=(const RayCaster&) = delete;
+
+  // Distance along the unit direction to the first triangle hit, ignoring
+  // triangles owned by `skip_owner` (pass UINT32_MAX to skip none).
+  std::optional<double> first_hit(const Vec3d& origin, const Vec3d& direction,
+                                  std::uint32_t skip_owner = UINT32_MAX) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caustix::bake

@@ -1,0 +1,143 @@
+// The bake report: what was baked, what was skipped and why, and where the
+// time went.
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "caustix/bake/bake.h"
+
+namespace caustix::bake {
+namespace {
+
+nlohmann::ordered_json vec(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+
+const char* slicing_name(Slicing s) { return s == Slicing::kSmart ? "smart" : "uniform"; }
+
+const LevelMap* find_map(const BakeResult& r, std::uint32_t object, std::uint32_t light) {
+  for (const LevelMap& m : r.level_maps.maps) {
+    if (m.object == object && m.light == light) return &m;
+  }
+  return nullptr;
+}
+
+std::uint32_t empty_levels(const LevelMap& m) {
+  return static_cast<std::uint32_t>(std::count(m.histogram.begin(), m.histogram.end(), 0u));
+}
+
+}  // namespace
+
+std::string report_json(const BakeResult& r, const BakeOptions& opt) {
+  nlohmann::ordered_json j;
+  j["bytes"] = r.cxb.size();
+  const auto& so = opt.level_maps.slicing;
+  j["options"] = {{"position_bits", opt.draco.position_bits},
+                  {"normal_bits", opt.draco.normal_bits},
+                  {"draco_speed", opt.draco.speed},
+                  {"planes", so.planes},
+                  {"epsilon", so.epsilon ? nlohmann::ordered_json(*so.epsilon) : nlohmann::ordered_json(nullptr)},
+                  {"levels", so.levels},
+                  {"slicing", slicing_name(so.slicing)},
+                  {"map_size", opt.level_maps.map_size}};
+  j["meshes"] = nlohmann::ordered_json::array();
+  for (const auto& m : r.meshes) {
+    j["meshes"].push_back({{"path", m.path}, {"vertices", m.vertices}, {"triangles", m.triangles},
+                           {"raw_bytes", m.raw_bytes}, {"draco_bytes", m.draco_bytes},
+                           {"max_position_error_m", m.max_position_error},
+                           {"normals_from_file", m.normals_from_file}});
+  }
+  j["level_maps"] = nlohmann::ordered_json::array();
+  for (const PairReport& p : r.level_maps.pairs) {
+    nlohmann::ordered_json e;
+    e["object"] = r.scene.objects[p.object].name;
+    e["light"] = p.light;
+    e["baked"] = p.baked;
+    if (!p.baked) {
+      e["skipped_because"] = p.reason;
+    } else if (const LevelMap* m = find_map(r, p.object, p.light)) {
+      const BoundingFrame& f = m->frame;
+      e["frame"] = {{"origin", {f.origin[0], f.origin[1], f.origin[2]}},
+                    {"U", vec(f.u)}, {"V", vec(f.v)}, {"W", vec(f.w)},
+                    {"size", {2 * f.half[0], 2 * f.half[1], 2 * f.half[2]}},
+                    {"symmetric_size_eq_4_3", vec(f.symmetric_size)}};
+      e["map_size"] = m->map_size;
+      e["covered_texels"] = p.covered_texels;
+      e["depth_precision_m"] = p.depth_precision_m;
+      e["histogram"] = m->histogram;
+      e["empty_levels"] = empty_levels(*m);
+      e["sub_boxes"] = nlohmann::ordered_json::array();
+      for (const SubBox& b : m->sub_boxes) e["sub_boxes"].push_back({b.first_level, b.last_level});
+      e["epsilon_m"] = m->epsilon;
+      e["planes_uniform"] = m->uniform_planes.size();
+      e["planes_smart"] = m->smart_planes.size();
+      e["slicing"] = slicing_name(m->slicing);
+      e["ms"] = {{"frame", p.ms_frame}, {"position_map", p.ms_position_map}, {"profile", p.ms_profile}};
+      if (!p.warning.empty()) e["warning"] = p.warning;
+    }
+    j["level_maps"].push_back(e);
+  }
+  j["seconds"] = {{"import", r.seconds_import},
+                  {"compress", r.seconds_compress},
+                  {"level_maps", r.seconds_level_maps},
+                  {"oriented_boxes", r.level_maps.seconds_boxes},
+                  {"reach_tests", r.level_maps.seconds_shadow_tests},
+                  {"write", r.seconds_write}};
+  j["warnings"] = r.warnings;
+  return j.dump(2) + "\n";
+}
+
+std::string report_text(const BakeResult& r) {
+  std::ostringstream s;
+  char line[512];
+  for (const auto& m : r.meshes) {
+    std::snprintf(line, sizeof line, "  mesh %-36s %7u vertices %7u triangles  raw %8llu B  draco %7llu B  max error %.3g m%s\n",
+                  m.path.c_str(), m.vertices, m.triangles, static_cast<unsigned long long>(m.raw_bytes),
+                  static_cast<unsigned long long>(m.draco_bytes), m.max_position_error,
+                  m.normals_from_file ? "" : "  (normals computed)");
+    s << line;
+  }
+  for (const PairReport& p : r.level_maps.pairs) {
+    const std::string& name = r.scene.objects[p.object].name;
+    if (!p.baked) {
+      s << "  level map " << name << " / light " << p.light << ": skipped, " << p.reason << "\n";
+      continue;
+    }
+    const LevelMap* m = find_map(r, p.object, p.light);
+    if (!m) continue;
+    const BoundingFrame& f = m->frame;
+    std::snprintf(line, sizeof line,
+                  "  level map %s / light %u: V = (%.4f, %.4f, %.4f), frame %.3f x %.3f x %.3f m "
+                  "(symmetric eq. 4-3: %.3f x %.3f x %.3f m)\n"
+                  "    %u^2 map, %llu texels covered, depth precision %.3g m; %u of %zu levels empty; "
+                  "planes: uniform %zu, smart %zu (eps %.4g m, %s in use); %.1f + %.1f + %.1f ms\n",
+                  name.c_str(), p.light, f.v[0], f.v[1], f.v[2], 2 * f.half[0], 2 * f.half[1], 2 * f.half[2],
+                  f.symmetric_size[0], f.symmetric_size[1], f.symmetric_size[2], m->map_size,
+                  static_cast<unsigned long long>(p.covered_texels), p.depth_precision_m, empty_levels(*m),
+                  m->histogram.size(), m->uniform_planes.size(), m->smart_planes.size(), m->epsilon,
+                  slicing_name(m->slicing), p.ms_frame, p.ms_position_map, p.ms_profile);
+    s << line;
+    // The depth profile as a bar chart: at most 32 rows (levels merged),
+    // level 0 (nearest the light) first; '.' marks an empty row.
+    const std::size_t levels = m->histogram.size();
+    const std::size_t rows = std::min<std::size_t>(levels, 32);
+    std::vector<std::uint64_t> bins(rows, 0);
+    for (std::size_t l = 0; l < levels; ++l) bins[l * rows / levels] += m->histogram[l];
+    const std::uint64_t peak = std::max<std::uint64_t>(1, *std::max_element(bins.begin(), bins.end()));
+    for (std::size_t b = 0; b < rows; ++b) {
+      const auto width = static_cast<std::size_t>((bins[b] * 50 + peak - 1) / peak);
+      std::snprintf(line, sizeof line, "    %6zu-%-6zu |%s%s %llu\n", b * levels / rows, (b + 1) * levels / rows - 1,
+                    std::string(width, '#').c_str(), bins[b] == 0 ? "." : "", static_cast<unsigned long long>(bins[b]));
+      s << line;
+    }
+  }
+  std::snprintf(line, sizeof line,
+                "  time: import %.3f s, compress %.3f s, level maps %.3f s (oriented boxes %.3f s, reach tests %.3f s), write %.3f s\n",
+                r.seconds_import, r.seconds_compress, r.seconds_level_maps, r.level_maps.seconds_boxes,
+                r.level_maps.seconds_shadow_tests, r.seconds_write);
+  s << line;
+  return s.str();
+}
+
+}  // namespace caustix::bake

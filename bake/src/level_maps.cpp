@@ -1,0 +1,195 @@
+#include "caustix/bake/level_maps.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "caustix/bake/frame.h"
+#include "caustix/bake/object_box.h"
+#include "caustix/bake/position_map.h"
+#include "caustix/bake/ray_cast.h"
+
+namespace caustix::bake {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Object -> world in double precision (objects far from the origin).
+std::vector<Vec3d> world_positions(const Object& o, const TriangleMesh& m) {
+  const Mat4f& t = o.transform;
+  std::vector<Vec3d> out;
+  out.reserve(m.positions.size());
+  for (const auto& p : m.positions) {
+    Vec3d w{};
+    for (std::size_t r = 0; r < 3; ++r) {
+      w[r] = double{t[r]} * p[0] + double{t[4 + r]} * p[1] + double{t[8 + r]} * p[2] + double{t[12 + r]};
+    }
+    out.push_back(w);
+  }
+  return out;
+}
+
+// At most `n` points spread evenly over the list (deterministic sampling).
+std::vector<Vec3d> sample(const std::vector<Vec3d>& pts, std::size_t n) {
+  if (pts.size() <= n) return pts;
+  std::vector<Vec3d> out;
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) out.push_back(pts[i * pts.size() / n]);
+  return out;
+}
+
+constexpr std::size_t kReachSamples = 512;
+
+}  // namespace
+
+Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes,
+                                      const LevelMapOptions& opt) {
+  LevelMapStage out;
+  const std::size_t n_obj = scene.objects.size();
+  std::vector<std::vector<Vec3d>> world(n_obj);
+  for (std::size_t i = 0; i < n_obj; ++i) world[i] = world_positions(scene.objects[i], meshes[scene.objects[i].mesh_index]);
+
+  // Oriented boxes for culling (CGAL), one per object.
+  auto t0 = Clock::now();
+  out.boxes.resize(n_obj);
+  tbb::parallel_for(std::size_t{0}, n_obj, [&](std::size_t i) {
+    out.boxes[i] = oriented_box(world[i]);
+    out.boxes[i].object = static_cast<std::uint32_t>(i);
+  });
+  out.seconds_boxes = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  // Every (receiver, light) pair, with the reason it needs no level map.
+  struct Job {
+    std::uint32_t object, light;
+    LightDirection dir;
+  };
+  std::vector<Job> jobs;
+  for (std::uint32_t oi = 0; oi < n_obj; ++oi) {
+    const Object& o = scene.objects[oi];
+    if (!is_receiver(o.role)) continue;
+    double min_y = world[oi][0][1], max_y = min_y;
+    for (const auto& p : world[oi]) {
+      min_y = std::min(min_y, p[1]);
+      max_y = std::max(max_y, p[1]);
+    }
+    const Vec3d origin{o.transform[12], o.transform[13], o.transform[14]};
+    for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
+      PairReport rep;
+      rep.object = oi;
+      rep.light = li;
+      std::string why;
+      if (!scene.water) {
+        rep.reason = "no water in the scene (level maps serve water caustics; glass uses light-transport tables)";
+      } else if (min_y >= scene.water->level) {
+        rep.reason = "entirely above the water";
+      } else if (auto d = light_direction(scene.lights[li], scene.water, origin, min_y, max_y, &why)) {
+        jobs.push_back(Job{oi, li, *d});
+        rep.baked = true;  // provisional: the reach tests below may still skip it
+      } else {
+        rep.reason = why;
+      }
+      out.pairs.push_back(rep);
+    }
+  }
+
+  // Reach: trace sampled receiver points back toward the light (along V) to
+  // the water plane; they must land on the water grid and not be blocked by
+  // another opaque object on the way.
+  t0 = Clock::now();
+  std::vector<Vec3d> all_pos;
+  std::vector<std::array<std::uint32_t, 3>> all_tris;
+  std::vector<std::uint32_t> owner;
+  for (std::uint32_t i = 0; i < n_obj; ++i) {
+    if (is_transparent(scene.objects[i].role)) continue;  // glass does not cast plain shadows
+    const auto base = static_cast<std::uint32_t>(all_pos.size());
+    all_pos.insert(all_pos.end(), world[i].begin(), world[i].end());
+    for (const auto& t : meshes[scene.objects[i].mesh_index].triangles) {
+      all_tris.push_back({base + t[0], base + t[1], base + t[2]});
+      owner.push_back(i);
+    }
+  }
+  std::vector<std::string> skip_reason(jobs.size());
+  if (!jobs.empty()) {
+    const RayCaster occluders(all_pos, all_tris, owner);
+    tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
+      const Job& job = jobs[j];
+      const Vec3d v{-job.dir.travel[0], -job.dir.travel[1], -job.dir.travel[2]};
+      const Water& w = *scene.water;
+      // Scale for the ray offset that keeps a sample off its own surface.
+      const ObjectBox& b = out.boxes[job.object];
+      const double scale = 1e-6 * std::max({double{b.half[0]}, double{b.half[1]}, double{b.half[2]}, 1e-3});
+      bool on_grid = false, lit = false;
+      for (const Vec3d& p : sample(world[job.object], kReachSamples)) {
+        if (p[1] >= w.level || v[1] <= 0) {  // above the water: reached directly
+          on_grid = lit = true;
+          break;
+        }
+        const double s = (w.level - p[1]) / v[1];
+        const double x = p[0] + s * v[0], z = p[2] + s * v[2];
+        if (x < w.extent[0] || x > w.extent[2] || z < w.extent[1] || z > w.extent[3]) continue;
+        on_grid = true;
+        const Vec3d o{p[0] + scale * v[0], p[1] + scale * v[1], p[2] + scale * v[2]};
+        const auto hit = occluders.first_hit(o, v, job.object);
+        if (!hit || *hit > s) {
+          lit = true;
+          break;
+        }
+      }
+      if (!on_grid) skip_reason[j] = "no refracted ray from the water grid reaches it";
+      else if (!lit) skip_reason[j] = "fully shadowed by other objects";
+    });
+  }
+  out.seconds_shadow_tests = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  // Frames, position maps and depth profiles, in parallel over pairs; each
+  // result has its own slot, so the output does not depend on scheduling.
+  std::vector<LevelMap> maps(jobs.size());
+  std::vector<PairReport> reports(jobs.size());
+  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
+    if (!skip_reason[j].empty()) return;
+    const Job& job = jobs[j];
+    const Object& o = scene.objects[job.object];
+    const TriangleMesh& mesh = meshes[o.mesh_index];
+    PairReport& rep = reports[j];
+    LevelMap& m = maps[j];
+    m.object = job.object;
+    m.light = job.light;
+    m.map_size = opt.map_size;
+    auto t = Clock::now();
+    m.frame = make_frame(job.dir.travel, world[job.object], {o.transform[12], o.transform[13], o.transform[14]});
+    rep.ms_frame = ms_since(t);
+    t = Clock::now();
+    rasterize_position_map(world[job.object], mesh.triangles, o.material.albedo, m);
+    rep.ms_position_map = ms_since(t);
+    t = Clock::now();
+    build_depth_profile(m, opt.slicing, &rep.warning);
+    rep.ms_profile = ms_since(t);
+    for (std::uint16_t q : m.depth) rep.covered_texels += q != kEmptyDepth ? 1 : 0;
+    rep.depth_precision_m = depth_precision(m.frame);
+  });
+
+  // Merge in (object, light) order.
+  std::size_t j = 0;
+  for (PairReport& rep : out.pairs) {
+    if (!rep.baked) continue;
+    if (!skip_reason[j].empty()) {
+      rep.baked = false;
+      rep.reason = skip_reason[j];
+    } else {
+      PairReport& r = reports[j];
+      rep.ms_frame = r.ms_frame;
+      rep.ms_position_map = r.ms_position_map;
+      rep.ms_profile = r.ms_profile;
+      rep.covered_texels = r.covered_texels;
+      rep.depth_precision_m = r.depth_precision_m;
+      rep.warning = r.warning;
+      out.maps.push_back(std::move(maps[j]));
+    }
+    ++j;
+  }
+  return out;
+}
+
+}  // namespace caustix::bake
