@@ -6,6 +6,10 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
   sphere.obj  UV sphere, radius 1, 48 segments x 24 rings
   box.obj     unit cube centred on the origin (flat-shaded faces)
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
+  teapot.obj  the Utah teapot from teapot_patches.txt, 12 x 12 quads per patch,
+              y up, 1 m tall, base at y = 0 (about 9k triangles)
+  organic.obj a smooth lumpy blob (a sphere displaced by low-frequency
+              harmonics), 72 x 36 segments (about 5k triangles)
 """
 import math
 import os
@@ -98,6 +102,76 @@ def walls():
     return verts, faces, normals
 
 
+def bezier3(p, t):
+    s = 1.0 - t
+    w = (s * s * s, 3 * t * s * s, 3 * t * t * s, t * t * t)
+    return tuple(sum(w[i] * p[i][k] for i in range(4)) for k in range(3))
+
+
+def teapot(n=12):
+    with open(os.path.join(HERE, "teapot_patches.txt")) as f:
+        lines = [l.split() for l in f if l.strip() and not l.startswith("#")]
+    npatch = int(lines[0][1])
+    patches = [[int(x) - 1 for x in l] for l in lines[1:1 + npatch]]
+    nvert = int(lines[1 + npatch][1])
+    cps = [tuple(float(x) for x in l) for l in lines[2 + npatch:2 + npatch + nvert]]
+    verts, faces, index = [], [], {}
+
+    def vid(p):
+        # z-up -> y-up (x, z, -y), 1 m tall, welded where patches meet
+        q = (p[0] / 3.15, p[2] / 3.15, -p[1] / 3.15)
+        key = tuple(round(c, 6) for c in q)
+        if key not in index:
+            index[key] = len(verts)
+            verts.append(q)
+        return index[key]
+
+    for patch in patches:
+        grid = [[cps[patch[4 * r + c]] for c in range(4)] for r in range(4)]
+        ids = []
+        for i in range(n + 1):
+            rows = [bezier3(grid[r], i / n) for r in range(4)]
+            ids.append([vid(bezier3(rows, j / n)) for j in range(n + 1)])
+        for i in range(n):
+            for j in range(n):
+                a, b, c, d = ids[i][j], ids[i + 1][j], ids[i + 1][j + 1], ids[i][j + 1]
+                for tri in ((a, b, c), (a, c, d)):
+                    if len(set(tri)) == 3:  # poles of the lid and bottom
+                        faces.append(tri)
+    return verts, faces
+
+
+def organic(seg=72, rings=36):
+    verts, faces = [], []
+
+    def r_of(th, ph):
+        return (1.0 + 0.22 * math.sin(3 * th) * math.cos(2 * ph) + 0.12 * math.sin(5 * ph + 2 * th)
+                + 0.08 * math.cos(4 * th - 3 * ph))
+
+    verts.append((0.0, r_of(0, 0), 0.0))
+    for r in range(1, rings):
+        th = math.pi * r / rings
+        for s in range(seg):
+            ph = 2 * math.pi * s / seg
+            k = r_of(th, ph)
+            verts.append((k * math.sin(th) * math.cos(ph), k * math.cos(th), k * math.sin(th) * math.sin(ph)))
+    verts.append((0.0, -r_of(math.pi, 0), 0.0))
+    top, bottom = 0, len(verts) - 1
+
+    def ring(r, s):
+        return 1 + (r - 1) * seg + (s % seg)
+
+    for s in range(seg):
+        faces.append((top, ring(1, s + 1), ring(1, s)))
+    for r in range(1, rings - 1):
+        for s in range(seg):
+            faces.append((ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)))
+            faces.append((ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)))
+    for s in range(seg):
+        faces.append((bottom, ring(rings - 1, s), ring(rings - 1, s + 1)))
+    return verts, faces
+
+
 if __name__ == "__main__":
     v, f = plane()
     write_obj("plane.obj", v, f, comment="Unit square in y = 0, 8 x 8 quads.")
@@ -107,3 +181,7 @@ if __name__ == "__main__":
     write_obj("box.obj", v, f, n, comment="Unit cube centred on the origin.")
     v, f, n = walls()
     write_obj("walls.obj", v, f, n, comment="Four walls of a unit pool, inward normals.")
+    v, f = teapot()
+    write_obj("teapot.obj", v, f, comment="Utah teapot (Newell's patch data), 1 m tall.")
+    v, f = organic()
+    write_obj("organic.obj", v, f, comment="Smooth lumpy blob, radius about 1.")
