@@ -38,6 +38,16 @@ cmp -s "$tmp/a.cxb" "$tmp/b.cxb"; check "bakes are byte-identical" 0 $?
 contains "depfile lists the scene" "$tmp/a.d" "default.json"
 contains "depfile lists meshes" "$tmp/a.d" "sphere.obj"
 contains "report has meshes" "$tmp/a.json" "draco_bytes"
+contains "report has level maps" "$tmp/a.json" "planes_smart"
+"$bake" "$scene" -o "$tmp/v.cxb" -v --map-size 64 >"$tmp/vout"; check "bake -v" 0 $?
+contains "verbose shows the depth profile" "$tmp/vout" "levels empty"
+contains "verbose shows skipped pairs or maps" "$tmp/vout" "level map ball / light 0"
+"$bake" "$scene" -o "$tmp/u.cxb" --slicing uniform --planes 8 --levels 16 --map-size 32 --threads 1 -q; check "bake uniform" 0 $?
+"$bake" "$scene" -o "$tmp/u2.cxb" --slicing uniform --planes 8 --levels 16 --map-size 32 --threads 2 -q; check "bake 2 threads" 0 $?
+cmp -s "$tmp/u.cxb" "$tmp/u2.cxb"; check "1 and 2 threads byte-identical" 0 $?
+"$bake" "$scene" -o "$tmp/x.cxb" --slicing diagonal 2>/dev/null; check "bad slicing" 2 $?
+"$bake" "$scene" -o "$tmp/x.cxb" --levels 0 2>/dev/null; check "bad levels" 2 $?
+"$bake" "$scene" -o "$tmp/x.cxb" --map-size 9000 2>/dev/null; check "map too large" 2 $?
 
 # Bad input: clear error naming the place, exit 3, old output untouched, no temp files left.
 cp "$tmp/a.cxb" "$tmp/keep.cxb"
@@ -56,6 +66,7 @@ contains "missing mesh named" "$tmp/err" "gone.obj: mesh file not found"
 # inspect
 "$inspect" "$tmp/a.cxb" >"$tmp/out"; check "inspect" 0 $?
 contains "inspect shows chunks" "$tmp/out" "MESH"
+contains "inspect shows level maps" "$tmp/out" "planes uniform 33 / smart"
 "$inspect" --json "$tmp/a.cxb" >"$tmp/out.json"; check "inspect --json" 0 $?
 python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['valid'] and len(d['chunks'])>5" "$tmp/out.json"
 check "inspect json parses" 0 $?

@@ -84,6 +84,16 @@ int main(int argc, char** argv) {
     j["scene"]["water"] = s.water.has_value();
     j["scene"]["water_waves"] = s.water ? s.water->waves.size() : 0;
     j["scene"]["camera"] = s.camera.has_value();
+    j["level_maps"] = nlohmann::json::array();
+    for (const LevelMap& m : scene->level_maps) {
+      j["level_maps"].push_back({{"object", s.objects[m.object].name},
+                                 {"light", m.light},
+                                 {"map_size", m.map_size},
+                                 {"levels", m.histogram.size()},
+                                 {"planes_uniform", m.uniform_planes.size()},
+                                 {"planes_smart", m.smart_planes.size()},
+                                 {"slicing", m.slicing == Slicing::kSmart ? "smart" : "uniform"}});
+    }
   }
 
   if (as_json) {
@@ -111,6 +121,11 @@ int main(int argc, char** argv) {
         std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes\n", o.name.c_str(),
                     role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
                     scene->draco_meshes[o.mesh_index].size());
+      }
+      for (const LevelMap& m : scene->level_maps) {
+        std::printf("  level map %-16s light %u: %u^2 map, %zu levels, planes uniform %zu / smart %zu (%s in use)\n",
+                    s.objects[m.object].name.c_str(), m.light, m.map_size, m.histogram.size(),
+                    m.uniform_planes.size(), m.smart_planes.size(), m.slicing == Slicing::kSmart ? "smart" : "uniform");
       }
       std::printf("valid\n");
     } else {
