@@ -1,5 +1,6 @@
 #include "gl_program.h"
 
+#include <initializer_list>
 #include <vector>
 
 namespace caustix::runtime::gl {
@@ -29,13 +30,16 @@ Result<GLuint> compile(GLenum type, const char* src, const std::string& name) {
     std::vector<char> log(static_cast<std::size_t>(std::max(len, 1)));
     glGetShaderInfoLog(s, len, nullptr, log.data());
     glDeleteShader(s);
-    return make_error(ErrorCode::kGraphics, "shader '" + name + (type == GL_VERTEX_SHADER ? "' (vertex)" : "' (fragment)") +
-                                                " failed to compile: " + log.data());
+    const char* kind = type == GL_VERTEX_SHADER ? "' (vertex)" : type == GL_FRAGMENT_SHADER ? "' (fragment)" : "' (compute)";
+    return make_error(ErrorCode::kGraphics, "shader '" + name + kind + " failed to compile: " + log.data());
   }
   return s;
 }
 
 }  // namespace
+
+// Links compiled shaders into a program (and deletes the shaders).
+Result<Program> link_program(const std::string& name, std::initializer_list<GLuint> shaders);
 
 Result<Program> Program::build(const std::string& name, const char* vs, const char* fs) {
   auto v = compile(GL_VERTEX_SHADER, vs, name);
@@ -45,13 +49,21 @@ Result<Program> Program::build(const std::string& name, const char* vs, const ch
     glDeleteShader(*v);
     return f.error();
   }
+  return link_program(name, {*v, *f});
+}
+
+Result<Program> Program::build_compute(const std::string& name, const char* cs) {
+  auto c = compile(GL_COMPUTE_SHADER, cs, name);
+  if (!c) return c.error();
+  return link_program(name, {*c});
+}
+
+Result<Program> link_program(const std::string& name, std::initializer_list<GLuint> shaders) {
   Program p;
   p.id_ = Handle<delete_program>(glCreateProgram());
-  glAttachShader(p.id(), *v);
-  glAttachShader(p.id(), *f);
+  for (GLuint s : shaders) glAttachShader(p.id(), s);
   glLinkProgram(p.id());
-  glDeleteShader(*v);
-  glDeleteShader(*f);
+  for (GLuint s : shaders) glDeleteShader(s);
   GLint ok = 0;
   glGetProgramiv(p.id(), GL_LINK_STATUS, &ok);
   if (!ok) {

@@ -60,6 +60,7 @@ class Program {
   // Compiles and links; the error (kGraphics) carries the driver's log and
   // the program's name.
   static Result<Program> build(const std::string& name, const char* vertex_src, const char* fragment_src);
+  static Result<Program> build_compute(const std::string& name, const char* compute_src);
   GLuint id() const { return id_.get(); }
   void use() const { glUseProgram(id_.get()); }
   GLint loc(const char* uniform) const { return glGetUniformLocation(id_.get(), uniform); }
@@ -70,8 +71,10 @@ class Program {
   void set(const char* u, const glm::vec4& v) const { glProgramUniform4fv(id(), loc(u), 1, &v[0]); }
   void set(const char* u, const glm::mat3& m) const { glProgramUniformMatrix3fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
   void set(const char* u, const glm::mat4& m) const { glProgramUniformMatrix4fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
+  void set(const char* u, unsigned v) const { glProgramUniform1ui(id(), loc(u), v); }
 
  private:
+  friend Result<Program> link_program(const std::string&, std::initializer_list<GLuint>);
   Handle<delete_program> id_;
 };
 

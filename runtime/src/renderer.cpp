@@ -2,57 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "caustics.h"
 #include "caustix_shaders.h"
 #include "gl_program.h"
+#include "gpu_mesh.h"
+#include "water_surface.h"
 
 namespace caustix::runtime {
 namespace {
 
 constexpr int kShadowSize = 2048;
 constexpr int kShadowCubeSize = 1024;
-constexpr int kMaxWaves = 256;  // matches water.vert.glsl
 constexpr float kAmbient = 0.12f;
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
-
-struct GpuMesh {
-  gl::VertexArray vao;
-  gl::Buffer vertices;
-  gl::Buffer indices;
-  GLsizei index_count = 0;
-};
-
-GpuMesh upload(const TriangleMesh& m) {
-  GpuMesh g;
-  std::vector<float> interleaved;
-  interleaved.reserve(m.positions.size() * 6);
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    interleaved.insert(interleaved.end(), m.positions[i].begin(), m.positions[i].end());
-    interleaved.insert(interleaved.end(), m.normals[i].begin(), m.normals[i].end());
-  }
-  g.vertices = gl::make_buffer();
-  glNamedBufferStorage(g.vertices.get(), static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)), interleaved.data(), 0);
-  g.indices = gl::make_buffer();
-  glNamedBufferStorage(g.indices.get(), static_cast<GLsizeiptr>(m.triangles.size() * 12), m.triangles.data(), 0);
-  g.index_count = static_cast<GLsizei>(m.triangles.size() * 3);
-  g.vao = gl::make_vertex_array();
-  const GLuint vao = g.vao.get();
-  glVertexArrayVertexBuffer(vao, 0, g.vertices.get(), 0, 6 * sizeof(float));
-  glVertexArrayElementBuffer(vao, g.indices.get());
-  glEnableVertexArrayAttrib(vao, 0);
-  glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(vao, 0, 0);
-  glEnableVertexArrayAttrib(vao, 1);
-  glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
-  glVertexArrayAttribBinding(vao, 1, 0);
-  return g;
-}
 
 // A colour + depth render target of a given size.
 struct Target {
@@ -60,11 +29,13 @@ struct Target {
   gl::Texture color;
   gl::Texture depth;
   int width = 0, height = 0;
+  GLenum format = 0;
 
   void ensure(int w, int h, GLenum color_format, bool with_depth) {
-    if (w == width && h == height && fbo.get()) return;
+    if (w == width && h == height && color_format == format && fbo.get()) return;
     width = w;
     height = h;
+    format = color_format;
     fbo = gl::make_framebuffer();
     color = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(color.get(), 1, color_format, w, h);
@@ -79,53 +50,67 @@ struct Target {
   }
 };
 
-struct WaveBlock {  // std140 layout of the Waves block in water.vert.glsl
-  glm::vec4 a[kMaxWaves];
-  glm::vec4 b[kMaxWaves];
-  glm::ivec4 count;
-};
+// Fragment shaders that use lighting.glsl are assembled behind one #version.
+std::string with_lighting(const char* main_src) {
+  return std::string("#version 450 core\n") + shaders::k_lighting_glsl + main_src;
+}
+
+// The light's direction of travel below flat water (eq. 2-8 with normal +y).
+glm::vec3 refracted_flat(const glm::vec3& l, float ior) { return glm::refract(l, glm::vec3(0, 1, 0), 1.0f / ior); }
 
 }  // namespace
 
 struct Renderer::Impl {
   SceneDesc scene;
   std::vector<GpuMesh> meshes;
+  std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
 
-  gl::Program receiver, shadow, water, present;
-  gl::VertexArray empty_vao;  // for the full-screen triangle
+  gl::Program receiver, irradiance, shadow, water_program, present;
+  gl::VertexArray empty_vao;
 
   // Shadow maps: created only for the light kinds the scene has.
   gl::Texture shadow_2d, shadow_cube;
   gl::Framebuffer shadow_fbo;
 
-  // Water grid (only with water).
-  gl::VertexArray water_vao;
-  gl::Buffer water_vertices, water_indices, wave_ubo;
-  GLsizei water_index_count = 0;
+  std::optional<WaterSurface> water;
+  std::unique_ptr<CausticsEngine> caustics;
 
-  Target hdr, display;
+  Target hdr, display, irradiance_target;
   float exposure = 1.0f;
 
-  void draw_objects(const gl::Program& p, bool casters_only) const {
-    for (const Object& o : scene.objects) {
-      if (casters_only && is_transparent(o.role)) continue;  // glass casts caustics, not plain shadows
-      const glm::mat4 model = to_glm(o.transform);
-      p.set("u_model", model);
-      p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
-      p.set("u_albedo", to_glm(o.material.albedo));
-      const GpuMesh& m = meshes[o.mesh_index];
-      glBindVertexArray(m.vao.get());
-      glDrawElements(GL_TRIANGLES, m.index_count, GL_UNSIGNED_INT, nullptr);
-    }
+  void draw_object(std::uint32_t i) const { meshes[scene.objects[i].mesh_index].draw(); }
+  glm::mat4 model_of(std::uint32_t i) const { return to_glm(scene.objects[i].transform); }
+
+  void set_model(const gl::Program& p, std::uint32_t i) const {
+    const glm::mat4 model = model_of(i);
+    p.set("u_model", model);
+    p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
   }
 
   float scene_radius() const { return 0.5f * glm::length(hi - lo) + 1e-3f; }
   glm::vec3 scene_center() const { return 0.5f * (lo + hi); }
 
-  // Renders the directional shadow map; returns world -> shadow texture.
-  glm::mat4 render_directional_shadow(const Light& light) {
-    const glm::vec3 dir = glm::normalize(to_glm(light.direction));
+  bool light_above_water(const Light& l) const {
+    return scene.water && (l.type == LightType::kDirectional || l.position[1] > scene.water->level);
+  }
+  // The direction light travels when it reaches underwater receivers.
+  glm::vec3 shadow_direction(const Light& l) const {
+    const glm::vec3 dir = glm::normalize(to_glm(l.direction));
+    if (scene.water && dir.y < 0) return refracted_flat(dir, scene.water->ior);
+    return dir;
+  }
+
+  void draw_casters(const gl::Program& p) const {
+    for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+      if (is_transparent(scene.objects[i].role)) continue;  // glass casts caustics, not plain shadows
+      set_model(p, i);
+      draw_object(i);
+    }
+  }
+
+  // Renders the directional shadow map along `dir`; returns world -> shadow texture.
+  glm::mat4 render_directional_shadow(const glm::vec3& dir) {
     const float r = scene_radius();
     const glm::vec3 c = scene_center();
     const glm::vec3 up = std::fabs(dir.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -138,7 +123,7 @@ struct Renderer::Impl {
     shadow.use();
     shadow.set("u_view_proj", proj * view);
     shadow.set("u_linear_depth", 0);
-    draw_objects(shadow, true);
+    draw_casters(shadow);
     const glm::mat4 bias = glm::translate(glm::mat4(1), glm::vec3(0.5f)) * glm::scale(glm::mat4(1), glm::vec3(0.5f));
     return bias * proj * view;
   }
@@ -160,9 +145,81 @@ struct Renderer::Impl {
       glNamedFramebufferTextureLayer(shadow_fbo.get(), GL_DEPTH_ATTACHMENT, shadow_cube.get(), 0, f);
       glClear(GL_DEPTH_BUFFER_BIT);
       shadow.set("u_view_proj", proj * glm::lookAt(pos, pos + dirs[f], ups[f]));
-      draw_objects(shadow, true);
+      draw_casters(shadow);
     }
     return far;
+  }
+
+  // Everything one light needs before receivers can be lit by it: its
+  // shadow map, and its caustics maps. Leaves the light's uniforms set on
+  // `p` (receiver or irradiance program).
+  Status prepare_light(std::uint32_t li, const CausticsOptions& co, const gl::Program& p) {
+    const Light& light = scene.lights[li];
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glm::mat4 shadow_matrix(1.0f);
+    float shadow_far = 1.0f;
+    if (light.type == LightType::kDirectional) shadow_matrix = render_directional_shadow(shadow_direction(light));
+    else shadow_far = render_point_shadow(light);
+    if (caustics) CAUSTIX_RETURN_IF_ERROR(caustics->update_light(li, light, co));
+
+    const bool dir = light.type == LightType::kDirectional;
+    p.set("u_light_type", dir ? 1 : 2);
+    p.set("u_light_direction", glm::normalize(to_glm(light.direction)));
+    p.set("u_light_position", to_glm(light.position));
+    p.set("u_light_color", to_glm(light.color));
+    p.set("u_light_power", dir ? light.irradiance : light.intensity);
+    p.set("u_shadow_matrix", shadow_matrix);
+    p.set("u_shadow_far", shadow_far);
+    p.set("u_shadow_texel", 2.0f * scene_radius() / kShadowSize);
+    if (scene.water) {
+      p.set("u_water_level", scene.water->level);
+      p.set("u_water_ior", scene.water->ior);
+      p.set("u_absorption", to_glm(scene.water->absorption));
+      p.set("u_refracted", refracted_flat(glm::normalize(to_glm(light.direction)), scene.water->ior));
+    } else {
+      p.set("u_water_level", -1e30f);
+      p.set("u_absorption", glm::vec3(0));
+    }
+    glBindTextureUnit(0, shadow_2d.get());
+    glBindTextureUnit(1, shadow_cube.get());
+    return Status::success();
+  }
+
+  // Per (object, light): caustics casting, flat-water transmission, or
+  // direct light (lighting.glsl's modes).
+  void set_object_light(const gl::Program& p, std::uint32_t oi, std::uint32_t li, const CausticsOptions& co) const {
+    const Light& light = scene.lights[li];
+    std::optional<CausticsEngine::Binding> b;
+    if (caustics && co.method != CausticsMethod::kNone) b = caustics->binding(oi, li);
+    if (b) {
+      const BoundingFrame& f = b->map->frame;
+      p.set("u_light_mode", 2);
+      p.set("u_frame_origin", glm::vec3(static_cast<float>(f.origin[0]), static_cast<float>(f.origin[1]), static_cast<float>(f.origin[2])));
+      p.set("u_frame_U", to_glm(f.u));
+      p.set("u_frame_V", to_glm(f.v));
+      p.set("u_frame_W", to_glm(f.w));
+      p.set("u_frame_half", to_glm(f.half));
+      p.set("u_self_tolerance", b->self_tolerance);
+      glBindTextureUnit(2, b->caustics);
+      glBindTextureUnit(3, b->position_map);
+      return;
+    }
+    const bool under = scene.water && object_min_y[oi] < scene.water->level && light_above_water(light);
+    p.set("u_light_mode", under ? 1 : 0);
+  }
+
+  void draw_receivers(const gl::Program& p, int pass, std::uint32_t li, const CausticsOptions& co,
+                      std::optional<std::uint32_t> only) const {
+    for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+      if (only && *only != i) continue;
+      set_model(p, i);
+      p.set("u_albedo", to_glm(scene.objects[i].material.albedo));
+      if (pass != 0) set_object_light(p, i, li, co);
+      draw_object(i);
+    }
   }
 };
 
@@ -174,32 +231,41 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   Impl& s = *r->impl_;
   s.scene = scene.desc;
 
-  auto receiver = gl::Program::build("receiver", shaders::k_mesh_vert_glsl, shaders::k_receiver_frag_glsl);
-  if (!receiver) return receiver.error();
-  s.receiver = std::move(*receiver);
-  auto shadow = gl::Program::build("shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl);
-  if (!shadow) return shadow.error();
-  s.shadow = std::move(*shadow);
-  auto present = gl::Program::build("present", shaders::k_present_vert_glsl, shaders::k_present_frag_glsl);
-  if (!present) return present.error();
-  s.present = std::move(*present);
+  const std::string receiver_fs = with_lighting(shaders::k_receiver_frag_glsl);
+  const std::string irradiance_fs = with_lighting(shaders::k_irradiance_frag_glsl);
+  struct Spec {
+    gl::Program* out;
+    const char* name;
+    const char* vs;
+    const char* fs;
+  };
+  for (const Spec& spec : {Spec{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
+                           Spec{&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
+                           Spec{&s.shadow, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl},
+                           Spec{&s.present, "present", shaders::k_present_vert_glsl, shaders::k_present_frag_glsl}}) {
+    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
+    if (!p) return p.error();
+    *spec.out = std::move(*p);
+  }
   s.empty_vao = gl::make_vertex_array();
+  for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
 
-  for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload(m));
-
-  // World bounds of the objects (for shadow frusta and the default camera).
+  // World bounds (shadow frusta, default camera) and each object's lowest point.
   bool first = true;
   for (const Object& o : s.scene.objects) {
     const MeshInfo& mi = s.scene.meshes[o.mesh_index];
     const glm::mat4 model = to_glm(o.transform);
+    float min_y = 1e30f;
     for (int c = 0; c < 8; ++c) {
       const glm::vec3 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
                              (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2]);
       const glm::vec3 w = glm::vec3(model * glm::vec4(corner, 1.0f));
       s.lo = first ? w : glm::min(s.lo, w);
       s.hi = first ? w : glm::max(s.hi, w);
+      min_y = std::min(min_y, w.y);
       first = false;
     }
+    s.object_min_y.push_back(min_y);
   }
 
   bool has_directional = false, has_point = false;
@@ -220,63 +286,30 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
     glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glTextureParameteri(tex, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   };
-  if (has_directional) {
-    s.shadow_2d = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.shadow_2d.get(), 1, GL_DEPTH_COMPONENT32F, kShadowSize, kShadowSize);
-    shadow_params(s.shadow_2d.get());
-  }
-  if (has_point) {
-    s.shadow_cube = gl::make_texture(GL_TEXTURE_CUBE_MAP);
-    glTextureStorage2D(s.shadow_cube.get(), 1, GL_DEPTH_COMPONENT32F, kShadowCubeSize, kShadowCubeSize);
-    shadow_params(s.shadow_cube.get());
-  }
+  // Samplers of both kinds must be valid textures even where a scene has
+  // only one light kind (an unbound shadow sampler is undefined).
+  s.shadow_2d = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(s.shadow_2d.get(), 1, GL_DEPTH_COMPONENT32F, has_directional ? kShadowSize : 1, has_directional ? kShadowSize : 1);
+  shadow_params(s.shadow_2d.get());
+  s.shadow_cube = gl::make_texture(GL_TEXTURE_CUBE_MAP);
+  glTextureStorage2D(s.shadow_cube.get(), 1, GL_DEPTH_COMPONENT32F, has_point ? kShadowCubeSize : 1, has_point ? kShadowCubeSize : 1);
+  shadow_params(s.shadow_cube.get());
 
   if (s.scene.water) {
-    const Water& w = *s.scene.water;
-    auto water = gl::Program::build("water", shaders::k_water_vert_glsl, shaders::k_water_frag_glsl);
+    auto water = WaterSurface::create(*s.scene.water);
     if (!water) return water.error();
-    s.water = std::move(*water);
-    const std::uint32_t nx = w.cells[0], nz = w.cells[1];
-    std::vector<float> xz;
-    xz.reserve(std::size_t{nx + 1} * (nz + 1) * 2);
-    for (std::uint32_t j = 0; j <= nz; ++j) {
-      for (std::uint32_t i = 0; i <= nx; ++i) {
-        xz.push_back(w.extent[0] + (w.extent[2] - w.extent[0]) * static_cast<float>(i) / static_cast<float>(nx));
-        xz.push_back(w.extent[1] + (w.extent[3] - w.extent[1]) * static_cast<float>(j) / static_cast<float>(nz));
-      }
+    s.water.emplace(std::move(*water));
+    auto wp = gl::Program::build("water", shaders::k_water_vert_glsl, shaders::k_water_frag_glsl);
+    if (!wp) return wp.error();
+    s.water_program = std::move(*wp);
+    if (!scene.level_maps.empty()) {
+      Impl* impl = &s;
+      auto engine = CausticsEngine::create(
+          scene.level_maps, *s.water, [impl](std::uint32_t i) { impl->draw_object(i); },
+          [impl](std::uint32_t i) { return impl->model_of(i); });
+      if (!engine) return engine.error();
+      s.caustics = std::move(*engine);
     }
-    std::vector<std::uint32_t> idx;
-    idx.reserve(std::size_t{nx} * nz * 6);
-    for (std::uint32_t j = 0; j < nz; ++j) {
-      for (std::uint32_t i = 0; i < nx; ++i) {
-        const std::uint32_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-        idx.insert(idx.end(), {a, c, b, b, c, d});  // counter-clockwise seen from +y
-      }
-    }
-    s.water_vertices = gl::make_buffer();
-    glNamedBufferStorage(s.water_vertices.get(), static_cast<GLsizeiptr>(xz.size() * sizeof(float)), xz.data(), 0);
-    s.water_indices = gl::make_buffer();
-    glNamedBufferStorage(s.water_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
-    s.water_index_count = static_cast<GLsizei>(idx.size());
-    s.water_vao = gl::make_vertex_array();
-    glVertexArrayVertexBuffer(s.water_vao.get(), 0, s.water_vertices.get(), 0, 2 * sizeof(float));
-    glVertexArrayElementBuffer(s.water_vao.get(), s.water_indices.get());
-    glEnableVertexArrayAttrib(s.water_vao.get(), 0);
-    glVertexArrayAttribFormat(s.water_vao.get(), 0, 2, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(s.water_vao.get(), 0, 0);
-
-    auto block = std::make_unique<WaveBlock>();
-    std::memset(block.get(), 0, sizeof(WaveBlock));
-    const std::size_t n = std::min<std::size_t>(w.waves.size(), kMaxWaves);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Wave& wave = w.waves[i];
-      const float k = 2.0f * 3.14159265358979f / wave.wavelength;
-      block->a[i] = glm::vec4(wave.amplitude, k, wave.direction[0], wave.direction[1]);
-      block->b[i] = glm::vec4(k * wave.speed, wave.phase, 0, 0);
-    }
-    block->count = glm::ivec4(static_cast<int>(n), 0, 0, 0);
-    s.wave_ubo = gl::make_buffer();
-    glNamedBufferStorage(s.wave_ubo.get(), sizeof(WaveBlock), block.get(), 0);
   }
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
   return r;
@@ -289,6 +322,8 @@ Status Renderer::render(const FrameParams& f) {
                                              " is outside 1..16384");
   }
   s.hdr.ensure(f.width, f.height, GL_RGBA32F, true);
+  if (s.caustics) s.caustics->reset_stats();
+  if (s.water) s.water->update(f.time);
 
   const glm::vec3 eye = to_glm(f.camera.position);
   const glm::mat4 view = glm::lookAt(eye, to_glm(f.camera.target), to_glm(f.camera.up));
@@ -314,40 +349,25 @@ Status Renderer::render(const FrameParams& f) {
   s.receiver.set("u_view_proj", view_proj);
   s.receiver.set("u_pass", 0);
   s.receiver.set("u_ambient", kAmbient * sky);
-  s.draw_objects(s.receiver, false);
+  s.draw_receivers(s.receiver, 0, 0, f.caustics, std::nullopt);
 
-  // One additive pass per light (eq. 4-20's sum over lights, without caustics yet).
-  for (const Light& light : s.scene.lights) {
-    glm::mat4 shadow_matrix(1.0f);
-    float shadow_far = 1.0f;
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-    glDepthFunc(GL_LESS);
-    if (light.type == LightType::kDirectional) shadow_matrix = s.render_directional_shadow(light);
-    else shadow_far = s.render_point_shadow(light);
-
+  // One additive pass per light: I_o = sum_lights I_c I_d + I_a (eq. 4-19, 4-20).
+  for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
+    CAUSTIX_RETURN_IF_ERROR(s.prepare_light(li, f.caustics, s.receiver));
     glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
     glViewport(0, 0, f.width, f.height);
+    glEnable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
     s.receiver.use();
     s.receiver.set("u_view_proj", view_proj);
-    const bool dir = light.type == LightType::kDirectional;
-    s.receiver.set("u_pass", dir ? 1 : 2);
-    s.receiver.set("u_light_direction", to_glm(light.direction));
-    s.receiver.set("u_light_position", to_glm(light.position));
-    s.receiver.set("u_light_power", to_glm(light.color) * (dir ? light.irradiance : light.intensity));
-    s.receiver.set("u_shadow_matrix", shadow_matrix);
-    s.receiver.set("u_shadow_far", shadow_far);
-    s.receiver.set("u_shadow_texel", 2.0f * s.scene_radius() / kShadowSize);
-    glBindTextureUnit(0, s.shadow_2d.get());
-    glBindTextureUnit(1, s.shadow_cube.get());
-    s.draw_objects(s.receiver, false);
+    s.receiver.set("u_pass", 1);
+    s.draw_receivers(s.receiver, 1, li, f.caustics, std::nullopt);
   }
 
-  if (s.scene.water) {
+  if (s.water) {
     glm::vec3 sun_dir(0.0f), sun_color(0.0f);
     for (const Light& l : s.scene.lights) {
       if (l.type == LightType::kDirectional) {
@@ -356,27 +376,110 @@ Status Renderer::render(const FrameParams& f) {
         break;
       }
     }
+    glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
+    glViewport(0, 0, f.width, f.height);
+    glEnable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LESS);
-    s.water.use();
-    s.water.set("u_view_proj", view_proj);
-    s.water.set("u_level", s.scene.water->level);
-    s.water.set("u_time", f.time);
-    s.water.set("u_eye", eye);
-    s.water.set("u_sky", sky);
-    s.water.set("u_ior", s.scene.water->ior);
-    s.water.set("u_sun_direction", sun_dir);
-    s.water.set("u_sun_color", sun_color);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, s.wave_ubo.get());
-    glBindVertexArray(s.water_vao.get());
-    glDrawElements(GL_TRIANGLES, s.water_index_count, GL_UNSIGNED_INT, nullptr);
+    s.water_program.use();
+    s.water_program.set("u_view_proj", view_proj);
+    s.water_program.set("u_eye", eye);
+    s.water_program.set("u_sky", sky);
+    s.water_program.set("u_ior", s.scene.water->ior);
+    s.water_program.set("u_sun_direction", sun_dir);
+    s.water_program.set("u_sun_color", sun_color);
+    s.water->draw();
   }
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   glBindVertexArray(0);
   return gl::check_gl("frame");
+}
+
+Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) {
+  Impl& s = *impl_;
+  std::optional<std::uint32_t> receiver;
+  for (std::uint32_t i = 0; i < s.scene.objects.size(); ++i) {
+    if (s.scene.objects[i].name == q.receiver) receiver = i;
+  }
+  if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in the scene");
+  if (q.width <= 0 || q.height <= 0 || q.width > 16384 || q.height > 16384 || !(q.x1 > q.x0) || !(q.z1 > q.z0) ||
+      !std::isfinite(q.x0) || !std::isfinite(q.x1) || !std::isfinite(q.z0) || !std::isfinite(q.z1)) {
+    return make_error(ErrorCode::kUsage, "irradiance region must have x1 > x0, z1 > z0 and a size in 1..16384");
+  }
+  IrradianceImage img;
+  img.width = q.width;
+  img.height = q.height;
+  for (const Light& l : s.scene.lights) {
+    if (l.type == LightType::kDirectional) {
+      img.e0 = l.irradiance;
+      break;
+    }
+  }
+  if (!(img.e0 > 0)) img.e0 = 1.0f;
+  s.irradiance_target.ensure(q.width, q.height, GL_RGBA32F, true);
+  if (s.caustics) s.caustics->reset_stats();
+  if (s.water) s.water->update(q.time);
+
+  // Straight down: clip x from world x, clip y from world z (GL row 0 at z0),
+  // clip z from height (higher is nearer).
+  const float ylo = s.lo.y - 1.0f, yhi = s.hi.y + 1.0f;
+  glm::mat4 m(0.0f);
+  m[0][0] = 2.0f / (q.x1 - q.x0);
+  m[3][0] = -(q.x1 + q.x0) / (q.x1 - q.x0);
+  m[2][1] = 2.0f / (q.z1 - q.z0);
+  m[3][1] = -(q.z1 + q.z0) / (q.z1 - q.z0);
+  m[1][2] = -2.0f / (yhi - ylo);
+  m[3][2] = (yhi + ylo) / (yhi - ylo);
+  m[3][3] = 1.0f;
+
+  auto begin_pass = [&]() {
+    glBindFramebuffer(GL_FRAMEBUFFER, s.irradiance_target.fbo.get());
+    glViewport(0, 0, q.width, q.height);
+    s.irradiance.use();
+    s.irradiance.set("u_view_proj", m);
+    s.irradiance.set("u_inv_e0", 1.0f / img.e0);
+  };
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  begin_pass();
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(s.irradiance_target.fbo.get(), GL_COLOR, 0, zero);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  s.irradiance.set("u_pass", 0);
+  s.draw_receivers(s.irradiance, 0, 0, q.caustics, receiver);
+  for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
+    CAUSTIX_RETURN_IF_ERROR(s.prepare_light(li, q.caustics, s.irradiance));
+    begin_pass();
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    s.irradiance.set("u_pass", 1);
+    s.draw_receivers(s.irradiance, 1, li, q.caustics, receiver);
+  }
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("irradiance"));
+
+  std::vector<float> rgba(static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(s.irradiance_target.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * 4), rgba.data());
+  img.rgb.reserve(rgba.size() / 4 * 3);
+  for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return img;
+}
+
+void Renderer::finish() { glFinish(); }
+
+CausticsStats Renderer::caustics_stats(bool read_gpu_counters) {
+  return impl_->caustics ? impl_->caustics->stats(read_gpu_counters) : CausticsStats{};
 }
 
 void Renderer::present(unsigned framebuffer, int width, int height) {

@@ -12,6 +12,8 @@ Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size) {
   if (!decoded) return decoded.error();
   RuntimeScene out;
   out.desc = std::move(decoded->scene);
+  out.level_maps = std::move(decoded->level_maps);
+  out.boxes = std::move(decoded->boxes);
   out.meshes.reserve(out.desc.meshes.size());
   for (std::size_t i = 0; i < out.desc.meshes.size(); ++i) {
     auto mesh = decode_draco(decoded->draco_meshes[i], out.desc.meshes[i]);

@@ -15,13 +15,15 @@
 int main(int argc, char** argv) {
   using namespace caustix;
   using namespace caustix::runtime;
-  std::string in_path, out_path, size = "640x480";
-  float time = 0.0f;
-  bool quiet = false, verbose = false;
+  std::string in_path, out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
+  float time = 0.0f, epsilon = 0.0f;
+  std::uint32_t planes = 0, caustics_size = 512;
+  bool quiet = false, verbose = false, no_cull = false;
 
   CLI::App app{"caustix-render: render a baked .cxb scene to an image, headless (EGL)"};
   app.footer(
-      "Output: .exr keeps linear float RGB; .png/.jpg/.tif get tone-mapped sRGB.\n"
+      "Output: .exr keeps linear float RGB; .png/.jpg/.tif get tone-mapped sRGB. With --irradiance, the\n"
+      "        image is the receiver's irradiance / E0 seen from above (.exr).\n"
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input file unreadable, 4 invalid .cxb,\n"
       "            5 image could not be written, 6 no usable OpenGL 4.5 context.");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
@@ -29,6 +31,18 @@ int main(int argc, char** argv) {
   cli::add_size_option(app, "--size", size, "image size");
   app.add_option("--time", time, "animation time in seconds (waves)")->capture_default_str()
       ->check(CLI::Range(-1e6f, 1e6f));
+  app.add_option("--irradiance", receiver,
+                 "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
+                 "no albedo or ambient) instead of the beauty image");
+  app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
+  app.add_option("--method", method, "water caustics: levelmap (smart slicing), uniform, volumetric, none")
+      ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "none"}))->capture_default_str();
+  app.add_option("--planes", planes, "re-slice: uniform n pieces; smart eps = h/(2n) (default: as baked)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--epsilon", epsilon, "re-slice smart planes with this acceptance half-width, metres")
+      ->check(CLI::Range(1e-9, 1e9));
+  app.add_option("--caustics-size", caustics_size, "caustics map size S (S x S)")->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print the renderer and timings");
   if (auto rc = cli::parse(app, "caustix-render", argc, argv)) return *rc;
@@ -43,16 +57,35 @@ int main(int argc, char** argv) {
   auto renderer = Renderer::create(*scene);
   if (!renderer) return fail(renderer.error());
 
-  FrameParams frame;
-  frame.camera = (*renderer)->default_camera();
-  frame.time = time;
-  frame.width = width;
-  frame.height = height;
-  const auto t0 = std::chrono::steady_clock::now();
-  if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
+  CausticsOptions caustics;
+  caustics.method = *parse_method(method);
+  if (planes > 0) caustics.planes = planes;
+  if (epsilon > 0) caustics.epsilon = epsilon;
+  caustics.map_size = caustics_size;
+  caustics.cull = !no_cull;
 
+  const auto t0 = std::chrono::steady_clock::now();
   Status written;
-  if (is_float_image_path(out_path)) {
+  if (!receiver.empty()) {
+    IrradianceRequest q;
+    q.receiver = receiver;
+    char extra = 0;
+    if (std::sscanf(region.c_str(), "%f,%f,%f,%f%c", &q.x0, &q.z0, &q.x1, &q.z1, &extra) != 4) {
+      return fail(make_error(ErrorCode::kUsage, "--region '" + region + "' is not x0,z0,x1,z1"));
+    }
+    q.width = width;
+    q.height = height;
+    q.time = time;
+    q.caustics = caustics;
+    auto img = (*renderer)->render_irradiance(q);
+    if (!img) return fail(img.error());
+    for (float v : img->rgb) {
+      if (!std::isfinite(v)) return fail(make_error(ErrorCode::kInternal, "non-finite irradiance rendered"));
+    }
+    written = write_float_image(out_path, width, height, 3, img->rgb);
+  } else if (is_float_image_path(out_path)) {
+    FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
+    if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
     rgb.reserve(rgba.size() / 4 * 3);
@@ -68,6 +101,8 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
+    FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
+    if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;
     rgb.reserve(rgba.size() / 4 * 3);
@@ -76,7 +111,14 @@ int main(int argc, char** argv) {
   }
   if (!written) return fail(written.error());
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (verbose) std::printf("renderer: %s\n", (*context)->description().c_str());
+  if (verbose) {
+    const CausticsStats cs = (*renderer)->caustics_stats();
+    std::printf("renderer: %s\n", (*context)->description().c_str());
+    std::printf("caustics (%s): %llu planes drawn, %llu of %llu illumination volumes after culling, %.1f MB on the GPU\n",
+                method.c_str(), static_cast<unsigned long long>(cs.planes_drawn),
+                static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
+                static_cast<double>(cs.gpu_bytes) / 1e6);
+  }
   if (!quiet) std::printf("caustix-render: wrote %s (%dx%d, t = %g s, %.1f ms)\n", out_path.c_str(), width, height, time, ms);
   return kExitOk;
 }

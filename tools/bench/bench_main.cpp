@@ -28,6 +28,8 @@
 #include "caustix/bake/position_map.h"
 #include "caustix/bake/ray_cast.h"
 #include "caustix/common/cli.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
 
 namespace {
 
@@ -151,6 +153,34 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
   return kExitOk;
 }
 
+// Milliseconds per frame of the runtime on a baked scene, median of
+// `frames` after `warmup` frames; the animation advances 1/30 s per frame.
+int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
+           const std::string& label) {
+  auto scene = runtime::load_scene_file(cxb);
+  if (!scene) return cli::fail("caustix-bench", scene.error());
+  auto ctx = runtime::HeadlessContext::create();
+  if (!ctx) return cli::fail("caustix-bench", ctx.error());
+  auto r = runtime::Renderer::create(*scene);
+  if (!r) return cli::fail("caustix-bench", r.error());
+  runtime::FrameParams f{(*r)->default_camera(), 0.0f, width, height, co};
+  std::vector<double> ms;
+  for (int i = 0; i < warmup + count; ++i) {
+    f.time = static_cast<float>(i) / 30.0f;
+    const auto t = Clock::now();
+    if (Status st = (*r)->render(f); !st) return cli::fail("caustix-bench", st.error());
+    (*r)->finish();
+    if (i >= warmup) ms.push_back(ms_since(t));
+  }
+  const runtime::CausticsStats cs = (*r)->caustics_stats();
+  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
+              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, median(ms),
+              *std::min_element(ms.begin(), ms.end()), static_cast<unsigned long long>(cs.planes_drawn),
+              static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
+              static_cast<double>(cs.gpu_bytes) / 1e6, (*ctx)->description().c_str());
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -167,9 +197,39 @@ int main(int argc, char** argv) {
   stages->add_option("--csv", csv, "also write the table as CSV");
   auto* table = app.add_subcommand("table-5-4", "specified vs actual planes under smart slicing");
   table->add_option("--csv", csv, "also write the table as CSV");
+  std::string cxb, method = "levelmap", label = "-", fsize = "640x480";
+  std::uint32_t planes = 0;
+  int warmup = 3, count = 10;
+  bool no_cull = false, header = false;
+  auto* fr = app.add_subcommand("frames", "ms per frame of the runtime on a baked scene (one CSV line)");
+  fr->add_option("scene", cxb, "baked scene (.cxb)")->required();
+  fr->add_option("--method", method, "levelmap, uniform, volumetric, none")
+      ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "none"}))->capture_default_str();
+  fr->add_option("--planes", planes, "re-slice with n planes (0: as baked)")->check(CLI::Range(0, 4096));
+  fr->add_option("--size", fsize, "image size WxH")->capture_default_str();
+  fr->add_option("--warmup", warmup, "frames not measured")->capture_default_str();
+  fr->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
+  std::uint32_t csize = 512;
+  fr->add_option("--caustics-size", csize, "caustics map size")->check(CLI::Range(1, 8192))->capture_default_str();
+  fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
+  fr->add_option("--label", label, "first CSV column");
+  fr->add_flag("--header", header, "print the CSV header first");
   if (auto rc = cli::parse(app, "caustix-bench", argc, argv)) return *rc;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   if (*stages) return bake_stages(meshes, repeat, size, csv);
+  if (*fr) {
+    if (header) {
+      std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,renderer\n");
+    }
+    runtime::CausticsOptions co;
+    co.method = *runtime::parse_method(method);
+    if (planes > 0) co.planes = planes;
+    co.cull = !no_cull;
+    co.map_size = csize;
+    int w = 0, h = 0;
+    if (!cli::parse_size(fsize, w, h)) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
+    return frames(cxb, co, w, h, warmup, count, label);
+  }
   return table_5_4(meshes, csv);
 }

@@ -38,7 +38,7 @@ enum class Slicing : std::uint8_t { kSmart = 1, kUniform = 2 };
 
 struct ReferencePlane {
   float offset = 0;   // coordinate along V from the frame origin (metres)
-  float epsilon = 0;  // acceptance half-width, |v - offset| < epsilon (eq. 4-15)
+  float epsilon = 0;  // acceptance half-width (eq. 4-15): offset - epsilon < v <= offset + epsilon
 };
 
 struct SubBox {

@@ -4,10 +4,13 @@
 // needs: mesh buffers, a shadow map per light kind present, the water grid if
 // the scene has water.
 //
-// A frame: receivers (ambient, then one additive pass per light with its
-// shadow map), the animated water surface on top, into a linear float HDR
-// target. present() tone-maps it to a display framebuffer; read_hdr() and
-// read_display() return its pixels.
+// A frame: the water surface animated on the GPU; per light, its shadow map
+// and (scenes with water) its caustics maps; receivers (ambient, then one
+// additive pass per light: caustics casting, seed 000 §4.6, eq. 4-19/4-20);
+// the water surface on top; into a linear float HDR target. present()
+// tone-maps it to a display framebuffer; read_hdr() and read_display()
+// return its pixels. render_irradiance() writes the irradiance images of
+// shared/DESIGN.md.
 
 #include <cstdint>
 #include <memory>
@@ -17,6 +20,7 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/scene_loader.h"
 
 namespace caustix::runtime {
@@ -26,6 +30,26 @@ struct FrameParams {
   float time = 0.0f;  // seconds, drives the waves
   int width = 640;
   int height = 480;
+  CausticsOptions caustics;
+};
+
+// shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
+// each pixel is the irradiance at the first surface of `receiver` seen from
+// above, divided by E0 (the first directional light's irradiance, or 1 if
+// the scene has none). Row i is z = z0 + (i + 1/2)(z1 - z0)/H, column j is
+// x = x0 + (j + 1/2)(x1 - x0)/W.
+struct IrradianceRequest {
+  std::string receiver;
+  float x0 = -1, z0 = -1, x1 = 1, z1 = 1;
+  int width = 256, height = 256;
+  float time = 0.0f;
+  CausticsOptions caustics;
+};
+
+struct IrradianceImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // row-major, row 0 at z0
+  float e0 = 1.0f;
 };
 
 // The sky's linear colour: the beauty image's background.
@@ -39,6 +63,13 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   Status render(const FrameParams& frame);
+  Result<IrradianceImage> render_irradiance(const IrradianceRequest& request);
+
+  // Waits until the GPU has finished every command (for timing).
+  void finish();
+
+  // What the caustics passes of the last render did.
+  CausticsStats caustics_stats(bool read_gpu_counters = true);
   // Tone-mapped display image into `framebuffer` (0: the window).
   void present(unsigned framebuffer, int width, int height);
 

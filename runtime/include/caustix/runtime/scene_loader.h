@@ -16,6 +16,8 @@ namespace caustix::runtime {
 struct RuntimeScene {
   SceneDesc desc;
   std::vector<TriangleMesh> meshes;  // desc.meshes[i] <-> meshes[i]
+  std::vector<LevelMap> level_maps;  // at most one per (object, light)
+  std::vector<ObjectBox> boxes;
 };
 
 Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size);

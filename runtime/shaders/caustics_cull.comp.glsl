@@ -1,0 +1,104 @@
+#version 450 core
+// Beyond the thesis (seed 000 §6.1): decide, before drawing, which
+// illumination volumes can light the receiver and through which planes.
+//
+// A volume's footprint between two planes lies in the convex hull of its
+// three rays' hits on them (each hit moves linearly with the plane), so the
+// six hits on the first and last plane bound it. A volume whose footprint
+// misses the frame is dropped (u_frame_cull). In pair mode the footprint's
+// tiles of the position map's min/max depth pyramid give the depths of the
+// surface beneath it, and only the planes whose acceptance windows overlap
+// them are listed (u_plane_cull; without it every plane is, as the thesis
+// drew every volume through every plane). Outside pair mode (volumetric
+// baseline) volumes are listed once and drawn slice by slice.
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
+layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
+layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
+layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [7] list length, [8] overflow
+layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };  // sorted by offset, highest first
+
+layout(binding = 0) uniform sampler2D u_depth_tiles;  // min, max frame V per tile; min > max where empty
+
+uniform uint u_triangles;
+uniform vec3 u_origin;
+uniform vec3 u_U;
+uniform vec3 u_V;
+uniform vec3 u_W;
+uniform vec3 u_half;
+uniform vec2 u_depth_range;  // lowest and highest plane offsets along V, widened by their epsilons
+uniform int u_frame_cull;
+uniform int u_plane_cull;
+uniform int u_pairs;
+uniform int u_plane_count;
+uniform uint u_capacity;  // entries the list holds
+
+void main() {
+  uint t = gl_GlobalInvocationID.x;
+  if (t >= u_triangles) return;
+  vec2 lo = vec2(1e30), hi = vec2(-1e30);
+  for (int k = 0; k < 3; ++k) {
+    uint i = indices[3u * t + uint(k)];
+    vec4 r = refracted[i];
+    vec3 rel = positions[i].xyz - u_origin;
+    float tv = dot(r.xyz, u_V);
+    if (r.w == 0.0 || tv > -1e-6) return;  // no ray, or one not heading down through the frame
+    float pv = dot(rel, u_V);
+    for (int e = 0; e < 2; ++e) {
+      float s = max(0.0, (pv - u_depth_range[e]) / -tv);
+      vec3 q = rel + s * r.xyz;
+      vec2 uw = vec2(dot(q, u_U), dot(q, u_W));
+      lo = min(lo, uw);
+      hi = max(hi, uw);
+    }
+  }
+  if (u_frame_cull != 0 && (any(greaterThan(lo, u_half.xz)) || any(lessThan(hi, -u_half.xz)))) return;
+
+  if (u_pairs == 0) {
+    uint slot = atomicAdd(cmd[7], 1u);
+    if (slot < u_capacity) list[slot] = t; else atomicOr(cmd[8], 1u);
+    return;
+  }
+  int first = 0, n = u_plane_count;
+  if (u_plane_cull != 0) {
+    // Depth range of the surface under the footprint, from the tile pyramid.
+    ivec2 tiles = textureSize(u_depth_tiles, 0);
+    vec2 to_tiles = vec2(tiles) / (2.0 * u_half.xz);
+    ivec2 t0 = clamp(ivec2(floor((lo + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
+    ivec2 t1 = clamp(ivec2(floor((hi + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
+    float vmin = -1e30, vmax = 1e30;  // a huge footprint: every plane
+    if ((t1.x - t0.x + 1) * (t1.y - t0.y + 1) <= 256) {
+      vmin = 1e30;
+      vmax = -1e30;
+      for (int y = t0.y; y <= t1.y; ++y)
+        for (int x = t0.x; x <= t1.x; ++x) {
+          vec2 mm = texelFetch(u_depth_tiles, ivec2(x, y), 0).rg;
+          vmin = min(vmin, mm.x);
+          vmax = max(vmax, mm.y);
+        }
+    }
+    if (vmin > vmax) return;  // no surface under the footprint
+    // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
+    first = -1;
+    n = 0;
+    for (int p = 0; p < u_plane_count; ++p) {
+      vec2 pl = planes[p];
+      if (pl.x - pl.y < vmax && pl.x + pl.y >= vmin) {
+        if (first < 0) first = p;
+        n = p - first + 1;
+      }
+    }
+    if (n == 0) return;
+  }
+  uint slot = atomicAdd(cmd[7], uint(n));
+  for (int k = 0; k < n; ++k) {
+    if (slot + uint(k) >= u_capacity) {
+      atomicOr(cmd[8], 1u);
+      return;
+    }
+    list[2u * (slot + uint(k))] = t;
+    list[2u * (slot + uint(k)) + 1u] = uint(first + k);
+  }
+}

@@ -1,0 +1,64 @@
+#version 450 core
+// Per light, per frame (seed 000 §4.3): mode 0 refracts the light at every
+// water vertex with its normal (eq. 2-8, GLSL refract); mode 1 computes the
+// flux each water triangle transmits, E_in T(theta_i) A_w cos(theta_i)
+// (the numerator of eq. 4-18), with the exact unpolarised Fresnel
+// transmittance at the triangle's face normal, and the beam's cross-section
+// A_w cos(theta_i) (for the magnification clamp).
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
+layout(std430, binding = 3) writeonly buffer Refracted { vec4 refracted[]; };  // xyz: T, w: 1 valid / 0 not
+layout(std430, binding = 4) writeonly buffer Flux { vec2 flux[]; };          // flux, beam cross-section
+
+uniform int u_mode;
+uniform uint u_count;
+uniform int u_light_type;  // 1 directional, 2 point
+uniform vec3 u_light_direction;
+uniform vec3 u_light_position;
+uniform float u_light_power;  // E0 (W/m^2) or I (W/sr)
+uniform float u_ior;
+
+vec3 incident(vec3 p) { return u_light_type == 1 ? u_light_direction : normalize(p - u_light_position); }
+
+// Exact Fresnel transmittance, unpolarised, from air (n = 1) into n2.
+float fresnel_transmittance(float cos_i, float n2) {
+  float sin2_t = (1.0 - cos_i * cos_i) / (n2 * n2);
+  float cos_t = sqrt(max(0.0, 1.0 - sin2_t));
+  float rs = (cos_i - n2 * cos_t) / (cos_i + n2 * cos_t);
+  float rp = (n2 * cos_i - cos_t) / (n2 * cos_i + cos_t);
+  return 1.0 - 0.5 * (rs * rs + rp * rp);
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= u_count) return;
+  if (u_mode == 0) {
+    vec3 p = positions[i].xyz;
+    vec3 n = normals[i].xyz;
+    vec3 l = incident(p);
+    // Light from below the local surface (a steep wave's far side) or a
+    // point light under water: no transmitted ray from this vertex.
+    if (dot(l, n) >= 0.0 || (u_light_type == 2 && u_light_position.y <= p.y)) {
+      refracted[i] = vec4(0.0);
+      return;
+    }
+    refracted[i] = vec4(refract(l, n, 1.0 / u_ior), 1.0);  // eq. 2-8
+    return;
+  }
+  vec3 p0 = positions[indices[3u * i]].xyz;
+  vec3 p1 = positions[indices[3u * i + 1u]].xyz;
+  vec3 p2 = positions[indices[3u * i + 2u]].xyz;
+  vec3 c = cross(p1 - p0, p2 - p0);
+  float twice_area = length(c);
+  vec3 nf = c / max(twice_area, 1e-30);
+  if (nf.y < 0.0) nf = -nf;
+  vec3 centre = (p0 + p1 + p2) / 3.0;
+  vec3 l = incident(centre);
+  float cos_i = max(0.0, -dot(l, nf));
+  float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(centre - u_light_position, centre - u_light_position), 1e-12);
+  float beam = 0.5 * twice_area * cos_i;
+  flux[i] = vec2(e_in * fresnel_transmittance(cos_i, u_ior) * beam, beam);
+}

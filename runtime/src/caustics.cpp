@@ -1,0 +1,418 @@
+#include "caustics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "caustix/formats/slicing.h"
+#include "caustix_shaders.h"
+
+namespace caustix::runtime {
+namespace {
+
+constexpr float kEmptyV = -1.0e30f;  // position map value where there is no surface
+constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile side
+// Most primitives one map may list: 4 M ((volume, plane) pairs; 224 MB with
+// their geometry).
+constexpr std::uint64_t kMaxPrimitives = 4u << 20;
+constexpr GLsizeiptr kPrimitiveBytes = 48;  // three vec4, caustics_geometry.comp
+
+struct MapGpu {
+  const LevelMap* lm = nullptr;
+  gl::Texture position_map;  // R32F at lm->map_size
+  gl::Texture caustics;      // R32F at caustics_size
+  gl::Framebuffer fbo;
+  std::uint32_t caustics_size = 0;
+  // Planes in use, and the options they were derived with.
+  std::vector<ReferencePlane> planes;
+  gl::Buffer planes_buffer;
+  bool planes_valid = false;
+  bool planes_smart = true;
+  std::optional<std::uint32_t> planes_n;
+  std::optional<float> planes_eps;
+  float self_tolerance = 0;
+  gl::Texture depth_tiles;  // RG32F min/max frame V per tile
+  gl::Buffer list, primitives, command;
+  std::uint64_t capacity = 0;  // entries the list (and the primitive buffer) holds
+  // Volumetric baseline: receiver slices and illumination per plane.
+  gl::Texture slices, illumination;
+  std::uint32_t slice_count = 0, slice_size = 0;
+  std::uint64_t gpu_bytes = 0;
+};
+
+std::vector<ReferencePlane> planes_for(const LevelMap& lm, const CausticsOptions& o) {
+  const bool smart = o.method == CausticsMethod::kLevelMap;
+  if (!o.planes && !o.epsilon) return smart ? lm.smart_planes : lm.uniform_planes;
+  const double h = 2.0 * lm.frame.half[1];
+  if (!smart) {
+    const std::uint32_t n = o.planes ? *o.planes
+                                     : static_cast<std::uint32_t>(std::clamp(std::ceil(h / (2.0 * *o.epsilon)), 1.0, 4096.0));
+    return uniform_planes(h, n);
+  }
+  const double eps = o.epsilon ? double{*o.epsilon} : h / (2.0 * *o.planes);
+  return smart_planes(h, static_cast<std::uint32_t>(lm.histogram.size()), lm.sub_boxes, eps, nullptr);
+}
+
+glm::vec3 v3(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+
+void set_frame(const gl::Program& p, const BoundingFrame& f) {
+  p.set("u_origin", glm::vec3(static_cast<float>(f.origin[0]), static_cast<float>(f.origin[1]), static_cast<float>(f.origin[2])));
+  p.set("u_U", v3(f.u));
+  p.set("u_V", v3(f.v));
+  p.set("u_W", v3(f.w));
+  p.set("u_half", v3(f.half));
+}
+
+}  // namespace
+
+struct CausticsEngine::Impl {
+  const WaterSurface* water = nullptr;
+  std::vector<MapGpu> maps;
+  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine;
+  gl::Buffer refracted, flux;
+  gl::VertexArray empty_vao;
+  std::function<void(std::uint32_t)> draw_object;
+  std::function<glm::mat4(std::uint32_t)> model_of;
+  CausticsStats stats;
+  std::vector<std::size_t> drawn_maps;  // maps updated since reset_stats()
+
+  // The plane set in use follows the method (smart or uniform) and the
+  // run-time overrides; rebuilt only when one of them changes.
+  void ensure_planes(MapGpu& m, const CausticsOptions& o) {
+    const bool smart = o.method == CausticsMethod::kLevelMap;
+    if (m.planes_valid && m.planes_smart == smart && m.planes_n == o.planes && m.planes_eps == o.epsilon) return;
+    m.planes = planes_for(*m.lm, o);
+    std::vector<float> packed;
+    float widest = 0;
+    for (const auto& p : m.planes) {
+      packed.push_back(p.offset);
+      packed.push_back(p.epsilon);
+      widest = std::max(widest, p.epsilon);
+    }
+    m.planes_buffer = gl::make_buffer();
+    glNamedBufferStorage(m.planes_buffer.get(), static_cast<GLsizeiptr>(packed.size() * 4), packed.data(), 0);
+    // A point further behind the first surface than any window (or two
+    // depth quanta) is self-shadowed.
+    m.self_tolerance = std::max(widest, static_cast<float>(4.0 * m.lm->frame.half[1] / kDepthQuantum));
+    m.planes_valid = true;
+    m.planes_smart = smart;
+    m.planes_n = o.planes;
+    m.planes_eps = o.epsilon;
+  }
+
+  void ensure_caustics_target(MapGpu& m, std::uint32_t size) {
+    if (m.caustics_size == size && m.caustics.get()) return;
+    m.caustics = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.caustics.get(), 1, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    m.fbo = gl::make_framebuffer();
+    glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
+    m.caustics_size = size;
+  }
+
+  void ensure_slices(MapGpu& m, std::uint32_t count, std::uint32_t size) {
+    if (m.slice_count == count && m.slice_size == size && m.slices.get()) return;
+    m.slices = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(m.slices.get(), 1, GL_R8, static_cast<GLsizei>(size), static_cast<GLsizei>(size), static_cast<GLsizei>(count));
+    m.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(m.illumination.get(), 1, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size), static_cast<GLsizei>(count));
+    m.slice_count = count;
+    m.slice_size = size;
+  }
+
+  std::uint64_t bytes_of(const MapGpu& m) const {
+    const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
+    const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 4;
+    const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 4);
+    const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
+    return pm + cm + sl + tiles + m.planes.size() * 8 + m.capacity * (8 + kPrimitiveBytes) + 40;
+  }
+
+  void draw_map(MapGpu& m, const CausticsOptions& o) {
+    const BoundingFrame& f = m.lm->frame;
+    ensure_planes(m, o);
+    ensure_caustics_target(m, o.map_size);
+    const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
+
+    // 1. Cull: volumes that miss the frame, and (level map) planes the
+    // surface under a volume does not need.
+    const bool pairs = o.method != CausticsMethod::kVolumetric;
+    const std::uint64_t wanted =
+        std::min<std::uint64_t>(kMaxPrimitives, std::uint64_t{water->triangle_count()} * (pairs ? nplanes : 1));
+    if (wanted > m.capacity) {
+      m.list = gl::make_buffer();
+      glNamedBufferStorage(m.list.get(), static_cast<GLsizeiptr>(wanted * 8), nullptr, 0);
+      m.primitives = gl::make_buffer();
+      glNamedBufferStorage(m.primitives.get(), static_cast<GLsizeiptr>(wanted) * kPrimitiveBytes, nullptr, 0);
+      m.capacity = wanted;
+    }
+    float lo = 1e30f, hi = -1e30f;
+    for (const auto& p : m.planes) {
+      lo = std::min(lo, p.offset - p.epsilon);
+      hi = std::max(hi, p.offset + p.epsilon);
+    }
+    const std::uint32_t zeros[10] = {};
+    glNamedBufferSubData(m.command.get(), 0, sizeof zeros, zeros);
+    cull.use();
+    set_frame(cull, f);
+    cull.set("u_triangles", water->triangle_count());
+    cull.set("u_depth_range", glm::vec2(lo, hi));
+    cull.set("u_frame_cull", o.cull ? 1 : 0);
+    cull.set("u_plane_cull", o.cull ? 1 : 0);
+    cull.set("u_pairs", pairs ? 1 : 0);
+    cull.set("u_plane_count", static_cast<int>(nplanes));
+    cull.set("u_capacity", static_cast<unsigned>(m.capacity));
+    glBindTextureUnit(0, m.depth_tiles.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.list.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, m.primitives.get());
+    glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // 2. The list's length becomes the geometry dispatch and the draw count.
+    fixup.use();
+    fixup.set("u_capacity", static_cast<unsigned>(m.capacity));
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m.command.get());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m.command.get());
+    geometry.use();
+    set_frame(geometry, f);
+    geometry.set("u_pairs", pairs ? 1 : 0);
+    geometry.set("u_max_magnification", o.max_magnification);
+    geometry.set("u_map_size", static_cast<float>(m.caustics_size));
+
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    const auto size = static_cast<GLsizei>(m.caustics_size);
+    const float zero[4] = {0, 0, 0, 0};
+    // 3. Geometry of every listed primitive, then 4. one rectangle each.
+    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane) {
+      geometry.use();
+      geometry.set("u_plane", plane);
+      glDispatchComputeIndirect(16);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      draw_program.use();
+      draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
+      glBindVertexArray(empty_vao.get());
+      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+    };
+
+    if (pairs) {
+      glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+      glViewport(0, 0, size, size);
+      glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      levelmap.set("u_map_scale", glm::vec2(static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size)));
+      glBindTextureUnit(0, m.position_map.get());
+      geometry_then_draw(levelmap, 0);
+    } else {
+      // §5.2.1: per sample plane, the receiver's slice image, then the
+      // plane's intersection triangles times that slice, then combine.
+      ensure_slices(m, nplanes, m.caustics_size);
+      glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+      glViewport(0, 0, size, size);
+      for (std::uint32_t i = 0; i < nplanes; ++i) {
+        glNamedFramebufferTextureLayer(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.slices.get(), 0, static_cast<GLint>(i));
+        glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
+        glDisable(GL_BLEND);
+        slab.use();
+        set_frame(slab, f);
+        slab.set("u_write_depth", 0);
+        slab.set("u_near", m.planes[i].offset + m.planes[i].epsilon);
+        slab.set("u_far", m.planes[i].offset - m.planes[i].epsilon);
+        slab.set("u_model", model_of(m.lm->object));
+        draw_object(m.lm->object);
+
+        glNamedFramebufferTextureLayer(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.illumination.get(), 0, static_cast<GLint>(i));
+        glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        volumetric.set("u_slice", static_cast<int>(i));
+        glBindTextureUnit(0, m.slices.get());
+        geometry_then_draw(volumetric, static_cast<int>(i));
+      }
+      glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
+      glDisable(GL_BLEND);
+      combine.use();
+      combine.set("u_count", static_cast<int>(nplanes));
+      glBindTextureUnit(0, m.slices.get());
+      glBindTextureUnit(1, m.illumination.get());
+      glBindVertexArray(empty_vao.get());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glDisable(GL_BLEND);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glBindVertexArray(0);
+    m.gpu_bytes = bytes_of(m);
+    stats.volumes_total += water->triangle_count();
+    stats.planes_drawn += nplanes;
+  }
+};
+
+CausticsEngine::~CausticsEngine() = default;
+
+Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector<LevelMap>& maps, const WaterSurface& water,
+                                                               std::function<void(std::uint32_t)> draw_object,
+                                                               std::function<glm::mat4(std::uint32_t)> model_of) {
+  std::unique_ptr<CausticsEngine> e(new CausticsEngine());
+  e->impl_ = std::make_unique<Impl>();
+  Impl& s = *e->impl_;
+  s.water = &water;
+  s.draw_object = std::move(draw_object);
+  s.model_of = std::move(model_of);
+  struct Spec {
+    gl::Program* out;
+    const char* name;
+    const char* vs;
+    const char* fs;
+  };
+  const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
+  const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
+  const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
+  for (const Spec& spec : {Spec{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
+                           Spec{&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
+                           Spec{&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
+                           Spec{&s.combine, "volumetric_combine", shaders::k_present_vert_glsl, shaders::k_volumetric_combine_frag_glsl}}) {
+    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
+    if (!p) return p.error();
+    *spec.out = std::move(*p);
+  }
+  struct ComputeSpec {
+    gl::Program* out;
+    const char* name;
+    const char* src;
+  };
+  for (const ComputeSpec& spec : {ComputeSpec{&s.prepare, "caustics_prepare", shaders::k_caustics_prepare_comp_glsl},
+                                  ComputeSpec{&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
+                                  ComputeSpec{&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
+                                  ComputeSpec{&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl}}) {
+    auto p = gl::Program::build_compute(spec.name, spec.src);
+    if (!p) return p.error();
+    *spec.out = std::move(*p);
+  }
+  s.empty_vao = gl::make_vertex_array();
+
+  s.refracted = gl::make_buffer();
+  glNamedBufferStorage(s.refracted.get(), GLsizeiptr{16} * water.vertex_count(), nullptr, 0);
+  s.flux = gl::make_buffer();
+  glNamedBufferStorage(s.flux.get(), GLsizeiptr{8} * water.triangle_count(), nullptr, 0);
+
+  s.maps.resize(maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    MapGpu& m = s.maps[i];
+    const LevelMap& lm = maps[i];
+    m.lm = &lm;
+    // Position map as frame V per texel (the baked 16-bit depth decoded).
+    std::vector<float> v(lm.depth.size());
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const std::uint16_t q = lm.depth[k];
+      v[k] = q == kEmptyDepth ? kEmptyV
+                              : static_cast<float>(lm.frame.half[1] - static_cast<double>(q) / kDepthQuantum * 2.0 * lm.frame.half[1]);
+    }
+    m.position_map = gl::make_texture(GL_TEXTURE_2D);
+    const auto ps = static_cast<GLsizei>(lm.map_size);
+    glTextureStorage2D(m.position_map.get(), 1, GL_R32F, ps, ps);
+    glTextureSubImage2D(m.position_map.get(), 0, 0, 0, ps, ps, GL_RED, GL_FLOAT, v.data());
+    glTextureParameteri(m.position_map.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(m.position_map.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    // Min/max depth per tile of the position map, for per-plane culling.
+    const std::uint32_t nt = (lm.map_size + kTileTexels - 1) / kTileTexels;
+    std::vector<float> tiles(std::size_t{nt} * nt * 2);
+    for (std::uint32_t ty = 0; ty < nt; ++ty) {
+      for (std::uint32_t tx = 0; tx < nt; ++tx) {
+        float mn = 1e30f, mx = -1e30f;
+        for (std::uint32_t y = ty * kTileTexels; y < std::min(lm.map_size, (ty + 1) * kTileTexels); ++y) {
+          for (std::uint32_t x = tx * kTileTexels; x < std::min(lm.map_size, (tx + 1) * kTileTexels); ++x) {
+            const float val = v[std::size_t{y} * lm.map_size + x];
+            if (val == kEmptyV) continue;
+            mn = std::min(mn, val);
+            mx = std::max(mx, val);
+          }
+        }
+        tiles[(std::size_t{ty} * nt + tx) * 2] = mn;
+        tiles[(std::size_t{ty} * nt + tx) * 2 + 1] = mx;
+      }
+    }
+    m.depth_tiles = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.depth_tiles.get(), 1, GL_RG32F, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt));
+    glTextureSubImage2D(m.depth_tiles.get(), 0, 0, 0, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt), GL_RG, GL_FLOAT, tiles.data());
+    m.command = gl::make_buffer();
+    glNamedBufferStorage(m.command.get(), 40, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustics set-up"));
+  return e;
+}
+
+Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, const CausticsOptions& o) {
+  Impl& s = *impl_;
+  bool any = false;
+  for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
+  if (!any || o.method == CausticsMethod::kNone) return Status::success();
+
+  // Refract at every water vertex, then each triangle's flux (eq. 2-8, 4-18).
+  s.water->bind_buffers();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
+  s.prepare.use();
+  s.prepare.set("u_light_type", static_cast<int>(desc.type));
+  s.prepare.set("u_light_direction", v3(desc.direction));
+  s.prepare.set("u_light_position", v3(desc.position));
+  s.prepare.set("u_light_power", desc.type == LightType::kDirectional ? desc.irradiance : desc.intensity);
+  s.prepare.set("u_ior", s.water->water().ior);
+  s.prepare.set("u_mode", 0);
+  s.prepare.set("u_count", s.water->vertex_count());
+  glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  s.prepare.set("u_mode", 1);
+  s.prepare.set("u_count", s.water->triangle_count());
+  glDispatchCompute((s.water->triangle_count() + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  s.stats.water_triangles = s.water->triangle_count();
+
+  for (std::size_t i = 0; i < s.maps.size(); ++i) {
+    if (s.maps[i].lm->light != light) continue;
+    s.draw_map(s.maps[i], o);
+    s.drawn_maps.push_back(i);
+  }
+  return gl::check_gl("caustics pass");
+}
+
+std::optional<CausticsEngine::Binding> CausticsEngine::binding(std::uint32_t object, std::uint32_t light) const {
+  for (const MapGpu& m : impl_->maps) {
+    if (m.lm->object == object && m.lm->light == light && m.caustics.get()) {
+      return Binding{m.lm, m.caustics.get(), m.position_map.get(), m.self_tolerance};
+    }
+  }
+  return std::nullopt;
+}
+
+CausticsStats CausticsEngine::stats(bool read_gpu_counters) {
+  Impl& s = *impl_;
+  CausticsStats out = s.stats;
+  out.gpu_bytes = GLsizeiptr{16} * s.water->vertex_count() + GLsizeiptr{8} * s.water->triangle_count();
+  for (const MapGpu& m : s.maps) out.gpu_bytes += m.gpu_bytes;
+  if (read_gpu_counters) {
+    for (std::size_t i : s.drawn_maps) {
+      std::uint32_t cmd[9] = {};
+      glGetNamedBufferSubData(s.maps[i].command.get(), 0, sizeof cmd, cmd);
+      out.volumes_drawn += cmd[0] / 6;
+      out.overflowed = out.overflowed || cmd[8] != 0;
+    }
+  }
+  return out;
+}
+
+void CausticsEngine::reset_stats() {
+  impl_->stats = CausticsStats{};
+  impl_->drawn_maps.clear();
+}
+
+}  // namespace caustix::runtime

@@ -1,0 +1,52 @@
+#pragma once
+// Water caustics on the GPU (seed 000 §4.3-4.7, §5.2.1): per light, refract
+// at every water vertex and compute each water triangle's flux; per level
+// map of that light, cull the illumination volumes against the frame, then
+// intersect them with the reference planes into the caustics map (level map:
+// one instanced draw with the position-map acceptance test; volumetric: one
+// slice per plane, combined afterwards). Internal to the runtime.
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/level_map.h"
+#include "caustix/runtime/caustics_options.h"
+#include "gl_program.h"
+#include "water_surface.h"
+
+namespace caustix::runtime {
+
+class CausticsEngine {
+ public:
+  // draw_object(i) issues object i's draw call (the engine sets u_model).
+  static Result<std::unique_ptr<CausticsEngine>> create(const std::vector<LevelMap>& maps,
+                                                        const WaterSurface& water,
+                                                        std::function<void(std::uint32_t)> draw_object,
+                                                        std::function<glm::mat4(std::uint32_t)> model_of);
+  ~CausticsEngine();
+
+  // Caustics maps of light `light` for the water's current shape.
+  Status update_light(std::uint32_t light, const Light& desc, const CausticsOptions& options);
+
+  struct Binding {
+    const LevelMap* map;
+    GLuint caustics;      // R32F, irradiance on planes perpendicular to V
+    GLuint position_map;  // R32F, frame V of the first surface
+    float self_tolerance;
+  };
+  // The map of (object, light), or nothing if none was baked.
+  std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
+
+  // Counters of the last update_light() calls since reset_stats().
+  CausticsStats stats(bool read_gpu_counters);
+  void reset_stats();
+
+ private:
+  CausticsEngine() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caustix::runtime

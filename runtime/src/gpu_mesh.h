@@ -1,0 +1,24 @@
+#pragma once
+// A triangle mesh in GL buffers (interleaved position + normal, uint32
+// indices). Internal to the runtime.
+
+#include "caustix/common/mesh.h"
+#include "gl_program.h"
+
+namespace caustix::runtime {
+
+struct GpuMesh {
+  gl::VertexArray vao;
+  gl::Buffer vertices;
+  gl::Buffer indices;
+  GLsizei index_count = 0;
+
+  void draw() const {
+    glBindVertexArray(vao.get());
+    glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
+  }
+};
+
+GpuMesh upload_mesh(const TriangleMesh& mesh);
+
+}  // namespace caustix::runtime
