@@ -20,6 +20,7 @@ namespace caustix::runtime {
 
 class CausticsEngine {
  public:
+  // `maps` must outlive the engine (it keeps pointers into it).
   // draw_object(i) issues object i's draw call (the engine sets u_model).
   static Result<std::unique_ptr<CausticsEngine>> create(const std::vector<LevelMap>& maps,
                                                         const WaterSurface& water,

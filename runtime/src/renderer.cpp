@@ -62,6 +62,7 @@ glm::vec3 refracted_flat(const glm::vec3& l, float ior) { return glm::refract(l,
 
 struct Renderer::Impl {
   SceneDesc scene;
+  std::vector<LevelMap> level_maps;  // owned: the caustics engine points into it
   std::vector<GpuMesh> meshes;
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
@@ -304,8 +305,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
     s.water_program = std::move(*wp);
     if (!scene.level_maps.empty()) {
       Impl* impl = &s;
+      s.level_maps = scene.level_maps;
       auto engine = CausticsEngine::create(
-          scene.level_maps, *s.water, [impl](std::uint32_t i) { impl->draw_object(i); },
+          s.level_maps, *s.water, [impl](std::uint32_t i) { impl->draw_object(i); },
           [impl](std::uint32_t i) { return impl->model_of(i); });
       if (!engine) return engine.error();
       s.caustics = std::move(*engine);

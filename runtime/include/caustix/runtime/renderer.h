@@ -57,6 +57,7 @@ inline constexpr float kSkyColor[3] = {0.42f, 0.58f, 0.78f};
 
 class Renderer {
  public:
+  // Copies what it needs from `scene`, which need not outlive the renderer.
   static Result<std::unique_ptr<Renderer>> create(const RuntimeScene& scene);
   ~Renderer();
   Renderer(const Renderer&) = delete;

@@ -1,0 +1,44 @@
+#pragma once
+// Image error metrics for comparing methods and against the reference.
+// Images are linear RGB floats, row-major, 3 channels, equal sizes.
+//
+// average_luv_difference() is seed 000 §2.7, eq. 2-9: the mean over pixels
+// of the Euclidean distance in CIE L*u*v* (D65 white, Y_n = `white`).
+// Pixels where `mask` is given and false are left out.
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+namespace caustix::metrics {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // linear
+};
+
+// CIE L*u*v* of a linear sRGB/Rec.709 colour, relative to white Y_n.
+struct Luv {
+  double L, u, v;
+};
+Luv to_luv(double r, double g, double b, double white = 1.0);
+
+double average_luv_difference(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr,
+                              double white = 1.0);
+
+// sum |a - b| / sum |b| over the masked pixels' luminance (b the reference).
+double relative_l1(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr);
+// sqrt(mean (a - b)^2) of luminance.
+double rms(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr);
+// sum a / sum b of luminance: the total flux ratio.
+double flux_ratio(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr);
+
+// Rec. 709 luminance of pixel i.
+inline double luminance(const Image& im, std::size_t i) {
+  return 0.2126 * im.rgb[3 * i] + 0.7152 * im.rgb[3 * i + 1] + 0.0722 * im.rgb[3 * i + 2];
+}
+
+// sRGB 8-bit display value -> linear.
+double srgb_to_linear(double v8);
+
+}  // namespace caustix::metrics

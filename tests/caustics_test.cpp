@@ -1,0 +1,242 @@
+// Water caustics at run time (seed 000 §4.3-4.7, §5.2.1), with physics as
+// the oracle: flat water transmits T(theta) cos(theta) e^(-K d); a sine
+// wave conserves energy and puts its fold lines where a 1-D ray trace does;
+// smart slicing, uniform slicing and the volumetric baseline agree (eq. 2-9);
+// lights add up; nothing is NaN.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "caustix/bake/bake.h"
+#include "caustix/metrics/image_metrics.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
+
+namespace caustix {
+namespace {
+
+using runtime::CausticsMethod;
+using runtime::CausticsOptions;
+using runtime::IrradianceRequest;
+
+const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
+constexpr double kPi = 3.14159265358979323846;
+
+// Unpolarised Fresnel transmittance from air into n, independent of the runtime's.
+double fresnel_t(double cos_i, double n) {
+  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+  return 1 - 0.5 * (rs * rs + rp * rp);
+}
+
+// A canonical scene, edited, written where its mesh paths still resolve.
+nlohmann::json scene(const std::string& name) {
+  std::ifstream f(kScenes + name + ".json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  for (auto& o : j["objects"]) o["mesh"] = kScenes + o["mesh"].get<std::string>();
+  return j;
+}
+
+class Caustics : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    auto ctx = runtime::HeadlessContext::create();
+    ASSERT_TRUE(ctx.ok()) << ctx.error().message;
+    context_ = std::move(*ctx);
+  }
+  static void TearDownTestSuite() { context_.reset(); }
+
+  std::unique_ptr<runtime::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
+    const auto path = std::filesystem::temp_directory_path() / "caustix_caustics_test.json";
+    std::ofstream(path) << j.dump();
+    auto baked = bake::bake_scene(path.string(), opt);
+    EXPECT_TRUE(baked.ok()) << baked.error().message;
+    auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto r = runtime::Renderer::create(*loaded);
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    return std::move(*r);
+  }
+
+  static metrics::Image irradiance(runtime::Renderer& r, IrradianceRequest q) {
+    auto img = r.render_irradiance(q);
+    EXPECT_TRUE(img.ok()) << img.error().message;
+    for (float v : img->rgb) EXPECT_TRUE(std::isfinite(v)) << "non-finite irradiance";
+    return metrics::Image{img->width, img->height, img->rgb};
+  }
+
+  static metrics::Image beauty(runtime::Renderer& r, const CausticsOptions& co, int w, int h, float time) {
+    runtime::FrameParams f{r.default_camera(), time, w, h, co};
+    EXPECT_TRUE(r.render(f).ok());
+    const auto rgba = r.read_hdr();
+    metrics::Image img{w, h, {}};
+    for (std::size_t i = 0; i < rgba.size(); i += 4) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_TRUE(std::isfinite(rgba[i + k]));
+        img.rgb.push_back(rgba[i + k]);
+      }
+    }
+    return img;
+  }
+
+  static std::unique_ptr<runtime::HeadlessContext> context_;
+};
+std::unique_ptr<runtime::HeadlessContext> Caustics::context_;
+
+TEST_F(Caustics, FlatPoolTransmitsFresnelTimesCosine) {
+  auto r = renderer(scene("flat_pool"));
+  const double expected = fresnel_t(std::cos(30 * kPi / 180), 1.33) * std::cos(30 * kPi / 180);
+  for (auto m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric, CausticsMethod::kNone}) {
+    IrradianceRequest q{"floor", -2, -2, 2, 2, 64, 64, 0.0f, {}};
+    q.caustics.method = m;
+    const auto img = irradiance(*r, q);
+    double worst = 0;
+    for (std::size_t i = 0; i < img.rgb.size(); ++i) worst = std::max(worst, std::fabs(img.rgb[i] / expected - 1));
+    EXPECT_LT(worst, 0.01) << runtime::to_string(m) << ": worst relative error " << worst;
+  }
+}
+
+TEST_F(Caustics, AbsorptionScalesByExpMinusKd) {
+  auto j = scene("flat_pool");
+  j["water"]["absorption"] = {0.1, 0.3, 0.6};
+  auto r = renderer(j);
+  const double th = 30 * kPi / 180, cos_t = std::sqrt(1 - std::pow(std::sin(th) / 1.33, 2));
+  const double d = 2.0 / cos_t;  // path length in water to the floor along the refracted ray
+  const double base = fresnel_t(std::cos(th), 1.33) * std::cos(th);
+  const auto img = irradiance(*r, IrradianceRequest{"floor", -1, -1, 1, 1, 16, 16, 0.0f, {}});
+  const double k[3] = {0.1, 0.3, 0.6};
+  for (std::size_t i = 0; i < img.rgb.size(); ++i) {
+    EXPECT_NEAR(img.rgb[i] / (base * std::exp(-k[i % 3] * d)), 1.0, 0.01) << "channel " << i % 3;
+  }
+}
+
+// 1-D ray trace of y = 2 + 0.1 sin(2 pi x), light straight down, floor y = 0:
+// where the map x0 -> X is folded (dX/dx0 = 0) within one wavelength.
+std::vector<double> fold_lines() {
+  auto land = [](double x0) {
+    const double slope = 0.1 * 2 * kPi * std::cos(2 * kPi * x0);
+    const double nlen = std::sqrt(slope * slope + 1), nx = -slope / nlen, ny = 1 / nlen;
+    const double eta = 1 / 1.33, cos_i = ny, k = 1 - eta * eta * (1 - cos_i * cos_i);
+    const double tx = (eta * cos_i - std::sqrt(k)) * nx, ty = -eta + (eta * cos_i - std::sqrt(k)) * ny;
+    const double h = 2 + 0.1 * std::sin(2 * kPi * x0);
+    return x0 + tx * h / -ty;
+  };
+  std::vector<double> folds;
+  const int n = 200000;
+  double prev = land(1.0 / n) - land(0.0);
+  for (int i = 1; i < n; ++i) {
+    const double x0 = double(i) / n;
+    const double d = land(x0 + 1.0 / n) - land(x0);
+    if ((d > 0) != (prev > 0)) {
+      double x = land(x0);
+      x -= std::floor(x);
+      folds.push_back(x);
+    }
+    prev = d;
+  }
+  std::sort(folds.begin(), folds.end());
+  return folds;
+}
+
+TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
+  auto r = renderer(scene("wavy_pool"));
+  const int w = 512;  // texel: 4 m / 512 = 7.8 mm
+  IrradianceRequest q{"floor", 0, -0.05f, 4, 0.05f, w, 4, 0.0f, {}};
+  q.caustics.map_size = 2048;
+  const auto img = irradiance(*r, q);
+  std::vector<double> profile(w, 0.0);
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < w; ++col) profile[col] += img.rgb[3 * (std::size_t(row) * w + col)] / 4.0;
+  }
+  double mean = 0;
+  for (double p : profile) mean += p / w;
+  const double flat = fresnel_t(1.0, 1.33);
+  EXPECT_NEAR(mean / flat, 1.0, 0.02) << "mean E/E0 over 4 wavelengths " << mean << ", flat water " << flat;
+
+  const auto folds = fold_lines();
+  ASSERT_EQ(folds.size(), 2u);
+  EXPECT_NEAR(folds[0], 0.146, 0.002);
+  EXPECT_NEAR(folds[1], 0.354, 0.002);
+  // In each wavelength the two brightest local maxima sit on the folds.
+  const double texel = 4.0 / w;
+  for (int wave = 0; wave < 4; ++wave) {
+    std::vector<std::pair<double, double>> peaks;  // value, x
+    for (int c = wave * 128 + 1; c < wave * 128 + 127; ++c) {
+      if (profile[c] > profile[c - 1] && profile[c] >= profile[c + 1]) peaks.push_back({profile[c], (c + 0.5) * texel});
+    }
+    std::sort(peaks.rbegin(), peaks.rend());
+    ASSERT_GE(peaks.size(), 2u);
+    std::vector<double> xs{peaks[0].second - wave, peaks[1].second - wave};
+    std::sort(xs.begin(), xs.end());
+    EXPECT_NEAR(xs[0], folds[0], 2 * texel) << "wave " << wave;
+    EXPECT_NEAR(xs[1], folds[1], 2 * texel) << "wave " << wave;
+  }
+}
+
+TEST_F(Caustics, SeveralLightsAddUp) {
+  auto both = scene("flat_pool");
+  both["water"]["waves"] = {{{"amplitude", 0.05}, {"wavelength", 0.9}, {"direction", {1, 0.4}}}};
+  both["lights"].push_back({{"type", "directional"}, {"direction", {0.0, -0.9, 0.4}}, {"irradiance", 0.7}});
+  auto first = both, second = both;
+  first["lights"].erase(1);
+  second["lights"].erase(0);
+  const IrradianceRequest q{"floor", -1.5, -1.5, 1.5, 1.5, 96, 96, 0.0f, {}};
+  const auto a = irradiance(*renderer(first), q);
+  auto b = irradiance(*renderer(second), q);
+  const auto ab = irradiance(*renderer(both), q);
+  // Normalisation: each image divides by its first directional light's E0.
+  for (float& v : b.rgb) v *= 0.7f;
+  double worst = 0, peak = 0;
+  for (std::size_t i = 0; i < ab.rgb.size(); ++i) {
+    worst = std::max(worst, double(std::fabs(ab.rgb[i] - (a.rgb[i] + b.rgb[i]))));
+    peak = std::max(peak, double(ab.rgb[i]));
+  }
+  EXPECT_LT(worst, 1e-4 * peak) << "sum of single-light images differs by " << worst;
+}
+
+TEST_F(Caustics, MethodsAgreeAndSmartDrawsFewerPlanes) {
+  auto r = renderer(scene("thesis_sphere"));
+  CausticsOptions co;
+  co.map_size = 256;
+  co.planes = 16;
+  std::map<CausticsMethod, metrics::Image> images;
+  std::map<CausticsMethod, std::uint64_t> planes;
+  for (auto m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric}) {
+    co.method = m;
+    images[m] = beauty(*r, co, 160, 120, 0.7f);
+    planes[m] = r->caustics_stats().planes_drawn;
+  }
+  const double smart_vs_uniform = metrics::average_luv_difference(images[CausticsMethod::kLevelMap], images[CausticsMethod::kUniform]);
+  const double level_vs_volumetric = metrics::average_luv_difference(images[CausticsMethod::kUniform], images[CausticsMethod::kVolumetric]);
+  EXPECT_LT(smart_vs_uniform, 0.5);
+  EXPECT_LT(level_vs_volumetric, 0.5);
+  EXPECT_LT(planes[CausticsMethod::kLevelMap], planes[CausticsMethod::kUniform]);
+  ::testing::Test::RecordProperty("eq_2_9_smart_vs_uniform", std::to_string(smart_vs_uniform));
+  ::testing::Test::RecordProperty("eq_2_9_levelmap_vs_volumetric", std::to_string(level_vs_volumetric));
+  // Caustics are present: the level map differs from flat-water lighting.
+  co.method = CausticsMethod::kNone;
+  const auto none = beauty(*r, co, 160, 120, 0.7f);
+  EXPECT_GT(metrics::average_luv_difference(images[CausticsMethod::kLevelMap], none), 1.0);
+}
+
+TEST_F(Caustics, CullingChangesNothing) {
+  auto r = renderer(scene("thesis_sphere"));
+  CausticsOptions co;
+  co.map_size = 256;
+  co.planes = 12;
+  const auto culled = beauty(*r, co, 128, 96, 1.3f);
+  const auto stats_culled = r->caustics_stats();
+  co.cull = false;
+  const auto all = beauty(*r, co, 128, 96, 1.3f);
+  const auto stats_all = r->caustics_stats();
+  EXPECT_LT(metrics::average_luv_difference(culled, all), 0.01);
+  EXPECT_LT(stats_culled.volumes_drawn, stats_all.volumes_drawn / 4) << "culling should drop most pairs";
+}
+
+}  // namespace
+}  // namespace caustix
