@@ -17,7 +17,7 @@ layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
-layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [7] list length, [8] overflow
+layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list length, [9] overflow
 layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };  // sorted by offset, highest first
 
 layout(binding = 0) uniform sampler2D u_depth_tiles;  // min, max frame V per tile; min > max where empty
@@ -35,50 +35,69 @@ uniform int u_pairs;
 uniform int u_plane_count;
 uniform uint u_capacity;  // entries the list holds
 
-void main() {
-  uint t = gl_GlobalInvocationID.x;
-  if (t >= u_triangles) return;
-  vec2 lo = vec2(1e30), hi = vec2(-1e30);
+// Footprint (in frame U, W) of volume t's rays between planes v = d0 and
+// v = d1 (d0 > d1); false if a ray does not head down through the frame.
+bool footprint(uint t, vec2 depths, out vec2 lo, out vec2 hi) {
+  lo = vec2(1e30);
+  hi = vec2(-1e30);
   for (int k = 0; k < 3; ++k) {
     uint i = indices[3u * t + uint(k)];
     vec4 r = refracted[i];
     vec3 rel = positions[i].xyz - u_origin;
     float tv = dot(r.xyz, u_V);
-    if (r.w == 0.0 || tv > -1e-6) return;  // no ray, or one not heading down through the frame
+    if (r.w == 0.0 || tv > -1e-6) return false;
     float pv = dot(rel, u_V);
     for (int e = 0; e < 2; ++e) {
-      float s = max(0.0, (pv - u_depth_range[e]) / -tv);
+      float s = max(0.0, (pv - depths[e]) / -tv);
       vec3 q = rel + s * r.xyz;
       vec2 uw = vec2(dot(q, u_U), dot(q, u_W));
       lo = min(lo, uw);
       hi = max(hi, uw);
     }
   }
+  return true;
+}
+
+// Depth range [vmin, vmax] of the surface under a footprint, from the tile
+// pyramid; every depth if the footprint covers too many tiles to read.
+vec2 surface_depths(vec2 lo, vec2 hi) {
+  ivec2 tiles = textureSize(u_depth_tiles, 0);
+  vec2 to_tiles = vec2(tiles) / (2.0 * u_half.xz);
+  ivec2 t0 = clamp(ivec2(floor((lo + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
+  ivec2 t1 = clamp(ivec2(floor((hi + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
+  if ((t1.x - t0.x + 1) * (t1.y - t0.y + 1) > 256) return vec2(-1e30, 1e30);
+  vec2 range = vec2(1e30, -1e30);
+  for (int y = t0.y; y <= t1.y; ++y)
+    for (int x = t0.x; x <= t1.x; ++x) {
+      vec2 mm = texelFetch(u_depth_tiles, ivec2(x, y), 0).rg;
+      range = vec2(min(range.x, mm.x), max(range.y, mm.y));
+    }
+  return range;
+}
+
+void main() {
+  uint t = gl_GlobalInvocationID.x;
+  if (t >= u_triangles) return;
+  vec2 lo, hi;
+  if (!footprint(t, u_depth_range.yx, lo, hi)) return;
   if (u_frame_cull != 0 && (any(greaterThan(lo, u_half.xz)) || any(lessThan(hi, -u_half.xz)))) return;
 
   if (u_pairs == 0) {
-    uint slot = atomicAdd(cmd[7], 1u);
-    if (slot < u_capacity) list[slot] = t; else atomicOr(cmd[8], 1u);
+    uint slot = atomicAdd(cmd[8], 1u);
+    if (slot < u_capacity) list[slot] = t; else atomicOr(cmd[9], 1u);
     return;
   }
   int first = 0, n = u_plane_count;
   if (u_plane_cull != 0) {
-    // Depth range of the surface under the footprint, from the tile pyramid.
-    ivec2 tiles = textureSize(u_depth_tiles, 0);
-    vec2 to_tiles = vec2(tiles) / (2.0 * u_half.xz);
-    ivec2 t0 = clamp(ivec2(floor((lo + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
-    ivec2 t1 = clamp(ivec2(floor((hi + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
-    float vmin = -1e30, vmax = 1e30;  // a huge footprint: every plane
-    if ((t1.x - t0.x + 1) * (t1.y - t0.y + 1) <= 256) {
-      vmin = 1e30;
-      vmax = -1e30;
-      for (int y = t0.y; y <= t1.y; ++y)
-        for (int x = t0.x; x <= t1.x; ++x) {
-          vec2 mm = texelFetch(u_depth_tiles, ivec2(x, y), 0).rg;
-          vmin = min(vmin, mm.x);
-          vmax = max(vmax, mm.y);
-        }
+    // The surface under the footprint bounds the depths that matter; the
+    // footprint over just those depths is smaller, so refine twice.
+    vec2 range = surface_depths(lo, hi);
+    for (int it = 0; it < 2 && range.x <= range.y && range.x > -1e29; ++it) {
+      vec2 l2, h2;
+      footprint(t, range.yx, l2, h2);
+      range = surface_depths(l2, h2);
     }
+    float vmin = range.x, vmax = range.y;
     if (vmin > vmax) return;  // no surface under the footprint
     // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
     first = -1;
@@ -92,10 +111,10 @@ void main() {
     }
     if (n == 0) return;
   }
-  uint slot = atomicAdd(cmd[7], uint(n));
+  uint slot = atomicAdd(cmd[8], uint(n));
   for (int k = 0; k < n; ++k) {
     if (slot + uint(k) >= u_capacity) {
-      atomicOr(cmd[8], 1u);
+      atomicOr(cmd[9], 1u);
       return;
     }
     list[2u * (slot + uint(k))] = t;

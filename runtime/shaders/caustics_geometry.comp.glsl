@@ -32,7 +32,7 @@ uniform float u_map_size;
 
 void main() {
   uint p = gl_GlobalInvocationID.x;
-  if (p >= cmd[9]) return;
+  if (p >= cmd[10]) return;
   uint t = u_pairs != 0 ? list[2u * p] : list[p];
   vec2 plane = planes[u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane)];
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);

@@ -1,6 +1,6 @@
 #version 450 core
-// Draws the intersection triangles of caustics_geometry.comp, six vertices
-// (two triangles of a rectangle) each.
+// Draws the intersection triangles of caustics_geometry.comp, four indexed
+// vertices (a quad, or a triangle with its last vertex repeated) each.
 //
 // Exact-coverage splatting (beyond the thesis): near folds the triangles
 // are slivers far thinner than a texel, which point-sampled rasterisation
@@ -15,28 +15,44 @@ uniform float u_map_size;
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
 void main() {
-  int prim = gl_VertexID / 6;
+  int prim = gl_VertexID / 4;
   vec4 p0 = prims[3 * prim];
   vec4 p1 = prims[3 * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
   v_prim = prim;
-  // The rectangle on the longest edge a-b and the height of the third
-  // vertex c (whose projection falls between a and b), dilated by delta.
-  // Written without arrays: dynamic indexing is slow on some vertex paths.
-  float l01 = distance(q0, q1), l12 = distance(q1, q2), l20 = distance(q2, q0);
-  vec2 a = q0, b = q1, c = q2;
-  float longest = l01;
-  if (l12 > longest) { a = q1; b = q2; c = q0; longest = l12; }
-  if (l20 > longest) { a = q2; b = q0; c = q1; longest = l20; }
-  vec2 along = longest > 0.0 ? (b - a) / longest : vec2(1.0, 0.0);
-  vec2 across = vec2(-along.y, along.x);
-  float h = dot(c - a, across);
   const float delta = 0.7072;  // half a texel diagonal, rounded up
-  float lo = min(0.0, h) - delta, hi = max(0.0, h) + delta;
-  // Corners of the two triangles (0,0) (1,0) (1,1) / (0,0) (1,1) (0,1).
-  int k = gl_VertexID % 6;
-  float cx = (k == 1 || k == 2 || k == 4) ? 1.0 : 0.0;
-  float cy = (k == 2 || k == 4 || k == 5) ? 1.0 : 0.0;
-  vec2 p = a + along * mix(-delta, longest + delta, cx) + across * mix(lo, hi, cy);
+  int k = gl_VertexID % 4;  // quad (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2
+  vec2 p;
+  // A well-shaped triangle (every angle >= 15 degrees) is dilated itself:
+  // each vertex moves out along its bisector by delta / sin(angle / 2), so
+  // the triangle grows by delta on every side; vertex 3 repeats vertex 2, so
+  // the second triangle of the quad is empty.
+  vec2 e01 = q1 - q0, e12 = q2 - q1, e20 = q0 - q2;
+  float twice = e01.x * (-e20.y) - e01.y * (-e20.x);  // signed double area
+  float l01 = length(e01), l12 = length(e12), l20 = length(e20);
+  float sin_min = min(min(abs(twice) / (l01 * l20), abs(twice) / (l01 * l12)), abs(twice) / (l12 * l20));
+  if (l01 > 0.0 && l12 > 0.0 && l20 > 0.0 && sin_min > 0.2588) {
+    float s = sign(twice);
+    // Outward unit normals of the edges.
+    vec2 n01 = s * vec2(e01.y, -e01.x) / l01, n12 = s * vec2(e12.y, -e12.x) / l12, n20 = s * vec2(e20.y, -e20.x) / l20;
+    vec2 v = k == 0 ? q0 : k == 1 ? q1 : q2;
+    vec2 na = k == 0 ? n20 : k == 1 ? n01 : n12;  // the two edges meeting at v
+    vec2 nb = k == 0 ? n01 : k == 1 ? n12 : n20;
+    p = v + delta * (na + nb) / (1.0 + dot(na, nb));
+  } else {
+    // Otherwise (slivers near folds): the rectangle on the longest edge a-b
+    // and the height of the third vertex c (whose projection falls between
+    // a and b), dilated by delta. Written without arrays: dynamic indexing
+    // is slow on some vertex paths.
+    vec2 a = q0, b = q1, c = q2;
+    float longest = l01;
+    if (l12 > longest) { a = q1; b = q2; c = q0; longest = l12; }
+    if (l20 > longest) { a = q2; b = q0; c = q1; longest = l20; }
+    vec2 along = longest > 0.0 ? (b - a) / longest : vec2(1.0, 0.0);
+    vec2 across = vec2(-along.y, along.x);
+    float h = dot(c - a, across);
+    float lo = min(0.0, h) - delta, hi = max(0.0, h) + delta;
+    p = a + along * mix(-delta, longest + delta, float(k & 1)) + across * mix(lo, hi, float(k >> 1));
+  }
   gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, 0.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
 }

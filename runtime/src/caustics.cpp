@@ -31,7 +31,7 @@ struct MapGpu {
   std::optional<float> planes_eps;
   float self_tolerance = 0;
   gl::Texture depth_tiles;  // RG32F min/max frame V per tile
-  gl::Buffer list, primitives, command;
+  gl::Buffer list, primitives, command, rect_indices;
   std::uint64_t capacity = 0;  // entries the list (and the primitive buffer) holds
   // Volumetric baseline: receiver slices and illumination per plane.
   gl::Texture slices, illumination;
@@ -127,7 +127,7 @@ struct CausticsEngine::Impl {
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 4;
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 4);
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
-    return pm + cm + sl + tiles + m.planes.size() * 8 + m.capacity * (8 + kPrimitiveBytes) + 40;
+    return pm + cm + sl + tiles + m.planes.size() * 8 + m.capacity * (8 + kPrimitiveBytes + 24) + 44;
   }
 
   void draw_map(MapGpu& m, const CausticsOptions& o) {
@@ -146,6 +146,14 @@ struct CausticsEngine::Impl {
       glNamedBufferStorage(m.list.get(), static_cast<GLsizeiptr>(wanted * 8), nullptr, 0);
       m.primitives = gl::make_buffer();
       glNamedBufferStorage(m.primitives.get(), static_cast<GLsizeiptr>(wanted) * kPrimitiveBytes, nullptr, 0);
+      std::vector<std::uint32_t> idx(wanted * 6);
+      for (std::uint64_t p = 0; p < wanted; ++p) {
+        const auto b = static_cast<std::uint32_t>(4 * p);
+        const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
+        std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
+      }
+      m.rect_indices = gl::make_buffer();
+      glNamedBufferStorage(m.rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
       m.capacity = wanted;
     }
     float lo = 1e30f, hi = -1e30f;
@@ -153,7 +161,7 @@ struct CausticsEngine::Impl {
       lo = std::min(lo, p.offset - p.epsilon);
       hi = std::max(hi, p.offset + p.epsilon);
     }
-    const std::uint32_t zeros[10] = {};
+    const std::uint32_t zeros[11] = {};
     glNamedBufferSubData(m.command.get(), 0, sizeof zeros, zeros);
     cull.use();
     set_frame(cull, f);
@@ -193,12 +201,13 @@ struct CausticsEngine::Impl {
     auto geometry_then_draw = [&](const gl::Program& draw_program, int plane) {
       geometry.use();
       geometry.set("u_plane", plane);
-      glDispatchComputeIndirect(16);
+      glDispatchComputeIndirect(20);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       draw_program.use();
       draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
       glBindVertexArray(empty_vao.get());
-      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      glVertexArrayElementBuffer(empty_vao.get(), m.rect_indices.get());
+      glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr);
     };
 
     if (pairs) {
@@ -345,7 +354,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector
     glTextureStorage2D(m.depth_tiles.get(), 1, GL_RG32F, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt));
     glTextureSubImage2D(m.depth_tiles.get(), 0, 0, 0, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt), GL_RG, GL_FLOAT, tiles.data());
     m.command = gl::make_buffer();
-    glNamedBufferStorage(m.command.get(), 40, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(m.command.get(), 44, nullptr, GL_DYNAMIC_STORAGE_BIT);
   }
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustics set-up"));
   return e;
@@ -401,10 +410,10 @@ CausticsStats CausticsEngine::stats(bool read_gpu_counters) {
   for (const MapGpu& m : s.maps) out.gpu_bytes += m.gpu_bytes;
   if (read_gpu_counters) {
     for (std::size_t i : s.drawn_maps) {
-      std::uint32_t cmd[9] = {};
+      std::uint32_t cmd[11] = {};
       glGetNamedBufferSubData(s.maps[i].command.get(), 0, sizeof cmd, cmd);
-      out.volumes_drawn += cmd[0] / 6;
-      out.overflowed = out.overflowed || cmd[8] != 0;
+      out.volumes_drawn += cmd[10];
+      out.overflowed = out.overflowed || cmd[9] != 0;
     }
   }
   return out;
