@@ -240,3 +240,23 @@ TEST_F(Caustics, CullingChangesNothing) {
 
 }  // namespace
 }  // namespace caustix
+
+namespace caustix {
+namespace {
+
+TEST_F(Caustics, MovingTheLightReDerivesTheLevelMapOnTheGpu) {
+  auto r = renderer(scene("flat_pool"));
+  for (double deg : {45.0, 10.0, 60.0}) {
+    Light sun = r->scene().lights[0];
+    sun.direction = {static_cast<float>(std::sin(deg * kPi / 180)), static_cast<float>(-std::cos(deg * kPi / 180)), 0.0f};
+    ASSERT_TRUE(r->set_light(0, sun).ok());
+    const double expected = fresnel_t(std::cos(deg * kPi / 180), 1.33) * std::cos(deg * kPi / 180);
+    const auto img = irradiance(*r, IrradianceRequest{"floor", -1.5, -1.5, 1.5, 1.5, 48, 48, 0.0f, {}});
+    double worst = 0;
+    for (float v : img.rgb) worst = std::max(worst, std::fabs(v / expected - 1));
+    EXPECT_LT(worst, 0.01) << deg << " degrees: worst relative error " << worst;
+  }
+}
+
+}  // namespace
+}  // namespace caustix

@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "caustix/bake/bake.h"
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/position_map.h"
 #include "caustix/bake/ray_cast.h"

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 #include "caustix/bake/object_box.h"
 #include "caustix/bake/position_map.h"
 #include "caustix/bake/ray_cast.h"

@@ -17,6 +17,7 @@ uniform uvec2 u_cells;
 uniform vec4 u_extent;  // x0, z0, x1, z1
 uniform float u_level;
 uniform float u_time;
+uniform float u_amplitude_scale;  // 1 as baked; the viewer tunes it
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -30,8 +31,9 @@ void main() {
     vec4 a = u_wave_a[w];
     vec4 b = u_wave_b[w];
     float arg = a.y * dot(a.zw, xz) - b.x * u_time + b.y;
-    h += a.x * sin(arg);
-    grad += a.x * a.y * cos(arg) * a.zw;
+    float amp = a.x * u_amplitude_scale;
+    h += amp * sin(arg);
+    grad += amp * a.y * cos(arg) * a.zw;
   }
   positions[i] = vec4(xz.x, h, xz.y, 1.0);
   normals[i] = vec4(normalize(vec3(-grad.x, 1.0, -grad.y)), 0.0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "caustix/formats/frame.h"
 #include "caustix/formats/slicing.h"
 #include "caustix_shaders.h"
 
@@ -17,7 +18,7 @@ constexpr std::uint64_t kMaxPrimitives = 4u << 20;
 constexpr GLsizeiptr kPrimitiveBytes = 48;  // three vec4, caustics_geometry.comp
 
 struct MapGpu {
-  const LevelMap* lm = nullptr;
+  LevelMap* lm = nullptr;
   gl::Texture position_map;  // R32F at lm->map_size
   gl::Texture caustics;      // R32F at caustics_size
   gl::Framebuffer fbo;
@@ -31,6 +32,8 @@ struct MapGpu {
   std::optional<float> planes_eps;
   float self_tolerance = 0;
   gl::Texture depth_tiles;  // RG32F min/max frame V per tile
+  gl::Framebuffer position_fbo;  // run-time re-derivation
+  gl::Texture position_depth;
   gl::Buffer list, primitives, command, rect_indices;
   std::uint64_t capacity = 0;  // entries the list (and the primitive buffer) holds
   // Volumetric baseline: receiver slices and illumination per plane.
@@ -67,7 +70,9 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
-  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine;
+  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, profile;
+  gl::Buffer histogram;
+  std::uint32_t histogram_levels = 0;
   gl::Buffer refracted, flux;
   gl::VertexArray empty_vao;
   std::function<void(std::uint32_t)> draw_object;
@@ -266,7 +271,7 @@ struct CausticsEngine::Impl {
 
 CausticsEngine::~CausticsEngine() = default;
 
-Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector<LevelMap>& maps, const WaterSurface& water,
+Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<LevelMap>& maps, const WaterSurface& water,
                                                                std::function<void(std::uint32_t)> draw_object,
                                                                std::function<glm::mat4(std::uint32_t)> model_of) {
   std::unique_ptr<CausticsEngine> e(new CausticsEngine());
@@ -300,7 +305,8 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector
   for (const ComputeSpec& spec : {ComputeSpec{&s.prepare, "caustics_prepare", shaders::k_caustics_prepare_comp_glsl},
                                   ComputeSpec{&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
                                   ComputeSpec{&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
-                                  ComputeSpec{&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl}}) {
+                                  ComputeSpec{&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
+                                  ComputeSpec{&s.profile, "profile", shaders::k_profile_comp_glsl}}) {
     auto p = gl::Program::build_compute(spec.name, spec.src);
     if (!p) return p.error();
     *spec.out = std::move(*p);
@@ -315,7 +321,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector
   s.maps.resize(maps.size());
   for (std::size_t i = 0; i < maps.size(); ++i) {
     MapGpu& m = s.maps[i];
-    const LevelMap& lm = maps[i];
+    LevelMap& lm = maps[i];
     m.lm = &lm;
     // Position map as frame V per texel (the baked 16-bit depth decoded).
     std::vector<float> v(lm.depth.size());
@@ -358,6 +364,97 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(const std::vector
   }
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustics set-up"));
   return e;
+}
+
+Status CausticsEngine::rederive_light(std::uint32_t light, const Light& desc, const std::optional<Water>& water,
+                                      const std::vector<std::vector<std::array<double, 3>>>& world) {
+  Impl& s = *impl_;
+  for (MapGpu& m : s.maps) {
+    if (m.lm->light != light) continue;
+    LevelMap& lm = *m.lm;
+    const auto& pts = world[lm.object];
+    double min_y = pts[0][1], max_y = min_y;
+    for (const auto& p : pts) {
+      min_y = std::min(min_y, p[1]);
+      max_y = std::max(max_y, p[1]);
+    }
+    const glm::mat4 model = s.model_of(lm.object);
+    const Vec3d origin{model[3][0], model[3][1], model[3][2]};
+    std::string why;
+    const auto dir = light_direction(desc, water, origin, min_y, max_y, &why);
+    if (!dir) {
+      // The light no longer reaches it through the water: an empty map.
+      glClearTexImage(m.position_map.get(), 0, GL_RED, GL_FLOAT, &kEmptyV);
+      const float empty[2] = {1e30f, -1e30f};
+      glClearTexImage(m.depth_tiles.get(), 0, GL_RG, GL_FLOAT, empty);
+      continue;
+    }
+    const double h_old = 2.0 * lm.frame.half[1];
+    const bool default_eps = std::fabs(lm.epsilon - h_old / (2.0 * lm.planes_requested)) < 1e-6 * h_old;
+    lm.frame = make_frame(dir->travel, pts, origin);
+    const BoundingFrame& f = lm.frame;
+
+    // Position map: the receiver seen along -V, nearest surface to the light wins.
+    const auto size = static_cast<GLsizei>(lm.map_size);
+    if (!m.position_fbo.get()) {
+      m.position_fbo = gl::make_framebuffer();
+      m.position_depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(m.position_depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
+      glNamedFramebufferTexture(m.position_fbo.get(), GL_COLOR_ATTACHMENT0, m.position_map.get(), 0);
+      glNamedFramebufferTexture(m.position_fbo.get(), GL_DEPTH_ATTACHMENT, m.position_depth.get(), 0);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m.position_fbo.get());
+    glViewport(0, 0, size, size);
+    const float empty[4] = {kEmptyV, 0, 0, 0};
+    glClearNamedFramebufferfv(m.position_fbo.get(), GL_COLOR, 0, empty);
+    const float far_depth = 1.0f;
+    glClearNamedFramebufferfv(m.position_fbo.get(), GL_DEPTH, 0, &far_depth);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    s.slab.use();
+    set_frame(s.slab, f);
+    s.slab.set("u_write_depth", 1);
+    s.slab.set("u_near", f.half[1] * 1.0001f);
+    s.slab.set("u_far", -f.half[1] * 1.0001f);
+    s.slab.set("u_model", model);
+    s.draw_object(lm.object);
+
+    // Histogram over the depth levels, then the planes (eq. 4-21, 4-22, 4-6..4-9).
+    const auto levels = static_cast<std::uint32_t>(lm.histogram.size());
+    if (s.histogram_levels != levels) {
+      s.histogram = gl::make_buffer();
+      glNamedBufferStorage(s.histogram.get(), GLsizeiptr{4} * levels, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      s.histogram_levels = levels;
+    }
+    const std::uint32_t zero = 0;
+    glClearNamedBufferData(s.histogram.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    s.profile.use();
+    s.profile.set("u_mode", 0);
+    s.profile.set("u_levels", levels);
+    s.profile.set("u_half_v", f.half[1]);
+    s.profile.set("u_tile", static_cast<int>(kTileTexels));
+    glBindTextureUnit(0, m.position_map.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, s.histogram.get());
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glDispatchCompute((lm.map_size + 7) / 8, (lm.map_size + 7) / 8, 1);
+    s.profile.set("u_mode", 1);
+    glBindImageTexture(0, m.depth_tiles.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    const std::uint32_t nt = (lm.map_size + kTileTexels - 1) / kTileTexels;
+    glDispatchCompute((nt + 7) / 8, (nt + 7) / 8, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glGetNamedBufferSubData(s.histogram.get(), 0, GLsizeiptr{4} * levels, lm.histogram.data());
+    lm.sub_boxes = find_sub_boxes(lm.histogram);
+    const double h = 2.0 * f.half[1];
+    lm.uniform_planes = uniform_planes(h, lm.planes_requested);
+    double used = 0;
+    lm.smart_planes = smart_planes(h, levels, lm.sub_boxes, default_eps ? h / (2.0 * lm.planes_requested) : lm.epsilon, &used);
+    lm.epsilon = static_cast<float>(used);
+    m.planes_valid = false;  // rebuilt from the new profile on the next update
+  }
+  glDepthMask(GL_TRUE);
+  return gl::check_gl("level-map re-derivation");
 }
 
 Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, const CausticsOptions& o) {

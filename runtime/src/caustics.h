@@ -20,13 +20,23 @@ namespace caustix::runtime {
 
 class CausticsEngine {
  public:
-  // `maps` must outlive the engine (it keeps pointers into it).
+  // `maps` must outlive the engine, which keeps pointers into it and
+  // updates them when it re-derives a light's maps.
   // draw_object(i) issues object i's draw call (the engine sets u_model).
-  static Result<std::unique_ptr<CausticsEngine>> create(const std::vector<LevelMap>& maps,
+  static Result<std::unique_ptr<CausticsEngine>> create(std::vector<LevelMap>& maps,
                                                         const WaterSurface& water,
                                                         std::function<void(std::uint32_t)> draw_object,
                                                         std::function<glm::mat4(std::uint32_t)> model_of);
   ~CausticsEngine();
+
+  // Re-derives the frame, position map and depth profile (and so both plane
+  // sets) of every map of `light` for its current direction (seed 000 §4.2;
+  // the thesis re-profiled per frame): the frame on the CPU from the
+  // receiver's world vertices, the position map rendered on the GPU, the
+  // histogram by a compute shader, the planes from it (formats/slicing.h).
+  // world_vertices[i] are object i's vertices in world space.
+  Status rederive_light(std::uint32_t light, const Light& desc, const std::optional<Water>& water,
+                        const std::vector<std::vector<std::array<double, 3>>>& world_vertices);
 
   // Caustics maps of light `light` for the water's current shape.
   Status update_light(std::uint32_t light, const Light& desc, const CausticsOptions& options);

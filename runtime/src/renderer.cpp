@@ -63,6 +63,7 @@ glm::vec3 refracted_flat(const glm::vec3& l, float ior) { return glm::refract(l,
 struct Renderer::Impl {
   SceneDesc scene;
   std::vector<LevelMap> level_maps;  // owned: the caustics engine points into it
+  std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
   std::vector<GpuMesh> meshes;
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
@@ -250,6 +251,15 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   }
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
+  for (const Object& o : s.scene.objects) {
+    const Mat4f& t = o.transform;
+    auto& w = s.world_vertices.emplace_back();
+    for (const auto& p : scene.meshes[o.mesh_index].positions) {
+      std::array<double, 3> q{};
+      for (std::size_t k = 0; k < 3; ++k) q[k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
+      w.push_back(q);
+    }
+  }
 
   // World bounds (shadow frusta, default camera) and each object's lowest point.
   bool first = true;
@@ -479,6 +489,26 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
 }
 
 void Renderer::finish() { glFinish(); }
+
+const SceneDesc& Renderer::scene() const { return impl_->scene; }
+
+Status Renderer::set_light(std::uint32_t index, const Light& light) {
+  Impl& s = *impl_;
+  if (index >= s.scene.lights.size() || light.type != s.scene.lights[index].type) {
+    return make_error(ErrorCode::kUsage, "no light " + std::to_string(index) + " of that type");
+  }
+  Light l = light;
+  SceneDesc probe;
+  probe.lights = {l};
+  normalize_scene(probe);
+  s.scene.lights[index] = probe.lights[0];
+  if (s.caustics) return s.caustics->rederive_light(index, s.scene.lights[index], s.scene.water, s.world_vertices);
+  return Status::success();
+}
+
+void Renderer::set_wave_scale(float scale) {
+  if (impl_->water) impl_->water->set_amplitude_scale(scale);
+}
 
 CausticsStats Renderer::caustics_stats(bool read_gpu_counters) {
   return impl_->caustics ? impl_->caustics->stats(read_gpu_counters) : CausticsStats{};

@@ -76,6 +76,7 @@ void WaterSurface::bind_buffers() const {
 void WaterSurface::update(float time) {
   update_.use();
   update_.set("u_time", time);
+  update_.set("u_amplitude_scale", amplitude_scale_);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, waves_.get());
   bind_buffers();
   glDispatchCompute((vertices_ + 63) / 64, 1, 1);

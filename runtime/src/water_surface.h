@@ -15,6 +15,7 @@ class WaterSurface {
  public:
   static Result<WaterSurface> create(const Water& water);
   void update(float time);
+  void set_amplitude_scale(float scale) { amplitude_scale_ = scale; }
 
   // SSBO bindings used by the shaders: 0 positions, 1 normals, 2 indices.
   void bind_buffers() const;
@@ -30,6 +31,7 @@ class WaterSurface {
   gl::Buffer positions_, normals_, indices_, waves_;
   gl::VertexArray vao_;
   std::uint32_t vertices_ = 0, triangles_ = 0;
+  float amplitude_scale_ = 1.0f;
 };
 
 }  // namespace caustix::runtime

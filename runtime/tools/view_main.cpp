@@ -1,6 +1,10 @@
 // caustix-view: interactive viewer. Orbit camera (left drag: orbit, right
 // drag: pan, wheel: zoom), Space pauses the waves, R resets the camera, Esc
-// quits. Frame time is shown in the title bar and printed once a second.
+// quits. Caustics: M cycles the method (levelmap, uniform, volumetric,
+// none), +/- change the plane count, [ ] the acceptance epsilon, arrow keys
+// move the first light (the level maps are re-derived on the GPU), W/S
+// scale the waves, C toggles culling. The state and the frame time are in
+// the title bar and printed once a second.
 // --screenshot FILE --frames N renders N frames, saves the window and exits
 // (used by the tests under Xvfb).
 
@@ -52,6 +56,10 @@ struct ViewState {
   bool paused = false;
   double last_x = 0, last_y = 0;
   bool rotating = false, panning = false;
+  caustix::runtime::CausticsOptions caustics;
+  float wave_scale = 1.0f;
+  float light_azimuth = 0.0f, light_elevation = 0.0f;  // first light, degrees
+  bool light_moved = false;
 };
 
 }  // namespace
@@ -106,12 +114,37 @@ int main(int argc, char** argv) {
     ViewState state;
     state.orbit = state.home = Orbit::from((*renderer)->default_camera());
     glfwSetWindowUserPointer(window, &state);
+    // The first light's direction as elevation above the horizon and azimuth.
+    if (!(*renderer)->scene().lights.empty()) {
+      const Light& l = (*renderer)->scene().lights[0];
+      const glm::vec3 d = glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
+      state.light_elevation = glm::degrees(std::asin(std::clamp(-d.y, -1.0f, 1.0f)));
+      state.light_azimuth = glm::degrees(std::atan2(d.z, d.x));
+    }
     glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
       auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
-      if (action != GLFW_PRESS) return;
-      if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(w, GLFW_TRUE);
-      if (key == GLFW_KEY_SPACE) s->paused = !s->paused;
-      if (key == GLFW_KEY_R) s->orbit = s->home;
+      if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+      auto& c = s->caustics;
+      switch (key) {
+        case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
+        case GLFW_KEY_SPACE: s->paused = !s->paused; break;
+        case GLFW_KEY_R: s->orbit = s->home; break;
+        case GLFW_KEY_M: c.method = static_cast<CausticsMethod>((static_cast<int>(c.method) + 1) % 4); break;
+        case GLFW_KEY_EQUAL:
+        case GLFW_KEY_KP_ADD: c.planes = std::min(4096u, c.planes.value_or(32) + 4); break;
+        case GLFW_KEY_MINUS:
+        case GLFW_KEY_KP_SUBTRACT: c.planes = std::max(1u, c.planes.value_or(32) > 4 ? c.planes.value_or(32) - 4 : 1); break;
+        case GLFW_KEY_LEFT_BRACKET: c.epsilon = c.epsilon.value_or(0.02f) / 1.25f; break;
+        case GLFW_KEY_RIGHT_BRACKET: c.epsilon = c.epsilon.value_or(0.02f) * 1.25f; break;
+        case GLFW_KEY_C: c.cull = !c.cull; break;
+        case GLFW_KEY_W: s->wave_scale *= 1.25f; break;
+        case GLFW_KEY_S: s->wave_scale /= 1.25f; break;
+        case GLFW_KEY_LEFT: s->light_azimuth -= 5.0f; s->light_moved = true; break;
+        case GLFW_KEY_RIGHT: s->light_azimuth += 5.0f; s->light_moved = true; break;
+        case GLFW_KEY_UP: s->light_elevation = std::min(90.0f, s->light_elevation + 2.0f); s->light_moved = true; break;
+        case GLFW_KEY_DOWN: s->light_elevation = std::max(1.0f, s->light_elevation - 2.0f); s->light_moved = true; break;
+        default: break;
+      }
     });
     glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
       auto* s = static_cast<ViewState*>(glfwGetWindowUserPointer(w));
@@ -140,7 +173,7 @@ int main(int argc, char** argv) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto last_report = start;
-    double anim_time = 0, frame_ms_sum = 0;
+    double anim_time = 0, frame_ms_sum = 0, rederive_ms = 0;
     int frame_count = 0, rendered = 0;
     Camera base = (*renderer)->default_camera();
     while (!glfwWindowShouldClose(window)) {
@@ -149,11 +182,28 @@ int main(int argc, char** argv) {
       int fw = 0, fh = 0;
       glfwGetFramebufferSize(window, &fw, &fh);
       if (fw <= 0 || fh <= 0) continue;
+      if (state.light_moved && !(*renderer)->scene().lights.empty()) {
+        state.light_moved = false;
+        Light l = (*renderer)->scene().lights[0];
+        const float el = glm::radians(state.light_elevation), az = glm::radians(state.light_azimuth);
+        if (l.type == LightType::kDirectional) {
+          l.direction = {std::cos(el) * std::cos(az), -std::sin(el), std::cos(el) * std::sin(az)};
+        }
+        const auto r0 = Clock::now();
+        if (Status st = (*renderer)->set_light(0, l); !st) {
+          rc = fail(st.error());
+          break;
+        }
+        (*renderer)->finish();
+        rederive_ms = std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
+      }
+      (*renderer)->set_wave_scale(state.wave_scale);
       FrameParams frame;
       frame.camera = state.orbit.apply(base);
       frame.time = static_cast<float>(anim_time);
       frame.width = fw;
       frame.height = fh;
+      frame.caustics = state.caustics;
       if (Status st = (*renderer)->render(frame); !st) {
         rc = fail(st.error());
         break;
@@ -182,11 +232,18 @@ int main(int argc, char** argv) {
       frame_ms_sum += dt * 1e3;
       ++frame_count;
       if (t1 - last_report > std::chrono::seconds(1)) {
-        char title[256];
-        std::snprintf(title, sizeof title, "caustix-view  %s  %.2f ms/frame  [%s]", in_path.c_str(),
-                      frame_ms_sum / frame_count, gl_name.c_str());
+        char title[512];
+        const auto& c = state.caustics;
+        char planes[16] = "baked", eps[16] = "baked";
+        if (c.planes) std::snprintf(planes, sizeof planes, "%u", *c.planes);
+        if (c.epsilon) std::snprintf(eps, sizeof eps, "%.4g m", *c.epsilon);
+        std::snprintf(title, sizeof title,
+                      "caustix-view  %.2f ms/frame  | %s%s, planes %s, eps %s | light el %.0f az %.0f (re-derived in %.1f ms) | "
+                      "waves x%.2f | %s",
+                      frame_ms_sum / frame_count, to_string(c.method), c.cull ? "" : " (no culling)", planes, eps,
+                      state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, gl_name.c_str());
         glfwSetWindowTitle(window, title);
-        std::printf("%.2f ms/frame (%s)\n", frame_ms_sum / frame_count, gl_name.c_str());
+        std::printf("%s\n", title + 14);
         std::fflush(stdout);
         frame_ms_sum = 0;
         frame_count = 0;

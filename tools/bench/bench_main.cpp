@@ -23,11 +23,12 @@
 #include <vector>
 
 #include "caustix/bake/depth_profile.h"
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/position_map.h"
 #include "caustix/bake/ray_cast.h"
 #include "caustix/common/cli.h"
+#include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 
@@ -156,7 +157,7 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
 // Milliseconds per frame of the runtime on a baked scene, median of
 // `frames` after `warmup` frames; the animation advances 1/30 s per frame.
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
-           const std::string& label) {
+           const std::string& label, bool move_light) {
   auto scene = runtime::load_scene_file(cxb);
   if (!scene) return cli::fail("caustix-bench", scene.error());
   auto ctx = runtime::HeadlessContext::create();
@@ -168,6 +169,16 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
   for (int i = 0; i < warmup + count; ++i) {
     f.time = static_cast<float>(i) / 30.0f;
     const auto t = Clock::now();
+    if (move_light && !(*r)->scene().lights.empty()) {
+      // Turn the first light 2 degrees about the vertical each frame: its
+      // level maps are re-derived on the GPU every frame.
+      Light l = (*r)->scene().lights[0];
+      const float c = std::cos(0.0349f), sn = std::sin(0.0349f);
+      const float x = l.direction[0], z = l.direction[2];
+      l.direction[0] = c * x - sn * z;
+      l.direction[2] = sn * x + c * z;
+      if (Status st = (*r)->set_light(0, l); !st) return cli::fail("caustix-bench", st.error());
+    }
     if (Status st = (*r)->render(f); !st) return cli::fail("caustix-bench", st.error());
     (*r)->finish();
     if (i >= warmup) ms.push_back(ms_since(t));
@@ -178,6 +189,37 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
               *std::min_element(ms.begin(), ms.end()), static_cast<unsigned long long>(cs.planes_drawn),
               static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
               static_cast<double>(cs.gpu_bytes) / 1e6, (*ctx)->description().c_str());
+  return kExitOk;
+}
+
+// Seed 000 table 5-5 on our code: the eq. 2-9 difference between the
+// images of smart and uniform slicing, and of level map and volumetric, at
+// one plane count (same frame, same time).
+int methods(const std::string& cxb, std::uint32_t planes, int width, int height, const std::string& label) {
+  auto scene = runtime::load_scene_file(cxb);
+  if (!scene) return cli::fail("caustix-bench", scene.error());
+  auto ctx = runtime::HeadlessContext::create();
+  if (!ctx) return cli::fail("caustix-bench", ctx.error());
+  auto r = runtime::Renderer::create(*scene);
+  if (!r) return cli::fail("caustix-bench", r.error());
+  auto image = [&](runtime::CausticsMethod m) {
+    runtime::CausticsOptions co;
+    co.method = m;
+    if (planes > 0) co.planes = planes;
+    runtime::FrameParams f{(*r)->default_camera(), 1.0f, width, height, co};
+    metrics::Image img{width, height, {}};
+    if (!(*r)->render(f)) return img;
+    const auto rgba = (*r)->read_hdr();
+    for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+    return img;
+  };
+  const auto smart = image(runtime::CausticsMethod::kLevelMap);
+  const auto uniform = image(runtime::CausticsMethod::kUniform);
+  const auto volumetric = image(runtime::CausticsMethod::kVolumetric);
+  const auto none = image(runtime::CausticsMethod::kNone);
+  std::printf("%s,%s,%u,%.4f,%.4f,%.4f\n", label.c_str(), cxb.c_str(), planes,
+              metrics::average_luv_difference(smart, uniform), metrics::average_luv_difference(uniform, volumetric),
+              metrics::average_luv_difference(smart, none));
   return kExitOk;
 }
 
@@ -214,10 +256,24 @@ int main(int argc, char** argv) {
   fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
   fr->add_option("--label", label, "first CSV column");
   fr->add_flag("--header", header, "print the CSV header first");
+  bool move_light = false;
+  fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
+  auto* me = app.add_subcommand("methods", "eq. 2-9 differences between methods (one CSV line)");
+  me->add_option("scene", cxb, "baked scene (.cxb)")->required();
+  me->add_option("--planes", planes, "re-slice with n planes (0: as baked)")->check(CLI::Range(0, 4096));
+  me->add_option("--size", fsize, "image size WxH")->capture_default_str();
+  me->add_option("--label", label, "first CSV column");
+  me->add_flag("--header", header, "print the CSV header first");
   if (auto rc = cli::parse(app, "caustix-bench", argc, argv)) return *rc;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   if (*stages) return bake_stages(meshes, repeat, size, csv);
+  if (*me) {
+    if (header) std::printf("label,scene,planes,eq29_smart_vs_uniform,eq29_uniform_vs_volumetric,eq29_smart_vs_none\n");
+    int w = 0, h = 0;
+    if (!cli::parse_size(fsize, w, h)) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
+    return methods(cxb, planes, w, h, label);
+  }
   if (*fr) {
     if (header) {
       std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,renderer\n");
@@ -229,7 +285,7 @@ int main(int argc, char** argv) {
     co.map_size = csize;
     int w = 0, h = 0;
     if (!cli::parse_size(fsize, w, h)) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
-    return frames(cxb, co, w, h, warmup, count, label);
+    return frames(cxb, co, w, h, warmup, count, label, move_light);
   }
   return table_5_4(meshes, csv);
 }

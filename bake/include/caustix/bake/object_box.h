@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 #include "caustix/formats/level_map.h"
 
 namespace caustix::bake {

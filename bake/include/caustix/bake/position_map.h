@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 #include "caustix/formats/level_map.h"
 
 namespace caustix::bake {

@@ -10,7 +10,7 @@
 #include <optional>
 #include <vector>
 
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 
 namespace caustix::bake {
 

@@ -66,6 +66,13 @@ class Renderer {
   Status render(const FrameParams& frame);
   Result<IrradianceImage> render_irradiance(const IrradianceRequest& request);
 
+  // Moves light `index` (directional: direction of travel; point: position)
+  // and re-derives the level maps it lights, on the GPU (see caustics.h).
+  Status set_light(std::uint32_t index, const Light& light);
+  const SceneDesc& scene() const;
+  // Scales every wave's amplitude (1 = as baked); for interactive tuning.
+  void set_wave_scale(float scale);
+
   // Waits until the GPU has finished every command (for timing).
   void finish();
 

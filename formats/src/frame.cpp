@@ -1,9 +1,9 @@
-#include "caustix/bake/frame.h"
+#include "caustix/formats/frame.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace caustix::bake {
+namespace caustix {
 namespace {
 
 double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -103,4 +103,4 @@ BoundingFrame make_frame(const Vec3d& travel, const std::vector<Vec3d>& pts, con
   return f;
 }
 
-}  // namespace caustix::bake
+}  // namespace caustix

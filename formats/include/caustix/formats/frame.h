@@ -1,7 +1,8 @@
 #pragma once
 // Bounding frames for level maps (seed 000 §4.2.1): the light direction
 // refracted by the flat water surface (eq. 2-8), and the frame aligned to it
-// (eq. 4-1) with tight extents.
+// (eq. 4-1) with tight extents. Shared by the baker and by the runtime,
+// which re-derives frames when a light or an object moves.
 
 #include <array>
 #include <optional>
@@ -11,7 +12,7 @@
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/scene.h"
 
-namespace caustix::bake {
+namespace caustix {
 
 using Vec3d = std::array<double, 3>;
 
@@ -44,4 +45,4 @@ std::optional<LightDirection> light_direction(const Light& light, const std::opt
 // widened to that, so a flat object still has a usable depth range.
 BoundingFrame make_frame(const Vec3d& travel, const std::vector<Vec3d>& world_points, const Vec3d& object_origin);
 
-}  // namespace caustix::bake
+}  // namespace caustix
