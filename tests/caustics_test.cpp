@@ -260,3 +260,30 @@ TEST_F(Caustics, MovingTheLightReDerivesTheLevelMapOnTheGpu) {
 
 }  // namespace
 }  // namespace caustix
+
+namespace caustix {
+namespace {
+
+TEST_F(Caustics, MovingAnObjectReDerivesItsLevelMap) {
+  // A floor tilted by 20 degrees about z (a ramp) under flat water, light
+  // straight down: E/E0 = T(0) cos(20 deg) on it. Then moved flat.
+  auto j = scene("flat_pool");
+  j["lights"][0]["direction"] = {0, -1, 0};
+  j["objects"][0]["transform"] = {{"rotate_deg", {0, 0, 20}}, {"scale", {8, 1, 8}}};
+  auto r = renderer(j);
+  const double t0 = fresnel_t(1.0, 1.33);
+  auto check = [&](double expected, const char* what) {
+    const auto img = irradiance(*r, IrradianceRequest{"floor", -1, -1, 1, 1, 32, 32, 0.0f, {}});
+    double worst = 0;
+    for (float v : img.rgb) worst = std::max(worst, std::fabs(v / expected - 1));
+    EXPECT_LT(worst, 0.01) << what << ": worst relative error " << worst;
+  };
+  check(t0 * std::cos(20 * kPi / 180), "ramp");
+  Mat4f flat{8, 0, 0, 0, 0, 1, 0, 0, 0, 0, 8, 0, 0, 0.3f, 0, 1};
+  ASSERT_TRUE(r->set_object_transform(0, flat).ok());
+  check(t0, "flat after moving");
+  EXPECT_FALSE(r->set_object_transform(0, Mat4f{}).ok()) << "a singular transform is refused";
+}
+
+}  // namespace
+}  // namespace caustix

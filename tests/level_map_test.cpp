@@ -358,3 +358,26 @@ TEST_F(LevelMapTest, LevelMapsSurviveTheContainer) {
 
 }  // namespace
 }  // namespace caustix::bake
+
+namespace caustix::bake {
+namespace {
+
+TEST_F(LevelMapTest, BoxesOfFlatObjectsAreOrthonormal) {
+  // A tilted plane: CGAL's box has one edge of (nearly) zero length.
+  for (const char* rot : {"[0, 0, 20]", "[33, 10, 71]", "[0, 0, 0]"}) {
+    auto r = bake(pool_scene(R"({"name": "ramp", "mesh": ")" + kMeshes + R"(plane.obj", "transform": {"rotate_deg": )" +
+                                 rot + R"(, "scale": [3, 1, 2]}})",
+                             sun(0, -1, 0)));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto c = cxb::read_container(r->cxb.data(), r->cxb.size());
+    ASSERT_TRUE(c.ok());
+    auto d = decode_scene(*c);
+    ASSERT_TRUE(d.ok()) << rot << ": " << d.error().message;
+    const ObjectBox& b = d->boxes.at(0);
+    EXPECT_NEAR(std::max({b.half[0], b.half[1], b.half[2]}), 1.5, 1e-3) << rot;
+    EXPECT_LT(std::min({b.half[0], b.half[1], b.half[2]}), 1e-4) << rot;
+  }
+}
+
+}  // namespace
+}  // namespace caustix::bake

@@ -35,7 +35,8 @@ struct MapGpu {
   gl::Framebuffer position_fbo;  // run-time re-derivation
   gl::Texture position_depth;
   gl::Buffer list, primitives, command, rect_indices;
-  std::uint64_t capacity = 0;  // entries the list (and the primitive buffer) holds
+  std::uint64_t capacity = 0;   // entries the list (and the primitive buffer) may hold
+  std::uint64_t allocated = 0;  // entries the buffers are allocated for
   // Volumetric baseline: receiver slices and illumination per plane.
   gl::Texture slices, illumination;
   std::uint32_t slice_count = 0, slice_size = 0;
@@ -132,7 +133,7 @@ struct CausticsEngine::Impl {
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 4;
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 4);
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
-    return pm + cm + sl + tiles + m.planes.size() * 8 + m.capacity * (8 + kPrimitiveBytes + 24) + 44;
+    return pm + cm + sl + tiles + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
   }
 
   void draw_map(MapGpu& m, const CausticsOptions& o) {
@@ -144,47 +145,56 @@ struct CausticsEngine::Impl {
     // 1. Cull: volumes that miss the frame, and (level map) planes the
     // surface under a volume does not need.
     const bool pairs = o.method != CausticsMethod::kVolumetric;
-    const std::uint64_t wanted =
-        std::min<std::uint64_t>(kMaxPrimitives, std::uint64_t{water->triangle_count()} * (pairs ? nplanes : 1));
-    if (wanted > m.capacity) {
-      m.list = gl::make_buffer();
-      glNamedBufferStorage(m.list.get(), static_cast<GLsizeiptr>(wanted * 8), nullptr, 0);
-      m.primitives = gl::make_buffer();
-      glNamedBufferStorage(m.primitives.get(), static_cast<GLsizeiptr>(wanted) * kPrimitiveBytes, nullptr, 0);
-      std::vector<std::uint32_t> idx(wanted * 6);
-      for (std::uint64_t p = 0; p < wanted; ++p) {
-        const auto b = static_cast<std::uint32_t>(4 * p);
-        const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
-        std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
-      }
-      m.rect_indices = gl::make_buffer();
-      glNamedBufferStorage(m.rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
-      m.capacity = wanted;
-    }
     float lo = 1e30f, hi = -1e30f;
     for (const auto& p : m.planes) {
       lo = std::min(lo, p.offset - p.epsilon);
       hi = std::max(hi, p.offset + p.epsilon);
     }
-    const std::uint32_t zeros[11] = {};
-    glNamedBufferSubData(m.command.get(), 0, sizeof zeros, zeros);
-    cull.use();
-    set_frame(cull, f);
-    cull.set("u_triangles", water->triangle_count());
-    cull.set("u_depth_range", glm::vec2(lo, hi));
-    cull.set("u_frame_cull", o.cull ? 1 : 0);
-    cull.set("u_plane_cull", o.cull ? 1 : 0);
-    cull.set("u_pairs", pairs ? 1 : 0);
-    cull.set("u_plane_count", static_cast<int>(nplanes));
-    cull.set("u_capacity", static_cast<unsigned>(m.capacity));
-    glBindTextureUnit(0, m.depth_tiles.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.list.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, m.primitives.get());
-    glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // The list is sized by what it last needed, not by the worst case
+    // (every volume through every plane): the count is read back after the
+    // cull, and the cull re-run with a larger list if it overflowed. Exact
+    // for a single frame, at the cost of one small read-back per map.
+    if (m.capacity == 0) m.capacity = std::min<std::uint64_t>(kMaxPrimitives, 2ull * water->triangle_count());
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      if (m.allocated < m.capacity) {
+        m.list = gl::make_buffer();
+        glNamedBufferStorage(m.list.get(), static_cast<GLsizeiptr>(m.capacity * 8), nullptr, 0);
+        m.primitives = gl::make_buffer();
+        glNamedBufferStorage(m.primitives.get(), static_cast<GLsizeiptr>(m.capacity) * kPrimitiveBytes, nullptr, 0);
+        std::vector<std::uint32_t> idx(m.capacity * 6);
+        for (std::uint64_t p = 0; p < m.capacity; ++p) {
+          const auto b = static_cast<std::uint32_t>(4 * p);
+          const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
+          std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
+        }
+        m.rect_indices = gl::make_buffer();
+        glNamedBufferStorage(m.rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
+        m.allocated = m.capacity;
+      }
+      const std::uint32_t zeros[11] = {};
+      glNamedBufferSubData(m.command.get(), 0, sizeof zeros, zeros);
+      cull.use();
+      set_frame(cull, f);
+      cull.set("u_triangles", water->triangle_count());
+      cull.set("u_depth_range", glm::vec2(lo, hi));
+      cull.set("u_frame_cull", o.cull ? 1 : 0);
+      cull.set("u_plane_cull", o.cull ? 1 : 0);
+      cull.set("u_pairs", pairs ? 1 : 0);
+      cull.set("u_plane_count", static_cast<int>(nplanes));
+      cull.set("u_capacity", static_cast<unsigned>(m.capacity));
+      glBindTextureUnit(0, m.depth_tiles.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.list.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, m.primitives.get());
+      glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+      std::uint32_t listed = 0;
+      glGetNamedBufferSubData(m.command.get(), 32, 4, &listed);
+      if (listed <= m.capacity || m.capacity >= kMaxPrimitives) break;
+      m.capacity = std::min<std::uint64_t>(kMaxPrimitives, listed + listed / 4);
+    }
     // 2. The list's length becomes the geometry dispatch and the draw count.
     fixup.use();
     fixup.set("u_capacity", static_cast<unsigned>(m.capacity));
@@ -366,12 +376,14 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   return e;
 }
 
-Status CausticsEngine::rederive_light(std::uint32_t light, const Light& desc, const std::optional<Water>& water,
-                                      const std::vector<std::vector<std::array<double, 3>>>& world) {
+Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object,
+                                const std::vector<Light>& lights, const std::optional<Water>& water,
+                                const std::vector<std::vector<std::array<double, 3>>>& world) {
   Impl& s = *impl_;
   for (MapGpu& m : s.maps) {
-    if (m.lm->light != light) continue;
+    if ((light && m.lm->light != *light) || (object && m.lm->object != *object)) continue;
     LevelMap& lm = *m.lm;
+    const Light& desc = lights[lm.light];
     const auto& pts = world[lm.object];
     double min_y = pts[0][1], max_y = min_y;
     for (const auto& p : pts) {

@@ -30,13 +30,15 @@ class CausticsEngine {
   ~CausticsEngine();
 
   // Re-derives the frame, position map and depth profile (and so both plane
-  // sets) of every map of `light` for its current direction (seed 000 §4.2;
-  // the thesis re-profiled per frame): the frame on the CPU from the
+  // sets) of the maps of `light` (or of all lights) whose receiver is
+  // `object` (or any), for the lights' and objects' current state (seed 000
+  // §4.2; the thesis re-profiled per frame): the frame on the CPU from the
   // receiver's world vertices, the position map rendered on the GPU, the
   // histogram by a compute shader, the planes from it (formats/slicing.h).
   // world_vertices[i] are object i's vertices in world space.
-  Status rederive_light(std::uint32_t light, const Light& desc, const std::optional<Water>& water,
-                        const std::vector<std::vector<std::array<double, 3>>>& world_vertices);
+  Status rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object,
+                  const std::vector<Light>& lights, const std::optional<Water>& water,
+                  const std::vector<std::vector<std::array<double, 3>>>& world_vertices);
 
   // Caustics maps of light `light` for the water's current shape.
   Status update_light(std::uint32_t light, const Light& desc, const CausticsOptions& options);

@@ -64,6 +64,7 @@ struct Renderer::Impl {
   SceneDesc scene;
   std::vector<LevelMap> level_maps;  // owned: the caustics engine points into it
   std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
+  std::vector<TriangleMesh> cpu_meshes;                             // object space, for moving objects
   std::vector<GpuMesh> meshes;
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
@@ -251,6 +252,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   }
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
+  s.cpu_meshes = scene.meshes;
   for (const Object& o : s.scene.objects) {
     const Mat4f& t = o.transform;
     auto& w = s.world_vertices.emplace_back();
@@ -502,7 +504,29 @@ Status Renderer::set_light(std::uint32_t index, const Light& light) {
   probe.lights = {l};
   normalize_scene(probe);
   s.scene.lights[index] = probe.lights[0];
-  if (s.caustics) return s.caustics->rederive_light(index, s.scene.lights[index], s.scene.water, s.world_vertices);
+  if (s.caustics) return s.caustics->rederive(index, std::nullopt, s.scene.lights, s.scene.water, s.world_vertices);
+  return Status::success();
+}
+
+Status Renderer::set_object_transform(std::uint32_t index, const Mat4f& t) {
+  Impl& s = *impl_;
+  if (index >= s.scene.objects.size()) return make_error(ErrorCode::kUsage, "no object " + std::to_string(index));
+  SceneDesc probe = s.scene;
+  probe.objects[index].transform = t;
+  if (auto issue = validate_scene(probe, false)) {
+    return make_error(ErrorCode::kUsage, issue->pointer + ": " + issue->message);
+  }
+  s.scene.objects[index].transform = t;
+  auto& w = s.world_vertices[index];
+  const TriangleMesh& mesh = s.cpu_meshes[s.scene.objects[index].mesh_index];
+  float min_y = 1e30f;
+  for (std::size_t v = 0; v < w.size(); ++v) {
+    const auto& p = mesh.positions[v];
+    for (std::size_t k = 0; k < 3; ++k) w[v][k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
+    min_y = std::min(min_y, static_cast<float>(w[v][1]));
+  }
+  s.object_min_y[index] = min_y;
+  if (s.caustics) return s.caustics->rederive(std::nullopt, index, s.scene.lights, s.scene.water, s.world_vertices);
   return Status::success();
 }
 

@@ -69,6 +69,9 @@ class Renderer {
   // Moves light `index` (directional: direction of travel; point: position)
   // and re-derives the level maps it lights, on the GPU (see caustics.h).
   Status set_light(std::uint32_t index, const Light& light);
+  // Moves object `index` (rigid or affine: its object -> world matrix) and
+  // re-derives its level maps on the GPU.
+  Status set_object_transform(std::uint32_t index, const Mat4f& transform);
   const SceneDesc& scene() const;
   // Scales every wave's amplitude (1 = as baked); for interactive tuning.
   void set_wave_scale(float scale);
