@@ -1,5 +1,4 @@
-#version 450 core
-// Per light, per frame (seed 000 §4.3): mode 0 refracts the light at every
+// Per light, per frame (seed 000 §4.3; prefixed with #version and optics.glsl): mode 0 refracts the light at every
 // water vertex with its normal (eq. 2-8, GLSL refract); mode 1 computes the
 // flux each water triangle transmits, E_in T(theta_i) A_w cos(theta_i)
 // (the numerator of eq. 4-18), with the exact unpolarised Fresnel
@@ -22,15 +21,6 @@ uniform float u_light_power;  // E0 (W/m^2) or I (W/sr)
 uniform float u_ior;
 
 vec3 incident(vec3 p) { return u_light_type == 1 ? u_light_direction : normalize(p - u_light_position); }
-
-// Exact Fresnel transmittance, unpolarised, from air (n = 1) into n2.
-float fresnel_transmittance(float cos_i, float n2) {
-  float sin2_t = (1.0 - cos_i * cos_i) / (n2 * n2);
-  float cos_t = sqrt(max(0.0, 1.0 - sin2_t));
-  float rs = (cos_i - n2 * cos_t) / (cos_i + n2 * cos_t);
-  float rp = (n2 * cos_i - cos_t) / (n2 * cos_i + cos_t);
-  return 1.0 - 0.5 * (rs * rs + rp * rp);
-}
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

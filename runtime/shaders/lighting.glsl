@@ -1,5 +1,5 @@
-// Shared by receiver.frag and irradiance.frag (prefixed with #version by the
-// renderer): the irradiance one light delivers to a receiver point.
+// Shared by receiver.frag and irradiance.frag (prefixed with #version and
+// optics.glsl by the renderer): the irradiance one light delivers to a receiver point.
 //
 // Modes, chosen per (object, light) by the renderer:
 //  0 direct: no water between light and point (no water, object above it,
@@ -38,14 +38,6 @@ uniform vec3 u_frame_V;
 uniform vec3 u_frame_W;
 uniform vec3 u_frame_half;
 uniform float u_self_tolerance;
-
-float fresnel_transmittance(float cos_i, float n2) {
-  float sin2_t = (1.0 - cos_i * cos_i) / (n2 * n2);
-  float cos_t = sqrt(max(0.0, 1.0 - sin2_t));
-  float rs = (cos_i - n2 * cos_t) / (cos_i + n2 * cos_t);
-  float rp = (n2 * cos_i - cos_t) / (n2 * cos_i + cos_t);
-  return 1.0 - 0.5 * (rs * rs + rp * rp);
-}
 
 float shadow_visibility(vec3 p, vec3 n, vec3 to_light) {
   if (u_light_type == 2) {

@@ -312,7 +312,8 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     const char* name;
     const char* src;
   };
-  for (const ComputeSpec& spec : {ComputeSpec{&s.prepare, "caustics_prepare", shaders::k_caustics_prepare_comp_glsl},
+  const std::string prepare_src = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_caustics_prepare_comp_glsl;
+  for (const ComputeSpec& spec : {ComputeSpec{&s.prepare, "caustics_prepare", prepare_src.c_str()},
                                   ComputeSpec{&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
                                   ComputeSpec{&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
                                   ComputeSpec{&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},

@@ -52,7 +52,7 @@ struct Target {
 
 // Fragment shaders that use lighting.glsl are assembled behind one #version.
 std::string with_lighting(const char* main_src) {
-  return std::string("#version 450 core\n") + shaders::k_lighting_glsl + main_src;
+  return std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_lighting_glsl + main_src;
 }
 
 // The light's direction of travel below flat water (eq. 2-8 with normal +y).

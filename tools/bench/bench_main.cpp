@@ -154,41 +154,54 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
   return kExitOk;
 }
 
+// A baked scene loaded into a headless context and a renderer.
+struct Session {
+  std::unique_ptr<runtime::HeadlessContext> context;
+  std::unique_ptr<runtime::Renderer> renderer;
+};
+Result<Session> open_scene(const std::string& cxb) {
+  auto scene = runtime::load_scene_file(cxb);
+  if (!scene) return scene.error();
+  auto ctx = runtime::HeadlessContext::create();
+  if (!ctx) return ctx.error();
+  auto r = runtime::Renderer::create(*scene);
+  if (!r) return r.error();
+  return Session{std::move(*ctx), std::move(*r)};
+}
+
 // Milliseconds per frame of the runtime on a baked scene, median of
 // `frames` after `warmup` frames; the animation advances 1/30 s per frame.
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
            const std::string& label, bool move_light) {
-  auto scene = runtime::load_scene_file(cxb);
-  if (!scene) return cli::fail("caustix-bench", scene.error());
-  auto ctx = runtime::HeadlessContext::create();
-  if (!ctx) return cli::fail("caustix-bench", ctx.error());
-  auto r = runtime::Renderer::create(*scene);
-  if (!r) return cli::fail("caustix-bench", r.error());
-  runtime::FrameParams f{(*r)->default_camera(), 0.0f, width, height, co};
+  auto session = open_scene(cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  auto& r = session->renderer;
+  auto& ctx = session->context;
+  runtime::FrameParams f{r->default_camera(), 0.0f, width, height, co};
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {
     f.time = static_cast<float>(i) / 30.0f;
     const auto t = Clock::now();
-    if (move_light && !(*r)->scene().lights.empty()) {
+    if (move_light && !r->scene().lights.empty()) {
       // Turn the first light 2 degrees about the vertical each frame: its
       // level maps are re-derived on the GPU every frame.
-      Light l = (*r)->scene().lights[0];
+      Light l = r->scene().lights[0];
       const float c = std::cos(0.0349f), sn = std::sin(0.0349f);
       const float x = l.direction[0], z = l.direction[2];
       l.direction[0] = c * x - sn * z;
       l.direction[2] = sn * x + c * z;
-      if (Status st = (*r)->set_light(0, l); !st) return cli::fail("caustix-bench", st.error());
+      if (Status st = r->set_light(0, l); !st) return cli::fail("caustix-bench", st.error());
     }
-    if (Status st = (*r)->render(f); !st) return cli::fail("caustix-bench", st.error());
-    (*r)->finish();
+    if (Status st = r->render(f); !st) return cli::fail("caustix-bench", st.error());
+    r->finish();
     if (i >= warmup) ms.push_back(ms_since(t));
   }
-  const runtime::CausticsStats cs = (*r)->caustics_stats();
+  const runtime::CausticsStats cs = r->caustics_stats();
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
               runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, median(ms),
               *std::min_element(ms.begin(), ms.end()), static_cast<unsigned long long>(cs.planes_drawn),
               static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
-              static_cast<double>(cs.gpu_bytes) / 1e6, (*ctx)->description().c_str());
+              static_cast<double>(cs.gpu_bytes) / 1e6, ctx->description().c_str());
   return kExitOk;
 }
 
@@ -196,20 +209,17 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
 // images of smart and uniform slicing, and of level map and volumetric, at
 // one plane count (same frame, same time).
 int methods(const std::string& cxb, std::uint32_t planes, int width, int height, const std::string& label) {
-  auto scene = runtime::load_scene_file(cxb);
-  if (!scene) return cli::fail("caustix-bench", scene.error());
-  auto ctx = runtime::HeadlessContext::create();
-  if (!ctx) return cli::fail("caustix-bench", ctx.error());
-  auto r = runtime::Renderer::create(*scene);
-  if (!r) return cli::fail("caustix-bench", r.error());
+  auto session = open_scene(cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  auto& r = session->renderer;
   auto image = [&](runtime::CausticsMethod m) {
     runtime::CausticsOptions co;
     co.method = m;
     if (planes > 0) co.planes = planes;
-    runtime::FrameParams f{(*r)->default_camera(), 1.0f, width, height, co};
+    runtime::FrameParams f{r->default_camera(), 1.0f, width, height, co};
     metrics::Image img{width, height, {}};
-    if (!(*r)->render(f)) return img;
-    const auto rgba = (*r)->read_hdr();
+    if (!r->render(f)) return img;
+    const auto rgba = r->read_hdr();
     for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
     return img;
   };
