@@ -107,9 +107,14 @@ struct CausticsEngine::Impl {
 
   void ensure_caustics_target(MapGpu& m, std::uint32_t size) {
     if (m.caustics_size == size && m.caustics.get()) return;
+    // A mip chain, so that casting a fine caustics map onto a receiver seen
+    // from afar averages it instead of aliasing (averaging keeps the mean
+    // irradiance).
+    GLsizei levels = 1;
+    while ((size >> levels) > 0) ++levels;
     m.caustics = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(m.caustics.get(), 1, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
-    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureStorage2D(m.caustics.get(), levels, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -270,6 +275,7 @@ struct CausticsEngine::Impl {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glGenerateTextureMipmap(m.caustics.get());
     glDisable(GL_BLEND);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
