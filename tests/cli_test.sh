@@ -89,6 +89,20 @@ contains "truncation named" "$tmp/err" "truncated"
 "$render" "$tmp/a.cxb" -o "$tmp/t.png" --size 0x5 2>/dev/null; check "render bad size" 2 $?
 "$render" "$tmp/a.cxb" -o "$tmp/t.unknownext" 2>/dev/null; check "render bad extension" 5 $?
 
+# irradiance images and caustix-compare
+compare=$build/tools/caustix-compare
+"$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 -o "$tmp/irr.exr" -q; check "render irradiance" 0 $?
+"$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 --method none -o "$tmp/irr_none.exr" -q; check "render irradiance none" 0 $?
+"$render" "$tmp/a.cxb" --irradiance nosuch -o "$tmp/x.exr" 2>"$tmp/err"; check "unknown receiver" 2 $?
+contains "receiver named" "$tmp/err" "no object named 'nosuch'"
+"$compare" "$tmp/irr.exr" "$tmp/irr.exr" >"$tmp/cmp"; check "compare itself" 0 $?
+contains "compare itself is 0" "$tmp/cmp" "eq. 2-9 (mean CIE Luv difference): 0"
+"$compare" --json "$tmp/irr.exr" "$tmp/irr_none.exr" >"$tmp/cmp.json"; check "compare json" 0 $?
+python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['eq29'] > 0 and 'peak_error_m' in d" "$tmp/cmp.json"
+check "caustics differ from none" 0 $?
+"$compare" "$tmp/irr.exr" "$tmp/img.exr" 2>/dev/null; check "compare size mismatch" 4 $?
+"$compare" "$tmp/irr.exr" "$tmp/nope.exr" 2>/dev/null; check "compare missing file" 3 $?
+
 # viewer: opens a window under Xvfb and saves a screenshot
 if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s "-screen 0 640x480x24" "$view" "$tmp/a.cxb" --size 320x240 --frames 3 --screenshot "$tmp/shot.png" >"$tmp/vout" 2>&1

@@ -10,7 +10,8 @@
 namespace caustix::runtime {
 namespace {
 
-Status write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const void* data) {
+Status write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const void* data,
+                   const std::vector<std::pair<std::string, std::string>>& attributes = {}) {
   if (w <= 0 || h <= 0 || channels <= 0) return make_error(ErrorCode::kInternal, path + ": empty image");
   auto temp = TempFile::create_beside(path);
   if (!temp) return temp.error();
@@ -20,6 +21,7 @@ Status write_image(const std::string& path, int w, int h, int channels, OIIO::Ty
   }
   OIIO::ImageSpec spec(w, h, channels, type);
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+  for (const auto& [name, value] : attributes) spec.attribute(name, value);
   if (!out->open(temp->path(), spec) || !out->write_image(type, data) || !out->close()) {
     return make_error(ErrorCode::kOutput, path + ": writing the image failed: " + out->geterror());
   }
@@ -34,11 +36,12 @@ bool is_float_image_path(const std::string& path) {
   return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
 }
 
-Status write_float_image(const std::string& path, int w, int h, int channels, const std::vector<float>& px) {
+Status write_float_image(const std::string& path, int w, int h, int channels, const std::vector<float>& px,
+                         const std::vector<std::pair<std::string, std::string>>& attributes) {
   if (px.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * static_cast<std::size_t>(channels)) {
     return make_error(ErrorCode::kInternal, path + ": pixel buffer size mismatch");
   }
-  return write_image(path, w, h, channels, OIIO::TypeDesc::FLOAT, px.data());
+  return write_image(path, w, h, channels, OIIO::TypeDesc::FLOAT, px.data(), attributes);
 }
 
 Status write_u8_image(const std::string& path, int w, int h, int channels, const std::vector<std::uint8_t>& px) {

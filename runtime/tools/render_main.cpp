@@ -82,7 +82,13 @@ int main(int argc, char** argv) {
     for (float v : img->rgb) {
       if (!std::isfinite(v)) return fail(make_error(ErrorCode::kInternal, "non-finite irradiance rendered"));
     }
-    written = write_float_image(out_path, width, height, 3, img->rgb);
+    // The world rectangle and normalisation travel with the image, so that
+    // caustix-compare can state positions in metres.
+    char rect[160];
+    std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.z0, q.x1, q.z1);
+    written = write_float_image(out_path, width, height, 3, img->rgb,
+                                {{"caustix:region", rect}, {"caustix:receiver", receiver},
+                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", method}});
   } else if (is_float_image_path(out_path)) {
     FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "caustix/common/status.h"
@@ -12,8 +13,10 @@
 namespace caustix::runtime {
 
 // `pixels` is top row first, `channels` interleaved floats per pixel.
+// `attributes` are written as string metadata (e.g. "caustix:region").
 Status write_float_image(const std::string& path, int width, int height, int channels,
-                         const std::vector<float>& pixels);
+                         const std::vector<float>& pixels,
+                         const std::vector<std::pair<std::string, std::string>>& attributes = {});
 Status write_u8_image(const std::string& path, int width, int height, int channels,
                       const std::vector<std::uint8_t>& pixels);
 

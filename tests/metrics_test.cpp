@@ -1,0 +1,61 @@
+// Image metrics: zero for identical images, the known value for known
+// perturbations.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "caustix/metrics/image_metrics.h"
+
+namespace caustix::metrics {
+namespace {
+
+Image constant(int w, int h, float r, float g, float b) {
+  Image im{w, h, {}};
+  for (int i = 0; i < w * h; ++i) im.rgb.insert(im.rgb.end(), {r, g, b});
+  return im;
+}
+
+TEST(Metrics, IdenticalImagesAreZero) {
+  Image a = constant(8, 4, 0.3f, 0.5f, 0.7f);
+  a.rgb[5] = 4.0f;
+  EXPECT_EQ(average_luv_difference(a, a), 0.0);
+  EXPECT_EQ(relative_l1(a, a), 0.0);
+  EXPECT_EQ(rms(a, a), 0.0);
+  EXPECT_EQ(flux_ratio(a, a), 1.0);
+}
+
+TEST(Metrics, KnownPerturbations) {
+  const Image ref = constant(10, 10, 0.5f, 0.5f, 0.5f);
+  Image scaled = ref;
+  for (float& v : scaled.rgb) v *= 1.1f;
+  EXPECT_NEAR(relative_l1(scaled, ref), 0.1, 1e-6);
+  EXPECT_NEAR(flux_ratio(scaled, ref), 1.1, 1e-6);
+  Image offset = ref;
+  for (float& v : offset.rgb) v += 0.05f;
+  EXPECT_NEAR(rms(offset, ref), 0.05, 1e-6);
+  // Grey 1 against grey 0.18: L* 100 against 116 * 0.18^(1/3) - 16, u* = v* = 0.
+  const double l18 = 116.0 * std::cbrt(0.18) - 16.0;
+  EXPECT_NEAR(average_luv_difference(constant(4, 4, 1, 1, 1), constant(4, 4, 0.18f, 0.18f, 0.18f)), 100.0 - l18, 1e-3);
+  // Half the pixels changed: half the mean difference.
+  Image half = constant(4, 4, 1, 1, 1);
+  for (std::size_t i = 0; i < half.rgb.size() / 2; ++i) half.rgb[i] = 0.18f;
+  EXPECT_NEAR(average_luv_difference(half, constant(4, 4, 1, 1, 1)), (100.0 - l18) / 2, 1e-3);
+  // A mask leaves pixels out.
+  std::vector<bool> mask(16, false);
+  for (std::size_t i = 8; i < 16; ++i) mask[i] = true;
+  EXPECT_NEAR(average_luv_difference(half, constant(4, 4, 1, 1, 1), &mask), 0.0, 1e-9);
+}
+
+TEST(Metrics, LuvOfColours) {
+  const Luv white = to_luv(1, 1, 1);
+  EXPECT_NEAR(white.L, 100.0, 1e-6);
+  EXPECT_NEAR(white.u, 0.0, 0.05);
+  EXPECT_NEAR(white.v, 0.0, 0.05);
+  const Luv red = to_luv(1, 0, 0);
+  EXPECT_GT(red.u, 100.0);  // sRGB red: u* about 175
+  EXPECT_NEAR(to_luv(0, 0, 0).L, 0.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace caustix::metrics
