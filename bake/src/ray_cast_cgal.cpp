@@ -44,6 +44,12 @@ RayCaster::RayCaster(const std::vector<Vec3d>& p, const std::vector<std::array<s
 RayCaster::~RayCaster() = default;
 
 std::optional<double> RayCaster::first_hit(const Vec3d& o, const Vec3d& d, std::uint32_t skip_owner) const {
+  const auto hit = first_hit_triangle(o, d, skip_owner);
+  if (!hit) return std::nullopt;
+  return hit->distance;
+}
+
+std::optional<RayCaster::Hit> RayCaster::first_hit_triangle(const Vec3d& o, const Vec3d& d, std::uint32_t skip_owner) const {
   if (impl_->triangles.empty()) return std::nullopt;
   const K::Ray_3 ray(K::Point_3(o[0], o[1], o[2]), K::Vector_3(d[0], d[1], d[2]));
   const auto begin = impl_->triangles.begin();
@@ -51,12 +57,14 @@ std::optional<double> RayCaster::first_hit(const Vec3d& o, const Vec3d& d, std::
   auto skip = [&](const Iterator& it) { return owner[static_cast<std::size_t>(it - begin)] == skip_owner; };
   const auto hit = impl_->tree.first_intersection(ray, skip);
   if (!hit) return std::nullopt;
+  const auto tri = static_cast<std::uint32_t>(hit->second - begin);
   if (const K::Point_3* pt = boost::get<K::Point_3>(&hit->first)) {
-    return std::sqrt(CGAL::squared_distance(ray.source(), *pt));
+    return Hit{std::sqrt(CGAL::squared_distance(ray.source(), *pt)), tri};
   }
   if (const K::Segment_3* seg = boost::get<K::Segment_3>(&hit->first)) {  // ray in the triangle's plane
-    return std::sqrt(std::min(CGAL::squared_distance(ray.source(), seg->source()),
-                              CGAL::squared_distance(ray.source(), seg->target())));
+    return Hit{std::sqrt(std::min(CGAL::squared_distance(ray.source(), seg->source()),
+                                  CGAL::squared_distance(ray.source(), seg->target()))),
+               tri};
   }
   return std::nullopt;
 }

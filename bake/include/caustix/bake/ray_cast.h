@@ -28,6 +28,14 @@ class RayCaster {
   std::optional<double> first_hit(const Vec3d& origin, const Vec3d& direction,
                                   std::uint32_t skip_owner = UINT32_MAX) const;
 
+  struct Hit {
+    double distance;
+    std::uint32_t triangle;  // index into the constructor's triangles
+  };
+  // As first_hit(), also naming the triangle hit.
+  std::optional<Hit> first_hit_triangle(const Vec3d& origin, const Vec3d& direction,
+                                        std::uint32_t skip_owner = UINT32_MAX) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

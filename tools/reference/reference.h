@@ -1,0 +1,56 @@
+#pragma once
+// caustix-reference: an independent CPU photon tracer for irradiance images
+// (shared/DESIGN.md), used to measure the runtime's approximations. It reads
+// scene.json and the meshes (not the .cxb), evaluates the water surface of
+// the wave sum exactly (ray / height-field intersection by bracketing and
+// bisection), refracts with Snell's law and the exact unpolarised Fresnel
+// transmittance at the true normal, attenuates by e^(-K d) along the true
+// path, and finds receivers by exact ray-mesh intersection (CGAL AABB tree).
+//
+// Estimator: photons are emitted over the water's extent (directional light:
+// uniformly on a horizontal plane above the highest wave, each carrying
+// E0 |L_y| A / N, A the emission window: only the part of the water from
+// which light can reach the image region, a conservative bound; point light:
+// toward uniform points of the extent, each carrying I cos / r^2 A / N). A photon that reaches the named receiver's
+// first surface seen from above is binned into its pixel with weight
+// flux |n_y| / pixel area, so a pixel holds the irradiance averaged over the
+// part of the surface it covers (a one-pixel box kernel: unbiased for that
+// average, blurred by at most one pixel against the point value).
+// Photons run in B independent, seeded batches, in parallel; the image is
+// their mean, and the batches' spread gives the noise estimate. Identical
+// inputs give identical images whatever the thread count.
+//
+// Not yet: transparent objects (glass, issue 5) — refused with a message.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "caustix/common/status.h"
+
+namespace caustix::reference {
+
+struct Request {
+  std::string scene_path;
+  std::string receiver;
+  double x0 = -1, z0 = -1, x1 = 1, z1 = 1;
+  int width = 128, height = 128;
+  double time = 0;
+  std::uint64_t photons = 4'000'000;
+  std::uint32_t batches = 8;
+  std::uint64_t seed = 1;
+};
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;    // mean over batches, divided by E0; row 0 at z0
+  std::vector<float> sigma;  // per pixel: standard error of the mean luminance
+  double e0 = 1;
+  double relative_noise = 0;  // mean sigma / mean value over pixels holding light
+  std::uint64_t photons = 0;
+  std::uint64_t photons_landed = 0;
+};
+
+Result<Image> trace(const Request& request);
+
+}  // namespace caustix::reference
