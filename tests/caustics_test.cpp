@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "optics_oracle.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -25,14 +27,8 @@ using runtime::CausticsOptions;
 using runtime::IrradianceRequest;
 
 const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
-constexpr double kPi = 3.14159265358979323846;
-
-// Unpolarised Fresnel transmittance from air into n, independent of the runtime's.
-double fresnel_t(double cos_i, double n) {
-  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
-  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  return 1 - 0.5 * (rs * rs + rp * rp);
-}
+using test::fresnel_t;
+using test::kPi;
 
 // A canonical scene, edited, written where its mesh paths still resolve.
 nlohmann::json scene(const std::string& name) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "optics_oracle.h"
+
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -19,13 +21,8 @@ namespace caustix::reference {
 namespace {
 
 const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
-constexpr double kPi = 3.14159265358979323846;
-
-double fresnel_t(double cos_i, double n) {
-  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
-  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  return 1 - 0.5 * (rs * rs + rp * rp);
-}
+using test::fresnel_t;
+using test::kPi;
 
 // Mean of the image and the standard error of that mean (from the batches).
 std::pair<double, double> mean_and_error(const Image& img) {
