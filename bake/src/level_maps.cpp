@@ -16,21 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Object -> world in double precision (objects far from the origin).
-std::vector<Vec3d> world_positions(const Object& o, const TriangleMesh& m) {
-  const Mat4f& t = o.transform;
-  std::vector<Vec3d> out;
-  out.reserve(m.positions.size());
-  for (const auto& p : m.positions) {
-    Vec3d w{};
-    for (std::size_t r = 0; r < 3; ++r) {
-      w[r] = double{t[r]} * p[0] + double{t[4 + r]} * p[1] + double{t[8 + r]} * p[2] + double{t[12 + r]};
-    }
-    out.push_back(w);
-  }
-  return out;
-}
-
 // At most `n` points spread evenly over the list (deterministic sampling).
 std::vector<Vec3d> sample(const std::vector<Vec3d>& pts, std::size_t n) {
   if (pts.size() <= n) return pts;
@@ -49,7 +34,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
   LevelMapStage out;
   const std::size_t n_obj = scene.objects.size();
   std::vector<std::vector<Vec3d>> world(n_obj);
-  for (std::size_t i = 0; i < n_obj; ++i) world[i] = world_positions(scene.objects[i], meshes[scene.objects[i].mesh_index]);
+  for (std::size_t i = 0; i < n_obj; ++i) world[i] = world_points(scene.objects[i].transform, meshes[scene.objects[i].mesh_index].positions);
 
   // Oriented boxes for culling (CGAL), one per object.
   auto t0 = Clock::now();

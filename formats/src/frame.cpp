@@ -19,6 +19,19 @@ Vec3f to_f(const Vec3d& v) { return {static_cast<float>(v[0]), static_cast<float
 
 }  // namespace
 
+std::vector<Vec3d> world_points(const Mat4f& t, const std::vector<Vec3f>& points) {
+  std::vector<Vec3d> out;
+  out.reserve(points.size());
+  for (const Vec3f& p : points) {
+    Vec3d w{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      w[k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
+    }
+    out.push_back(w);
+  }
+  return out;
+}
+
 std::optional<Vec3d> refract(const Vec3d& i, const Vec3d& n, double eta) {
   const double cos_i = std::clamp(-dot(i, n), 0.0, 1.0);
   const double sin2_r = eta * eta * (1.0 - cos_i * cos_i);

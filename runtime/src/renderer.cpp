@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustics.h"
+#include "caustix/formats/frame.h"
 #include "caustix_shaders.h"
 #include "gl_program.h"
 #include "gpu_mesh.h"
@@ -254,13 +255,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
   s.cpu_meshes = scene.meshes;
   for (const Object& o : s.scene.objects) {
-    const Mat4f& t = o.transform;
-    auto& w = s.world_vertices.emplace_back();
-    for (const auto& p : scene.meshes[o.mesh_index].positions) {
-      std::array<double, 3> q{};
-      for (std::size_t k = 0; k < 3; ++k) q[k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
-      w.push_back(q);
-    }
+    s.world_vertices.push_back(world_points(o.transform, scene.meshes[o.mesh_index].positions));
   }
 
   // World bounds (shadow frusta, default camera) and each object's lowest point.
@@ -517,14 +512,9 @@ Status Renderer::set_object_transform(std::uint32_t index, const Mat4f& t) {
     return make_error(ErrorCode::kUsage, issue->pointer + ": " + issue->message);
   }
   s.scene.objects[index].transform = t;
-  auto& w = s.world_vertices[index];
-  const TriangleMesh& mesh = s.cpu_meshes[s.scene.objects[index].mesh_index];
+  s.world_vertices[index] = world_points(t, s.cpu_meshes[s.scene.objects[index].mesh_index].positions);
   float min_y = 1e30f;
-  for (std::size_t v = 0; v < w.size(); ++v) {
-    const auto& p = mesh.positions[v];
-    for (std::size_t k = 0; k < 3; ++k) w[v][k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
-    min_y = std::min(min_y, static_cast<float>(w[v][1]));
-  }
+  for (const auto& w : s.world_vertices[index]) min_y = std::min(min_y, static_cast<float>(w[1]));
   s.object_min_y[index] = min_y;
   if (s.caustics) return s.caustics->rederive(std::nullopt, index, s.scene.lights, s.scene.water, s.world_vertices);
   return Status::success();

@@ -119,10 +119,7 @@ Result<Image> trace(const Request& q) {
     if (!mesh) return mesh.error();
     const auto base = static_cast<std::uint32_t>(pos.size());
     const auto rbase = static_cast<std::uint32_t>(rpos.size());
-    const Mat4f& t = o.transform;
-    for (const auto& p : mesh->mesh.positions) {
-      Vec3d w{};
-      for (std::size_t k = 0; k < 3; ++k) w[k] = double{t[k]} * p[0] + double{t[4 + k]} * p[1] + double{t[8 + k]} * p[2] + double{t[12 + k]};
+    for (const Vec3d& w : world_points(o.transform, mesh->mesh.positions)) {
       pos.push_back(w);
       if (i == *receiver) rpos.push_back(w);
     }

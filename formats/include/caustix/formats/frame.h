@@ -16,6 +16,10 @@ namespace caustix {
 
 using Vec3d = std::array<double, 3>;
 
+// Object-space points through an object -> world matrix, in double
+// precision (objects far from the origin keep their detail).
+std::vector<Vec3d> world_points(const Mat4f& transform, const std::vector<Vec3f>& points);
+
 // Seed 000 eq. 2-8: T = (eta cos(theta_i) - cos(theta_r)) N + eta I, with I
 // the unit incident direction, N the unit normal on the incident side
 // (I . N <= 0) and eta = n1 / n2. Returns nothing on total internal reflection.
