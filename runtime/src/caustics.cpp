@@ -133,6 +133,24 @@ struct CausticsEngine::Impl {
     m.slice_size = size;
   }
 
+  // Min/max frame V per tile of the position map (for per-plane culling),
+  // by profile.comp: one code path at load and after re-derivation.
+  void build_depth_tiles(MapGpu& m) {
+    const std::uint32_t nt = (m.lm->map_size + kTileTexels - 1) / kTileTexels;
+    if (!m.depth_tiles.get()) {
+      m.depth_tiles = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(m.depth_tiles.get(), 1, GL_RG32F, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt));
+    }
+    profile.use();
+    profile.set("u_mode", 1);
+    profile.set("u_tile", static_cast<int>(kTileTexels));
+    glBindTextureUnit(0, m.position_map.get());
+    glBindImageTexture(0, m.depth_tiles.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glDispatchCompute((nt + 7) / 8, (nt + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+
   std::uint64_t bytes_of(const MapGpu& m) const {
     const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 4;
@@ -355,27 +373,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     glTextureParameteri(m.position_map.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    // Min/max depth per tile of the position map, for per-plane culling.
-    const std::uint32_t nt = (lm.map_size + kTileTexels - 1) / kTileTexels;
-    std::vector<float> tiles(std::size_t{nt} * nt * 2);
-    for (std::uint32_t ty = 0; ty < nt; ++ty) {
-      for (std::uint32_t tx = 0; tx < nt; ++tx) {
-        float mn = 1e30f, mx = -1e30f;
-        for (std::uint32_t y = ty * kTileTexels; y < std::min(lm.map_size, (ty + 1) * kTileTexels); ++y) {
-          for (std::uint32_t x = tx * kTileTexels; x < std::min(lm.map_size, (tx + 1) * kTileTexels); ++x) {
-            const float val = v[std::size_t{y} * lm.map_size + x];
-            if (val == kEmptyV) continue;
-            mn = std::min(mn, val);
-            mx = std::max(mx, val);
-          }
-        }
-        tiles[(std::size_t{ty} * nt + tx) * 2] = mn;
-        tiles[(std::size_t{ty} * nt + tx) * 2 + 1] = mx;
-      }
-    }
-    m.depth_tiles = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(m.depth_tiles.get(), 1, GL_RG32F, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt));
-    glTextureSubImage2D(m.depth_tiles.get(), 0, 0, 0, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt), GL_RG, GL_FLOAT, tiles.data());
+    s.build_depth_tiles(m);
     m.command = gl::make_buffer();
     glNamedBufferStorage(m.command.get(), 44, nullptr, GL_DYNAMIC_STORAGE_BIT);
   }
@@ -453,16 +451,12 @@ Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optiona
     s.profile.set("u_mode", 0);
     s.profile.set("u_levels", levels);
     s.profile.set("u_half_v", f.half[1]);
-    s.profile.set("u_tile", static_cast<int>(kTileTexels));
     glBindTextureUnit(0, m.position_map.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, s.histogram.get());
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     glDispatchCompute((lm.map_size + 7) / 8, (lm.map_size + 7) / 8, 1);
-    s.profile.set("u_mode", 1);
-    glBindImageTexture(0, m.depth_tiles.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    const std::uint32_t nt = (lm.map_size + kTileTexels - 1) / kTileTexels;
-    glDispatchCompute((nt + 7) / 8, (nt + 7) / 8, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    s.build_depth_tiles(m);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(s.histogram.get(), 0, GLsizeiptr{4} * levels, lm.histogram.data());
     lm.sub_boxes = find_sub_boxes(lm.histogram);
     const double h = 2.0 * f.half[1];
