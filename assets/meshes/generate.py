@@ -8,6 +8,10 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
   teapot.obj  the Utah teapot from teapot_patches.txt, 12 x 12 quads per patch,
               y up, 1 m tall, base at y = 0 (about 9k triangles)
+  teapot_solid.obj  the teapot closed for glass: the gap between lid and
+              body rim bridged by a ring of triangles, the spout tip, spout base
+              and handle ends capped by fans (spout and handle stay separate
+              shells that overlap the body near where they join it)
   organic.obj a smooth lumpy blob (a sphere displaced by low-frequency
               harmonics), 72 x 36 segments (about 5k triangles)
 """
@@ -141,6 +145,61 @@ def teapot(n=12):
     return verts, faces
 
 
+def boundary_loops(faces):
+    edges = set()
+    for f in faces:
+        for k in range(3):
+            edges.add((f[k], f[(k + 1) % 3]))
+    nxt = {a: b for (a, b) in edges if (b, a) not in edges}
+    loops, seen = [], set()
+    for a in sorted(nxt):
+        if a in seen:
+            continue
+        loop, c = [], a
+        while c not in seen:
+            seen.add(c)
+            loop.append(c)
+            c = nxt[c]
+        loops.append(loop)
+    return loops
+
+
+def teapot_solid():
+    verts, faces = teapot()
+    loops = boundary_loops(faces)
+    # The two rims at the lid's height: bridge them, facing up (+y).
+    rims = [l for l in loops if all(abs(verts[i][1] - 0.7619) < 1e-3 for i in l) and
+            abs(sum(verts[i][0] for i in l) / len(l)) < 1e-3]
+    assert len(rims) == 2, rims
+    ang = lambda i: math.atan2(verts[i][2], verts[i][0])
+    a, b = (sorted(r, key=ang) for r in rims)
+    i = j = 0
+    na, nb = len(a), len(b)
+    while i < na or j < nb:
+        ai, bj = a[i % na], b[j % nb]
+        ta = ang(a[(i + 1) % na]) + (2 * math.pi if i + 1 >= na else 0)
+        tb = ang(b[(j + 1) % nb]) + (2 * math.pi if j + 1 >= nb else 0)
+        if j >= nb or (i < na and ta <= tb):
+            tri = [ai, a[(i + 1) % na], bj]
+            i += 1
+        else:
+            tri = [ai, b[(j + 1) % nb], bj]
+            j += 1
+        p, q, r = (verts[k] for k in tri)
+        ny = (q[2] - p[2]) * (r[0] - p[0]) - (q[0] - p[0]) * (r[2] - p[2])
+        faces.append(tri if ny > 0 else [tri[0], tri[2], tri[1]])
+    # Every other hole: a fan around its centroid, wound against the loop.
+    for loop in loops:
+        if loop in rims:
+            continue
+        c = len(verts)
+        verts.append(tuple(sum(verts[k][d] for k in loop) / len(loop) for d in range(3)))
+        for k in range(len(loop)):
+            faces.append([loop[(k + 1) % len(loop)], loop[k], c])
+    assert not boundary_loops(faces)
+    return verts, faces
+
+
 def organic(seg=72, rings=36):
     verts, faces = [], []
 
@@ -183,5 +242,7 @@ if __name__ == "__main__":
     write_obj("walls.obj", v, f, n, comment="Four walls of a unit pool, inward normals.")
     v, f = teapot()
     write_obj("teapot.obj", v, f, comment="Utah teapot (Newell's patch data), 1 m tall.")
+    v, f = teapot_solid()
+    write_obj("teapot_solid.obj", v, f, comment="Utah teapot closed for glass (rims bridged, holes capped), 1 m tall.")
     v, f = organic()
     write_obj("organic.obj", v, f, comment="Smooth lumpy blob, radius about 1.")

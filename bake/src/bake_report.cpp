@@ -78,9 +78,19 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
     }
     j["level_maps"].push_back(e);
   }
+  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"tables", nlohmann::ordered_json::array()}};
+  for (const TransportReport& t : r.transport) {
+    j["transport"]["tables"].push_back(
+        {{"object", r.scene.objects[t.object].name}, {"vertices", t.vertices}, {"entries", t.entries},
+         {"leaving", t.leaving}, {"trapped", t.trapped}, {"occluded", t.occluded}, {"internally_reflected", t.reflected},
+         {"rays", t.rays}, {"seconds", t.seconds}, {"rays_per_second", t.seconds > 0 ? static_cast<double>(t.rays) / t.seconds : 0.0},
+         {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
+         {"max_exit_position_error_m", t.position_error_m}, {"max_exit_direction_error_deg", t.direction_error_rad * 180.0 / 3.14159265358979}});
+  }
   j["seconds"] = {{"import", r.seconds_import},
                   {"compress", r.seconds_compress},
                   {"level_maps", r.seconds_level_maps},
+                  {"transport_tables", r.seconds_transport},
                   {"oriented_boxes", r.level_maps.seconds_boxes},
                   {"reach_tests", r.level_maps.seconds_shadow_tests},
                   {"write", r.seconds_write}};
@@ -132,10 +142,23 @@ std::string report_text(const BakeResult& r) {
       s << line;
     }
   }
+  for (const TransportReport& t : r.transport) {
+    std::snprintf(line, sizeof line,
+                  "  light-transport table '%s': %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
+                  "%llu after internal reflection; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
+                  r.scene.objects[t.object].name.c_str(), t.vertices,
+                  static_cast<unsigned long long>(t.vertices ? t.entries / t.vertices : 0),
+                  static_cast<unsigned long long>(t.leaving), static_cast<unsigned long long>(t.trapped),
+                  static_cast<unsigned long long>(t.occluded), static_cast<unsigned long long>(t.reflected),
+                  static_cast<double>(t.rays) * 1e-6, t.seconds, t.seconds > 0 ? static_cast<double>(t.rays) * 1e-6 / t.seconds : 0.0,
+                  static_cast<unsigned long long>(t.raw_bytes), static_cast<unsigned long long>(t.stored_bytes));
+    s << line;
+  }
   std::snprintf(line, sizeof line,
-                "  time: import %.3f s, compress %.3f s, level maps %.3f s (oriented boxes %.3f s, reach tests %.3f s), write %.3f s\n",
+                "  time: import %.3f s, compress %.3f s, level maps %.3f s (oriented boxes %.3f s, reach tests %.3f s), "
+                "transport tables %.3f s, write %.3f s\n",
                 r.seconds_import, r.seconds_compress, r.seconds_level_maps, r.level_maps.seconds_boxes,
-                r.level_maps.seconds_shadow_tests, r.seconds_write);
+                r.level_maps.seconds_shadow_tests, r.seconds_transport, r.seconds_write);
   s << line;
   return s.str();
 }

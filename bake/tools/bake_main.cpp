@@ -66,6 +66,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"smart", "uniform"}))->capture_default_str();
   app.add_option("--map-size", lm.map_size, "position and diffuse map size S (S x S texels)")
       ->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_option("--ltt-resolution", opt.transport.resolution,
+                 "light-transport table: R x R incident directions per vertex of transparent objects (seed 002)")
+      ->check(CLI::Range(caustix::kMinTransportResolution, caustix::kMaxTransportResolution));
+  app.add_option("--ltt-bounces", opt.transport.max_bounces,
+                 "light-transport table: internal reflections followed inside glass (0 = the paper's refraction only)")
+      ->check(CLI::Range(0u, caustix::kMaxTransportBounces));
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");

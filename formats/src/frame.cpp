@@ -41,6 +41,17 @@ std::optional<Vec3d> refract(const Vec3d& i, const Vec3d& n, double eta) {
   return normalize({a * n[0] + eta * i[0], a * n[1] + eta * i[1], a * n[2] + eta * i[2]});
 }
 
+double fresnel_transmittance(double cos_i, double eta) {
+  cos_i = std::clamp(cos_i, 0.0, 1.0);
+  const double sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+  if (sin2_t >= 1.0) return 0.0;
+  const double cos_t = std::sqrt(1.0 - sin2_t);
+  // Fresnel amplitudes with n1 / n2 = eta (divide through by n2).
+  const double rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const double rp = (eta * cos_t - cos_i) / (eta * cos_t + cos_i);
+  return 1.0 - 0.5 * (rs * rs + rp * rp);
+}
+
 std::optional<LightDirection> light_direction(const Light& light, const std::optional<Water>& water,
                                               const Vec3d& origin, double min_y, double max_y,
                                               std::string* why_not) {

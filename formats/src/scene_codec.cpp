@@ -199,7 +199,8 @@ Error container_error(const std::string& msg) { return make_error(ErrorCode::kCo
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
                                        const std::vector<LevelMap>& level_maps,
-                                       const std::vector<ObjectBox>& boxes) {
+                                       const std::vector<ObjectBox>& boxes,
+                                       const std::vector<LightTransportTable>& tables) {
   cxb::ContainerWriter w;
   w.add_chunk(cxb::kTagScene, cxb::kChunkRequired, encode_scene_chunk(scene));
   w.add_chunk(cxb::kTagObjects, cxb::kChunkRequired, encode_objects(scene));
@@ -209,6 +210,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
   if (!boxes.empty()) w.add_chunk(cxb::kTagObjectBoxes, 0, encode_object_boxes(boxes));
   for (const auto& lm : level_maps) w.add_chunk(cxb::kTagLevelMap, cxb::kChunkRequired, encode_level_map(lm));
+  for (const auto& t : tables) w.add_chunk(cxb::kTagTransport, cxb::kChunkRequired, encode_transport_table(t));
   return w.finish();
 }
 
@@ -286,6 +288,24 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
       }
     }
     out.level_maps.push_back(std::move(*lm));
+  }
+  // Exactly one table per transparent object, in object order; it carries
+  // the material's absorption.
+  std::vector<bool> has_table(s.objects.size(), false);
+  for (std::size_t i : c.find(cxb::kTagTransport)) {
+    auto t = decode_transport_table(c.payload(i), s);
+    if (!t) return Error{t.error().code, "chunk " + std::to_string(i) + ": " + t.error().message};
+    if (has_table[t->object] || (!out.transport_tables.empty() && out.transport_tables.back().object > t->object)) {
+      return container_error("chunk " + std::to_string(i) + " 'LTTB': tables must be one per transparent object, in object order");
+    }
+    has_table[t->object] = true;
+    s.objects[t->object].material.absorption = t->absorption;
+    out.transport_tables.push_back(std::move(*t));
+  }
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    if (is_transparent(s.objects[i].role) && !has_table[i]) {
+      return container_error("transparent object '" + s.objects[i].name + "' has no 'LTTB' light-transport table");
+    }
   }
   return out;
 }

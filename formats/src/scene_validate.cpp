@@ -34,6 +34,21 @@ float determinant3(const Mat4f& m) {
   return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
 }
 
+// Columns of the upper 3x3 orthogonal and of equal length (relative 1e-4).
+bool is_similarity(const Mat4f& m) {
+  const Vec3f c[3] = {{m[0], m[1], m[2]}, {m[4], m[5], m[6]}, {m[8], m[9], m[10]}};
+  const float l0 = length(c[0]);
+  if (!(l0 > 0) || !finite(l0)) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (std::fabs(length(c[i]) - l0) > 1e-4f * l0) return false;
+    for (int j = i + 1; j < 3; ++j) {
+      const float d = c[i][0] * c[j][0] + c[i][1] * c[j][1] + c[i][2] * c[j][2];
+      if (std::fabs(d) > 1e-4f * l0 * l0) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_meshes) {
@@ -72,6 +87,14 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");
       c.expect(o.material.transparent, p + "/material",
                "an object with role transparent or both needs a transparent material");
+      for (float a : o.material.absorption) {
+        c.range(a, 0.0f, 1e6f, p + "/material/absorption", "each component must be in [0, 10^6] per metre");
+      }
+      // Light-transport tables are baked in object space: refraction angles
+      // survive rotation, translation and uniform scale, not shear or
+      // non-uniform scale.
+      c.expect(is_similarity(o.transform), p + "/transform",
+               "a transparent object's transform must be a rotation, translation and uniform scale");
     }
     bool finite_transform = true;
     for (float f : o.transform) finite_transform = finite_transform && finite(f);

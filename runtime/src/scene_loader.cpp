@@ -1,7 +1,7 @@
 #include "caustix/runtime/scene_loader.h"
 
 #include "caustix/formats/file_io.h"
-#include "caustix/runtime/mesh_decode.h"
+#include "caustix/formats/mesh_decode.h"
 
 namespace caustix::runtime {
 
@@ -19,6 +19,14 @@ Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size) {
     auto mesh = decode_draco(decoded->draco_meshes[i], out.desc.meshes[i]);
     if (!mesh) return mesh.error();
     out.meshes.push_back(std::move(*mesh));
+  }
+  out.transport_tables = std::move(decoded->transport_tables);
+  for (const LightTransportTable& t : out.transport_tables) {
+    const Object& o = out.desc.objects[t.object];
+    if (t.vertex_count != out.meshes[o.mesh_index].positions.size()) {
+      return make_error(ErrorCode::kContainer, "light-transport table of '" + o.name + "' has " + std::to_string(t.vertex_count) +
+                                                   " vertices, its decoded mesh " + std::to_string(out.meshes[o.mesh_index].positions.size()));
+    }
   }
   return out;
 }

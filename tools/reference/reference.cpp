@@ -78,14 +78,6 @@ struct Surface {
   }
 };
 
-double fresnel_transmittance(double cos_i, double n) {
-  const double sin2_t = (1 - cos_i * cos_i) / (n * n);
-  if (sin2_t >= 1) return 0;
-  const double cos_t = std::sqrt(1 - sin2_t);
-  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  return 1 - 0.5 * (rs * rs + rp * rp);
-}
-
 }  // namespace
 
 Result<Image> trace(const Request& q) {
@@ -224,7 +216,7 @@ Result<Image> trace(const Request& q) {
         const double eta = 1.0 / water.ior;
         const double k = 1 - eta * eta * (1 - cos_i * cos_i);
         const Vec3d t = normalize(add(Vec3d{eta * dir[0], eta * dir[1], eta * dir[2]}, nrm, eta * cos_i - std::sqrt(k)));
-        flux *= fresnel_transmittance(cos_i, water.ior);
+        flux *= fresnel_transmittance(cos_i, 1.0 / water.ior);
         const auto h = world.first_hit_triangle(add(hit, t, 1e-7), t);
         if (!h || owner[h->triangle] != *receiver) continue;
         const Vec3d p = add(hit, t, 1e-7 + h->distance);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "caustix/bake/level_maps.h"
+#include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_compress.h"
 #include "caustix/common/status.h"
 
@@ -16,6 +17,7 @@ namespace caustix::bake {
 struct BakeOptions {
   DracoOptions draco;
   LevelMapOptions level_maps;
+  TransportOptions transport;
 };
 
 struct MeshStats {
@@ -35,7 +37,8 @@ struct BakeResult {
   std::vector<std::string> warnings;
   std::vector<std::string> inputs;  // every file read (for --depfile)
   LevelMapStage level_maps;         // maps moved into the .cxb; reports kept
-  double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_write = 0;
+  std::vector<TransportReport> transport;  // one per transparent object
+  double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_transport = 0, seconds_write = 0;
 };
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);

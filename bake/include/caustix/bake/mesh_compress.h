@@ -1,6 +1,6 @@
 #pragma once
 // Draco compression of baked meshes (edgebreaker connectivity, quantised
-// attributes). The runtime decodes with runtime/mesh_decode.h.
+// attributes). The runtime decodes with formats/mesh_decode.h.
 //
 // Error bound: Draco quantises each position coordinate to
 // round((x - min) / delta) with delta = range / (2^bits - 1), range being the

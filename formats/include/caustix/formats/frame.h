@@ -25,6 +25,11 @@ std::vector<Vec3d> world_points(const Mat4f& transform, const std::vector<Vec3f>
 // (I . N <= 0) and eta = n1 / n2. Returns nothing on total internal reflection.
 std::optional<Vec3d> refract(const Vec3d& incident, const Vec3d& normal, double eta);
 
+// Unpolarised Fresnel transmittance 1 - (R_s + R_p) / 2 at an interface
+// with eta = n1 / n2 (light going from n1 into n2), cos_i the cosine of
+// the angle of incidence; 0 beyond the critical angle.
+double fresnel_transmittance(double cos_i, double eta);
+
 struct LightDirection {
   Vec3d travel{};          // unit direction of travel T at the object
   bool refracted = false;  // whether it crossed the water surface

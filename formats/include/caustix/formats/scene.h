@@ -20,6 +20,7 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/container.h"
 #include "caustix/formats/level_map.h"
+#include "caustix/formats/light_transport.h"
 #include "caustix/formats/types.h"
 
 namespace caustix {
@@ -35,6 +36,7 @@ struct Material {
   Vec3f albedo{0.8f, 0.8f, 0.8f};  // diffuse reflectance, each in [0, 1]
   bool transparent = false;
   float ior = 1.5f;                // used when transparent; >= 1
+  Vec3f absorption{0, 0, 0};       // transparent: 1/m per RGB channel, >= 0 (stored in the LTTB chunk)
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
@@ -131,12 +133,13 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& scene, bool check
 void normalize_scene(SceneDesc& scene);
 
 // Serialises the scene, one Draco stream per mesh (meshes[i] <->
-// scene.meshes[i]), the level maps and the object boxes into .cxb bytes.
-// Deterministic.
+// scene.meshes[i]), the level maps, the object boxes and the light-transport
+// tables (one per transparent object) into .cxb bytes. Deterministic.
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
                                        const std::vector<LevelMap>& level_maps = {},
-                                       const std::vector<ObjectBox>& boxes = {});
+                                       const std::vector<ObjectBox>& boxes = {},
+                                       const std::vector<LightTransportTable>& tables = {});
 
 struct DecodedScene {
   SceneDesc scene;
@@ -144,6 +147,7 @@ struct DecodedScene {
   std::vector<std::span<const std::uint8_t>> draco_meshes;
   std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
   std::vector<ObjectBox> boxes;
+  std::vector<LightTransportTable> transport_tables;  // one per transparent object, in object order
 };
 
 // Decodes and validates the scene chunks of a validated container.

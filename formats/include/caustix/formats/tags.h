@@ -28,6 +28,8 @@ inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh,
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once
+// Light-transport tables (formats/light_transport.h).
+inline constexpr Tag kTagTransport = make_tag("LTTB");  // required, one per transparent object
 
 // Whether this build knows a tag. Unknown optional chunks are skipped;
 // unknown required chunks make the reader refuse the file.

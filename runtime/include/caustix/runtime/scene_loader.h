@@ -18,6 +18,7 @@ struct RuntimeScene {
   std::vector<TriangleMesh> meshes;  // desc.meshes[i] <-> meshes[i]
   std::vector<LevelMap> level_maps;  // at most one per (object, light)
   std::vector<ObjectBox> boxes;
+  std::vector<LightTransportTable> transport_tables;  // one per transparent object
 };
 
 Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size);

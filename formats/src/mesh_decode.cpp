@@ -1,10 +1,10 @@
-#include "caustix/runtime/mesh_decode.h"
+#include "caustix/formats/mesh_decode.h"
 
 #include <draco/compression/decode.h>
 
 #include <cmath>
 
-namespace caustix::runtime {
+namespace caustix {
 namespace {
 
 Error mesh_error(const MeshInfo& info, const std::string& msg) {
@@ -74,4 +74,4 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   return out;
 }
 
-}  // namespace caustix::runtime
+}  // namespace caustix

@@ -11,8 +11,8 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
 
-namespace caustix::runtime {
+namespace caustix {
 
 Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const MeshInfo& info);
 
-}  // namespace caustix::runtime
+}  // namespace caustix

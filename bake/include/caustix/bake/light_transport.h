@@ -1,0 +1,48 @@
+#pragma once
+// The light-transport stage of the baker (seed 002 §3; formats/light_transport.h
+// describes the table): for every vertex of every transparent object and every
+// direction of the hemi-octahedral grid, the refracted ray is traced through
+// the object with exact ray-mesh intersection (CGAL AABB tree), following up
+// to `max_bounces` total internal reflections. Parallel over vertices with
+// oneTBB; every entry has its own slot, so the table does not depend on the
+// thread count.
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "caustix/common/mesh.h"
+#include "caustix/common/status.h"
+#include "caustix/formats/scene.h"
+
+namespace caustix::bake {
+
+struct TransportOptions {
+  std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
+  std::uint32_t max_bounces = 4;  // internal reflections followed (the paper: 0)
+};
+
+struct TransportReport {
+  std::uint32_t object = 0;
+  std::uint32_t vertices = 0;
+  std::uint64_t entries = 0, leaving = 0, trapped = 0, occluded = 0, reflected = 0;
+  std::uint64_t rays = 0;            // ray casts (occlusion + inside segments)
+  double seconds = 0;
+  std::uint64_t raw_bytes = 0;       // 16 bytes per entry
+  std::uint64_t stored_bytes = 0;    // the LTTB chunk
+  double position_error_m = 0;       // quantisation bound of exit points
+  double direction_error_rad = 0;    // quantisation bound of exit directions
+};
+
+// Directed edges (a, b) of triangles whose opposite edge (b, a) no triangle
+// has: the boundary of an open mesh (or edges of inconsistent winding).
+// Vertices at the same position are one vertex here.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_edges(const TriangleMesh& mesh);
+
+// Traces the table of one transparent object over `mesh` (the Draco-decoded
+// mesh, whose vertex order the runtime sees).
+LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
+                                          const TransportOptions& options, TransportReport* report);
+
+}  // namespace caustix::bake

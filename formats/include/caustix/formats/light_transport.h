@@ -1,0 +1,116 @@
+#pragma once
+// Light-transport tables (seed 002 §3, §4.1; its reference [12]): for every
+// vertex of a transparent object and every incident direction of a grid over
+// the hemisphere around the vertex normal, where the refracted ray leaves
+// the object again, in which direction, with which Fresnel transmittance and
+// after how long a path inside. Baked by bake/light_transport.h, stored as
+// one "LTTB" chunk per transparent object (formats/SPEC.md), looked up per
+// frame by the runtime (runtime/shaders/glass_rays.comp.glsl mirrors
+// lookup() below).
+//
+// Direction grid: the hemi-octahedral map of the hemisphere around the
+// vertex normal (Cigolle et al. 2014, "A Survey of Efficient Representations
+// for Independent Unit Vectors", §3.3): omega (unit, towards the light, in
+// the vertex's tangent frame with z = normal) maps to
+//   p = omega.xy / (|x| + |y| + z),  (s, t) = (p.x + p.y, p.x - p.y) in [-1, 1]^2,
+// sampled at R x R grid points s_i = -1 + 2 i / (R - 1) (the horizon is on
+// the square's boundary, so every direction that can reach the vertex lies
+// inside the grid: no back-facing entries are stored). The map is not
+// equal-area: a cell's solid angle varies by a factor of about 2 between the
+// pole and the corners (stated in docs/glass.md with the measured error).
+// The tangent frame is the branchless one of Duff et al. 2017 ("Building an
+// orthonormal basis, revisited"), computed identically in GLSL.
+//
+// Record (16 bytes, four little-endian u32 words; also the GPU layout):
+//   w0 = ex | ey << 16, w1 = ez | T << 16, w2 = ou | ov << 16,
+//   w3 = path | status << 16 | bounces << 24
+// exit point e quantised to 16 bits per axis over the exit box; exit
+// direction as a full-sphere octahedral pair quantised to 16 bits each;
+// T = Fresnel transmittance product in [0, 1] to 16 bits; path length inside
+// to 16 bits over [0, max_path]; status 0 = the ray leaves, 1 = trapped
+// (still inside after max_bounces internal reflections), 2 = the object
+// itself blocks the light from this direction before it reaches the vertex.
+// Entries with status != 0 have every other field zero.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/types.h"
+
+namespace caustix {
+
+struct SceneDesc;
+
+inline constexpr std::uint32_t kMinTransportResolution = 2;
+inline constexpr std::uint32_t kMaxTransportResolution = 128;
+inline constexpr std::uint32_t kMaxTransportBounces = 64;
+inline constexpr std::uint32_t kDefaultTransportResolution = 16;
+
+enum class TransportStatus : std::uint8_t { kLeaves = 0, kTrapped = 1, kOccluded = 2 };
+
+// One decoded (or about-to-be-quantised) entry, object space.
+struct TransportEntry {
+  std::array<double, 3> exit{};       // exit point
+  std::array<double, 3> direction{};  // unit exit direction (travel)
+  double transmittance = 0;           // T_in * T_out (internal reflections count 1 each)
+  double path = 0;                    // metres inside the object (object space)
+  TransportStatus status = TransportStatus::kTrapped;
+  std::uint8_t bounces = 0;           // internal reflections before leaving
+};
+
+struct LightTransportTable {
+  std::uint32_t object = 0;        // index into SceneDesc::objects (transparent)
+  std::uint32_t resolution = 0;    // R: R x R directions per vertex
+  std::uint32_t max_bounces = 0;   // internal reflections followed
+  float ior = 1.5f;                // as baked; equals the object's material IOR
+  Vec3f absorption{0, 0, 0};       // 1/m per RGB channel (the material's)
+  Vec3f exit_min{}, exit_max{};    // quantisation box of exit points (object space)
+  float max_path = 0;              // quantisation range of path lengths
+  std::uint32_t vertex_count = 0;  // of the decoded (Draco) mesh; entries follow its order
+  std::vector<std::uint32_t> words;  // vertex_count * R^2 * 4, vertex-major, then grid row (t), column (s)
+
+  std::size_t entry_index(std::uint32_t vertex, std::uint32_t row, std::uint32_t col) const {
+    return (std::size_t{vertex} * resolution + row) * resolution + col;
+  }
+  // Quantises `e` into entry `index` (words must be sized).
+  void store(std::size_t index, const TransportEntry& e);
+  TransportEntry load(std::size_t index) const;
+  // Largest quantisation error of a stored exit point (metres, per axis) and
+  // of a stored exit direction (radians).
+  double position_error_bound() const;
+  static double direction_error_bound();
+};
+
+// --- direction parameterisations (shared with the GLSL) ---
+using Dir3 = std::array<double, 3>;
+// Orthonormal tangent frame (t, b, n) of a unit normal n (Duff et al. 2017).
+void tangent_frame(const Dir3& n, Dir3& t, Dir3& b);
+// Hemi-octahedral map of a local direction with z >= 0 to [-1, 1]^2 and back.
+std::array<double, 2> hemi_oct_encode(const Dir3& local);
+Dir3 hemi_oct_decode(double s, double t);
+// Full-sphere octahedral map of a unit direction to [-1, 1]^2 and back.
+std::array<double, 2> oct_encode(const Dir3& d);
+Dir3 oct_decode(double u, double v);
+// The grid direction (object space, towards the light) of (row, col) at a
+// vertex with unit normal n.
+Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, std::uint32_t col);
+
+// Bilinear look-up between the four grid directions around `to_light` (unit,
+// object space, towards the light) at vertex `vertex` with unit normal `n`:
+// exit points, directions (renormalised) and path lengths are averaged over
+// the entries that leave, weighted by their bilinear weight; the
+// transmittance over all four (trapped and occluded count as 0), so light
+// fades out where the table says it cannot pass. A direction below the
+// vertex's horizon is clamped onto it. Returns status kTrapped if no
+// neighbour leaves.
+TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light);
+
+std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& table);
+// Safe on hostile bytes: fields checked against the scene, decompression
+// bounded (raw size at most 1 GiB and at most 4096 x the compressed size).
+Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t> payload, const SceneDesc& scene);
+
+}  // namespace caustix
