@@ -25,9 +25,9 @@ SceneDesc full_scene() {
   s.meshes = {m};
   Object o;
   o.name = "glass";
-  o.role = Role::kBoth;
+  o.role = Role::kReceiver;
   o.material = Material{{0.1f, 0.2f, 0.3f}, true, 1.5f};
-  o.transform = {2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 4, 0, 5, 6, 7, 1};
+  o.transform = {2, 0, 0, 0, 0, 3, 0, 0, 0, 0, 4, 0, 5, 6, 7, 1};  // non-uniform: fine for a receiver
   s.objects = {o};
   Light sun;
   sun.name = "sun";
@@ -75,7 +75,7 @@ TEST(SceneCodec, EveryFieldSurvives) {
   EXPECT_EQ(r.meshes[0].bounds_max, s.meshes[0].bounds_max);
   ASSERT_EQ(r.objects.size(), 1u);
   EXPECT_EQ(r.objects[0].name, "glass");
-  EXPECT_EQ(r.objects[0].role, Role::kBoth);
+  EXPECT_EQ(r.objects[0].role, Role::kReceiver);
   EXPECT_EQ(r.objects[0].material.albedo, s.objects[0].material.albedo);
   EXPECT_TRUE(r.objects[0].material.transparent);
   EXPECT_EQ(r.objects[0].material.ior, 1.5f);

@@ -93,8 +93,10 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       // Light-transport tables are baked in object space: refraction angles
       // survive rotation, translation and uniform scale, not shear or
       // non-uniform scale.
-      c.expect(is_similarity(o.transform), p + "/transform",
-               "a transparent object's transform must be a rotation, translation and uniform scale");
+      if (is_transparent(o.role)) {
+        c.expect(is_similarity(o.transform), p + "/transform",
+                 "a transparent object's transform must be a rotation, translation and uniform scale");
+      }
     }
     bool finite_transform = true;
     for (float f : o.transform) finite_transform = finite_transform && finite(f);
