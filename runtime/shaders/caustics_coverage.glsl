@@ -2,6 +2,10 @@
 // exact area of the intersection triangle inside this fragment's texel, by
 // clipping the texel square against the triangle's three edges
 // (Sutherland-Hodgman; at most 7 vertices).
+// PRIM_STRIDE: vec4s per primitive (3 for water caustics, 6 for glass).
+#ifndef PRIM_STRIDE
+#define PRIM_STRIDE 3
+#endif
 flat in int v_prim;
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
@@ -9,7 +13,7 @@ layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 vec2 v_q0, v_q1, v_q2, v_plane;
 float v_irradiance;
 void load_primitive() {
-  vec4 a = prims[3 * v_prim], b = prims[3 * v_prim + 1], c = prims[3 * v_prim + 2];
+  vec4 a = prims[PRIM_STRIDE * v_prim], b = prims[PRIM_STRIDE * v_prim + 1], c = prims[PRIM_STRIDE * v_prim + 2];
   v_q0 = a.xy;
   v_q1 = a.zw;
   v_q2 = b.xy;

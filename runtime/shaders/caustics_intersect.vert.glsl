@@ -8,6 +8,9 @@
 // conservation. So each triangle is drawn as a rectangle that contains it dilated by half a texel diagonal, so that every texel it
 // touches gets a fragment, and the fragment shader deposits the irradiance
 // times the exact area of the triangle inside the texel.
+#ifndef PRIM_STRIDE
+#define PRIM_STRIDE 3  // vec4s per primitive (glass: 6, defined by the renderer)
+#endif
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 uniform float u_map_size;
@@ -16,8 +19,8 @@ flat out int v_prim;  // the fragment shader fetches the primitive itself (one v
 
 void main() {
   int prim = gl_VertexID / 4;
-  vec4 p0 = prims[3 * prim];
-  vec4 p1 = prims[3 * prim + 1];
+  vec4 p0 = prims[PRIM_STRIDE * prim];
+  vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
   v_prim = prim;
   const float delta = 0.7072;  // half a texel diagonal, rounded up

@@ -39,23 +39,73 @@ uniform vec3 u_frame_W;
 uniform vec3 u_frame_half;
 uniform float u_self_tolerance;
 
-float shadow_visibility(vec3 p, vec3 n, vec3 to_light) {
+// Glass (seed 002 §4.3): the receiver's illumination textures for this
+// light, on planes perpendicular to the mean transmitted direction
+// (u_glass_V points back along it), and the glass's own shadow maps, which
+// take the direct light away where glass stands in its path.
+uniform int u_glass_on;        // 1: illumination textures bound for this receiver
+uniform int u_glass_shadows;   // 1: the scene has glass (its shadow maps are valid)
+uniform vec3 u_glass_origin;
+uniform vec3 u_glass_U;
+uniform vec3 u_glass_V;
+uniform vec3 u_glass_W;
+uniform vec3 u_glass_half;
+uniform int u_glass_planes;
+uniform float u_glass_plane_v[16];  // decreasing: plane 0 nearest the light
+uniform float u_glass_tolerance;
+layout(binding = 4) uniform sampler2DArray u_glass_illumination;
+layout(binding = 5) uniform sampler2D u_glass_target;
+layout(binding = 6) uniform sampler2DShadow u_glass_shadow_2d;
+layout(binding = 7) uniform samplerCubeShadow u_glass_shadow_cube;
+
+float shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map_cube, vec3 p, vec3 n, vec3 to_light) {
   if (u_light_type == 2) {
     vec3 q = p + n * (0.01 * length(p - u_light_position));
     vec3 d = q - u_light_position;
-    return texture(u_shadow_cube, vec4(d, length(d) / u_shadow_far - 0.002));
+    return texture(map_cube, vec4(d, length(d) / u_shadow_far - 0.002));
   }
   // Normal offset against acne, 3x3 PCF against aliasing.
   vec4 s = u_shadow_matrix * vec4(p + n * (1.5 * u_shadow_texel), 1.0);
   s.xyz /= s.w;
   if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;
   float bias = 0.002 * (1.0 - max(dot(n, to_light), 0.0)) + 0.0005;
-  vec2 texel = 1.0 / vec2(textureSize(u_shadow_2d, 0));
+  vec2 texel = 1.0 / vec2(textureSize(map_2d, 0));
   float sum = 0.0;
   for (int y = -1; y <= 1; ++y)
     for (int x = -1; x <= 1; ++x)
-      sum += texture(u_shadow_2d, vec3(s.xy + vec2(x, y) * texel, s.z - bias));
+      sum += texture(map_2d, vec3(s.xy + vec2(x, y) * texel, s.z - bias));
   return sum / 9.0;
+}
+
+// Opaque objects' shadow.
+float shadow_visibility(vec3 p, vec3 n, vec3 to_light) { return shadow_visibility_in(u_shadow_2d, u_shadow_cube, p, n, to_light); }
+
+// Seed 002 §4.3: the incident intensity at p from the illumination textures:
+// zero where p lies behind the target's first surface as the virtual camera
+// sees it (shadow), else interpolated between the two planes around p
+// (d_i <= z_p < d_(i+1)), clamped at the outermost planes.
+vec3 glass_irradiance(vec3 p) {
+  vec3 rel = p - u_glass_origin;
+  vec3 c = vec3(dot(rel, u_glass_U), dot(rel, u_glass_V), dot(rel, u_glass_W));
+  vec2 uv = 0.5 * (c.xz / u_glass_half.xz + 1.0);
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+  float front = texture(u_glass_target, uv).w;
+  if (c.y < front - u_glass_tolerance) return vec3(0.0);
+  int n = u_glass_planes;
+  float layer = 0.0;
+  if (n > 1 && c.y < u_glass_plane_v[0]) {
+    layer = float(n - 1);
+    for (int i = 0; i + 1 < n; ++i) {
+      if (c.y >= u_glass_plane_v[i + 1]) {
+        layer = float(i) + (u_glass_plane_v[i] - c.y) / max(u_glass_plane_v[i] - u_glass_plane_v[i + 1], 1e-12);
+        break;
+      }
+    }
+  }
+  int i0 = int(floor(layer));
+  int i1 = min(i0 + 1, n - 1);
+  float f = layer - float(i0);
+  return mix(texture(u_glass_illumination, vec3(uv, float(i0))).rgb, texture(u_glass_illumination, vec3(uv, float(i1))).rgb, f);
 }
 
 // Path length in water along the refracted light (eq. 4-17's d).
@@ -86,5 +136,11 @@ vec3 irradiance_from_light(vec3 p, vec3 n) {
     return u_light_color * beam * max(dot(n, -travel), 0.0) * exp(-u_absorption * water_path(p, travel)) *
            shadow_visibility(p, n, -travel);
   }
-  return u_light_color * e_in * max(dot(n, -l), 0.0) * shadow_visibility(p, n, -l);
+  float vis = shadow_visibility(p, n, -l);
+  float glass_vis = u_glass_shadows != 0 ? shadow_visibility_in(u_glass_shadow_2d, u_glass_shadow_cube, p, n, -l) : 1.0;
+  vec3 e = vec3(e_in * max(dot(n, -l), 0.0) * vis * glass_vis);
+  // Eq. 2: light through glass, I_Q; other objects' shadows along the
+  // unrefracted light direction (an approximation, docs/glass.md).
+  if (u_glass_on != 0) e += glass_irradiance(p) * vis;
+  return u_light_color * e;
 }

@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustics.h"
+#include "glass.h"
 #include "caustix/formats/frame.h"
 #include "caustix_shaders.h"
 #include "gl_program.h"
@@ -79,6 +80,11 @@ struct Renderer::Impl {
 
   std::optional<WaterSurface> water;
   std::unique_ptr<CausticsEngine> caustics;
+  std::unique_ptr<GlassEngine> glass;  // scenes with transparent objects
+  gl::Texture glass_shadow_2d, glass_shadow_cube;  // the glass's own shadow maps (1x1 without glass)
+  gl::Texture dummy_array, dummy_2d;               // valid samplers for receivers without glass light
+  glm::mat4 shadow_matrix{1.0f};                   // of the light being prepared
+  float shadow_far = 1.0f;
 
   Target hdr, display, irradiance_target;
   float exposure = 1.0f;
@@ -105,34 +111,35 @@ struct Renderer::Impl {
     return dir;
   }
 
-  void draw_casters(const gl::Program& p) const {
+  // Opaque objects, or (glass = true) the transparent ones.
+  void draw_casters(const gl::Program& p, bool glass_only = false) const {
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-      if (is_transparent(scene.objects[i].role)) continue;  // glass casts caustics, not plain shadows
+      if (is_transparent(scene.objects[i].role) != glass_only) continue;
       set_model(p, i);
       draw_object(i);
     }
   }
 
   // Renders the directional shadow map along `dir`; returns world -> shadow texture.
-  glm::mat4 render_directional_shadow(const glm::vec3& dir) {
+  glm::mat4 render_directional_shadow(const glm::vec3& dir, GLuint target, bool glass_only) {
     const float r = scene_radius();
     const glm::vec3 c = scene_center();
     const glm::vec3 up = std::fabs(dir.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
     const glm::mat4 view = glm::lookAt(c - dir * (2.0f * r), c, up);
     const glm::mat4 proj = glm::ortho(-r, r, -r, r, 0.01f * r, 4.0f * r);
-    glNamedFramebufferTexture(shadow_fbo.get(), GL_DEPTH_ATTACHMENT, shadow_2d.get(), 0);
+    glNamedFramebufferTexture(shadow_fbo.get(), GL_DEPTH_ATTACHMENT, target, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo.get());
     glViewport(0, 0, kShadowSize, kShadowSize);
     glClear(GL_DEPTH_BUFFER_BIT);
     shadow.use();
     shadow.set("u_view_proj", proj * view);
     shadow.set("u_linear_depth", 0);
-    draw_casters(shadow);
+    draw_casters(shadow, glass_only);
     const glm::mat4 bias = glm::translate(glm::mat4(1), glm::vec3(0.5f)) * glm::scale(glm::mat4(1), glm::vec3(0.5f));
     return bias * proj * view;
   }
 
-  float render_point_shadow(const Light& light) {
+  float render_point_shadow(const Light& light, GLuint target, bool glass_only) {
     const glm::vec3 pos = to_glm(light.position);
     const float far = glm::length(pos - scene_center()) + 2.0f * scene_radius();
     const glm::mat4 proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.01f, far);
@@ -146,10 +153,10 @@ struct Renderer::Impl {
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo.get());
     glViewport(0, 0, kShadowCubeSize, kShadowCubeSize);
     for (int f = 0; f < 6; ++f) {
-      glNamedFramebufferTextureLayer(shadow_fbo.get(), GL_DEPTH_ATTACHMENT, shadow_cube.get(), 0, f);
+      glNamedFramebufferTextureLayer(shadow_fbo.get(), GL_DEPTH_ATTACHMENT, target, 0, f);
       glClear(GL_DEPTH_BUFFER_BIT);
       shadow.set("u_view_proj", proj * glm::lookAt(pos, pos + dirs[f], ups[f]));
-      draw_casters(shadow);
+      draw_casters(shadow, glass_only);
     }
     return far;
   }
@@ -163,12 +170,34 @@ struct Renderer::Impl {
     glDepthMask(GL_TRUE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glm::mat4 shadow_matrix(1.0f);
-    float shadow_far = 1.0f;
-    if (light.type == LightType::kDirectional) shadow_matrix = render_directional_shadow(shadow_direction(light));
-    else shadow_far = render_point_shadow(light);
+    shadow_matrix = glm::mat4(1.0f);
+    shadow_far = 1.0f;
+    if (light.type == LightType::kDirectional) {
+      shadow_matrix = render_directional_shadow(shadow_direction(light), shadow_2d.get(), false);
+      if (glass) render_directional_shadow(shadow_direction(light), glass_shadow_2d.get(), true);
+    } else {
+      shadow_far = render_point_shadow(light, shadow_cube.get(), false);
+      if (glass) render_point_shadow(light, glass_shadow_cube.get(), true);
+    }
     if (caustics) CAUSTIX_RETURN_IF_ERROR(caustics->update_light(li, light, co));
+    set_light_uniforms(p, li);
+    glBindTextureUnit(0, shadow_2d.get());
+    glBindTextureUnit(1, shadow_cube.get());
+    if (glass && co.method != CausticsMethod::kNone) {
+      CAUSTIX_RETURN_IF_ERROR(glass->update_light(scene, li, co, world_vertices, [&](const gl::Program& q) { set_light_uniforms(q, li); }));
+    }
+    p.set("u_glass_shadows", glass ? 1 : 0);
+    glBindTextureUnit(0, shadow_2d.get());  // again: the glass passes use unit 0
+    glBindTextureUnit(1, shadow_cube.get());
+    glBindTextureUnit(6, glass_shadow_2d.get());
+    glBindTextureUnit(7, glass_shadow_cube.get());
+    return Status::success();
+  }
 
+  // The uniforms of lighting.glsl that describe light `li` (and its shadow
+  // maps, rendered by prepare_light) on program `p`.
+  void set_light_uniforms(const gl::Program& p, std::uint32_t li) const {
+    const Light& light = scene.lights[li];
     const bool dir = light.type == LightType::kDirectional;
     p.set("u_light_type", dir ? 1 : 2);
     p.set("u_light_direction", glm::normalize(to_glm(light.direction)));
@@ -187,9 +216,6 @@ struct Renderer::Impl {
       p.set("u_water_level", -1e30f);
       p.set("u_absorption", glm::vec3(0));
     }
-    glBindTextureUnit(0, shadow_2d.get());
-    glBindTextureUnit(1, shadow_cube.get());
-    return Status::success();
   }
 
   // Per (object, light): caustics casting, flat-water transmission, or
@@ -213,12 +239,33 @@ struct Renderer::Impl {
     }
     const bool under = scene.water && object_min_y[oi] < scene.water->level && light_above_water(light);
     p.set("u_light_mode", under ? 1 : 0);
+    // Light through glass (lighting.glsl's glass_irradiance), for receivers lit directly.
+    std::optional<GlassEngine::Binding> g;
+    if (glass && !under && co.method != CausticsMethod::kNone) g = glass->binding(oi);
+    p.set("u_glass_on", g ? 1 : 0);
+    if (!g) {
+      glBindTextureUnit(4, dummy_array.get());
+      glBindTextureUnit(5, dummy_2d.get());
+      return;
+    }
+    const BoundingFrame& f = g->frame;
+    p.set("u_glass_origin", glm::vec3(static_cast<float>(f.origin[0]), static_cast<float>(f.origin[1]), static_cast<float>(f.origin[2])));
+    p.set("u_glass_U", to_glm(f.u));
+    p.set("u_glass_V", to_glm(f.v));
+    p.set("u_glass_W", to_glm(f.w));
+    p.set("u_glass_half", to_glm(f.half));
+    p.set("u_glass_planes", static_cast<int>(g->plane_v.size()));
+    glProgramUniform1fv(p.id(), glGetUniformLocation(p.id(), "u_glass_plane_v"), static_cast<GLsizei>(g->plane_v.size()), g->plane_v.data());
+    p.set("u_glass_tolerance", g->tolerance);
+    glBindTextureUnit(4, g->illumination);
+    glBindTextureUnit(5, g->target);
   }
 
   void draw_receivers(const gl::Program& p, int pass, std::uint32_t li, const CausticsOptions& co,
                       std::optional<std::uint32_t> only) const {
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
       if (only && *only != i) continue;
+      if (is_transparent(scene.objects[i].role)) continue;  // drawn as glass (GlassEngine::draw_glass)
       set_model(p, i);
       p.set("u_albedo", to_glm(scene.objects[i].material.albedo));
       if (pass != 0) set_object_light(p, i, li, co);
@@ -303,6 +350,29 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   glTextureStorage2D(s.shadow_cube.get(), 1, GL_DEPTH_COMPONENT32F, has_point ? kShadowCubeSize : 1, has_point ? kShadowCubeSize : 1);
   shadow_params(s.shadow_cube.get());
 
+  bool has_glass = false;
+  for (const Object& o : s.scene.objects) has_glass = has_glass || is_transparent(o.role);
+  s.glass_shadow_2d = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(s.glass_shadow_2d.get(), 1, GL_DEPTH_COMPONENT32F, has_glass && has_directional ? kShadowSize : 1,
+                     has_glass && has_directional ? kShadowSize : 1);
+  shadow_params(s.glass_shadow_2d.get());
+  s.glass_shadow_cube = gl::make_texture(GL_TEXTURE_CUBE_MAP);
+  glTextureStorage2D(s.glass_shadow_cube.get(), 1, GL_DEPTH_COMPONENT32F, has_glass && has_point ? kShadowCubeSize : 1,
+                     has_glass && has_point ? kShadowCubeSize : 1);
+  shadow_params(s.glass_shadow_cube.get());
+  s.dummy_array = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(s.dummy_array.get(), 1, GL_RGBA32F, 1, 1, 1);
+  glClearTexImage(s.dummy_array.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
+  s.dummy_2d = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(s.dummy_2d.get(), 1, GL_RGBA32F, 1, 1);
+  glClearTexImage(s.dummy_2d.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
+  if (has_glass) {
+    Impl* impl = &s;
+    auto engine = GlassEngine::create(s.scene, scene.transport_tables, s.meshes, [impl](std::uint32_t i) { impl->draw_object(i); });
+    if (!engine) return engine.error();
+    s.glass = std::move(*engine);
+  }
+
   if (s.scene.water) {
     auto water = WaterSurface::create(*s.scene.water);
     if (!water) return water.error();
@@ -376,6 +446,10 @@ Status Renderer::render(const FrameParams& f) {
     s.draw_receivers(s.receiver, 1, li, f.caustics, std::nullopt);
   }
 
+  if (s.glass) {
+    s.glass->draw_glass(s.scene, view_proj, eye, sky, s.hdr.color.get(), s.hdr.depth.get(), 2.0f * s.scene_radius());
+    glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
+  }
   if (s.water) {
     glm::vec3 sun_dir(0.0f), sun_color(0.0f);
     for (const Light& l : s.scene.lights) {
@@ -414,6 +488,9 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
     if (s.scene.objects[i].name == q.receiver) receiver = i;
   }
   if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in the scene");
+  if (is_transparent(s.scene.objects[*receiver].role)) {
+    return make_error(ErrorCode::kUsage, "'" + q.receiver + "' is transparent; irradiance images are of diffuse receivers");
+  }
   if (q.width <= 0 || q.height <= 0 || q.width > 16384 || q.height > 16384 || !(q.x1 > q.x0) || !(q.z1 > q.z0) ||
       !std::isfinite(q.x0) || !std::isfinite(q.x1) || !std::isfinite(q.z0) || !std::isfinite(q.z1)) {
     return make_error(ErrorCode::kUsage, "irradiance region must have x1 > x0, z1 > z0 and a size in 1..16384");

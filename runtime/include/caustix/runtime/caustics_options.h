@@ -13,7 +13,7 @@ enum class CausticsMethod {
   kLevelMap,    // level map with smart-sliced planes (seed 000 ch. 4, §4.7.2)
   kUniform,     // level map with the uniform planes (eq. 4-6..4-9)
   kVolumetric,  // the volumetric baseline: one slice image per plane (§5.2.1)
-  kNone,        // no caustics: refraction and Fresnel through flat water only
+  kNone,        // no caustics: refraction and Fresnel through flat water only; glass casts a plain shadow
 };
 
 const char* to_string(CausticsMethod m);
@@ -31,6 +31,10 @@ struct CausticsOptions {
   // frame, and draw each volume only through the planes the surface under
   // it needs. Off: every volume through every plane, as the thesis did.
   bool cull = true;
+  // Glass (seed 002 §4.2): virtual planes per target (the paper: 4; at most
+  // 16) and the illumination-texture size (the paper: 512).
+  std::uint32_t glass_planes = 4;
+  std::uint32_t glass_map_size = 512;
 };
 
 // What the last frame's caustics pass did, per level map (for benchmarks).

@@ -1,0 +1,26 @@
+// Illumination textures (seed 002 §4.2, eq. 3; prefixed with #version,
+// PRIM_STRIDE 6 and caustics_coverage.glsl): each texel gets the
+// intersection triangle's intensity times the exact fraction of the texel
+// it covers, times cos(gamma) per texel from the target's normal map and
+// the transmitted direction interpolated across the triangle.
+layout(binding = 0) uniform sampler2D u_target;  // xyz: world normal of the first surface, w: frame V (-1e30: none)
+
+out vec4 o_intensity;
+
+void main() {
+  load_primitive();
+  vec4 target = texelFetch(u_target, ivec2(gl_FragCoord.xy), 0);
+  if (target.w < -1e29) discard;  // no target surface under this texel
+  float covered = texel_coverage();
+  if (covered <= 0.0) discard;
+  // Barycentric weights of the texel centre (clamped to the triangle).
+  vec2 x = gl_FragCoord.xy;
+  float twice = cross2(v_q1 - v_q0, v_q2 - v_q0);
+  vec3 bary = abs(twice) > 1e-12 ? vec3(cross2(v_q1 - x, v_q2 - x), cross2(v_q2 - x, v_q0 - x), cross2(v_q0 - x, v_q1 - x)) / twice
+                                 : vec3(1.0 / 3.0);
+  bary = max(bary, 0.0);
+  bary /= max(bary.x + bary.y + bary.z, 1e-12);
+  vec3 d = normalize(bary.x * prims[6 * v_prim + 3].xyz + bary.y * prims[6 * v_prim + 4].xyz + bary.z * prims[6 * v_prim + 5].xyz);
+  float cos_gamma = max(dot(normalize(target.xyz), -d), 0.0);
+  o_intensity = vec4(prims[6 * v_prim + 2].rgb * covered * cos_gamma, 1.0);
+}

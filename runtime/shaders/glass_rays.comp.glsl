@@ -1,0 +1,42 @@
+// Outgoing rays of a transparent object for one light (seed 002 §4.1; prefixed
+// with #version, optics.glsl, lighting.glsl and transport.glsl): per vertex,
+// the light's direction in object space, the table look-up, and the exit
+// ray in world space with its colour, T * e^(-K path). The weighted sum of
+// exit directions (for the virtual planes, §4.2) is accumulated in fixed
+// point.
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // position, normal
+layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };          // per vertex: exit + valid, dir + 0, colour + 0
+layout(std430, binding = 3) buffer Sum { int dir_sum[4]; };
+
+uniform uint u_vertex_count;
+uniform mat4 u_model;
+uniform mat3 u_rotation;  // the model's rotation (model = T R s)
+uniform float u_scale;
+uniform vec3 u_glass_absorption;
+
+void main() {
+  uint v = gl_GlobalInvocationID.x;
+  if (v >= u_vertex_count) return;
+  vec3 p = vec3(vertices[6u * v], vertices[6u * v + 1u], vertices[6u * v + 2u]);
+  vec3 n = normalize(vec3(vertices[6u * v + 3u], vertices[6u * v + 4u], vertices[6u * v + 5u]));
+  vec3 pw = (u_model * vec4(p, 1.0)).xyz;
+  vec3 to_light_w = u_light_type == 1 ? -u_light_direction : normalize(u_light_position - pw);
+  vec3 to_light = transpose(u_rotation) * to_light_w;
+  Transport t = ltt_lookup(v, n, to_light);
+  // Light the object itself shadows from elsewhere does not enter here.
+  float visible = t.leaves ? shadow_visibility(pw, u_rotation * n, to_light_w) : 0.0;
+  vec3 exit_w = (u_model * vec4(t.exit, 1.0)).xyz;
+  vec3 dir_w = u_rotation * t.dir;
+  vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale);
+  rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
+  rays[3u * v + 1u] = vec4(dir_w, 0.0);
+  rays[3u * v + 2u] = vec4(colour, 0.0);
+  if (t.leaves) {
+    ivec3 q = ivec3(round(dir_w * t.transmittance * 4096.0));
+    atomicAdd(dir_sum[0], q.x);
+    atomicAdd(dir_sum[1], q.y);
+    atomicAdd(dir_sum[2], q.z);
+  }
+}

@@ -1,0 +1,370 @@
+#include "glass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "caustix/formats/frame.h"
+#include "caustix_shaders.h"
+
+namespace caustix::runtime {
+namespace {
+
+constexpr std::uint32_t kMaxGlassPlanes = 16;  // u_glass_plane_v[16] in the shaders
+constexpr std::size_t kPrimitiveBytes = 6 * 16;
+
+glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
+
+// model = T R s for a similarity transform (validate_scene enforces it).
+void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
+  const glm::mat3 m(to_glm(t));
+  scale = glm::length(m[0]);
+  rotation = m / scale;
+}
+
+std::string insert_after_version(const char* src, const std::string& text) {
+  std::string s(src);
+  const auto eol = s.find('\n');
+  return s.substr(0, eol + 1) + text + s.substr(eol + 1);
+}
+
+}  // namespace
+
+struct GlassEngine::Impl {
+  struct Glass {
+    std::uint32_t object = 0;
+    const GpuMesh* mesh = nullptr;
+    LightTransportTable params;  // words dropped after upload
+    std::uint32_t vertices = 0, triangles = 0;
+    gl::Buffer table, rays;
+  };
+  struct Target {
+    std::uint32_t object = 0;
+    int size = 0;
+    std::uint32_t planes = 0;
+    gl::Texture target, depth, illumination;
+    gl::Framebuffer fbo;
+    BoundingFrame frame;
+    std::vector<float> plane_v;
+    bool valid = false;
+    // One primitive buffer per glass object: a buffer reused by the next
+    // target could be overwritten by its compute pass before a deferred
+    // renderer (llvmpipe bins draws until a flush) has read it.
+    std::vector<gl::Buffer> primitives;
+    std::vector<std::uint64_t> primitive_capacity;
+  };
+  std::vector<Glass> glass;
+  std::vector<Target> targets;
+  std::function<void(std::uint32_t)> draw_object;
+  gl::Program rays, geometry, target_program, illumination, surface;
+  gl::Buffer sum, rect_indices;
+  std::uint64_t rect_capacity = 0;
+  gl::VertexArray empty_vao;
+  gl::Texture color_copy, depth_copy;
+  int copy_w = 0, copy_h = 0;
+
+  void set_table(const gl::Program& p, const Glass& g) const {
+    p.set("u_ltt_resolution", static_cast<int>(g.params.resolution));
+    p.set("u_ltt_exit_min", glm::vec3(g.params.exit_min[0], g.params.exit_min[1], g.params.exit_min[2]));
+    p.set("u_ltt_exit_max", glm::vec3(g.params.exit_max[0], g.params.exit_max[1], g.params.exit_max[2]));
+    p.set("u_ltt_max_path", g.params.max_path);
+    p.set("u_glass_absorption", glm::vec3(g.params.absorption[0], g.params.absorption[1], g.params.absorption[2]));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.table.get());
+  }
+  void set_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
+    glm::mat3 rotation;
+    float scale = 1;
+    decompose(scene.objects[g.object].transform, rotation, scale);
+    p.set("u_model", to_glm(scene.objects[g.object].transform));
+    p.set("u_rotation", rotation);
+    p.set("u_scale", scale);
+  }
+  void ensure_rect_indices(std::uint64_t prims) {
+    if (prims <= rect_capacity) return;
+    std::vector<std::uint32_t> idx(prims * 6);
+    for (std::uint64_t p = 0; p < prims; ++p) {
+      const auto b = static_cast<std::uint32_t>(4 * p);
+      const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
+      std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
+    }
+    rect_indices = gl::make_buffer();
+    glNamedBufferStorage(rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
+    rect_capacity = prims;
+  }
+  void ensure_target(Target& t, int size, std::uint32_t planes) {
+    if (t.size == size && t.planes == planes && t.fbo.get()) return;
+    t.size = size;
+    t.planes = planes;
+    t.target = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.target.get(), 1, GL_RGBA32F, size, size);
+    t.depth = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
+    t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(t.illumination.get(), 1, GL_RGBA32F, size, size, static_cast<GLsizei>(planes));
+    for (GLuint tex : {t.target.get(), t.illumination.get()}) {
+      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glTextureParameteri(t.target.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.target.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    t.fbo = gl::make_framebuffer();
+  }
+};
+
+GlassEngine::~GlassEngine() = default;
+
+Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
+                                                         const std::vector<LightTransportTable>& tables,
+                                                         const std::vector<GpuMesh>& meshes,
+                                                         std::function<void(std::uint32_t)> draw_object) {
+  std::unique_ptr<GlassEngine> e(new GlassEngine());
+  e->impl_ = std::make_unique<Impl>();
+  Impl& s = *e->impl_;
+  s.draw_object = std::move(draw_object);
+  const std::string version = "#version 450 core\n";
+  const std::string rays_src = version + shaders::k_optics_glsl + shaders::k_lighting_glsl + shaders::k_transport_glsl +
+                               shaders::k_glass_rays_comp_glsl;
+  const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
+  const std::string surface_fs = version + shaders::k_optics_glsl + shaders::k_glass_surface_frag_glsl;
+  const std::string stride = "#define PRIM_STRIDE 6\n";
+  const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
+  const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
+  auto rays = gl::Program::build_compute("glass_rays", rays_src.c_str());
+  if (!rays) return rays.error();
+  s.rays = std::move(*rays);
+  auto geometry = gl::Program::build_compute("glass_geometry", shaders::k_glass_geometry_comp_glsl);
+  if (!geometry) return geometry.error();
+  s.geometry = std::move(*geometry);
+  auto target = gl::Program::build("glass_target", shaders::k_glass_target_vert_glsl, shaders::k_glass_target_frag_glsl);
+  if (!target) return target.error();
+  s.target_program = std::move(*target);
+  auto illum = gl::Program::build("glass_illumination", illum_vs.c_str(), illum_fs.c_str());
+  if (!illum) return illum.error();
+  s.illumination = std::move(*illum);
+  auto surface = gl::Program::build("glass_surface", surface_vs.c_str(), surface_fs.c_str());
+  if (!surface) return surface.error();
+  s.surface = std::move(*surface);
+
+  for (const LightTransportTable& t : tables) {
+    Impl::Glass g;
+    g.object = t.object;
+    g.mesh = &meshes[scene.objects[t.object].mesh_index];
+    g.vertices = t.vertex_count;
+    g.triangles = static_cast<std::uint32_t>(g.mesh->index_count / 3);
+    g.params = t;
+    g.params.words.clear();
+    g.table = gl::make_buffer();
+    glNamedBufferStorage(g.table.get(), static_cast<GLsizeiptr>(t.words.size() * 4), t.words.data(), 0);
+    g.rays = gl::make_buffer();
+    glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+    s.glass.push_back(std::move(g));
+  }
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    if (is_transparent(scene.objects[i].role)) continue;
+    Impl::Target t;
+    t.object = i;
+    s.targets.push_back(std::move(t));
+  }
+  s.sum = gl::make_buffer();
+  glNamedBufferStorage(s.sum.get(), 16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+  s.empty_vao = gl::make_vertex_array();
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("glass set-up"));
+  return e;
+}
+
+Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& co,
+                                 const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
+                                 const std::function<void(const gl::Program&)>& set_light_uniforms) {
+  Impl& s = *impl_;
+  const Light& light = scene.lights[li];
+  // 1. Outgoing rays of every transparent vertex (§4.1) and their mean direction.
+  const std::int32_t zeros[4] = {0, 0, 0, 0};
+  glNamedBufferSubData(s.sum.get(), 0, sizeof zeros, zeros);
+  s.rays.use();
+  set_light_uniforms(s.rays);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.sum.get());
+  for (Impl::Glass& g : s.glass) {
+    s.set_table(s.rays, g);
+    s.set_pose(s.rays, scene, g);
+    s.rays.set("u_vertex_count", g.vertices);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+    glDispatchCompute((g.vertices + 63) / 64, 1, 1);
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::int32_t sum[4] = {};
+  glGetNamedBufferSubData(s.sum.get(), 0, sizeof sum, sum);  // one 16-byte read-back per light
+  Vec3d travel{static_cast<double>(sum[0]), static_cast<double>(sum[1]), static_cast<double>(sum[2])};
+  double len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
+  if (len < 1.0) {  // nothing transmitted: any frame will do
+    travel = {light.direction[0], light.direction[1], light.direction[2]};
+    if (light.type == LightType::kPoint) travel = {0, -1, 0};
+    len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
+  }
+  for (double& c : travel) c /= len;
+
+  const int size = static_cast<int>(std::clamp<std::uint32_t>(co.glass_map_size, 1, 8192));
+  const std::uint32_t wanted = std::clamp<std::uint32_t>(co.glass_planes, 1, kMaxGlassPlanes);
+  glDisable(GL_CULL_FACE);
+  for (Impl::Target& t : s.targets) {
+    // 2. The virtual camera along the mean transmitted direction, tight
+    // around the target, and n planes across its depth (§4.2).
+    const Object& o = scene.objects[t.object];
+    t.frame = make_frame(travel, world_vertices[t.object], {o.transform[12], o.transform[13], o.transform[14]});
+    const float hv = t.frame.half[1];
+    const std::uint32_t planes = hv > 1e-5f * std::max(t.frame.half[0], t.frame.half[2]) ? wanted : 1;
+    t.plane_v.resize(planes);
+    for (std::uint32_t k = 0; k < planes; ++k) t.plane_v[k] = planes == 1 ? 0.0f : hv - 2.0f * hv * static_cast<float>(k) / static_cast<float>(planes - 1);
+    s.ensure_target(t, size, planes);
+    const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]), static_cast<float>(t.frame.origin[2]));
+    const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
+        W(t.frame.w[0], t.frame.w[1], t.frame.w[2]), half(t.frame.half[0], t.frame.half[1], t.frame.half[2]);
+    auto set_frame = [&](const gl::Program& p) {
+      p.set("u_origin", origin);
+      p.set("u_U", U);
+      p.set("u_V", V);
+      p.set("u_W", W);
+      p.set("u_half", half);
+    };
+
+    // 3. The target's normals and depth from the virtual camera.
+    glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.target.get(), 0);
+    glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+    glViewport(0, 0, size, size);
+    const float none[4] = {0, 0, 0, -1e30f};
+    glClearNamedFramebufferfv(t.fbo.get(), GL_COLOR, 0, none);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+    s.target_program.use();
+    set_frame(s.target_program);
+    const glm::mat4 model = to_glm(o.transform);
+    s.target_program.set("u_model", model);
+    s.target_program.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+    s.draw_object(t.object);
+
+    // 4. Illumination textures: every glass triangle's volume cut by every
+    // plane, splatted with exact coverage and eq. 3.
+    glClearTexImage(t.illumination.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
+    glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, 0, 0);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    t.primitives.resize(s.glass.size());
+    t.primitive_capacity.resize(s.glass.size(), 0);
+    for (std::size_t gi = 0; gi < s.glass.size(); ++gi) {
+      Impl::Glass& g = s.glass[gi];
+      const std::uint64_t prims = std::uint64_t{g.triangles} * planes;
+      if (prims > t.primitive_capacity[gi]) {
+        t.primitives[gi] = gl::make_buffer();
+        glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
+        t.primitive_capacity[gi] = prims;
+      }
+      s.ensure_rect_indices(g.triangles);
+      s.geometry.use();
+      set_frame(s.geometry);
+      set_light_uniforms(s.geometry);
+      s.geometry.set("u_model", to_glm(scene.objects[g.object].transform));
+      s.geometry.set("u_triangle_count", g.triangles);
+      s.geometry.set("u_plane_count", planes);
+      glProgramUniform1fv(s.geometry.id(), glGetUniformLocation(s.geometry.id(), "u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
+      s.geometry.set("u_map_size", static_cast<float>(size));
+      s.geometry.set("u_max_magnification", co.max_magnification);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, t.primitives[gi].get());
+      glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      s.illumination.use();
+      s.illumination.set("u_map_size", static_cast<float>(size));
+      glBindTextureUnit(0, t.target.get());
+      glBindVertexArray(s.empty_vao.get());
+      glVertexArrayElementBuffer(s.empty_vao.get(), s.rect_indices.get());
+      for (std::uint32_t k = 0; k < planes; ++k) {
+        glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
+        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(g.triangles * 6), GL_UNSIGNED_INT, nullptr,
+                                 static_cast<GLint>(k * g.triangles * 4));
+      }
+    }
+    glDisable(GL_BLEND);
+    glBindVertexArray(0);
+    t.valid = true;
+  }
+  return gl::check_gl("glass caustics");
+}
+
+std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object) const {
+  for (const Impl::Target& t : impl_->targets) {
+    if (t.object != object || !t.valid) continue;
+    const float texel = 2.0f * std::max(t.frame.half[0], t.frame.half[2]) / static_cast<float>(t.size);
+    return Binding{t.frame, t.plane_v, t.illumination.get(), t.target.get(), 2.0f * texel + 1e-4f * t.frame.half[1]};
+  }
+  return std::nullopt;
+}
+
+void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
+                             GLuint scene_color, GLuint scene_depth, float march_length) {
+  Impl& s = *impl_;
+  GLint w = 0, h = 0;
+  glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_WIDTH, &w);
+  glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_HEIGHT, &h);
+  if (w != s.copy_w || h != s.copy_h) {
+    s.color_copy = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(s.color_copy.get(), 1, GL_RGBA32F, w, h);
+    s.depth_copy = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(s.depth_copy.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    for (GLuint tex : {s.color_copy.get(), s.depth_copy.get()}) {
+      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    s.copy_w = w;
+    s.copy_h = h;
+  }
+  glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, 0, 0, 0, s.color_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, 0, 0, 0, s.depth_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  s.surface.use();
+  s.surface.set("u_view_proj", view_proj);
+  s.surface.set("u_eye", eye);
+  s.surface.set("u_sky", sky);
+  s.surface.set("u_march_length", march_length);
+  glBindTextureUnit(0, s.color_copy.get());
+  glBindTextureUnit(1, s.depth_copy.get());
+  for (const Impl::Glass& g : s.glass) {
+    s.set_table(s.surface, g);
+    s.set_pose(s.surface, scene, g);
+    s.surface.set("u_ior", scene.objects[g.object].material.ior);
+    g.mesh->draw();
+  }
+  glDisable(GL_CULL_FACE);
+  glBindVertexArray(0);
+}
+
+std::uint64_t GlassEngine::gpu_bytes() const {
+  std::uint64_t b = 0;
+  for (const Impl::Glass& g : impl_->glass) {
+    b += std::uint64_t{g.vertices} * (std::uint64_t{g.params.resolution} * g.params.resolution * 16 + 48);
+  }
+  for (const Impl::Target& t : impl_->targets) {
+    b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
+    for (std::uint64_t c : t.primitive_capacity) b += c * kPrimitiveBytes;
+  }
+  return b + impl_->rect_capacity * 24;
+}
+
+}  // namespace caustix::runtime

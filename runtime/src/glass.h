@@ -1,0 +1,68 @@
+#pragma once
+// Caustics from transparent objects on the GPU (seed 002 §4): per light,
+// the outgoing rays of every transparent vertex from its light-transport
+// table (glass_rays.comp), the mean transmitted direction, and per target
+// (every opaque receiver) a virtual camera along it with n virtual planes
+// across the target's depth; the target's normal/depth map from that
+// camera; and per plane an illumination texture, the intersection triangles
+// of the illumination volumes accumulated with eq. 3 (glass_geometry.comp,
+// glass_illumination.frag, exact-coverage splatting as for water).
+// Internal to the runtime.
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/level_map.h"
+#include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
+#include "gl_program.h"
+#include "gpu_mesh.h"
+
+namespace caustix::runtime {
+
+class GlassEngine {
+ public:
+  // `meshes` are the scene's GPU meshes (by mesh index) and must outlive the
+  // engine. draw_object(i) issues object i's draw call.
+  static Result<std::unique_ptr<GlassEngine>> create(const SceneDesc& scene,
+                                                     const std::vector<LightTransportTable>& tables,
+                                                     const std::vector<GpuMesh>& meshes,
+                                                     std::function<void(std::uint32_t)> draw_object);
+  ~GlassEngine();
+
+  // Illumination textures of `light` for every target, for the current
+  // transforms. The light's shadow map must be bound (units 0, 1) and its
+  // uniforms known: the rays use it for the glass vertices' visibility.
+  // world_vertices[i] are object i's vertices in world space.
+  Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
+                      const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
+                      const std::function<void(const gl::Program&)>& set_light_uniforms);
+
+  struct Binding {
+    BoundingFrame frame;       // virtual camera: V points back along the mean transmitted direction
+    std::vector<float> plane_v;  // plane coordinates along V, decreasing
+    GLuint illumination;       // RGBA32F 2D array, one layer per plane
+    GLuint target;             // RGBA32F: normal + frame V of the first surface
+    float tolerance;           // self-shadow tolerance along V
+  };
+  // The target's textures from the last update_light(), if it has any.
+  std::optional<Binding> binding(std::uint32_t object) const;
+
+  // Draws the transparent objects as glass (seed 002 §3: view rays through
+  // the table) over the opaque scene's colour and depth.
+  void draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
+                  GLuint scene_color, GLuint scene_depth, float march_length);
+
+  std::uint64_t gpu_bytes() const;
+
+ private:
+  GlassEngine() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caustix::runtime
