@@ -72,14 +72,89 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_edges(const Triang
   return out;
 }
 
+struct TransportTracer::Impl {
+  Surface surface;
+  RayCaster caster;
+  double eps, eta_in, eta_out;
+  std::uint32_t max_bounces;
+  Impl(const Material& m, const TriangleMesh& mesh, std::uint32_t bounces, std::vector<Vec3d> pos, std::vector<Vec3d> geo)
+      : surface{mesh, std::move(pos), std::move(geo)},
+        caster(surface.pos, mesh.triangles, std::vector<std::uint32_t>(mesh.triangles.size(), 0)),
+        eps(0), eta_in(1.0 / m.ior), eta_out(m.ior), max_bounces(bounces) {}
+};
+
+TransportTracer::TransportTracer(const Material& material, const TriangleMesh& mesh, std::uint32_t max_bounces) {
+  std::vector<Vec3d> pos, geo;
+  pos.reserve(mesh.positions.size());
+  for (const auto& p : mesh.positions) pos.push_back(to_d(p));
+  for (const auto& t : mesh.triangles) geo.push_back(unit(cross(sub(pos[t[1]], pos[t[0]]), sub(pos[t[2]], pos[t[0]]))));
+  Vec3d lo = pos[0], hi = pos[0];
+  for (const auto& p : pos) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  }
+  const Vec3d ext = sub(hi, lo);
+  impl_ = std::make_unique<Impl>(material, mesh, max_bounces, std::move(pos), std::move(geo));
+  // Offset that keeps a ray from hitting the surface it starts on.
+  impl_->eps = 1e-6 * std::max(std::sqrt(dot(ext, ext)), 1e-6);
+}
+
+TransportTracer::~TransportTracer() = default;
+
+TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::uint64_t* rays) const {
+  const Impl& m = *impl_;
+  const Surface& s = m.surface;
+  const double eps = m.eps;
+  TransportEntry e;
+  const Vec3d p = s.pos[v];
+  const Vec3d n = unit(to_d(s.mesh.normals[v]));
+  std::uint64_t casts = 1;
+  // Does the object itself block this direction before the vertex?
+  if (m.caster.first_hit(add(p, mul(omega, eps)), omega)) {
+    e.status = TransportStatus::kOccluded;
+    if (rays) *rays += casts;
+    return e;
+  }
+  const double cos_i = std::max(dot(omega, n), 0.0);
+  // Entry: refraction at the vertex normal (seed 000 eq. 2-8), Fresnel.
+  Vec3d d = *refract(mul(omega, -1.0), n, m.eta_in);  // air -> glass never reflects totally
+  double transmittance = fresnel_transmittance(cos_i, m.eta_in);
+  double path = 0;
+  Vec3d o = p;
+  e.status = TransportStatus::kTrapped;
+  for (std::uint32_t bounce = 0; bounce <= m.max_bounces; ++bounce) {
+    ++casts;
+    const auto hit = m.caster.first_hit_triangle(add(o, mul(d, eps)), d);
+    if (!hit) break;  // numerically leaked through a seam: counted as trapped
+    const double len = hit->distance + eps;
+    const Vec3d q = add(o, mul(d, len));
+    path += len;
+    Vec3d nn = s.normal_at(hit->triangle, q);
+    if (dot(nn, d) <= 0) nn = s.geo_normal[hit->triangle];
+    if (dot(nn, d) <= 0) break;  // hit from outside: not a closed surface here
+    if (auto out = refract(d, mul(nn, -1.0), m.eta_out)) {
+      e.status = TransportStatus::kLeaves;
+      e.exit = q;
+      e.direction = *out;
+      e.transmittance = transmittance * fresnel_transmittance(dot(d, nn), m.eta_out);
+      e.path = path;
+      e.bounces = static_cast<std::uint8_t>(bounce);
+      break;
+    }
+    // Total internal reflection (reflectance 1): follow it inside.
+    d = unit(sub(d, mul(nn, 2.0 * dot(d, nn))));
+    o = q;
+  }
+  if (rays) *rays += casts;
+  return e;
+}
+
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
                                           const TransportOptions& opt, TransportReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
-  Surface s{mesh, {}, {}};
-  s.pos.reserve(mesh.positions.size());
-  for (const auto& p : mesh.positions) s.pos.push_back(to_d(p));
-  for (const auto& t : mesh.triangles) s.geo_normal.push_back(unit(cross(sub(s.pos[t[1]], s.pos[t[0]]), sub(s.pos[t[2]], s.pos[t[0]]))));
-  const RayCaster caster(s.pos, mesh.triangles, std::vector<std::uint32_t>(mesh.triangles.size(), 0));
+  const TransportTracer tracer(material, mesh, opt.max_bounces);
 
   LightTransportTable table;
   table.object = object;
@@ -96,71 +171,22 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     }
   }
   const Vec3d ext = sub(to_d(table.exit_max), to_d(table.exit_min));
-  const double diagonal = std::sqrt(dot(ext, ext));
   // Each straight segment inside is at most the box diagonal long.
-  table.max_path = static_cast<float>(diagonal * (opt.max_bounces + 1));
+  table.max_path = static_cast<float>(std::sqrt(dot(ext, ext)) * (opt.max_bounces + 1));
   const std::size_t per_vertex = std::size_t{opt.resolution} * opt.resolution;
   table.words.assign(mesh.positions.size() * per_vertex * 4, 0);
 
-  // Offsets that keep a ray from hitting the surface it starts on.
-  const double eps = 1e-6 * std::max(diagonal, 1e-6);
-  const double eta_in = 1.0 / material.ior, eta_out = material.ior;
   std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0};
-
   tbb::parallel_for(std::size_t{0}, mesh.positions.size(), [&](std::size_t v) {
-    const Vec3d p = s.pos[v];
     const Vec3d n = unit(to_d(mesh.normals[v]));
     std::uint64_t local_rays = 0, n_leave = 0, n_trap = 0, n_occ = 0, n_refl = 0;
     for (std::uint32_t row = 0; row < opt.resolution; ++row) {
       for (std::uint32_t col = 0; col < opt.resolution; ++col) {
-        TransportEntry e;
-        const Vec3d omega = grid_direction(n, opt.resolution, row, col);  // towards the light
-        // Does the object itself block this direction before the vertex?
-        ++local_rays;
-        if (caster.first_hit(add(p, mul(omega, eps)), omega)) {
-          e.status = TransportStatus::kOccluded;
-          table.store(table.entry_index(static_cast<std::uint32_t>(v), row, col), e);
-          ++n_occ;
-          continue;
-        }
-        const double cos_i = std::max(dot(omega, n), 0.0);
-        // Entry: refraction at the vertex normal (seed 000 eq. 2-8), Fresnel.
-        Vec3d d = *refract(mul(omega, -1.0), n, eta_in);  // air -> glass never reflects totally
-        double transmittance = fresnel_transmittance(cos_i, eta_in);
-        double path = 0;
-        Vec3d o = p;
-        e.status = TransportStatus::kTrapped;
-        for (std::uint32_t bounce = 0; bounce <= opt.max_bounces; ++bounce) {
-          ++local_rays;
-          const auto hit = caster.first_hit_triangle(add(o, mul(d, eps)), d);
-          if (!hit) break;  // numerically leaked through a seam: counted as trapped
-          const double len = hit->distance + eps;
-          const Vec3d q = add(o, mul(d, len));
-          path += len;
-          Vec3d nn = s.normal_at(hit->triangle, q);
-          if (dot(nn, d) <= 0) nn = s.geo_normal[hit->triangle];
-          if (dot(nn, d) <= 0) break;  // hit from outside: not a closed surface here
-          const Vec3d inward = mul(nn, -1.0);
-          if (auto out = refract(d, inward, eta_out)) {
-            transmittance *= fresnel_transmittance(dot(d, nn), eta_out);
-            e.status = TransportStatus::kLeaves;
-            e.exit = q;
-            e.direction = *out;
-            e.bounces = static_cast<std::uint8_t>(bounce);
-            break;
-          }
-          // Total internal reflection (reflectance 1): follow it inside.
-          d = unit(sub(d, mul(nn, 2.0 * dot(d, nn))));
-          o = q;
-        }
-        if (e.status == TransportStatus::kLeaves) {
-          e.transmittance = transmittance;
-          e.path = path;
-          ++n_leave;
-          n_refl += e.bounces > 0 ? 1 : 0;
-        } else {
-          ++n_trap;
-        }
+        const TransportEntry e = tracer.trace(static_cast<std::uint32_t>(v), grid_direction(n, opt.resolution, row, col), &local_rays);
+        n_leave += e.status == TransportStatus::kLeaves ? 1 : 0;
+        n_trap += e.status == TransportStatus::kTrapped ? 1 : 0;
+        n_occ += e.status == TransportStatus::kOccluded ? 1 : 0;
+        n_refl += e.status == TransportStatus::kLeaves && e.bounces > 0 ? 1 : 0;
         table.store(table.entry_index(static_cast<std::uint32_t>(v), row, col), e);
       }
     }

@@ -8,6 +8,7 @@
 // thread count.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +40,22 @@ struct TransportReport {
 // has: the boundary of an open mesh (or edges of inconsistent winding).
 // Vertices at the same position are one vertex here.
 std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_edges(const TriangleMesh& mesh);
+
+// Exact transport of one incident direction at one vertex (what each table
+// entry stores, before quantisation); for the table and as the oracle of
+// the look-up tests. Thread-safe.
+class TransportTracer {
+ public:
+  TransportTracer(const Material& material, const TriangleMesh& mesh, std::uint32_t max_bounces);
+  ~TransportTracer();
+  // `to_light`: unit object-space direction towards the light. `rays`
+  // counts the ray casts.
+  TransportEntry trace(std::uint32_t vertex, const Dir3& to_light, std::uint64_t* rays = nullptr) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Traces the table of one transparent object over `mesh` (the Draco-decoded
 // mesh, whose vertex order the runtime sees).

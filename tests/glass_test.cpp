@@ -1,0 +1,302 @@
+// Glass caustics (seed 002) with physics as the oracle: the glass ball's
+// transmitted flux and focal spot against an exact 2-D trace of a sphere;
+// table look-ups against direct traces; an IOR-1 object leaves the light
+// unchanged; rotating glass and light together rotates the image.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <tbb/global_control.h>
+
+#include "caustix/bake/bake.h"
+#include "caustix/bake/light_transport.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
+#include "optics_oracle.h"
+
+namespace caustix {
+namespace {
+
+using test::fresnel_t;
+using test::kPi;
+
+const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
+
+nlohmann::json scene(const std::string& name) {
+  std::ifstream f(kScenes + name + ".json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  for (auto& o : j["objects"]) o["mesh"] = kScenes + o["mesh"].get<std::string>();
+  return j;
+}
+
+runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
+  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_test.json";
+  std::ofstream(path) << j.dump();
+  auto baked = bake::bake_scene(path.string(), opt);
+  EXPECT_TRUE(baked.ok()) << baked.error().message;
+  auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
+  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+  return std::move(*loaded);
+}
+
+class Glass : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    auto ctx = runtime::HeadlessContext::create();
+    ASSERT_TRUE(ctx.ok()) << ctx.error().message;
+    context_ = std::move(*ctx);
+  }
+  static void TearDownTestSuite() { context_.reset(); }
+
+  // Irradiance / E0 of the floor over the whole 4 x 4 m floor.
+  static std::vector<float> floor_irradiance(const nlohmann::json& j, int n, const bake::BakeOptions& opt = {}) {
+    auto r = runtime::Renderer::create(bake_and_load(j, opt));
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    runtime::IrradianceRequest q;
+    q.receiver = "floor";
+    q.x0 = q.z0 = -2;
+    q.x1 = q.z1 = 2;
+    q.width = q.height = n;
+    auto img = (*r)->render_irradiance(q);
+    EXPECT_TRUE(img.ok()) << img.error().message;
+    std::vector<float> e;
+    for (std::size_t i = 0; i < img->rgb.size(); i += 3) {
+      EXPECT_TRUE(std::isfinite(img->rgb[i])) << "non-finite irradiance";
+      e.push_back(img->rgb[i]);
+    }
+    return e;
+  }
+
+  static std::unique_ptr<runtime::HeadlessContext> context_;
+};
+std::unique_ptr<runtime::HeadlessContext> Glass::context_;
+
+// Exact 2-D trace of the ball lens: a ray at distance b from the axis
+// refracts into and out of the sphere (radius r, centre height yc, index
+// n) and lands on y = 0 at distance rho from the axis, carrying
+// T(theta_i)^2 (the exit transmittance equals the entry one by symmetry).
+struct Landing {
+  double rho, weight;
+};
+std::vector<Landing> ball_lens(double r, double yc, double n, int samples) {
+  std::vector<Landing> out;
+  for (int i = 0; i < samples; ++i) {
+    const double b = r * (i + 0.5) / samples;
+    const double px = b, py = yc + std::sqrt(r * r - b * b);
+    const double nx = px / r, ny = (py - yc) / r;  // outward normal at entry
+    const double cos_i = ny;                        // incident (0, -1)
+    const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+    // Refracted direction: eta d + (eta cos_i - cos_t) normal.
+    const double eta = 1 / n;
+    double dx = eta * 0 + (eta * cos_i - cos_t) * nx, dy = eta * -1 + (eta * cos_i - cos_t) * ny;
+    const double t = -2 * ((px - 0) * dx + (py - yc) * dy) / (dx * dx + dy * dy);
+    const double qx = px + t * dx, qy = py + t * dy;
+    const double mx = qx / r, my = (qy - yc) / r;  // outward normal at exit
+    const double c1 = dx * mx + dy * my;           // cos of the internal angle
+    const double k = 1 - n * n * (1 - c1 * c1);
+    const double ox = n * dx + (std::sqrt(k) - n * c1) * mx, oy = n * dy + (std::sqrt(k) - n * c1) * my;
+    const double s = -qy / oy;
+    const double T = fresnel_t(cos_i, n);
+    out.push_back({std::fabs(qx + s * ox), T * T * 2 * kPi * b * (r / samples)});
+  }
+  return out;
+}
+
+double radius_enclosing(std::vector<Landing> l, double fraction) {
+  std::sort(l.begin(), l.end(), [](const Landing& a, const Landing& b) { return a.rho < b.rho; });
+  double total = 0, acc = 0;
+  for (const auto& x : l) total += x.weight;
+  for (const auto& x : l) {
+    acc += x.weight;
+    if (acc >= fraction * total) return x.rho;
+  }
+  return l.back().rho;
+}
+
+TEST_F(Glass, BallLensFluxAndFocalSpot) {
+  const int n = 512;
+  const double half = 2.0, pix = 2 * half / n;
+  const auto e = floor_irradiance(scene("glass_ball"), n);
+  // Expected: T_in T_out of what the ball intercepts, that lands on the floor.
+  auto analytic = ball_lens(0.5, 0.75, 1.5, 20000);
+  std::vector<Landing> on_floor;
+  for (const auto& l : analytic) {
+    if (l.rho < half) on_floor.push_back(l);
+  }
+  double expected = 0;
+  for (const auto& l : on_floor) expected += l.weight;
+  // Measured: everything on the floor minus the direct light outside the
+  // ball's shadow (its silhouette is the UV sphere's 48-gon equator).
+  const double shadow = 0.5 * 48 * std::sin(2 * kPi / 48) * 0.25;
+  double total = 0;
+  for (float v : e) total += v * pix * pix;
+  const double transmitted = total - (4 * half * half - shadow);
+  EXPECT_NEAR(transmitted / expected, 1.0, 0.05) << "transmitted " << transmitted << " expected " << expected;
+
+  // Focal spot: the radius holding half of the transmitted flux, and the peak on the axis.
+  std::vector<Landing> measured;
+  const double r_shadow = 0.5 * std::cos(kPi / 48);
+  std::size_t peak = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double x = -half + (j + 0.5) * pix, z = -half + (i + 0.5) * pix, rho = std::hypot(x, z);
+      const std::size_t k = static_cast<std::size_t>(i) * n + j;
+      if (e[k] > e[peak]) peak = k;
+      const double direct = rho > r_shadow ? 1.0 : 0.0;
+      measured.push_back({rho, std::max(0.0, e[k] - direct) * pix * pix});
+    }
+  }
+  const double px = -half + (peak % n + 0.5) * pix, pz = -half + (peak / n + 0.5) * pix;
+  EXPECT_LT(std::hypot(px, pz), 1.5 * pix) << "peak at (" << px << ", " << pz << ")";
+  const double r50 = radius_enclosing(on_floor, 0.5), m50 = radius_enclosing(measured, 0.5);
+  std::printf("[glass_ball] transmitted %.4f / expected %.4f; R50 %.4f m measured vs %.4f m exact; peak E/E0 %.1f\n",
+              transmitted, expected, m50, r50, e[peak]);
+  EXPECT_NEAR(m50, r50, std::max(2 * pix, 0.1 * r50));
+}
+
+TEST_F(Glass, IorOneIsTransparent) {
+  nlohmann::json j = scene("glass_ball");
+  j["objects"][1]["material"]["ior"] = 1.0;
+  const int n = 256;
+  // No caustic, no shadow: the identity path, Fresnel T = 1 at n = 1. Flux
+  // is conserved; outside the ball's shadow nothing changes; inside, the
+  // bilinear interpolation of exit points between grid directions moves
+  // the triangles' landing corners, so the irradiance ripples about 1 by
+  // an amount that falls with the table resolution (a ring of 4 pixels at
+  // the silhouette, where the glass shadow map's filtered edge meets the
+  // splatted light, is left out).
+  std::vector<double> ripple;
+  for (std::uint32_t res : {16u, 32u}) {
+    bake::BakeOptions opt;
+    opt.transport.resolution = res;
+    const auto e = floor_irradiance(j, n, opt);
+    double sum = 0, inner = 0, outer = 0;
+    int n_inner = 0, n_outer = 0;
+    const double pix = 4.0 / n;
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < n; ++k) {
+        const double v = e[static_cast<std::size_t>(i) * n + k];
+        const double rho = std::hypot(-2 + (k + 0.5) * pix, -2 + (i + 0.5) * pix);
+        sum += v;
+        if (rho < 0.5 - 4 * pix) {
+          inner += std::fabs(v - 1);
+          ++n_inner;
+        } else if (rho > 0.5 + 4 * pix) {
+          outer += std::fabs(v - 1);
+          ++n_outer;
+        }
+      }
+    }
+    std::printf("[ior 1, R=%u] mean E/E0 %.5f; mean |E/E0 - 1| inside %.4f, outside %.6f\n", res, sum / e.size(), inner / n_inner,
+                outer / n_outer);
+    EXPECT_NEAR(sum / e.size(), 1.0, 0.002);
+    EXPECT_LT(outer / n_outer, 1e-4);
+    ripple.push_back(inner / n_inner);
+  }
+  EXPECT_LT(ripple[0], 0.15);
+  EXPECT_LT(ripple[1], 0.6 * ripple[0]);
+}
+
+TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {
+  nlohmann::json a = scene("glass_teapot");
+  a["objects"].erase(1);  // the block would break the symmetry of the floor
+  nlohmann::json b = a;
+  b["objects"][1]["transform"]["rotate_deg"] = {0, 120, 0};
+  b["lights"][0]["direction"] = {0.2, -1.0, -0.35};  // (x, z) -> (z, -x): 90 degrees about y
+  const int n = 256;
+  const auto ea = floor_irradiance(a, n), eb = floor_irradiance(b, n);
+  double diff = 0, sa = 0, sb = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int jj = 0; jj < n; ++jj) {
+      const double va = ea[static_cast<std::size_t>(i) * n + jj];
+      const double vb = eb[static_cast<std::size_t>(n - 1 - jj) * n + i];
+      diff += std::fabs(va - vb);
+      sa += va;
+      sb += vb;
+    }
+  }
+  // Not vacuous: there is a caustic, and the unrotated images differ.
+  double unrotated = 0;
+  for (std::size_t k = 0; k < ea.size(); ++k) unrotated += std::fabs(ea[k] - eb[k]);
+  EXPECT_GT(*std::max_element(ea.begin(), ea.end()), 2.0f);
+  EXPECT_GT(unrotated / sa, 0.05);
+  std::printf("[glass_teapot] rotated: relative L1 %.4f (unrotated %.4f), flux ratio %.5f\n", diff / sa, unrotated / sa, sb / sa);
+  EXPECT_NEAR(sb / sa, 1.0, 0.002);
+  EXPECT_LT(diff / sa, 0.03);
+}
+
+TEST(LightTransport, LookupAgreesWithDirectTraces) {
+  bake::BakeOptions opt;
+  const runtime::RuntimeScene s = bake_and_load(scene("glass_ball"), opt);
+  ASSERT_EQ(s.transport_tables.size(), 1u);
+  const LightTransportTable& t = s.transport_tables[0];
+  const Object& ball = s.desc.objects[t.object];
+  const TriangleMesh& mesh = s.meshes[ball.mesh_index];
+  const bake::TransportTracer tracer(ball.material, mesh, opt.transport.max_bounces);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_dir = 0, worst_pos = 0, worst_t = 0;
+  int compared = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const auto v = static_cast<std::uint32_t>(rng() % t.vertex_count);
+    const Dir3 nrm{mesh.normals[v][0], mesh.normals[v][1], mesh.normals[v][2]};
+    Dir3 w{u(rng), u(rng), u(rng)};
+    const double len = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (len > 1 || len < 1e-3) continue;
+    for (double& c : w) c /= len;
+    if (w[0] * nrm[0] + w[1] * nrm[1] + w[2] * nrm[2] < 0.3) continue;  // away from grazing (T -> 0 there)
+    const TransportEntry exact = tracer.trace(v, w);
+    const TransportEntry got = lookup(t, v, nrm, w);
+    if (exact.status != TransportStatus::kLeaves) continue;
+    ASSERT_EQ(got.status, TransportStatus::kLeaves);
+    const double c = exact.direction[0] * got.direction[0] + exact.direction[1] * got.direction[1] +
+                     exact.direction[2] * got.direction[2];
+    worst_dir = std::max(worst_dir, std::acos(std::min(1.0, c)) * 180 / kPi);
+    worst_pos = std::max(worst_pos, std::hypot(exact.exit[0] - got.exit[0], exact.exit[1] - got.exit[1], exact.exit[2] - got.exit[2]));
+    worst_t = std::max(worst_t, std::fabs(exact.transmittance - got.transmittance));
+    ++compared;
+  }
+  std::printf("[ltt R=%u] %d look-ups: worst exit-direction error %.3f deg, exit point %.4f m (unit sphere), T %.4f\n",
+              t.resolution, compared, worst_dir, worst_pos, worst_t);
+  ASSERT_GT(compared, 300);
+  // The bound stated in docs/glass.md for R = 16 on the unit sphere mesh
+  // (measured 0.93 deg, exit point 0.029 m, T 0.051 over 368 look-ups;
+  // bilinear interpolation error falls as 1/R^2).
+  EXPECT_LT(worst_dir, 2.5);
+  EXPECT_LT(worst_t, 0.08);
+}
+
+TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
+  nlohmann::json j = scene("glass_ball");
+  j["objects"][1]["mesh"] = kScenes + "../meshes/teapot.obj";  // the Utah teapot has open rims
+  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_open.json";
+  std::ofstream(path) << j.dump();
+  auto baked = bake::bake_scene(path.string(), {});
+  ASSERT_FALSE(baked.ok());
+  EXPECT_EQ(baked.error().code, ErrorCode::kInput);
+  EXPECT_NE(baked.error().message.find("boundary edge"), std::string::npos) << baked.error().message;
+  EXPECT_NE(baked.error().message.find("teapot.obj"), std::string::npos) << baked.error().message;
+}
+
+TEST(LightTransport, TableIsIndependentOfThreadCount) {
+  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_threads.json";
+  std::ofstream(path) << scene("glass_ball").dump();
+  std::vector<std::uint8_t> first;
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    auto baked = bake::bake_scene(path.string(), {});
+    ASSERT_TRUE(baked.ok()) << baked.error().message;
+    if (first.empty()) first = baked->cxb;
+    else EXPECT_EQ(first, baked->cxb);
+  }
+}
+
+}  // namespace
+}  // namespace caustix
