@@ -35,13 +35,18 @@ int main(int argc, char** argv) {
                  "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
                  "no albedo or ambient) instead of the beauty image");
   app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
-  app.add_option("--method", method, "water caustics: levelmap (smart slicing), uniform, volumetric, none")
+  app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
       ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "none"}))->capture_default_str();
   app.add_option("--planes", planes, "re-slice: uniform n pieces; smart eps = h/(2n) (default: as baked)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--epsilon", epsilon, "re-slice smart planes with this acceptance half-width, metres")
       ->check(CLI::Range(1e-9, 1e9));
   app.add_option("--caustics-size", caustics_size, "caustics map size S (S x S)")->check(CLI::Range(1, 8192))->capture_default_str();
+  std::uint32_t glass_planes = 4, glass_size = 512;
+  app.add_option("--glass-planes", glass_planes, "glass: virtual planes per target (seed 002 §4.2)")
+      ->check(CLI::Range(1, 16))->capture_default_str();
+  app.add_option("--glass-size", glass_size, "glass: illumination texture size (S x S)")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print the renderer and timings");
@@ -62,6 +67,8 @@ int main(int argc, char** argv) {
   if (planes > 0) caustics.planes = planes;
   if (epsilon > 0) caustics.epsilon = epsilon;
   caustics.map_size = caustics_size;
+  caustics.glass_planes = glass_planes;
+  caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
 
   const auto t0 = std::chrono::steady_clock::now();
