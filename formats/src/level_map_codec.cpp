@@ -1,20 +1,21 @@
 // LMAP and OBBS payloads (formats/SPEC.md). The position and diffuse maps are
 // one zstd frame; everything else is plain little-endian fields.
 
-#include <zstd.h>
-
 #include <cmath>
 
 #include "bytes.h"
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/scene.h"
 #include "chunk_decoder.h"
+#include "zstd_frame.h"
 
 namespace caustix {
 namespace {
 
 using cxb::detail::ByteWriter;
 using cxb::detail::ChunkDecoder;
+using cxb::detail::zstd_compress;
+using cxb::detail::zstd_decompress_exact;
 
 void put3(ByteWriter& w, const Vec3f& v) { for (float f : v) w.f32(f); }
 
@@ -112,11 +113,7 @@ std::vector<std::uint8_t> encode_level_map(const LevelMap& m) {
   put_planes(w, m.uniform_planes);
   put_planes(w, m.smart_planes);
 
-  const std::vector<std::uint8_t> raw = filter_maps(m);
-  std::vector<std::uint8_t> packed(ZSTD_compressBound(raw.size()));
-  const std::size_t n = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), kZstdLevel);
-  // Compression into a ZSTD_compressBound buffer cannot fail.
-  packed.resize(ZSTD_isError(n) ? 0 : n);
+  const std::vector<std::uint8_t> packed = zstd_compress(filter_maps(m), kZstdLevel);
   w.u32(static_cast<std::uint32_t>(packed.size()));
   w.raw(packed.data(), packed.size());
   return w.take();
@@ -191,15 +188,9 @@ Result<LevelMap> decode_level_map(std::span<const std::uint8_t> payload, const S
 
   const std::size_t texel_count = std::size_t{m.map_size} * m.map_size;
   const std::size_t raw_size = texel_count * 5;
-  const unsigned long long content = ZSTD_getFrameContentSize(packed.data(), packed.size());
-  if (content != raw_size) {
-    d.fail("map data does not hold a " + std::to_string(m.map_size) + "^2 position and diffuse map");
-    return d.error();
-  }
-  std::vector<std::uint8_t> raw(raw_size);
-  const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), packed.data(), packed.size());
-  if (ZSTD_isError(got) || got != raw_size) {
-    d.fail(std::string("map data does not decompress: ") + (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short"));
+  std::vector<std::uint8_t> raw;
+  if (!zstd_decompress_exact(d, packed, raw_size, "map data",
+                             "a " + std::to_string(m.map_size) + "^2 position and diffuse map", raw)) {
     return d.error();
   }
   unfilter_maps(raw, m);
