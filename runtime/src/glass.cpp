@@ -139,7 +139,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   auto geometry = gl::Program::build_compute("glass_geometry", shaders::k_glass_geometry_comp_glsl);
   if (!geometry) return geometry.error();
   s.geometry = std::move(*geometry);
-  auto target = gl::Program::build("glass_target", shaders::k_glass_target_vert_glsl, shaders::k_glass_target_frag_glsl);
+  auto target = gl::Program::build("glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl);
   if (!target) return target.error();
   s.target_program = std::move(*target);
   auto illum = gl::Program::build("glass_illumination", illum_vs.c_str(), illum_fs.c_str());
@@ -244,7 +244,18 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
     s.target_program.use();
-    set_frame(s.target_program);
+    s.target_program.set("u_origin", origin);
+    s.target_program.set("u_V", V);
+    // Orthographic along -V over the frame's U, W extents; nearer the light
+    // is smaller depth: clip = ((r.U) / hu, (r.W) / hw, -(r.V) / (1.01 hv)), r = p - origin.
+    glm::mat4 camera(0.0f);
+    const glm::vec3 rows[3] = {U / half.x, W / half.z, -V / (1.01f * half.y)};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) camera[c][r] = rows[r][c];
+      camera[3][r] = -glm::dot(rows[r], origin);
+    }
+    camera[3][3] = 1.0f;
+    s.target_program.set("u_view_proj", camera);
     const glm::mat4 model = to_glm(o.transform);
     s.target_program.set("u_model", model);
     s.target_program.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
