@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "optics_oracle.h"
+#include "scene_fixture.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,17 +27,10 @@ using runtime::CausticsMethod;
 using runtime::CausticsOptions;
 using runtime::IrradianceRequest;
 
-const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
 using test::fresnel_t;
 using test::kPi;
-
-// A canonical scene, edited, written where its mesh paths still resolve.
-nlohmann::json scene(const std::string& name) {
-  std::ifstream f(kScenes + name + ".json");
-  nlohmann::json j = nlohmann::json::parse(f);
-  for (auto& o : j["objects"]) o["mesh"] = kScenes + o["mesh"].get<std::string>();
-  return j;
-}
+using test::kScenes;
+nlohmann::json scene(const std::string& name) { return test::canonical_scene(name); }
 
 class Caustics : public ::testing::Test {
  protected:
@@ -48,9 +42,7 @@ class Caustics : public ::testing::Test {
   static void TearDownTestSuite() { context_.reset(); }
 
   std::unique_ptr<runtime::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
-    const auto path = std::filesystem::temp_directory_path() / "caustix_caustics_test.json";
-    std::ofstream(path) << j.dump();
-    auto baked = bake::bake_scene(path.string(), opt);
+    auto baked = bake::bake_scene(test::write_scene(j, "caustics_test"), opt);
     EXPECT_TRUE(baked.ok()) << baked.error().message;
     auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
     EXPECT_TRUE(loaded.ok()) << loaded.error().message;

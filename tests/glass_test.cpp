@@ -20,6 +20,7 @@
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 #include "optics_oracle.h"
+#include "scene_fixture.h"
 
 namespace caustix {
 namespace {
@@ -27,19 +28,11 @@ namespace {
 using test::fresnel_t;
 using test::kPi;
 
-const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
-
-nlohmann::json scene(const std::string& name) {
-  std::ifstream f(kScenes + name + ".json");
-  nlohmann::json j = nlohmann::json::parse(f);
-  for (auto& o : j["objects"]) o["mesh"] = kScenes + o["mesh"].get<std::string>();
-  return j;
-}
+using test::kScenes;
+nlohmann::json scene(const std::string& name) { return test::canonical_scene(name); }
 
 runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
-  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_test.json";
-  std::ofstream(path) << j.dump();
-  auto baked = bake::bake_scene(path.string(), opt);
+  auto baked = bake::bake_scene(test::write_scene(j, "glass_test"), opt);
   EXPECT_TRUE(baked.ok()) << baked.error().message;
   auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
   EXPECT_TRUE(loaded.ok()) << loaded.error().message;
@@ -276,9 +269,7 @@ TEST(LightTransport, LookupAgreesWithDirectTraces) {
 TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
   nlohmann::json j = scene("glass_ball");
   j["objects"][1]["mesh"] = kScenes + "../meshes/teapot.obj";  // the Utah teapot has open rims
-  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_open.json";
-  std::ofstream(path) << j.dump();
-  auto baked = bake::bake_scene(path.string(), {});
+  auto baked = bake::bake_scene(test::write_scene(j, "glass_open"), {});
   ASSERT_FALSE(baked.ok());
   EXPECT_EQ(baked.error().code, ErrorCode::kInput);
   EXPECT_NE(baked.error().message.find("boundary edge"), std::string::npos) << baked.error().message;
@@ -286,12 +277,11 @@ TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
 }
 
 TEST(LightTransport, TableIsIndependentOfThreadCount) {
-  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_threads.json";
-  std::ofstream(path) << scene("glass_ball").dump();
+  const std::string path = test::write_scene(scene("glass_ball"), "glass_threads");
   std::vector<std::uint8_t> first;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-    auto baked = bake::bake_scene(path.string(), {});
+    auto baked = bake::bake_scene(path, {});
     ASSERT_TRUE(baked.ok()) << baked.error().message;
     if (first.empty()) first = baked->cxb;
     else EXPECT_EQ(first, baked->cxb);

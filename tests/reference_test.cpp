@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "optics_oracle.h"
+#include "scene_fixture.h"
 
 #include <tbb/global_control.h>
 
@@ -20,7 +21,7 @@
 namespace caustix::reference {
 namespace {
 
-const std::string kScenes = std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/";
+using test::kScenes;
 using test::fresnel_t;
 using test::kPi;
 
@@ -47,22 +48,19 @@ TEST(Reference, FlatPoolMatchesFresnelWithinItsNoise) {
 }
 
 TEST(Reference, DoublingTheLightDoublesEveryPixelAndRunsRepeat) {
-  std::ifstream f(kScenes + "flat_pool.json");
-  nlohmann::json j = nlohmann::json::parse(f);
-  for (auto& o : j["objects"]) o["mesh"] = kScenes + o["mesh"].get<std::string>();
+  nlohmann::json j = test::canonical_scene("flat_pool");
   j["water"]["waves"] = {{{"amplitude", 0.05}, {"wavelength", 0.8}, {"direction", {1, 0.3}}}};
-  const auto path = std::filesystem::temp_directory_path() / "caustix_reference_test.json";
-  std::ofstream(path) << j.dump();
-  Request q{path.string(), "floor", -1, -1, 1, 1, 16, 16, 0.5, 200'000, 4, 3};
+  const std::string path = test::write_scene(j, "reference_test");
+  Request q{path, "floor", -1, -1, 1, 1, 16, 16, 0.5, 200'000, 4, 3};
   auto one = trace(q);
   ASSERT_TRUE(one.ok()) << one.error().message;
   j["lights"][0]["color"] = {2, 2, 2};  // twice the light, same E0 for the normalisation
-  std::ofstream(path) << j.dump();
+  test::write_scene(j, "reference_test");
   auto two = trace(q);
   ASSERT_TRUE(two.ok());
   for (std::size_t i = 0; i < one->rgb.size(); ++i) EXPECT_FLOAT_EQ(two->rgb[i], 2 * one->rgb[i]);
   j["lights"][0]["color"] = {1, 1, 1};
-  std::ofstream(path) << j.dump();
+  test::write_scene(j, "reference_test");
   std::vector<float> single;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
