@@ -602,7 +602,9 @@ void Renderer::set_wave_scale(float scale) {
 }
 
 CausticsStats Renderer::caustics_stats(bool read_gpu_counters) {
-  return impl_->caustics ? impl_->caustics->stats(read_gpu_counters) : CausticsStats{};
+  CausticsStats st = impl_->caustics ? impl_->caustics->stats(read_gpu_counters) : CausticsStats{};
+  if (impl_->glass) st.gpu_bytes += impl_->glass->gpu_bytes();  // tables, rays, targets, illumination textures
+  return st;
 }
 
 void Renderer::present(unsigned framebuffer, int width, int height) {

@@ -44,7 +44,7 @@ struct CausticsStats {
   bool overflowed = false;            // a map's pair list was full (pieces missing)
   std::uint64_t volumes_total = 0;    // before culling, summed over maps
   std::uint64_t planes_drawn = 0;     // summed over maps
-  std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers)
+  std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers; glass tables and textures)
 };
 
 }  // namespace caustix::runtime
