@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
 
@@ -32,15 +33,8 @@ using test::kPi;
 using test::kScenes;
 nlohmann::json scene(const std::string& name) { return test::canonical_scene(name); }
 
-class Caustics : public ::testing::Test {
+class Caustics : public test::GlTest {
  protected:
-  static void SetUpTestSuite() {
-    auto ctx = runtime::HeadlessContext::create();
-    ASSERT_TRUE(ctx.ok()) << ctx.error().message;
-    context_ = std::move(*ctx);
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-
   std::unique_ptr<runtime::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
     auto baked = bake::bake_scene(test::write_scene(j, "caustics_test"), opt);
     EXPECT_TRUE(baked.ok()) << baked.error().message;
@@ -72,9 +66,7 @@ class Caustics : public ::testing::Test {
     return img;
   }
 
-  static std::unique_ptr<runtime::HeadlessContext> context_;
 };
-std::unique_ptr<runtime::HeadlessContext> Caustics::context_;
 
 TEST_F(Caustics, FlatPoolTransmitsFresnelTimesCosine) {
   auto r = renderer(scene("flat_pool"));

@@ -19,6 +19,7 @@
 #include "caustix/bake/light_transport.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
+#include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
 
@@ -39,15 +40,8 @@ runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOpt
   return std::move(*loaded);
 }
 
-class Glass : public ::testing::Test {
+class Glass : public test::GlTest {
  protected:
-  static void SetUpTestSuite() {
-    auto ctx = runtime::HeadlessContext::create();
-    ASSERT_TRUE(ctx.ok()) << ctx.error().message;
-    context_ = std::move(*ctx);
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-
   // Irradiance / E0 of the floor over the whole 4 x 4 m floor.
   static std::vector<float> floor_irradiance(const nlohmann::json& j, int n, const bake::BakeOptions& opt = {}) {
     auto r = runtime::Renderer::create(bake_and_load(j, opt));
@@ -67,9 +61,7 @@ class Glass : public ::testing::Test {
     return e;
   }
 
-  static std::unique_ptr<runtime::HeadlessContext> context_;
 };
-std::unique_ptr<runtime::HeadlessContext> Glass::context_;
 
 // Exact 2-D trace of the ball lens: a ray at distance b from the axis
 // refracts into and out of the sphere (radius r, centre height yc, index
