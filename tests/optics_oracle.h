@@ -2,7 +2,9 @@
 // Closed-form optics the tests check against, written independently of the
 // runtime's shaders and the reference tracer.
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace caustix::test {
 
@@ -13,6 +15,51 @@ inline double fresnel_t(double cos_i, double n) {
   const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
   const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
   return 1 - 0.5 * (rs * rs + rp * rp);
+}
+
+// Exact 2-D trace of the ball lens: a ray at distance b from the axis
+// refracts into and out of the sphere (radius r, centre height yc, index
+// n) and lands on y = 0 at distance rho from the axis, carrying
+// T(theta_i)^2 (the exit transmittance equals the entry one by symmetry);
+// `weight` is the flux of the ring of incident rays it stands for, per unit
+// incident irradiance.
+struct Landing {
+  double rho, weight;
+};
+inline std::vector<Landing> ball_lens(double r, double yc, double n, int samples) {
+  std::vector<Landing> out;
+  for (int i = 0; i < samples; ++i) {
+    const double b = r * (i + 0.5) / samples;
+    const double px = b, py = yc + std::sqrt(r * r - b * b);
+    const double nx = px / r, ny = (py - yc) / r;  // outward normal at entry
+    const double cos_i = ny;                        // incident (0, -1)
+    const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+    // Refracted direction: eta d + (eta cos_i - cos_t) normal.
+    const double eta = 1 / n;
+    double dx = eta * 0 + (eta * cos_i - cos_t) * nx, dy = eta * -1 + (eta * cos_i - cos_t) * ny;
+    const double t = -2 * ((px - 0) * dx + (py - yc) * dy) / (dx * dx + dy * dy);
+    const double qx = px + t * dx, qy = py + t * dy;
+    const double mx = qx / r, my = (qy - yc) / r;  // outward normal at exit
+    const double c1 = dx * mx + dy * my;           // cos of the internal angle
+    const double k = 1 - n * n * (1 - c1 * c1);
+    const double ox = n * dx + (std::sqrt(k) - n * c1) * mx, oy = n * dy + (std::sqrt(k) - n * c1) * my;
+    const double s = -qy / oy;
+    const double T = fresnel_t(cos_i, n);
+    out.push_back({std::fabs(qx + s * ox), T * T * 2 * kPi * b * (r / samples)});
+  }
+  return out;
+}
+
+// Radius of the disc that holds `fraction` of the landed flux.
+inline double radius_enclosing(std::vector<Landing> l, double fraction) {
+  std::sort(l.begin(), l.end(), [](const Landing& a, const Landing& b) { return a.rho < b.rho; });
+  double total = 0, acc = 0;
+  for (const auto& x : l) total += x.weight;
+  for (const auto& x : l) {
+    acc += x.weight;
+    if (acc >= fraction * total) return x.rho;
+  }
+  return l.back().rho;
 }
 
 }  // namespace caustix::test

@@ -48,18 +48,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     out.seconds_compress += seconds_since(t0);
 
     MeshInfo& info = scene.meshes[i];
-    info.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
-    info.triangle_count = static_cast<std::uint32_t>(mesh.triangles.size());
-    info.position_bits = static_cast<std::uint8_t>(options.draco.position_bits);
-    info.normal_bits = static_cast<std::uint8_t>(options.draco.normal_bits);
-    info.bounds_min = mesh.positions[0];
-    info.bounds_max = mesh.positions[0];
-    for (const auto& p : mesh.positions) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        info.bounds_min[k] = std::min(info.bounds_min[k], p[k]);
-        info.bounds_max[k] = std::max(info.bounds_max[k], p[k]);
-      }
-    }
+    std::string source = std::move(info.source);
+    info = describe_mesh(mesh, options.draco);
+    info.source = std::move(source);
 
     MeshStats st;
     st.path = path;

@@ -78,7 +78,7 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
     }
     j["level_maps"].push_back(e);
   }
-  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"tables", nlohmann::ordered_json::array()}};
+  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"tables", nlohmann::ordered_json::array()}};
   for (const TransportReport& t : r.transport) {
     j["transport"]["tables"].push_back(
         {{"object", r.scene.objects[t.object].name}, {"vertices", t.vertices}, {"entries", t.entries},

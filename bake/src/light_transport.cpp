@@ -160,6 +160,7 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
   table.object = object;
   table.resolution = opt.resolution;
   table.max_bounces = opt.max_bounces;
+  table.precision_bits = opt.bits;
   table.ior = material.ior;
   table.absorption = material.absorption;
   table.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
@@ -208,7 +209,8 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     report->rays = rays;
     report->raw_bytes = report->entries * 16;
     report->position_error_m = table.position_error_bound();
-    report->direction_error_rad = LightTransportTable::direction_error_bound();
+    report->bits = table.precision_bits;
+    report->direction_error_rad = table.direction_error_bound();
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return table;

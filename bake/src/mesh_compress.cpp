@@ -16,6 +16,23 @@ double position_error_bound(const std::array<float, 3>& lo, const std::array<flo
   return 0.5 * delta + 4e-7 * (range + std::max(std::abs(double{lo[0]}), std::max(std::abs(double{lo[1]}), std::abs(double{lo[2]}))));
 }
 
+MeshInfo describe_mesh(const TriangleMesh& mesh, const DracoOptions& options) {
+  MeshInfo info;
+  info.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
+  info.triangle_count = static_cast<std::uint32_t>(mesh.triangles.size());
+  info.position_bits = static_cast<std::uint8_t>(options.position_bits);
+  info.normal_bits = static_cast<std::uint8_t>(options.normal_bits);
+  if (mesh.positions.empty()) return info;
+  info.bounds_min = info.bounds_max = mesh.positions[0];
+  for (const auto& p : mesh.positions) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      info.bounds_min[k] = std::min(info.bounds_min[k], p[k]);
+      info.bounds_max[k] = std::max(info.bounds_max[k], p[k]);
+    }
+  }
+  return info;
+}
+
 Result<std::vector<std::uint8_t>> encode_draco(const TriangleMesh& in, const DracoOptions& opt) {
   if (opt.position_bits < 8 || opt.position_bits > 30 || opt.normal_bits < 6 || opt.normal_bits > 30 ||
       opt.speed < 0 || opt.speed > 10) {

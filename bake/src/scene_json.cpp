@@ -298,8 +298,8 @@ bool parse_lights(Walker& w, const json& root, SceneDesc& scene) {
       light.intensity /= static_cast<float>(n);
       const std::string base_name = light.name;
       for (int k = 0; k < n; ++k) {
-        const float t = (static_cast<float>(k) + 0.5f) / static_cast<float>(n);
-        for (std::size_t c = 0; c < 3; ++c) light.position[c] = from[c] + t * (to[c] - from[c]);
+        const float frac = (static_cast<float>(k) + 0.5f) / static_cast<float>(n);
+        for (std::size_t c = 0; c < 3; ++c) light.position[c] = from[c] + frac * (to[c] - from[c]);
         light.name = base_name + "#" + std::to_string(k);
         scene.lights.push_back(light);
       }

@@ -68,10 +68,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 8192))->capture_default_str();
   app.add_option("--ltt-resolution", opt.transport.resolution,
                  "light-transport table: R x R incident directions per vertex of transparent objects (seed 002)")
-      ->check(CLI::Range(caustix::kMinTransportResolution, caustix::kMaxTransportResolution));
+      ->check(CLI::Range(caustix::kMinTransportResolution, caustix::kMaxTransportResolution))->capture_default_str();
   app.add_option("--ltt-bounces", opt.transport.max_bounces,
                  "light-transport table: internal reflections followed inside glass (0 = the paper's refraction only)")
-      ->check(CLI::Range(0u, caustix::kMaxTransportBounces));
+      ->check(CLI::Range(0u, caustix::kMaxTransportBounces))->capture_default_str();
+  app.add_option("--ltt-bits", opt.transport.bits,
+                 "light-transport table: significant bits kept per stored field (fewer: smaller file, coarser values)")
+      ->check(CLI::Range(caustix::kMinTransportBits, caustix::kMaxTransportBits))->capture_default_str();
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");

@@ -24,9 +24,12 @@ constexpr int kZstdLevel = 6;  // a middle setting, not tuned (the level sweep i
 constexpr std::size_t kMaxRawBytes = std::size_t{1} << 30;
 constexpr std::size_t kMaxRatio = 4096;
 
-std::uint16_t quantise(double x, double lo, double hi) {
+// x in [lo, hi] to 16 bits, rounded to a multiple of 2^(16 - bits)
+// (65535 itself stays representable).
+std::uint16_t quantise(double x, double lo, double hi, std::uint32_t bits) {
   const double t = hi > lo ? (x - lo) / (hi - lo) : 0.0;
-  return static_cast<std::uint16_t>(std::lround(std::clamp(t, 0.0, 1.0) * kQ));
+  const double step = static_cast<double>(1u << (16 - bits));
+  return static_cast<std::uint16_t>(std::min(kQ, step * std::round(std::clamp(t, 0.0, 1.0) * kQ / step)));
 }
 double dequantise(std::uint32_t q, double lo, double hi) { return lo + (hi - lo) * (q / kQ); }
 
@@ -135,14 +138,15 @@ void LightTransportTable::store(std::size_t i, const TransportEntry& e) {
     w[3] = std::uint32_t{static_cast<std::uint8_t>(e.status)} << 16;
     return;
   }
-  const std::uint32_t ex = quantise(e.exit[0], exit_min[0], exit_max[0]);
-  const std::uint32_t ey = quantise(e.exit[1], exit_min[1], exit_max[1]);
-  const std::uint32_t ez = quantise(e.exit[2], exit_min[2], exit_max[2]);
+  const std::uint32_t b = precision_bits;
+  const std::uint32_t ex = quantise(e.exit[0], exit_min[0], exit_max[0], b);
+  const std::uint32_t ey = quantise(e.exit[1], exit_min[1], exit_max[1], b);
+  const std::uint32_t ez = quantise(e.exit[2], exit_min[2], exit_max[2], b);
   const auto o = oct_encode(e.direction);
   w[0] = ex | (ey << 16);
-  w[1] = ez | (std::uint32_t{quantise(e.transmittance, 0.0, 1.0)} << 16);
-  w[2] = std::uint32_t{quantise(o[0], -1.0, 1.0)} | (std::uint32_t{quantise(o[1], -1.0, 1.0)} << 16);
-  w[3] = std::uint32_t{quantise(e.path, 0.0, max_path)} | (std::uint32_t{e.bounces} << 24);
+  w[1] = ez | (std::uint32_t{quantise(e.transmittance, 0.0, 1.0, b)} << 16);
+  w[2] = std::uint32_t{quantise(o[0], -1.0, 1.0, b)} | (std::uint32_t{quantise(o[1], -1.0, 1.0, b)} << 16);
+  w[3] = std::uint32_t{quantise(e.path, 0.0, max_path, b)} | (std::uint32_t{e.bounces} << 24);
 }
 
 TransportEntry LightTransportTable::load(std::size_t i) const {
@@ -162,17 +166,49 @@ TransportEntry LightTransportTable::load(std::size_t i) const {
 double LightTransportTable::position_error_bound() const {
   double extent = 0;
   for (std::size_t k = 0; k < 3; ++k) extent = std::max(extent, double{exit_max[k]} - exit_min[k]);
-  return 0.5 * extent / kQ;
+  return 0.5 * extent * (1u << (16 - precision_bits)) / kQ;
 }
 
-double LightTransportTable::direction_error_bound() {
-  // Half a quantisation step in each octahedral coordinate; the map
-  // stretches an (u, v) step by at most 2 (at the octahedron's edges), so
-  // the angle is below 2 * sqrt(2) * (1 / 65535) radians.
-  return 2.0 * std::sqrt(2.0) / kQ;
+double LightTransportTable::direction_error_bound() const {
+  // Half a quantisation step, h = 2^(16 - b) / 65535, in each octahedral
+  // coordinate: an (u, v) error of length at most sqrt(2) h. The largest
+  // angle per unit (u, v) length is at the face centre p = (1, 1, 1) / 3
+  // along the diagonal: (u, v) += (h, h) moves p by (h, h, -2h), sqrt(3)
+  // times as long and perpendicular to p, and normalising divides by
+  // |p| = 1 / sqrt(3): a stretch of 3 (checked numerically over the whole
+  // map). So the angle is below 3 sqrt(2) h radians.
+  return 3.0 * std::sqrt(2.0) * (1u << (16 - precision_bits)) / kQ;
 }
 
-TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const Dir3& n, const Dir3& to_light) {
+const char* to_string(Interpolation mode) { return mode == Interpolation::kBicubic ? "bicubic" : "bilinear"; }
+
+namespace {
+
+// Catmull-Rom weights of the samples at x0 - 1 .. x0 + 2 for the fraction
+// a in [0, 1]. An outer sample that is missing (outside the grid, or not
+// usable: `use_lo` / `use_hi` false) is replaced by the linear
+// extrapolation of the two inner ones, its weight folded onto them.
+std::array<double, 4> catmull_rom(double a, bool use_lo, bool use_hi) {
+  const double a2 = a * a, a3 = a2 * a;
+  std::array<double, 4> w{0.5 * (-a3 + 2 * a2 - a), 0.5 * (3 * a3 - 5 * a2 + 2), 0.5 * (-3 * a3 + 4 * a2 + a),
+                          0.5 * (a3 - a2)};
+  if (!use_lo) {
+    w[1] += 2 * w[0];
+    w[2] -= w[0];
+    w[0] = 0;
+  }
+  if (!use_hi) {
+    w[2] += 2 * w[3];
+    w[1] -= w[3];
+    w[3] = 0;
+  }
+  return w;
+}
+
+}  // namespace
+
+TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
+                      Interpolation mode) {
   Dir3 tb, bb;
   tangent_frame(n, tb, bb);
   const Dir3 local{dot3(to_light, tb), dot3(to_light, bb), std::max(dot3(to_light, n), 0.0)};
@@ -183,8 +219,49 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   const auto y0 = static_cast<std::uint32_t>(std::min(std::floor(fy), r1 - 1));
   const double ax = fx - x0, ay = fy - y0;
   TransportEntry out;
-  double wsum = 0;
   Dir3 dir{0, 0, 0};
+  if (mode == Interpolation::kBicubic) {
+    // Stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)). The
+    // inner 2 x 2 must leave after the same number of reflections b; an
+    // outer column or row with a sample outside the grid or not leaving
+    // after b reflections is replaced by linear extrapolation.
+    std::array<TransportEntry, 16> e;
+    std::array<bool, 16> ok{};
+    for (std::uint32_t k = 0; k < 16; ++k) {
+      const std::int64_t x = std::int64_t{x0} + (k & 3) - 1, y = std::int64_t{y0} + (k >> 2) - 1;
+      if (x < 0 || y < 0 || x >= t.resolution || y >= t.resolution) continue;
+      e[k] = t.load(t.entry_index(vertex, static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(x)));
+      ok[k] = e[k].status == TransportStatus::kLeaves;
+    }
+    const std::uint8_t b = e[5].bounces;
+    for (std::uint32_t k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == b;
+    if (ok[5] && ok[6] && ok[9] && ok[10]) {
+      // An outer row is used where its two inner entries are; an outer
+      // column where its inner entries and the corners of used rows are.
+      const bool row0 = ok[1] && ok[2], row3 = ok[13] && ok[14];
+      const auto column = [&](std::uint32_t i) {
+        return ok[i + 4] && ok[i + 8] && (!row0 || ok[i]) && (!row3 || ok[i + 12]);
+      };
+      const auto wx = catmull_rom(ax, column(0), column(3)), wy = catmull_rom(ay, row0, row3);
+      for (std::uint32_t k = 0; k < 16; ++k) {
+        const double w = wx[k & 3] * wy[k >> 2];
+        if (w == 0) continue;
+        out.transmittance += w * e[k].transmittance;
+        out.path += w * e[k].path;
+        for (std::size_t c = 0; c < 3; ++c) {
+          out.exit[c] += w * e[k].exit[c];
+          dir[c] += w * e[k].direction[c];
+        }
+      }
+      out.transmittance = std::clamp(out.transmittance, 0.0, 1.0);
+      out.path = std::max(out.path, 0.0);
+      out.direction = normalized(dir);
+      out.bounces = b;
+      out.status = TransportStatus::kLeaves;
+      return out;
+    }
+  }
+  double wsum = 0;
   for (int k = 0; k < 4; ++k) {
     const std::uint32_t dx = k & 1, dy = k >> 1;
     const double w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay);

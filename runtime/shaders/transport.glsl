@@ -1,8 +1,12 @@
 // Light-transport-table look-up (seed 002 §4.1; prefixed after #version by
-// the renderer). Mirrors caustix::lookup() in formats/src/light_transport.cpp:
-// the hemi-octahedral grid around the vertex normal, bilinear between the
-// four neighbouring grid directions; entries that do not leave count with
-// transmittance 0 and are left out of the averaged exit point and direction.
+// the renderer). Mirrors caustix::lookup() in formats/src/light_transport.cpp
+// with Interpolation::kBicubic: the hemi-octahedral grid around the vertex
+// normal, Catmull-Rom over the 4 x 4 neighbouring grid directions where the
+// inner 2 x 2 leave after the same number of internal reflections (an outer
+// row or column that does not, or lies outside the grid, replaced by linear
+// extrapolation); otherwise bilinear between the four neighbours, where
+// entries that do not leave count with transmittance 0 and are left out of
+// the averaged exit point and direction.
 layout(std430, binding = 1) readonly buffer Table { uint table[]; };
 
 uniform int u_ltt_resolution;
@@ -33,34 +37,101 @@ vec3 ltt_oct_decode(vec2 e) {
   return normalize(d);
 }
 
+struct LttEntry {
+  vec3 exit, dir;
+  float transmittance, path;
+  bool leaves;
+  uint bounces;
+};
+
+LttEntry ltt_entry(uint vertex, int x, int y) {
+  uint idx = 4u * ((vertex * uint(u_ltt_resolution) + uint(y)) * uint(u_ltt_resolution) + uint(x));
+  uint w0 = table[idx], w1 = table[idx + 1u], w2 = table[idx + 2u], w3 = table[idx + 3u];
+  LttEntry e;
+  e.leaves = ((w3 >> 16) & 0xFFu) == 0u;
+  e.bounces = w3 >> 24;
+  vec3 q = vec3(float(w0 & 0xFFFFu), float(w0 >> 16), float(w1 & 0xFFFFu)) / 65535.0;
+  e.exit = mix(u_ltt_exit_min, u_ltt_exit_max, q);
+  e.transmittance = float(w1 >> 16) / 65535.0;
+  e.dir = ltt_oct_decode(vec2(float(w2 & 0xFFFFu), float(w2 >> 16)) / 65535.0 * 2.0 - 1.0);
+  e.path = float(w3 & 0xFFFFu) / 65535.0 * u_ltt_max_path;
+  return e;
+}
+
+// Catmull-Rom weights of x0 - 1 .. x0 + 2; a missing outer sample's weight
+// folded onto the inner two (linear extrapolation), as catmull_rom() in C++.
+vec4 ltt_catmull_rom(float a, bool use_lo, bool use_hi) {
+  float a2 = a * a, a3 = a2 * a;
+  vec4 w = 0.5 * vec4(-a3 + 2.0 * a2 - a, 3.0 * a3 - 5.0 * a2 + 2.0, -3.0 * a3 + 4.0 * a2 + a, a3 - a2);
+  if (!use_lo) w = vec4(0.0, w.y + 2.0 * w.x, w.z - w.x, w.w);
+  if (!use_hi) w = vec4(w.x, w.y - w.w, w.z + 2.0 * w.w, 0.0);
+  return w;
+}
+
 Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
   vec3 t, b;
   ltt_frame(n, t, b);
   vec3 l = vec3(dot(to_light, t), dot(to_light, b), max(dot(to_light, n), 0.0));
   vec2 p = l.xy / max(abs(l.x) + abs(l.y) + l.z, 1e-20);
   vec2 st = vec2(p.x + p.y, p.x - p.y);
-  float r1 = float(u_ltt_resolution - 1);
+  int r = u_ltt_resolution;
+  float r1 = float(r - 1);
   vec2 f = clamp((st + 1.0) * 0.5 * r1, 0.0, r1);
   vec2 f0 = min(floor(f), vec2(r1 - 1.0));
   vec2 a = f - f0;
+  int x0 = int(f0.x), y0 = int(f0.y);
   Transport o;
   o.exit = vec3(0.0);
   o.dir = vec3(0.0);
   o.transmittance = 0.0;
   o.path = 0.0;
+
+  // Bicubic: stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)).
+  LttEntry e[16];
+  bool ok[16];
+  for (int k = 0; k < 16; ++k) {
+    int x = x0 + (k & 3) - 1, y = y0 + (k >> 2) - 1;
+    ok[k] = x >= 0 && y >= 0 && x < r && y < r;
+    if (ok[k]) {
+      e[k] = ltt_entry(vertex, x, y);
+      ok[k] = e[k].leaves;
+    }
+  }
+  uint bounces = e[5].bounces;
+  for (int k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == bounces;
+  if (ok[5] && ok[6] && ok[9] && ok[10]) {
+    bool row0 = ok[1] && ok[2], row3 = ok[13] && ok[14];
+    bool col0 = ok[4] && ok[8] && (!row0 || ok[0]) && (!row3 || ok[12]);
+    bool col3 = ok[7] && ok[11] && (!row0 || ok[3]) && (!row3 || ok[15]);
+    vec4 wx = ltt_catmull_rom(a.x, col0, col3);
+    vec4 wy = ltt_catmull_rom(a.y, row0, row3);
+    for (int k = 0; k < 16; ++k) {
+      float w = wx[k & 3] * wy[k >> 2];
+      if (w == 0.0) continue;
+      o.exit += w * e[k].exit;
+      o.dir += w * e[k].dir;
+      o.transmittance += w * e[k].transmittance;
+      o.path += w * e[k].path;
+    }
+    o.transmittance = clamp(o.transmittance, 0.0, 1.0);
+    o.path = max(o.path, 0.0);
+    o.dir = normalize(o.dir);
+    o.leaves = true;
+    return o;
+  }
+
+  // Bilinear fallback over the inner 2 x 2 (stencil 5, 6, 9, 10).
   float wsum = 0.0;
   for (int k = 0; k < 4; ++k) {
     int dx = k & 1, dy = k >> 1;
     float w = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y);
-    uint idx = 4u * ((vertex * uint(u_ltt_resolution) + uint(f0.y) + uint(dy)) * uint(u_ltt_resolution) + uint(f0.x) + uint(dx));
-    uint w0 = table[idx], w1 = table[idx + 1u], w2 = table[idx + 2u], w3 = table[idx + 3u];
-    if (((w3 >> 16) & 0xFFu) != 0u || w <= 0.0) continue;
-    vec3 q = vec3(float(w0 & 0xFFFFu), float(w0 >> 16), float(w1 & 0xFFFFu)) / 65535.0;
+    LttEntry c = e[5 + dx + 4 * dy];
+    if (!c.leaves || w <= 0.0) continue;
     wsum += w;
-    o.exit += w * mix(u_ltt_exit_min, u_ltt_exit_max, q);
-    o.transmittance += w * float(w1 >> 16) / 65535.0;
-    o.dir += w * ltt_oct_decode(vec2(float(w2 & 0xFFFFu), float(w2 >> 16)) / 65535.0 * 2.0 - 1.0);
-    o.path += w * float(w3 & 0xFFFFu) / 65535.0 * u_ltt_max_path;
+    o.exit += w * c.exit;
+    o.transmittance += w * c.transmittance;
+    o.dir += w * c.dir;
+    o.path += w * c.path;
   }
   o.leaves = wsum > 0.0;
   if (o.leaves) {

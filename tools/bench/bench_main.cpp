@@ -7,6 +7,11 @@
 //   caustix-bench table-5-4 [--csv FILE]
 //       Seed 000 table 5-4 on our code: smart-slicing planes for 3..28
 //       specified planes, for the sphere, the teapot and the organic model.
+//   caustix-bench ltt [--resolutions 8,12,...] [--samples N] [--min-cos C] [--normal-bits B] [--csv FILE]
+//       Light-transport tables (seed 002): per glass mesh (the unit sphere,
+//       a 10k-vertex UV sphere, teapot_solid) and grid resolution R, the
+//       stored table size, bake time and rays per second, and the look-up
+//       error against direct traces at random (vertex, direction) pairs.
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
@@ -18,13 +23,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "caustix/bake/depth_profile.h"
+#include "caustix/bake/light_transport.h"
 #include "caustix/formats/frame.h"
+#include "caustix/bake/mesh_compress.h"
 #include "caustix/bake/mesh_import.h"
+#include "caustix/formats/mesh_decode.h"
 #include "caustix/bake/position_map.h"
 #include "caustix/bake/ray_cast.h"
 #include "caustix/common/cli.h"
@@ -154,6 +164,143 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
   return kExitOk;
 }
 
+// A UV sphere of radius 1 (`seg` segments x `rings` rings, poles shared,
+// exact normals), as assets/meshes/generate.py sphere() makes it.
+TriangleMesh uv_sphere(std::uint32_t seg, std::uint32_t rings) {
+  TriangleMesh m;
+  const double pi = 3.14159265358979323846;
+  auto add = [&](double th, double ph) {
+    const Vec3f p{static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
+                  static_cast<float>(std::sin(th) * std::sin(ph))};
+    m.positions.push_back(p);
+    m.normals.push_back(p);
+  };
+  add(0, 0);
+  for (std::uint32_t r = 1; r < rings; ++r) {
+    for (std::uint32_t s = 0; s < seg; ++s) add(pi * r / rings, 2 * pi * s / seg);
+  }
+  add(pi, 0);
+  const auto ring = [&](std::uint32_t r, std::uint32_t s) { return 1 + (r - 1) * seg + s % seg; };
+  const auto south = static_cast<std::uint32_t>(m.positions.size() - 1);
+  for (std::uint32_t s = 0; s < seg; ++s) {
+    m.triangles.push_back({0, ring(1, s + 1), ring(1, s)});
+    for (std::uint32_t r = 1; r + 1 < rings; ++r) {
+      m.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)});
+      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)});
+    }
+    m.triangles.push_back({south, ring(rings - 1, s), ring(rings - 1, s + 1)});
+  }
+  return m;
+}
+
+struct ErrorStats {
+  double max = 0, p99 = 0, p50 = 0, mean = 0, over_5 = 0;  // over_5: fraction above 5
+};
+ErrorStats stats(std::vector<double> v) {
+  ErrorStats s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  s.max = v.back();
+  s.p99 = v[std::min(v.size() - 1, v.size() * 99 / 100)];
+  s.p50 = v[v.size() / 2];
+  for (double x : v) {
+    s.mean += x / static_cast<double>(v.size());
+    s.over_5 += x > 5 ? 1.0 / static_cast<double>(v.size()) : 0.0;
+  }
+  return s;
+}
+
+// Table size and look-up error against grid resolution (docs/glass.md).
+int ltt(const std::string& meshes, const std::vector<std::uint32_t>& resolutions, int samples, double min_cos,
+        int normal_bits, const std::string& csv) {
+  struct GlassMesh {
+    std::string name;
+    TriangleMesh mesh;
+  };
+  std::vector<GlassMesh> glass;
+  for (const char* file : {"sphere.obj", "teapot_solid.obj"}) {
+    auto m = import_mesh(meshes + file);
+    if (!m) return cli::fail("caustix-bench", m.error());
+    glass.push_back({std::string(file, std::strlen(file) - 4), std::move(m->mesh)});
+  }
+  glass.insert(glass.begin() + 1, GlassMesh{"sphere_10k", uv_sphere(144, 70)});
+  for (GlassMesh& g : glass) {  // the baker tables the Draco-decoded mesh (quantised normals)
+    DracoOptions draco;
+    draco.normal_bits = normal_bits;
+    auto stream = encode_draco(g.mesh, draco);
+    if (!stream) return cli::fail("caustix-bench", stream.error());
+    auto decoded = decode_draco(*stream, describe_mesh(g.mesh, draco));
+    if (!decoded) return cli::fail("caustix-bench", decoded.error());
+    g.mesh = std::move(*decoded);
+  }
+  Material glass_material;
+  glass_material.ior = 1.5f;
+  std::ofstream out;
+  if (!csv.empty()) out.open(csv);
+  const std::string header =
+      "mesh,vertices,resolution,interpolation,stored_bytes,bytes_per_vertex,mb_per_10k_vertices,bake_s,rays_per_s,"
+      "lookups,dir_err_max_deg,dir_err_p99_deg,dir_err_p50_deg,dir_err_mean_deg,dir_err_over_5deg_pct,exit_err_max,exit_err_p99,t_err_max,t_err_p99";
+  std::printf("%s\n", header.c_str());
+  if (out) out << header << "\n";
+  for (const GlassMesh& g : glass) {
+    bake::TransportOptions opt;
+    const TransportTracer tracer(glass_material, g.mesh, opt.max_bounces);
+    // The same (vertex, direction) pairs for every resolution: directions
+    // uniform over the part of the vertex's hemisphere with cos >= min_cos,
+    // where the exact path leaves the object.
+    struct Sample {
+      std::uint32_t vertex;
+      Dir3 normal, to_light;
+      TransportEntry exact;
+    };
+    std::vector<Sample> pairs;
+    std::mt19937_64 rng(1234);
+    std::uniform_real_distribution<double> u(0, 1);
+    while (pairs.size() < static_cast<std::size_t>(samples)) {
+      const auto v = static_cast<std::uint32_t>(rng() % g.mesh.positions.size());
+      const Dir3 n{g.mesh.normals[v][0], g.mesh.normals[v][1], g.mesh.normals[v][2]};
+      Dir3 t, b;
+      tangent_frame(n, t, b);
+      const double z = min_cos + (1 - min_cos) * u(rng), phi = 2 * 3.14159265358979323846 * u(rng);
+      const double r = std::sqrt(std::max(0.0, 1 - z * z));
+      const Dir3 l{r * std::cos(phi), r * std::sin(phi), z};
+      const Dir3 w{l[0] * t[0] + l[1] * b[0] + l[2] * n[0], l[0] * t[1] + l[1] * b[1] + l[2] * n[1],
+                   l[0] * t[2] + l[1] * b[2] + l[2] * n[2]};
+      const TransportEntry exact = tracer.trace(v, w);
+      if (exact.status == TransportStatus::kLeaves) pairs.push_back({v, n, w, exact});
+    }
+    for (std::uint32_t res : resolutions) {
+      opt.resolution = res;
+      bake::TransportReport report;
+      const LightTransportTable table = trace_transport_table(0, glass_material, g.mesh, opt, &report);
+      const std::size_t stored = encode_transport_table(table).size();
+      for (Interpolation mode : {Interpolation::kBilinear, Interpolation::kBicubic}) {
+        std::vector<double> dir_err, exit_err, t_err;
+        for (const Sample& s : pairs) {
+          const TransportEntry got = lookup(table, s.vertex, s.normal, s.to_light, mode);
+          const Dir3& a = s.exact.direction;
+          const Dir3& d = got.direction;
+          const double c = got.status == TransportStatus::kLeaves ? a[0] * d[0] + a[1] * d[1] + a[2] * d[2] : -1.0;
+          dir_err.push_back(std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979323846);
+          exit_err.push_back(std::hypot(s.exact.exit[0] - got.exit[0], s.exact.exit[1] - got.exit[1], s.exact.exit[2] - got.exit[2]));
+          t_err.push_back(std::fabs(s.exact.transmittance - got.transmittance));
+        }
+        const ErrorStats de = stats(dir_err), ee = stats(exit_err), te = stats(t_err);
+        const double per_vertex = static_cast<double>(stored) / table.vertex_count;
+        char line[512];
+        std::snprintf(line, sizeof line, "%s,%u,%u,%s,%zu,%.1f,%.2f,%.3f,%.0f,%zu,%.4f,%.4f,%.4f,%.4f,%.2f,%.5f,%.5f,%.5f,%.5f",
+                      g.name.c_str(), table.vertex_count, res, to_string(mode), stored, per_vertex, per_vertex * 1e4 / 1e6,
+                      report.seconds, static_cast<double>(report.rays) / report.seconds, pairs.size(), de.max, de.p99,
+                      de.p50, de.mean, 100 * de.over_5, ee.max, ee.p99, te.max, te.p99);
+        std::printf("%s\n", line);
+        std::fflush(stdout);
+        if (out) out << line << "\n";
+      }
+    }
+  }
+  return kExitOk;
+}
+
 // A baked scene loaded into a headless context and a renderer.
 struct Session {
   std::unique_ptr<runtime::HeadlessContext> context;
@@ -274,10 +421,23 @@ int main(int argc, char** argv) {
   me->add_option("--size", fsize, "image size WxH")->capture_default_str();
   me->add_option("--label", label, "first CSV column");
   me->add_flag("--header", header, "print the CSV header first");
+  std::vector<std::uint32_t> resolutions{6, 8, 10, 12, 14, 16, 20, 24, 32};
+  int samples = 4000;
+  double min_cos = 0.3;
+  auto* lt = app.add_subcommand("ltt", "light-transport table size and look-up error against grid resolution");
+  lt->add_option("--resolutions", resolutions, "grid resolutions R")->delimiter(',')->check(CLI::Range(2, 128));
+  lt->add_option("--samples", samples, "random look-ups per mesh")->check(CLI::Range(1, 10000000))->capture_default_str();
+  lt->add_option("--min-cos", min_cos, "smallest cosine between direction and vertex normal")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  int normal_bits = DracoOptions{}.normal_bits;
+  lt->add_option("--normal-bits", normal_bits, "Draco normal quantisation of the glass meshes")
+      ->check(CLI::Range(6, 30))->capture_default_str();
+  lt->add_option("--csv", csv, "also write the table as CSV");
   if (auto rc = cli::parse(app, "caustix-bench", argc, argv)) return *rc;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   if (*stages) return bake_stages(meshes, repeat, size, csv);
+  if (*lt) return ltt(meshes, resolutions, samples, min_cos, normal_bits, csv);
   if (*me) {
     if (header) std::printf("label,scene,planes,eq29_smart_vs_uniform,eq29_uniform_vs_volumetric,eq29_smart_vs_none\n");
     int w = 0, h = 0;

@@ -22,6 +22,7 @@ namespace caustix::bake {
 struct TransportOptions {
   std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
   std::uint32_t max_bounces = 4;  // internal reflections followed (the paper: 0)
+  std::uint32_t bits = kDefaultTransportBits;  // significant bits kept per field (8..16)
 };
 
 struct TransportReport {
@@ -32,6 +33,7 @@ struct TransportReport {
   double seconds = 0;
   std::uint64_t raw_bytes = 0;       // 16 bytes per entry
   std::uint64_t stored_bytes = 0;    // the LTTB chunk
+  std::uint32_t bits = 0;            // significant bits per field
   double position_error_m = 0;       // quantisation bound of exit points
   double direction_error_rad = 0;    // quantisation bound of exit directions
 };

@@ -13,18 +13,26 @@
 
 #include "caustix/common/mesh.h"
 #include "caustix/common/status.h"
+#include "caustix/formats/scene.h"
 
 namespace caustix::bake {
 
 struct DracoOptions {
   int position_bits = 14;  // 8..30; 14 => 0.03 mm on a 1 m object
-  int normal_bits = 10;    // 6..30 (octahedral); 10 => under 0.2 deg
+  int normal_bits = 14;    // 6..30 (octahedral); 10 => under 0.2 deg, each bit halves it.
+                           // 14: the normals steer refraction through glass, and
+                           // coarser ones make light-transport tables larger and
+                           // less accurate (docs/glass.md)
   int speed = 3;           // Draco encoder speed 0 (smallest) .. 10 (fastest)
 };
 
 // Largest per-coordinate error of decoded positions, in object-space metres.
 double position_error_bound(const std::array<float, 3>& bounds_min,
                             const std::array<float, 3>& bounds_max, int bits);
+
+// The MESH chunk's description of `mesh` compressed with `options`
+// (counts, quantisation bits, bounds; `source` left empty).
+MeshInfo describe_mesh(const TriangleMesh& mesh, const DracoOptions& options);
 
 // Encodes a valid mesh (see mesh_import.h). Deterministic.
 Result<std::vector<std::uint8_t>> encode_draco(const TriangleMesh& mesh, const DracoOptions& options);

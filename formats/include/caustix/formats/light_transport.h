@@ -27,7 +27,11 @@
 // exit point e quantised to 16 bits per axis over the exit box; exit
 // direction as a full-sphere octahedral pair quantised to 16 bits each;
 // T = Fresnel transmittance product in [0, 1] to 16 bits; path length inside
-// to 16 bits over [0, max_path]; status 0 = the ray leaves, 1 = trapped
+// to 16 bits over [0, max_path] (each field q / 65535 of its range). The
+// writer may keep fewer significant bits b (precision_bits): it rounds
+// every field to a multiple of 2^(16 - b), which readers need not know
+// and which the compressor turns into a smaller chunk (docs/glass.md has
+// the measured sizes). status 0 = the ray leaves, 1 = trapped
 // (still inside after max_bounces internal reflections), 2 = the object
 // itself blocks the light from this direction before it reaches the vertex.
 // Entries with status != 0 have every other field zero.
@@ -47,7 +51,13 @@ struct SceneDesc;
 inline constexpr std::uint32_t kMinTransportResolution = 2;
 inline constexpr std::uint32_t kMaxTransportResolution = 128;
 inline constexpr std::uint32_t kMaxTransportBounces = 64;
-inline constexpr std::uint32_t kDefaultTransportResolution = 16;
+// Defaults from the resolution sweep in docs/glass.md (caustix-bench ltt):
+// with bicubic look-up, R = 20 at 12 bits keeps the exit-direction error
+// under 0.5 deg and a 10k-vertex sphere under 20 MB.
+inline constexpr std::uint32_t kDefaultTransportResolution = 20;
+inline constexpr std::uint32_t kMinTransportBits = 8;
+inline constexpr std::uint32_t kMaxTransportBits = 16;
+inline constexpr std::uint32_t kDefaultTransportBits = 12;
 
 enum class TransportStatus : std::uint8_t { kLeaves = 0, kTrapped = 1, kOccluded = 2 };
 
@@ -71,6 +81,9 @@ struct LightTransportTable {
   float max_path = 0;              // quantisation range of path lengths
   std::uint32_t vertex_count = 0;  // of the decoded (Draco) mesh; entries follow its order
   std::vector<std::uint32_t> words;  // vertex_count * R^2 * 4, vertex-major, then grid row (t), column (s)
+  // Significant bits store() keeps per field (kMinTransportBits..16). Not
+  // stored in the file; a decoded table says 16.
+  std::uint32_t precision_bits = 16;
 
   std::size_t entry_index(std::uint32_t vertex, std::uint32_t row, std::uint32_t col) const {
     return (std::size_t{vertex} * resolution + row) * resolution + col;
@@ -79,9 +92,9 @@ struct LightTransportTable {
   void store(std::size_t index, const TransportEntry& e);
   TransportEntry load(std::size_t index) const;
   // Largest quantisation error of a stored exit point (metres, per axis) and
-  // of a stored exit direction (radians).
+  // of a stored exit direction (radians) at precision_bits.
   double position_error_bound() const;
-  static double direction_error_bound();
+  double direction_error_bound() const;
 };
 
 // --- direction parameterisations (shared with the GLSL) ---
@@ -98,15 +111,30 @@ Dir3 oct_decode(double u, double v);
 // vertex with unit normal n.
 Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, std::uint32_t col);
 
-// Bilinear look-up between the four grid directions around `to_light` (unit,
-// object space, towards the light) at vertex `vertex` with unit normal `n`:
-// exit points, directions (renormalised) and path lengths are averaged over
-// the entries that leave, weighted by their bilinear weight; the
-// transmittance over all four (trapped and occluded count as 0), so light
-// fades out where the table says it cannot pass. A direction below the
-// vertex's horizon is clamped onto it. Returns status kTrapped if no
-// neighbour leaves.
-TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light);
+// How lookup() blends the grid directions around the query direction.
+//  kBilinear: the four neighbours, bilinear weights.
+//  kBicubic:  the 4 x 4 neighbours, Catmull-Rom weights per axis (exact for
+//             quadratics). The inner 2 x 2 must leave after the same number
+//             of internal reflections b, else it falls back to kBilinear (a
+//             discontinuity of the transport, which a cubic would ring
+//             across). An outer row or column that leaves the grid or holds
+//             an entry not leaving after b reflections (the horizon row of a
+//             sphere is trapped at the critical angle) is replaced by the
+//             linear extrapolation of the two inner ones.
+enum class Interpolation : std::uint8_t { kBilinear, kBicubic };
+inline constexpr Interpolation kDefaultInterpolation = Interpolation::kBicubic;
+const char* to_string(Interpolation mode);
+
+// Look-up between the grid directions around `to_light` (unit, object
+// space, towards the light) at vertex `vertex` with unit normal `n`. In
+// bilinear mode exit points, directions (renormalised) and path lengths are
+// averaged over the neighbours that leave, weighted by their bilinear
+// weight; the transmittance over all four (trapped and occluded count as 0),
+// so light fades out where the table says it cannot pass. A direction below
+// the vertex's horizon is clamped onto it. Returns status kTrapped if no
+// neighbour leaves. runtime/shaders/transport.glsl mirrors this function.
+TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
+                      Interpolation mode = kDefaultInterpolation);
 
 std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& table);
 // Safe on hostile bytes: fields checked against the scene, decompression
