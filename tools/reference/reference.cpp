@@ -80,6 +80,65 @@ struct Surface {
 
 }  // namespace
 
+namespace {
+
+Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+// The scene's triangles in world space, with what a photon needs at a hit.
+struct World {
+  std::vector<Vec3d> pos;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  std::vector<std::uint32_t> owner;
+  std::vector<Vec3d> geo_normal;     // per triangle, outward (sign of det(M) applied)
+  std::vector<Vec3d> vertex_normal;  // per vertex, world (cofactor matrix), outward
+  // Smooth normal at p on triangle t (barycentric blend of the vertex
+  // normals): the surface the mesh's normals describe, as a renderer
+  // shades it. The flat normal where the blend degenerates.
+  Vec3d normal_at(std::uint32_t t, const Vec3d& p) const {
+    const auto& v = tris[t];
+    const Vec3d e1 = add(pos[v[1]], pos[v[0]], -1), e2 = add(pos[v[2]], pos[v[0]], -1), ep = add(p, pos[v[0]], -1);
+    const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dp1 = dot(ep, e1), dp2 = dot(ep, e2);
+    const double den = d11 * d22 - d12 * d12;
+    if (!(den > 0)) return geo_normal[t];
+    const double wb = (d22 * dp1 - d12 * dp2) / den, wc = (d11 * dp2 - d12 * dp1) / den, wa = 1 - wb - wc;
+    Vec3d n{0, 0, 0};
+    n = add(n, vertex_normal[v[0]], wa);
+    n = add(n, vertex_normal[v[1]], wb);
+    n = add(n, vertex_normal[v[2]], wc);
+    const double l = std::sqrt(dot(n, n));
+    return l > 1e-12 ? Vec3d{n[0] / l, n[1] / l, n[2] / l} : geo_normal[t];
+  }
+};
+
+// Bounding rectangle on the plane y = y_top of the points that reach the
+// boxes [lo, hi] along the light: parallel projection for a directional
+// light, central projection from a point light above the plane.
+using Rect = std::array<double, 4>;  // x0, z0, x1, z1
+Rect project_boxes(const std::vector<std::pair<Vec3d, Vec3d>>& boxes, const Light& light, double y_top) {
+  Rect r{1e300, 1e300, -1e300, -1e300};
+  for (const auto& [lo, hi] : boxes) {
+    for (int c = 0; c < 8; ++c) {
+      const Vec3d p{c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
+      Vec3d q;
+      if (light.type == LightType::kDirectional) {
+        const Vec3d d = normalize({light.direction[0], light.direction[1], light.direction[2]});
+        q = add(p, d, (y_top - p[1]) / d[1]);  // back up the ray to the plane (d[1] < 0)
+      } else {
+        const Vec3d l{light.position[0], light.position[1], light.position[2]};
+        q = add(l, add(p, l, -1), (l[1] - y_top) / (l[1] - p[1]));
+      }
+      r = {std::min(r[0], q[0]), std::min(r[1], q[2]), std::max(r[2], q[0]), std::max(r[3], q[2])};
+    }
+  }
+  return r;
+}
+
+constexpr int kMaxInteractions = 64;  // glass interfaces followed per photon
+
+}  // namespace
+
 Result<Image> trace(const Request& q) {
   auto doc = bake::load_scene_json(q.scene_path);
   if (!doc) return doc.error();
@@ -89,75 +148,116 @@ Result<Image> trace(const Request& q) {
     return make_error(ErrorCode::kUsage, "region, size, batches or photon count out of range");
   }
   std::optional<std::uint32_t> receiver;
+  bool has_glass = false;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     if (scene.objects[i].name == q.receiver) receiver = i;
-    if (is_transparent(scene.objects[i].role)) {
+    if (scene.objects[i].role == Role::kBoth) {
       return make_error(ErrorCode::kInput, q.scene_path + ": object '" + scene.objects[i].name +
-                                               "' is transparent; the reference does not trace glass yet (issue 5)");
+                                               "' is both receiver and transparent; the reference traces either, not both");
     }
+    has_glass = has_glass || is_transparent(scene.objects[i].role);
   }
   if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in " + q.scene_path);
-  if (!scene.water) return make_error(ErrorCode::kInput, q.scene_path + ": the reference traces water scenes (no water here)");
+  if (!is_receiver(scene.objects[*receiver].role)) {
+    return make_error(ErrorCode::kUsage, "object '" + q.receiver + "' in " + q.scene_path + " is not a receiver");
+  }
 
   // All objects in world space: one tree for first hits, one of the receiver
   // alone for the "first surface seen from above" test.
-  std::vector<Vec3d> pos, rpos;
-  std::vector<std::array<std::uint32_t, 3>> tris, rtris;
-  std::vector<std::uint32_t> owner;
-  std::vector<Vec3d> tri_normal;
+  World world;
+  std::vector<Vec3d> rpos;
+  std::vector<std::array<std::uint32_t, 3>> rtris;
+  std::vector<std::pair<Vec3d, Vec3d>> glass_boxes;
+  double y_objects = -1e300;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
     auto mesh = bake::import_mesh(doc->mesh_paths[o.mesh_index]);
     if (!mesh) return mesh.error();
-    const auto base = static_cast<std::uint32_t>(pos.size());
+    const auto base = static_cast<std::uint32_t>(world.pos.size());
     const auto rbase = static_cast<std::uint32_t>(rpos.size());
+    const auto& m = o.transform;  // column-major
+    const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
+    const double det_sign = dot(c0, cross(c1, c2)) < 0 ? -1.0 : 1.0;
+    const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);  // cofactor columns
+    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3d& w : world_points(o.transform, mesh->mesh.positions)) {
-      pos.push_back(w);
+      world.pos.push_back(w);
       if (i == *receiver) rpos.push_back(w);
+      for (std::size_t k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], w[k]);
+        hi[k] = std::max(hi[k], w[k]);
+      }
+    }
+    y_objects = std::max(y_objects, hi[1]);
+    if (is_transparent(o.role)) glass_boxes.push_back({lo, hi});
+    for (const auto& n : mesh->mesh.normals) {
+      world.vertex_normal.push_back(normalize(add(add(Vec3d{k0[0] * n[0] * det_sign, k0[1] * n[0] * det_sign, k0[2] * n[0] * det_sign},
+                                                      k1, n[1] * det_sign),
+                                                  k2, n[2] * det_sign)));
     }
     for (const auto& tri : mesh->mesh.triangles) {
-      tris.push_back({base + tri[0], base + tri[1], base + tri[2]});
-      owner.push_back(i);
-      const Vec3d& a = pos[base + tri[0]];
-      const Vec3d& b = pos[base + tri[1]];
-      const Vec3d& c = pos[base + tri[2]];
-      const Vec3d e1 = add(b, a, -1), e2 = add(c, a, -1);
-      tri_normal.push_back(normalize({e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]}));
+      world.tris.push_back({base + tri[0], base + tri[1], base + tri[2]});
+      world.owner.push_back(i);
+      const Vec3d& a = world.pos[base + tri[0]];
+      const Vec3d n = cross(add(world.pos[base + tri[1]], a, -1), add(world.pos[base + tri[2]], a, -1));
+      world.geo_normal.push_back(normalize({n[0] * det_sign, n[1] * det_sign, n[2] * det_sign}));
       if (i == *receiver) rtris.push_back({rbase + tri[0], rbase + tri[1], rbase + tri[2]});
     }
   }
-  const bake::RayCaster world(pos, tris, owner);
+  const bake::RayCaster caster(world.pos, world.tris, world.owner);
   const bake::RayCaster receiver_only(rpos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
-  double top = -1e30;
-  for (const auto& p : rpos) top = std::max(top, p[1]);
+  double top = -1e30, min_y = 1e30;
+  for (const auto& p : rpos) {
+    top = std::max(top, p[1]);
+    min_y = std::min(min_y, p[1]);
+  }
+  double scene_size = 1;
+  for (const auto& p : world.pos) scene_size = std::max({scene_size, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+  const double eps = 1e-7 * scene_size;
 
-  const Water& water = *scene.water;
-  const Surface surface{water, q.time};
-  const double y_top = water.level + surface.amplitude_sum() + 1e-3;
-  // Emission window: the water extent, and for directional lights only the
-  // part from which light can reach the image region — the region shifted
-  // back along the flat-water refracted direction over the receiver's depth
-  // range, padded by the largest sideways deviation the steepest wave slope
-  // allows. Conservative, so the estimate stays unbiased; it only saves
-  // photons.
-  double min_y = 1e30;
-  for (const auto& p : rpos) min_y = std::min(min_y, p[1]);
+  // Emission plane y_top: above the highest wave, or the highest object
+  // when there is no water.
+  const Water* water = scene.water ? &*scene.water : nullptr;
+  const Water flat{};
+  const Surface surface{water ? *water : flat, q.time};
+  const double y_top = water ? water->level + surface.amplitude_sum() + 1e-3 : y_objects + 1e-3;
+  // Emission window, conservative so the estimate stays unbiased (it only
+  // saves photons). With water: the water extent, and for directional
+  // lights without glass only the part from which light can reach the
+  // image region — the region shifted back along the flat-water refracted
+  // direction over the receiver's depth range, padded by the largest
+  // sideways deviation the steepest wave slope allows. Without water: the
+  // projection onto the emission plane, along the light, of the image
+  // region's box and of every glass object's box (light reaching the region
+  // either comes straight or passed through, or off, some glass first).
   double slope = 0;
-  for (const Wave& wave : water.waves) slope += wave.amplitude * 2 * kPi / wave.wavelength;
-  auto window_for = [&](const Light& light) {
-    std::array<double, 4> win{water.extent[0], water.extent[1], water.extent[2], water.extent[3]};
-    if (light.type != LightType::kDirectional) return win;
+  if (water) {
+    for (const Wave& wave : water->waves) slope += wave.amplitude * 2 * kPi / wave.wavelength;
+  }
+  auto window_for = [&](const Light& light) -> Rect {
+    if (!water) {
+      std::vector<std::pair<Vec3d, Vec3d>> boxes = glass_boxes;
+      boxes.push_back({{q.x0, min_y, q.z0}, {q.x1, top, q.z1}});
+      return project_boxes(boxes, light, y_top);
+    }
+    Rect win{water->extent[0], water->extent[1], water->extent[2], water->extent[3]};
+    if (light.type != LightType::kDirectional || has_glass) return win;
     const Vec3d l = normalize({light.direction[0], light.direction[1], light.direction[2]});
-    const auto t0 = refract(l, {0, 1, 0}, 1.0 / water.ior);
+    const auto t0 = refract(l, {0, 1, 0}, 1.0 / water->ior);
     if (!t0 || l[1] >= 0) return win;
     const double depth = std::max(0.0, y_top - min_y);
     const double sx = (*t0)[0] / -(*t0)[1] * depth, sz = (*t0)[2] / -(*t0)[1] * depth;
     const double theta0 = std::acos(std::min(1.0, -(*t0)[1]));
     const double pad = depth * (std::tan(std::min(theta0 + std::atan(slope), 1.45)) + std::tan(theta0)) + 1e-6;
-    win = {std::max(win[0], q.x0 - std::max(0.0, sx) - pad), std::max(win[1], q.z0 - std::max(0.0, sz) - pad),
-           std::min(win[2], q.x1 - std::min(0.0, sx) + pad), std::min(win[3], q.z1 - std::min(0.0, sz) + pad)};
-    return win;
+    return {std::max(win[0], q.x0 - std::max(0.0, sx) - pad), std::max(win[1], q.z0 - std::max(0.0, sz) - pad),
+            std::min(win[2], q.x1 - std::min(0.0, sx) + pad), std::min(win[3], q.z1 - std::min(0.0, sz) + pad)};
   };
+  for (const Light& light : scene.lights) {
+    if (light.type == LightType::kPoint && !(light.position[1] > y_top)) {
+      return make_error(ErrorCode::kInput, q.scene_path + ": light '" + light.name +
+                                               "' is not above the scene (and its water); the reference emits from above only");
+    }
+  }
   const double dx = (q.x1 - q.x0) / q.width, dz = (q.z1 - q.z0) / q.height;
 
   Image out;
@@ -179,9 +279,10 @@ Result<Image> trace(const Request& q) {
     std::mt19937_64 rng(q.seed * 0x9E3779B97F4A7C15ull + batch + 1);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     std::vector<double>& img = batch_images[batch];
+    std::vector<std::uint32_t> inside;  // glass objects the photon is in (shells may overlap)
     for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
       const Light& light = scene.lights[li];
-      const auto win = window_for(light);
+      const Rect win = window_for(light);
       if (!(win[2] > win[0]) || !(win[3] > win[1])) continue;
       const double area = (win[2] - win[0]) * (win[3] - win[1]);
       for (std::uint64_t n = 0; n < per_batch; ++n) {
@@ -194,9 +295,8 @@ Result<Image> trace(const Request& q) {
           origin = {px, y_top, pz};
           flux = light.irradiance * -dir[1] * area / double(per_batch);
         } else {
+          // Toward a uniform point of the window on the emission plane.
           const Vec3d lp{light.position[0], light.position[1], light.position[2]};
-          if (lp[1] <= y_top) continue;  // the reference emits point lights from above the water only
-          // Toward a uniform point of the extent at the top plane.
           const Vec3d target{px, y_top, pz};
           const Vec3d to = add(target, lp, -1);
           const double r2 = dot(to, to);
@@ -204,34 +304,86 @@ Result<Image> trace(const Request& q) {
           origin = target;
           flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
         }
-        const auto s = surface.intersect(origin, dir);
-        if (!s) continue;
-        const Vec3d hit = add(origin, dir, *s);
-        double gx = 0, gz = 0;
-        surface.height(hit[0], hit[2], &gx, &gz);
-        const Vec3d nrm = normalize({-gx, 1, -gz});
-        const double cos_i = -dot(dir, nrm);
-        if (cos_i <= 0) continue;
-        // Snell (eq. 2-8) and Fresnel at the true surface normal.
-        const double eta = 1.0 / water.ior;
-        const double k = 1 - eta * eta * (1 - cos_i * cos_i);
-        const Vec3d t = normalize(add(Vec3d{eta * dir[0], eta * dir[1], eta * dir[2]}, nrm, eta * cos_i - std::sqrt(k)));
-        flux *= fresnel_transmittance(cos_i, 1.0 / water.ior);
-        const auto h = world.first_hit_triangle(add(hit, t, 1e-7), t);
-        if (!h || owner[h->triangle] != *receiver) continue;
-        const Vec3d p = add(hit, t, 1e-7 + h->distance);
-        // Only the receiver's first surface seen from above counts.
-        const auto above = receiver_only.first_hit({p[0], top + 1.0, p[2]}, {0, -1, 0});
-        if (!above || std::fabs((top + 1.0 - *above) - p[1]) > 1e-5 * (1 + std::fabs(p[1]))) continue;
-        const double path = h->distance + 1e-7;
-        const double col = (p[0] - q.x0) / dx, row = (p[2] - q.z0) / dz;
-        if (col < 0 || row < 0 || col >= q.width || row >= q.height) continue;
-        const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(q.width) + static_cast<std::size_t>(col);
-        const double weight = flux * std::fabs(tri_normal[h->triangle][1]) / (dx * dz) / out.e0;
-        for (std::size_t c = 0; c < 3; ++c) {
-          img[3 * i + c] += weight * light.color[c] * std::exp(-double{water.absorption[c]} * path);
+        std::array<double, 3> rgb{flux * light.color[0], flux * light.color[1], flux * light.color[2]};
+        bool in_water = false;
+        inside.clear();
+        for (int step = 0; step < kMaxInteractions; ++step) {
+          const auto h = caster.first_hit_triangle(add(origin, dir, eps), dir);
+          // Above the water, the surface may come first: refract into it
+          // with Snell (eq. 2-8) and the exact Fresnel transmittance at the
+          // true normal (the reflected part leaves for the sky).
+          if (water && !in_water && inside.empty() && dir[1] < 0) {
+            const auto s = surface.intersect(origin, dir);
+            if (s && (!h || *s < h->distance + eps)) {
+              const Vec3d hit = add(origin, dir, *s);
+              double gx = 0, gz = 0;
+              surface.height(hit[0], hit[2], &gx, &gz);
+              const Vec3d nrm = normalize({-gx, 1, -gz});
+              const double cos_i = -dot(dir, nrm);
+              const auto t = refract(dir, nrm, 1.0 / water->ior);
+              if (cos_i <= 0 || !t) break;
+              const double tr = fresnel_transmittance(cos_i, 1.0 / water->ior);
+              for (double& c : rgb) c *= tr;
+              origin = hit;
+              dir = normalize(*t);
+              in_water = true;
+              continue;
+            }
+          }
+          if (!h) break;
+          const double len = h->distance + eps;
+          const Vec3d p = add(origin, dir, len);
+          // Absorption along the segment: the glass the photon is in, else
+          // the water it is in.
+          for (std::size_t c = 0; c < 3; ++c) {
+            const double k = !inside.empty() ? double{scene.objects[inside.back()].material.absorption[c]}
+                             : in_water      ? double{water->absorption[c]}
+                                             : 0.0;
+            rgb[c] *= std::exp(-k * len);
+          }
+          const std::uint32_t obj = world.owner[h->triangle];
+          const Object& o = scene.objects[obj];
+          if (!is_transparent(o.role)) {
+            if (obj != *receiver) break;
+            // Only the receiver's first surface seen from above counts.
+            const auto above = receiver_only.first_hit({p[0], top + 1.0, p[2]}, {0, -1, 0});
+            if (!above || std::fabs((top + 1.0 - *above) - p[1]) > 1e-5 * (1 + std::fabs(p[1]))) break;
+            const double col = (p[0] - q.x0) / dx, row = (p[2] - q.z0) / dz;
+            if (col < 0 || row < 0 || col >= q.width || row >= q.height) break;
+            const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(q.width) + static_cast<std::size_t>(col);
+            const double w = std::fabs(world.geo_normal[h->triangle][1]) / (dx * dz) / out.e0;
+            for (std::size_t c = 0; c < 3; ++c) img[3 * i + c] += rgb[c] * w;
+            ++landed[batch];
+            break;
+          }
+          // A glass interface: entering or leaving object `obj`. Indices on
+          // both sides from the glass the photon is in (overlapping shells
+          // of one material are one solid: no interface between them).
+          const bool entering = dot(dir, world.geo_normal[h->triangle]) < 0;
+          const double n_outside = in_water ? double{water->ior} : 1.0;
+          const auto pos_in = std::find(inside.begin(), inside.end(), obj);
+          const double n1 = inside.empty() ? n_outside : double{scene.objects[inside.back()].material.ior};
+          std::vector<std::uint32_t> after = inside;
+          if (entering) after.push_back(obj);
+          else if (pos_in != inside.end()) after.erase(after.begin() + (pos_in - inside.begin()));
+          const double n2 = after.empty() ? n_outside : double{scene.objects[after.back()].material.ior};
+          Vec3d nrm = world.normal_at(h->triangle, p);  // outward
+          if (entering == (dot(dir, nrm) >= 0)) nrm = world.geo_normal[h->triangle];
+          if (!entering) nrm = {-nrm[0], -nrm[1], -nrm[2]};  // facing the photon
+          const double cos_i = -dot(dir, nrm);
+          // Fresnel at every interface, by Russian roulette: reflect with
+          // probability R, else refract (total internal reflection: R = 1);
+          // the photon keeps its flux, so the estimate is unbiased.
+          const double tr = n1 == n2 ? 1.0 : fresnel_transmittance(cos_i, n1 / n2);
+          origin = p;
+          const auto refracted = n1 == n2 ? std::optional<Vec3d>(dir) : refract(dir, nrm, n1 / n2);
+          if (refracted && u01(rng) < tr) {
+            dir = normalize(*refracted);
+            inside = std::move(after);
+          } else {
+            dir = normalize(add(dir, nrm, 2 * cos_i));
+          }
         }
-        ++landed[batch];
       }
     }
   });
