@@ -3,6 +3,7 @@
 // never reads past its span: each get returns false once the data runs out and
 // remembers the offset where it did, so decoders can name the place.
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -31,6 +32,9 @@ class ByteWriter {
   void u64(std::uint64_t v) { append(&v, 8); }
   void f32(float v) { append(&v, 4); }
   void f64(double v) { append(&v, 8); }
+  void vec3(const std::array<float, 3>& v) {  // three f32, as ChunkDecoder::vec3 reads them
+    for (float f : v) f32(f);
+  }
   void raw(const void* p, std::size_t n) { append(p, n); }
   void str(const std::string& s) {
     u32(static_cast<std::uint32_t>(s.size()));

@@ -14,10 +14,8 @@ namespace {
 
 using cxb::detail::ByteWriter;
 using cxb::detail::ChunkDecoder;
-using cxb::detail::zstd_compress;
+using cxb::detail::write_zstd_frame;
 using cxb::detail::zstd_decompress_exact;
-
-void put3(ByteWriter& w, const Vec3f& v) { for (float f : v) w.f32(f); }
 
 // zstd level: 3 is zstd's default; higher levels cost bake time for a few
 // percent on these maps.
@@ -92,11 +90,11 @@ std::vector<std::uint8_t> encode_level_map(const LevelMap& m) {
   w.u32(m.object);
   w.u32(m.light);
   for (double o : m.frame.origin) w.f64(o);
-  put3(w, m.frame.u);
-  put3(w, m.frame.v);
-  put3(w, m.frame.w);
-  put3(w, m.frame.half);
-  put3(w, m.frame.symmetric_size);
+  w.vec3(m.frame.u);
+  w.vec3(m.frame.v);
+  w.vec3(m.frame.w);
+  w.vec3(m.frame.half);
+  w.vec3(m.frame.symmetric_size);
   w.u32(m.map_size);
   w.u8(static_cast<std::uint8_t>(m.slicing));
   w.u8(0);
@@ -113,9 +111,7 @@ std::vector<std::uint8_t> encode_level_map(const LevelMap& m) {
   put_planes(w, m.uniform_planes);
   put_planes(w, m.smart_planes);
 
-  const std::vector<std::uint8_t> packed = zstd_compress(filter_maps(m), kZstdLevel);
-  w.u32(static_cast<std::uint32_t>(packed.size()));
-  w.raw(packed.data(), packed.size());
+  write_zstd_frame(w, filter_maps(m), kZstdLevel);
   return w.take();
 }
 
@@ -215,8 +211,8 @@ std::vector<std::uint8_t> encode_object_boxes(const std::vector<ObjectBox>& boxe
   for (const auto& b : boxes) {
     w.u32(b.object);
     for (double c : b.center) w.f64(c);
-    for (const auto& a : b.axes) put3(w, a);
-    put3(w, b.half);
+    for (const auto& a : b.axes) w.vec3(a);
+    w.vec3(b.half);
   }
   return w.take();
 }

@@ -16,7 +16,7 @@ namespace {
 
 using cxb::detail::ByteWriter;
 using cxb::detail::ChunkDecoder;
-using cxb::detail::zstd_compress;
+using cxb::detail::write_zstd_frame;
 using cxb::detail::zstd_decompress_exact;
 
 constexpr double kQ = 65535.0;
@@ -290,14 +290,12 @@ std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& t) {
   w.u32(t.resolution);
   w.u32(t.max_bounces);
   w.f32(t.ior);
-  for (float a : t.absorption) w.f32(a);
-  for (float a : t.exit_min) w.f32(a);
-  for (float a : t.exit_max) w.f32(a);
+  w.vec3(t.absorption);
+  w.vec3(t.exit_min);
+  w.vec3(t.exit_max);
   w.f32(t.max_path);
   w.u32(t.vertex_count);
-  const std::vector<std::uint8_t> packed = zstd_compress(filter(t), kZstdLevel);
-  w.u32(static_cast<std::uint32_t>(packed.size()));
-  w.raw(packed.data(), packed.size());
+  write_zstd_frame(w, filter(t), kZstdLevel);
   return w.take();
 }
 

@@ -13,8 +13,6 @@ namespace {
 using cxb::detail::ByteWriter;
 using cxb::detail::ChunkDecoder;
 
-void put(ByteWriter& w, const Vec3f& v) { for (float f : v) w.f32(f); }
-
 // --- encoding ----------------------------------------------------------------
 
 std::vector<std::uint8_t> encode_scene_chunk(const SceneDesc& s) {
@@ -28,8 +26,8 @@ std::vector<std::uint8_t> encode_scene_chunk(const SceneDesc& s) {
     w.u8(m.position_bits);
     w.u8(m.normal_bits);
     w.u16(0);
-    put(w, m.bounds_min);
-    put(w, m.bounds_max);
+    w.vec3(m.bounds_min);
+    w.vec3(m.bounds_max);
   }
   return w.take();
 }
@@ -43,7 +41,7 @@ std::vector<std::uint8_t> encode_objects(const SceneDesc& s) {
     w.u8(static_cast<std::uint8_t>(o.role));
     w.u8(o.material.transparent ? 1 : 0);
     w.u16(0);
-    put(w, o.material.albedo);
+    w.vec3(o.material.albedo);
     w.f32(o.material.ior);
     for (float f : o.transform) w.f32(f);
   }
@@ -58,10 +56,10 @@ std::vector<std::uint8_t> encode_lights(const SceneDesc& s) {
     w.u8(0);
     w.u16(0);
     w.str(l.name);
-    put(w, l.color);
-    put(w, l.direction);
+    w.vec3(l.color);
+    w.vec3(l.direction);
     w.f32(l.irradiance);
-    put(w, l.position);
+    w.vec3(l.position);
     w.f32(l.intensity);
   }
   return w.take();
@@ -71,7 +69,7 @@ std::vector<std::uint8_t> encode_water(const Water& water) {
   ByteWriter w;
   w.f32(water.level);
   w.f32(water.ior);
-  put(w, water.absorption);
+  w.vec3(water.absorption);
   w.u32(water.cells[0]);
   w.u32(water.cells[1]);
   for (float f : water.extent) w.f32(f);
@@ -89,9 +87,9 @@ std::vector<std::uint8_t> encode_water(const Water& water) {
 
 std::vector<std::uint8_t> encode_camera(const Camera& c) {
   ByteWriter w;
-  put(w, c.position);
-  put(w, c.target);
-  put(w, c.up);
+  w.vec3(c.position);
+  w.vec3(c.target);
+  w.vec3(c.up);
   w.f32(c.fov_y_deg);
   w.f32(c.near_plane);
   w.f32(c.far_plane);

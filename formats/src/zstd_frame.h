@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
 #include "chunk_decoder.h"
 
 namespace caustix::cxb::detail {
@@ -18,6 +19,14 @@ inline std::vector<std::uint8_t> zstd_compress(const std::vector<std::uint8_t>& 
   const std::size_t n = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), level);
   packed.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail into a compressBound buffer
   return packed;
+}
+
+// Writes `raw` compressed as one zstd frame, preceded by its u32 size (the
+// "data size" + "data" fields of LMAP and LTTB).
+inline void write_zstd_frame(ByteWriter& w, const std::vector<std::uint8_t>& raw, int level) {
+  const std::vector<std::uint8_t> packed = zstd_compress(raw, level);
+  w.u32(static_cast<std::uint32_t>(packed.size()));
+  w.raw(packed.data(), packed.size());
 }
 
 // Decompresses `packed` into exactly `raw_size` bytes. `what` names the
