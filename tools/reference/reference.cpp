@@ -361,12 +361,15 @@ Result<Image> trace(const Request& q) {
           // of one material are one solid: no interface between them).
           const bool entering = dot(dir, world.geo_normal[h->triangle]) < 0;
           const double n_outside = in_water ? double{water->ior} : 1.0;
+          const auto ior = [&](std::uint32_t k) { return double{scene.objects[k].material.ior}; };
           const auto pos_in = std::find(inside.begin(), inside.end(), obj);
-          const double n1 = inside.empty() ? n_outside : double{scene.objects[inside.back()].material.ior};
-          std::vector<std::uint32_t> after = inside;
-          if (entering) after.push_back(obj);
-          else if (pos_in != inside.end()) after.erase(after.begin() + (pos_in - inside.begin()));
-          const double n2 = after.empty() ? n_outside : double{scene.objects[after.back()].material.ior};
+          const double n1 = inside.empty() ? n_outside : ior(inside.back());
+          // The medium beyond: the entered glass; on leaving, the one entered
+          // before it, unless `obj` is not the innermost (then nothing changes).
+          const double n2 = entering                                            ? ior(obj)
+                            : pos_in == inside.end() || pos_in + 1 != inside.end() ? n1
+                            : inside.size() > 1                                  ? ior(inside[inside.size() - 2])
+                                                                                 : n_outside;
           Vec3d nrm = world.normal_at(h->triangle, p);  // outward
           if (entering == (dot(dir, nrm) >= 0)) nrm = world.geo_normal[h->triangle];
           if (!entering) nrm = {-nrm[0], -nrm[1], -nrm[2]};  // facing the photon
@@ -379,7 +382,8 @@ Result<Image> trace(const Request& q) {
           const auto refracted = n1 == n2 ? std::optional<Vec3d>(dir) : refract(dir, nrm, n1 / n2);
           if (refracted && u01(rng) < tr) {
             dir = normalize(*refracted);
-            inside = std::move(after);
+            if (entering) inside.push_back(obj);
+            else if (pos_in != inside.end()) inside.erase(pos_in);
           } else {
             dir = normalize(add(dir, nrm, 2 * cos_i));
           }
