@@ -209,7 +209,6 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     report->rays = rays;
     report->raw_bytes = report->entries * 16;
     report->position_error_m = table.position_error_bound();
-    report->bits = table.precision_bits;
     report->direction_error_rad = table.direction_error_bound();
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }

@@ -33,7 +33,6 @@ struct TransportReport {
   double seconds = 0;
   std::uint64_t raw_bytes = 0;       // 16 bytes per entry
   std::uint64_t stored_bytes = 0;    // the LTTB chunk
-  std::uint32_t bits = 0;            // significant bits per field
   double position_error_m = 0;       // quantisation bound of exit points
   double direction_error_rad = 0;    // quantisation bound of exit directions
 };
