@@ -45,6 +45,17 @@ contains "verbose shows skipped pairs or maps" "$tmp/vout" "level map ball / lig
 "$bake" "$scene" -o "$tmp/u.cxb" --slicing uniform --planes 8 --levels 16 --map-size 32 --threads 1 -q; check "bake uniform" 0 $?
 "$bake" "$scene" -o "$tmp/u2.cxb" --slicing uniform --planes 8 --levels 16 --map-size 32 --threads 2 -q; check "bake 2 threads" 0 $?
 cmp -s "$tmp/u.cxb" "$tmp/u2.cxb"; check "1 and 2 threads byte-identical" 0 $?
+# Presets (docs/tradeoff.md): the preset's knobs unless given explicitly, and
+# its runtime defaults recorded in the file (RNDR) for the renderers.
+"$bake" "$scene" -o "$tmp/fast.cxb" --preset fast --planes 5 --report "$tmp/fast.json" -q; check "bake --preset fast" 0 $?
+python3 -c "import json,sys; o=json.load(open(sys.argv[1]))['options']; assert o['planes'] == 5 and o['map_size'] == 256 and o['water_grid_scale'] == 0.5, o" "$tmp/fast.json"
+check "preset applied, explicit --planes wins" 0 $?
+"$inspect" "$tmp/fast.cxb" >"$tmp/out"; check "inspect preset file" 0 $?
+contains "preset's runtime defaults recorded" "$tmp/out" "render defaults (preset 'fast'): caustics map 256^2"
+"$inspect" "$tmp/a.cxb" >"$tmp/out"
+! grep -q RNDR "$tmp/out"; check "no RNDR chunk without a preset" 0 $?
+"$bake" "$scene" -o "$tmp/x.cxb" --preset turbo 2>"$tmp/err"; check "unknown preset" 2 $?
+contains "unknown preset named" "$tmp/err" "turbo"
 "$bake" "$scene" -o "$tmp/x.cxb" --slicing diagonal 2>/dev/null; check "bad slicing" 2 $?
 "$bake" "$scene" -o "$tmp/x.cxb" --levels 0 2>/dev/null; check "bad levels" 2 $?
 "$bake" "$scene" -o "$tmp/x.cxb" --map-size 9000 2>/dev/null; check "map too large" 2 $?
@@ -93,6 +104,10 @@ contains "truncation named" "$tmp/err" "truncated"
 compare=$build/tools/caustix-compare
 "$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 -o "$tmp/irr.exr" -q; check "render irradiance" 0 $?
 "$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 --method none -o "$tmp/irr_none.exr" -q; check "render irradiance none" 0 $?
+"$render" "$tmp/fast.cxb" --irradiance floor --region -1,-1,1,1 --size 32 -o "$tmp/irr_fast.exr" -v >"$tmp/rout"; check "render a preset file" 0 $?
+contains "renderer starts from the preset's defaults" "$tmp/rout" "caustics map 256^2"
+"$render" "$tmp/fast.cxb" --irradiance floor --region -1,-1,1,1 --size 32 --caustics-size 100 -o "$tmp/irr_fast.exr" -v >"$tmp/rout"
+contains "explicit --caustics-size wins" "$tmp/rout" "caustics map 100^2"
 "$render" "$tmp/a.cxb" --irradiance nosuch -o "$tmp/x.exr" 2>"$tmp/err"; check "unknown receiver" 2 $?
 contains "receiver named" "$tmp/err" "no object named 'nosuch'"
 "$compare" "$tmp/irr.exr" "$tmp/irr.exr" >"$tmp/cmp"; check "compare itself" 0 $?

@@ -47,6 +47,23 @@ TEST(Metrics, KnownPerturbations) {
   EXPECT_NEAR(average_luv_difference(half, constant(4, 4, 1, 1, 1), &mask), 0.0, 1e-9);
 }
 
+TEST(Metrics, PeakPositionInPixelsAndMetres) {
+  Image ref = constant(8, 4, 0.1f, 0.1f, 0.1f), moved = ref;
+  ref.rgb[3 * (1 * 8 + 2) + 1] = 5.0f;    // row 1, column 2
+  moved.rgb[3 * (3 * 8 + 6) + 1] = 5.0f;  // row 3, column 6
+  EXPECT_EQ(peak_position(ref), (std::array<double, 2>{2.5, 1.5}));
+  const Comparison c = compare(moved, ref, std::array<double, 4>{-2, 0, 2, 4});  // 0.5 m x 1 m pixels
+  EXPECT_NEAR(c.peak_error_px, std::hypot(4.0, 2.0), 1e-12);
+  ASSERT_TRUE(c.peak_error_m);
+  EXPECT_NEAR(*c.peak_error_m, std::hypot(4 * 0.5, 2 * 1.0), 1e-12);
+  EXPECT_FALSE(compare(moved, ref).peak_error_m);
+  const Comparison self = compare(ref, ref);
+  EXPECT_EQ(self.eq29, 0.0);
+  EXPECT_EQ(self.rel_l1, 0.0);
+  EXPECT_EQ(self.peak_error_px, 0.0);
+  EXPECT_EQ(self.flux_ratio, 1.0);
+}
+
 TEST(Metrics, LuvOfColours) {
   const Luv white = to_luv(1, 1, 1);
   EXPECT_NEAR(white.L, 100.0, 1e-6);

@@ -51,6 +51,7 @@ SceneDesc full_scene() {
   c.position = {1, 2, 3};
   c.fov_y_deg = 60;
   s.camera = c;
+  s.render = RenderDefaults{"fast", 256, 128, 3};
   return s;
 }
 
@@ -96,6 +97,11 @@ TEST(SceneCodec, EveryFieldSurvives) {
   EXPECT_EQ(r.water->waves[1].phase, 1.0f);
   ASSERT_TRUE(r.camera.has_value());
   EXPECT_EQ(r.camera->fov_y_deg, 60.0f);
+  ASSERT_TRUE(r.render.has_value());
+  EXPECT_EQ(r.render->preset, "fast");
+  EXPECT_EQ(r.render->caustics_map_size, 256u);
+  EXPECT_EQ(r.render->glass_map_size, 128u);
+  EXPECT_EQ(r.render->glass_planes, 3u);
   ASSERT_EQ(d->draco_meshes.size(), 1u);
   EXPECT_EQ(d->draco_meshes[0].size(), 4u);
 }
@@ -104,11 +110,13 @@ TEST(SceneCodec, OptionalPartsAbsent) {
   SceneDesc s = full_scene();
   s.water.reset();
   s.camera.reset();
+  s.render.reset();
   const auto b = encode_scene(s, {{0}});
   auto d = decode(b);
   ASSERT_TRUE(d.ok()) << d.error().message;
   EXPECT_FALSE(d->scene.water.has_value());
   EXPECT_FALSE(d->scene.camera.has_value());
+  EXPECT_FALSE(d->scene.render.has_value());
 }
 
 TEST(SceneCodec, MeshChunkCountMustMatch) {
@@ -194,6 +202,25 @@ TEST(SceneValidate, RulesNameTheField) {
   issue = validate_scene(s);
   ASSERT_TRUE(issue.has_value());
   EXPECT_EQ(issue->pointer, "/objects/1/name");
+  s = full_scene();
+  s.render->caustics_map_size = 0;
+  issue = validate_scene(s);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->pointer, "/render/caustics_map_size");
+  s = full_scene();
+  s.render->glass_planes = 17;
+  issue = validate_scene(s);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->pointer, "/render/glass_planes");
+}
+
+// A hostile RNDR payload: an out-of-range value is refused, naming the field.
+TEST(SceneCodec, RenderDefaultsAreValidated) {
+  SceneDesc s = full_scene();
+  s.render->glass_map_size = 9000;  // encode does not validate; decode must
+  auto d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/render/glass_map_size"), std::string::npos) << d.error().message;
 }
 
 }  // namespace

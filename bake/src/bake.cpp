@@ -1,6 +1,8 @@
 #include "caustix/bake/bake.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_import.h"
@@ -25,6 +27,12 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   out.inputs.push_back(scene_path);
   out.warnings = doc->warnings;
   SceneDesc& scene = doc->scene;
+  scene.render = options.render;
+  if (scene.water && options.water_grid_scale != 1.0) {
+    for (std::uint32_t& c : scene.water->cells) {
+      c = static_cast<std::uint32_t>(std::clamp(std::lround(c * options.water_grid_scale), 1L, long{kMaxWaterCells}));
+    }
+  }
 
   std::vector<std::vector<std::uint8_t>> draco_streams;
   std::vector<TriangleMesh> meshes;

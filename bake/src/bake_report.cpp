@@ -40,7 +40,9 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
                   {"epsilon", so.epsilon ? nlohmann::ordered_json(*so.epsilon) : nlohmann::ordered_json(nullptr)},
                   {"levels", so.levels},
                   {"slicing", slicing_name(so.slicing)},
-                  {"map_size", opt.level_maps.map_size}};
+                  {"map_size", opt.level_maps.map_size},
+                  {"water_grid_scale", opt.water_grid_scale}};
+  if (r.scene.water) j["water_cells"] = r.scene.water->cells;
   j["meshes"] = nlohmann::ordered_json::array();
   for (const auto& m : r.meshes) {
     j["meshes"].push_back({{"path", m.path}, {"vertices", m.vertices}, {"triangles", m.triangles},

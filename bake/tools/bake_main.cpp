@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "caustix/bake/bake.h"
+#include "caustix/bake/presets.h"
 #include "caustix/common/cli.h"
 #include "caustix/formats/file_io.h"
 
@@ -33,7 +34,7 @@ caustix::Status write_text(const std::string& path, const std::string& text) {
 int main(int argc, char** argv) {
   using namespace caustix;
   bake::BakeOptions opt;
-  std::string scene_path, out_path, depfile, report_path, slicing = "smart";
+  std::string scene_path, out_path, depfile, report_path, slicing = "smart", preset;
   double epsilon = 0;
   int threads = 0;
   bool quiet = false, verbose = false;
@@ -46,6 +47,19 @@ int main(int argc, char** argv) {
       "            an existing file at OUT is left untouched and no partial file is created.");
   app.add_option("scene", scene_path, "scene description (scene.json)")->required();
   app.add_option("-o,--output", out_path, "output .cxb file")->required();
+  std::string preset_names;
+  std::vector<std::string> preset_list;
+  for (const auto& p : bake::presets()) {
+    preset_names += std::string(preset_names.empty() ? "" : "; ") + p.name + ": " + p.summary;
+    preset_list.push_back(p.name);
+  }
+  app.add_option("--preset", preset,
+                 "start from a preset (docs/tradeoff.md): " + preset_names +
+                     "; also records its runtime defaults in the file. Options given explicitly win")
+      ->check(CLI::IsMember(preset_list));
+  app.add_option("--water-grid-scale", opt.water_grid_scale,
+                 "multiply scene.json's water grid cells per axis (the runtime's caustics cost is linear in them)")
+      ->check(CLI::Range(1.0 / 64, 64.0))->capture_default_str();
   app.add_option("--position-bits", opt.draco.position_bits,
                  "Draco quantisation of positions, bits per coordinate; error <= extent / 2^(bits+1)")
       ->check(CLI::Range(8, 30))->capture_default_str();
@@ -83,6 +97,25 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
 
+  if (!preset.empty()) {
+    // The preset's values for every option not given on the command line.
+    const bake::BakeOptions& p = bake::find_preset(preset)->options;
+    auto unless_given = [&](const char* flag, auto& value, const auto& preset_value) {
+      if (app.count(flag) == 0) value = preset_value;
+    };
+    unless_given("--position-bits", opt.draco.position_bits, p.draco.position_bits);
+    unless_given("--normal-bits", opt.draco.normal_bits, p.draco.normal_bits);
+    unless_given("--draco-speed", opt.draco.speed, p.draco.speed);
+    unless_given("--planes", lm.slicing.planes, p.level_maps.slicing.planes);
+    unless_given("--levels", lm.slicing.levels, p.level_maps.slicing.levels);
+    unless_given("--map-size", lm.map_size, p.level_maps.map_size);
+    unless_given("--water-grid-scale", opt.water_grid_scale, p.water_grid_scale);
+    unless_given("--ltt-resolution", opt.transport.resolution, p.transport.resolution);
+    unless_given("--ltt-bounces", opt.transport.max_bounces, p.transport.max_bounces);
+    unless_given("--ltt-bits", opt.transport.bits, p.transport.bits);
+    if (app.count("--epsilon") == 0) lm.slicing.epsilon = p.level_maps.slicing.epsilon;
+    opt.render = p.render;
+  }
   if (epsilon > 0) lm.slicing.epsilon = epsilon;
   lm.slicing.slicing = slicing == "uniform" ? Slicing::kUniform : Slicing::kSmart;
   std::unique_ptr<tbb::global_control> thread_limit;

@@ -1,4 +1,4 @@
-// Payload layouts of the scene chunks (SCNE, OBJS, LGHT, WATR, CAMR, MESH);
+// Payload layouts of the scene chunks (SCNE, OBJS, LGHT, WATR, CAMR, RNDR, MESH);
 // formats/SPEC.md documents them field by field.
 
 #include <algorithm>
@@ -96,6 +96,15 @@ std::vector<std::uint8_t> encode_camera(const Camera& c) {
   return w.take();
 }
 
+std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
+  ByteWriter w;
+  w.str(r.preset);
+  w.u32(r.caustics_map_size);
+  w.u32(r.glass_map_size);
+  w.u32(r.glass_planes);
+  return w.take();
+}
+
 // --- decoding ----------------------------------------------------------------
 
 // Smallest encodings, used to bound counts by the payload size.
@@ -190,6 +199,11 @@ bool decode_camera(ChunkDecoder& d, Camera& c) {
          d.f32(c.far_plane, "camera") && d.finish();
 }
 
+bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
+  return d.str(r.preset, "preset name") && d.u32(r.caustics_map_size, "render defaults") &&
+         d.u32(r.glass_map_size, "render defaults") && d.u32(r.glass_planes, "render defaults") && d.finish();
+}
+
 Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }
 
 }  // namespace
@@ -205,6 +219,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   w.add_chunk(cxb::kTagLights, cxb::kChunkRequired, encode_lights(scene));
   if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
+  if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
   if (!boxes.empty()) w.add_chunk(cxb::kTagObjectBoxes, 0, encode_object_boxes(boxes));
   for (const auto& lm : level_maps) w.add_chunk(cxb::kTagLevelMap, cxb::kChunkRequired, encode_level_map(lm));
@@ -255,6 +270,12 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (*camr) {
     s.camera.emplace();
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagCamera, **camr, [&](ChunkDecoder& d) { return decode_camera(d, *s.camera); }));
+  }
+  auto rndr = single(cxb::kTagRender, false);
+  if (!rndr) return rndr.error();
+  if (*rndr) {
+    s.render.emplace();
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagRender, **rndr, [&](ChunkDecoder& d) { return decode_render(d, *s.render); }));
   }
 
   const auto meshes = c.find(cxb::kTagMesh);

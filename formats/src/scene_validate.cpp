@@ -165,6 +165,15 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(finite(cam.far_plane) && cam.far_plane > cam.near_plane, "/camera/far",
              "must be greater than near");
   }
+  if (s.render) {
+    const RenderDefaults& r = *s.render;
+    c.expect(r.preset.size() <= kMaxNameLength, "/render/preset", "longer than 4096 bytes");
+    c.expect(r.caustics_map_size >= 1 && r.caustics_map_size <= kMaxRuntimeMapSize, "/render/caustics_map_size",
+             "must be in [1, 8192]");
+    c.expect(r.glass_map_size >= 1 && r.glass_map_size <= kMaxRuntimeMapSize, "/render/glass_map_size",
+             "must be in [1, 8192]");
+    c.expect(r.glass_planes >= 1 && r.glass_planes <= kMaxGlassPlanes, "/render/glass_planes", "must be in [1, 16]");
+  }
   return c.issue;
 }
 

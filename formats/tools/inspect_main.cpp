@@ -84,6 +84,12 @@ int main(int argc, char** argv) {
     j["scene"]["water"] = s.water.has_value();
     j["scene"]["water_waves"] = s.water ? s.water->waves.size() : 0;
     j["scene"]["camera"] = s.camera.has_value();
+    if (s.render) {
+      j["scene"]["render_defaults"] = {{"preset", s.render->preset},
+                                       {"caustics_map_size", s.render->caustics_map_size},
+                                       {"glass_map_size", s.render->glass_map_size},
+                                       {"glass_planes", s.render->glass_planes}};
+    }
     j["level_maps"] = nlohmann::json::array();
     for (const LevelMap& m : scene->level_maps) {
       j["level_maps"].push_back({{"object", s.objects[m.object].name},
@@ -121,6 +127,11 @@ int main(int argc, char** argv) {
         std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes\n", o.name.c_str(),
                     role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
                     scene->draco_meshes[o.mesh_index].size());
+      }
+      if (s.render) {
+        std::printf("render defaults (preset '%s'): caustics map %u^2, glass textures %u^2, %u glass planes\n",
+                    s.render->preset.c_str(), s.render->caustics_map_size, s.render->glass_map_size,
+                    s.render->glass_planes);
       }
       for (const LevelMap& m : scene->level_maps) {
         std::printf("  level map %-16s light %u: %u^2 map, %zu levels, planes uniform %zu / smart %zu (%s in use)\n",

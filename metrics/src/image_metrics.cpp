@@ -72,6 +72,31 @@ double flux_ratio(const Image& a, const Image& b, const std::vector<bool>* mask)
   return sb > 0 ? sa / sb : (sa > 0 ? INFINITY : 1.0);
 }
 
+std::array<double, 2> peak_position(const Image& im) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < im.rgb.size() / 3; ++i) {
+    if (luminance(im, i) > luminance(im, best)) best = i;
+  }
+  const auto w = static_cast<std::size_t>(im.width);
+  return {static_cast<double>(best % w) + 0.5, static_cast<double>(best / w) + 0.5};
+}
+
+Comparison compare(const Image& a, const Image& b, const std::optional<std::array<double, 4>>& region) {
+  Comparison c;
+  c.eq29 = average_luv_difference(a, b);
+  c.rel_l1 = relative_l1(a, b);
+  c.rms = rms(a, b);
+  c.flux_ratio = flux_ratio(a, b);
+  const auto pa = peak_position(a), pb = peak_position(b);
+  c.peak_error_px = std::hypot(pa[0] - pb[0], pa[1] - pb[1]);
+  if (region) {
+    const auto& r = *region;
+    const double sx = (r[2] - r[0]) / b.width, sz = (r[3] - r[1]) / b.height;
+    c.peak_error_m = std::hypot((pa[0] - pb[0]) * sx, (pa[1] - pb[1]) * sz);
+  }
+  return c;
+}
+
 double srgb_to_linear(double v8) {
   const double c = v8 / 255.0;
   return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);

@@ -19,4 +19,14 @@ std::optional<CausticsMethod> parse_method(const std::string& name) {
   return std::nullopt;
 }
 
+CausticsOptions default_caustics_options(const SceneDesc& scene) {
+  CausticsOptions o;
+  if (scene.render) {
+    o.map_size = scene.render->caustics_map_size;
+    o.glass_map_size = scene.render->glass_map_size;
+    o.glass_planes = scene.render->glass_planes;
+  }
+  return o;
+}
+
 }  // namespace caustix::runtime

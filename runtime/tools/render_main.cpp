@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   using namespace caustix::runtime;
   std::string in_path, out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
   float time = 0.0f, epsilon = 0.0f;
-  std::uint32_t planes = 0, caustics_size = 512;
+  std::uint32_t planes = 0, caustics_size = 0;
   bool quiet = false, verbose = false, no_cull = false;
 
   CLI::App app{"caustix-render: render a baked .cxb scene to an image, headless (EGL)"};
@@ -41,12 +41,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   app.add_option("--epsilon", epsilon, "re-slice smart planes with this acceptance half-width, metres")
       ->check(CLI::Range(1e-9, 1e9));
-  app.add_option("--caustics-size", caustics_size, "caustics map size S (S x S)")->check(CLI::Range(1, 8192))->capture_default_str();
-  std::uint32_t glass_planes = 4, glass_size = 512;
-  app.add_option("--glass-planes", glass_planes, "glass: virtual planes per target (seed 002 §4.2)")
-      ->check(CLI::Range(1, 16))->capture_default_str();
-  app.add_option("--glass-size", glass_size, "glass: illumination texture size (S x S)")
-      ->check(CLI::Range(1, 8192))->capture_default_str();
+  // Defaults: the preset's recorded in the .cxb (RNDR), else CausticsOptions'.
+  const CausticsOptions built_in;
+  app.add_option("--caustics-size", caustics_size,
+                 "caustics map size S (S x S); default: the bake preset's, else " + std::to_string(built_in.map_size))
+      ->check(CLI::Range(1, 8192));
+  std::uint32_t glass_planes = 0, glass_size = 0;
+  app.add_option("--glass-planes", glass_planes,
+                 "glass: virtual planes per target (seed 002 §4.2); default: the bake preset's, else " +
+                     std::to_string(built_in.glass_planes))
+      ->check(CLI::Range(1, 16));
+  app.add_option("--glass-size", glass_size,
+                 "glass: illumination texture size (S x S); default: the bake preset's, else " +
+                     std::to_string(built_in.glass_map_size))
+      ->check(CLI::Range(1, 8192));
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print the renderer and timings");
@@ -62,13 +70,13 @@ int main(int argc, char** argv) {
   auto renderer = Renderer::create(*scene);
   if (!renderer) return fail(renderer.error());
 
-  CausticsOptions caustics;
+  CausticsOptions caustics = default_caustics_options(scene->desc);
   caustics.method = *parse_method(method);
   if (planes > 0) caustics.planes = planes;
   if (epsilon > 0) caustics.epsilon = epsilon;
-  caustics.map_size = caustics_size;
-  caustics.glass_planes = glass_planes;
-  caustics.glass_map_size = glass_size;
+  if (caustics_size > 0) caustics.map_size = caustics_size;
+  if (glass_planes > 0) caustics.glass_planes = glass_planes;
+  if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -95,7 +103,8 @@ int main(int argc, char** argv) {
     std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.z0, q.x1, q.z1);
     written = write_float_image(out_path, width, height, 3, img->rgb,
                                 {{"caustix:region", rect}, {"caustix:receiver", receiver},
-                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", method}});
+                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", method},
+                                 {"caustix:time", std::to_string(q.time)}});
   } else if (is_float_image_path(out_path)) {
     FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
@@ -127,6 +136,10 @@ int main(int argc, char** argv) {
   if (verbose) {
     const CausticsStats cs = (*renderer)->caustics_stats();
     std::printf("renderer: %s\n", (*context)->description().c_str());
+    std::printf("caustics map %u^2, glass textures %u^2, %u glass planes (%s)\n", caustics.map_size,
+                caustics.glass_map_size, caustics.glass_planes,
+                scene->desc.render ? ("preset '" + scene->desc.render->preset + "' recorded in the file").c_str()
+                                   : "built-in defaults");
     std::printf("caustics (%s): %llu planes drawn, %llu of %llu illumination volumes after culling, %.1f MB on the GPU\n",
                 method.c_str(), static_cast<unsigned long long>(cs.planes_drawn),
                 static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),

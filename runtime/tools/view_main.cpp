@@ -112,6 +112,7 @@ int main(int argc, char** argv) {
     }
     const std::string gl_name = current_renderer_description();
     ViewState state;
+    state.caustics = default_caustics_options(scene->desc);
     state.orbit = state.home = Orbit::from((*renderer)->default_camera());
     glfwSetWindowUserPointer(window, &state);
     // The first light's direction as elevation above the horizon and azimuth.

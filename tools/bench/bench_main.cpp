@@ -12,6 +12,8 @@
 //       a 10k-vertex UV sphere, teapot_solid) and grid resolution R, the
 //       stored table size, bake time and rays per second, and the look-up
 //       error against direct traces at random (vertex, direction) pairs.
+//   caustix-bench tradeoff SCENE.json --reference REF.exr [--knobs a,b] [--base PRESET] [--csv FILE]
+//       The speed/accuracy sweep of docs/tradeoff.md (tools/bench/tradeoff.h).
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
@@ -41,12 +43,14 @@
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
+#include "bench_common.h"
+#include "tradeoff.h"
 
 namespace {
 
 using namespace caustix;
 using namespace caustix::bake;
-using Clock = std::chrono::steady_clock;
+using namespace caustix::bench;
 
 struct Model {
   const char* name;
@@ -54,11 +58,6 @@ struct Model {
 };
 const Model kModels[] = {{"sphere", "sphere.obj"}, {"teapot", "teapot.obj"}, {"organic", "organic.obj"}};
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 // Refracted direction of a sun 20 degrees from vertical through water n = 1.33.
 Vec3d sun_travel(double deg) {
@@ -301,54 +300,20 @@ int ltt(const std::string& meshes, const std::vector<std::uint32_t>& resolutions
   return kExitOk;
 }
 
-// A baked scene loaded into a headless context and a renderer.
-struct Session {
-  std::unique_ptr<runtime::HeadlessContext> context;
-  std::unique_ptr<runtime::Renderer> renderer;
-};
-Result<Session> open_scene(const std::string& cxb) {
-  auto scene = runtime::load_scene_file(cxb);
-  if (!scene) return scene.error();
-  auto ctx = runtime::HeadlessContext::create();
-  if (!ctx) return ctx.error();
-  auto r = runtime::Renderer::create(*scene);
-  if (!r) return r.error();
-  return Session{std::move(*ctx), std::move(*r)};
-}
-
-// Milliseconds per frame of the runtime on a baked scene, median of
-// `frames` after `warmup` frames; the animation advances 1/30 s per frame.
+// Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
            const std::string& label, bool move_light) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
-  auto& ctx = session->context;
-  runtime::FrameParams f{r->default_camera(), 0.0f, width, height, co};
-  std::vector<double> ms;
-  for (int i = 0; i < warmup + count; ++i) {
-    f.time = static_cast<float>(i) / 30.0f;
-    const auto t = Clock::now();
-    if (move_light && !r->scene().lights.empty()) {
-      // Turn the first light 2 degrees about the vertical each frame: its
-      // level maps are re-derived on the GPU every frame.
-      Light l = r->scene().lights[0];
-      const float c = std::cos(0.0349f), sn = std::sin(0.0349f);
-      const float x = l.direction[0], z = l.direction[2];
-      l.direction[0] = c * x - sn * z;
-      l.direction[2] = sn * x + c * z;
-      if (Status st = r->set_light(0, l); !st) return cli::fail("caustix-bench", st.error());
-    }
-    if (Status st = r->render(f); !st) return cli::fail("caustix-bench", st.error());
-    r->finish();
-    if (i >= warmup) ms.push_back(ms_since(t));
-  }
+  auto times = time_frames(*r, co, width, height, warmup, count, move_light);
+  if (!times) return cli::fail("caustix-bench", times.error());
   const runtime::CausticsStats cs = r->caustics_stats();
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
-              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, median(ms),
-              *std::min_element(ms.begin(), ms.end()), static_cast<unsigned long long>(cs.planes_drawn),
+              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms,
+              times->min_ms, static_cast<unsigned long long>(cs.planes_drawn),
               static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
-              static_cast<double>(cs.gpu_bytes) / 1e6, ctx->description().c_str());
+              static_cast<double>(cs.gpu_bytes) / 1e6, session->context->description().c_str());
   return kExitOk;
 }
 
@@ -433,10 +398,30 @@ int main(int argc, char** argv) {
   lt->add_option("--normal-bits", normal_bits, "Draco normal quantisation of the glass meshes")
       ->check(CLI::Range(6, 30))->capture_default_str();
   lt->add_option("--csv", csv, "also write the table as CSV");
+  TradeoffRequest tq;
+  std::string tsize = "640x480";
+  auto* tr = app.add_subcommand("tradeoff", "cost and error against a reference, one knob at a time, and the presets");
+  tr->add_option("scene", tq.scene_path, "scene description (scene.json)")->required();
+  tr->add_option("--reference", tq.reference_path,
+                 "caustix-reference irradiance image (EXR): receiver, region, size and time are taken from it")
+      ->required();
+  tr->add_option("--knobs", tq.knobs, "knobs to sweep (default: all that apply, then the presets)")
+      ->delimiter(',')->check(CLI::IsMember(tradeoff_knobs()));
+  tr->add_option("--base", tq.base, "preset each sweep starts from")->capture_default_str();
+  tr->add_option("--size", tsize, "beauty frame size for ms per frame")->capture_default_str();
+  tr->add_option("--warmup", tq.warmup, "frames not measured")->check(CLI::Range(0, 1000))->capture_default_str();
+  tr->add_option("--frames", tq.frames, "frames measured (median)")->check(CLI::Range(1, 1000))->capture_default_str();
+  tr->add_option("--csv", tq.csv, "also write the rows as CSV");
   if (auto rc = cli::parse(app, "caustix-bench", argc, argv)) return *rc;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   if (*stages) return bake_stages(meshes, repeat, size, csv);
+  if (*tr) {
+    if (!cli::parse_size(tsize, tq.frame_width, tq.frame_height)) {
+      return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
+    }
+    return tradeoff(tq);
+  }
   if (*lt) return ltt(meshes, resolutions, samples, min_cos, normal_bits, csv);
   if (*me) {
     if (header) std::printf("label,scene,planes,eq29_smart_vs_uniform,eq29_uniform_vs_volumetric,eq29_smart_vs_none\n");

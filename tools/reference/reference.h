@@ -19,8 +19,8 @@
 // Photons run in B independent, seeded batches, in parallel; the image is
 // their mean, and the batches' spread gives the noise estimate. Identical
 // inputs give identical images whatever the thread count.
-//
-// Not yet: transparent objects (glass, issue 5) — refused with a message.
+// Glass: Fresnel by Russian roulette at every interface, total internal
+// reflection, absorption inside (docs/reference.md).
 
 #include <cstdint>
 #include <string>

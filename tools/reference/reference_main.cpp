@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   if (Status st = runtime::write_float_image(out_path, img->width, img->height, 3, img->rgb,
                                              {{"caustix:region", rect}, {"caustix:receiver", q.receiver},
                                               {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", "reference"},
+                                              {"caustix:time", std::to_string(q.time)},
                                               {"caustix:relative_noise", std::to_string(img->relative_noise)}});
       !st) {
     return cli::fail("caustix-reference", st.error());

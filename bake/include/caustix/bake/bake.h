@@ -4,6 +4,7 @@
 // machine in the output): the same inputs give byte-identical bytes.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,12 @@ struct BakeOptions {
   DracoOptions draco;
   LevelMapOptions level_maps;
   TransportOptions transport;
+  // Multiplies scene.json's water grid cells on each axis (rounded, kept in
+  // 1..kMaxWaterCells): the runtime's caustics cost is linear in the grid's
+  // triangles (docs/tradeoff.md).
+  double water_grid_scale = 1.0;
+  // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
+  std::optional<RenderDefaults> render;
 };
 
 struct MeshStats {

@@ -97,6 +97,18 @@ struct Camera {
   float far_plane = 100.0f;
 };
 
+// The runtime settings a bake preset chose (caustix-bake --preset,
+// docs/tradeoff.md): renderers start from these instead of their built-in
+// defaults; options given explicitly still win. Not from scene.json.
+inline constexpr std::uint32_t kMaxRuntimeMapSize = 8192;
+inline constexpr std::uint32_t kMaxGlassPlanes = 16;
+struct RenderDefaults {
+  std::string preset;                   // the preset's name, for messages
+  std::uint32_t caustics_map_size = 512;  // water caustics map S x S, 1..kMaxRuntimeMapSize
+  std::uint32_t glass_map_size = 512;     // glass illumination textures, 1..kMaxRuntimeMapSize
+  std::uint32_t glass_planes = 4;         // virtual planes per glass target, 1..kMaxGlassPlanes
+};
+
 struct SceneDesc {
   std::string name;
   std::vector<MeshInfo> meshes;
@@ -104,6 +116,7 @@ struct SceneDesc {
   std::vector<Light> lights;
   std::optional<Water> water;
   std::optional<Camera> camera;
+  std::optional<RenderDefaults> render;
 };
 
 // Limits that keep hostile or absurd inputs bounded (also documented in

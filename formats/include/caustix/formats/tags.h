@@ -24,6 +24,7 @@ inline constexpr Tag kTagObjects = make_tag("OBJS");  // required, once
 inline constexpr Tag kTagLights = make_tag("LGHT");   // required, once
 inline constexpr Tag kTagWater = make_tag("WATR");    // required if present, at most once
 inline constexpr Tag kTagCamera = make_tag("CAMR");   // optional, at most once
+inline constexpr Tag kTagRender = make_tag("RNDR");   // optional, at most once: runtime defaults of a preset
 inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh, in mesh order
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked

@@ -6,6 +6,7 @@
 // of the Euclidean distance in CIE L*u*v* (D65 white, Y_n = `white`).
 // Pixels where `mask` is given and false are left out.
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -32,6 +33,20 @@ double relative_l1(const Image& a, const Image& b, const std::vector<bool>* mask
 double rms(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr);
 // sum a / sum b of luminance: the total flux ratio.
 double flux_ratio(const Image& a, const Image& b, const std::vector<bool>* mask = nullptr);
+
+// Centre of the brightest pixel (luminance; the first one in row order
+// on ties), in pixels: (column + 1/2, row + 1/2).
+std::array<double, 2> peak_position(const Image& im);
+
+// Every metric of A against the reference B (caustix-compare, the
+// trade-off sweeps). With the reference's world rectangle (x0, z0, x1, z1)
+// the peak error is also given in metres.
+struct Comparison {
+  double eq29 = 0, rel_l1 = 0, rms = 0, flux_ratio = 1;
+  double peak_error_px = 0;
+  std::optional<double> peak_error_m;
+};
+Comparison compare(const Image& a, const Image& b, const std::optional<std::array<double, 4>>& region = {});
 
 // Rec. 709 luminance of pixel i.
 inline double luminance(const Image& im, std::size_t i) {

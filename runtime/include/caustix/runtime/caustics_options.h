@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "caustix/formats/scene.h"
+
 namespace caustix::runtime {
 
 enum class CausticsMethod {
@@ -36,6 +38,10 @@ struct CausticsOptions {
   std::uint32_t glass_planes = 4;
   std::uint32_t glass_map_size = 512;
 };
+
+// The options a renderer starts from for this scene: the built-in defaults
+// above, or the runtime defaults a bake preset recorded (RNDR chunk).
+CausticsOptions default_caustics_options(const SceneDesc& scene);
 
 // What the last frame's caustics pass did, per level map (for benchmarks).
 struct CausticsStats {

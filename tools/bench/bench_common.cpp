@@ -1,0 +1,45 @@
+#include "bench_common.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace caustix::bench {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+Result<Session> open_scene(const std::string& cxb) {
+  auto scene = runtime::load_scene_file(cxb);
+  if (!scene) return scene.error();
+  auto ctx = runtime::HeadlessContext::create();
+  if (!ctx) return ctx.error();
+  auto r = runtime::Renderer::create(*scene);
+  if (!r) return r.error();
+  return Session{std::move(*ctx), std::move(*r)};
+}
+
+Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
+                               int warmup, int count, bool move_light) {
+  runtime::FrameParams f{r.default_camera(), 0.0f, width, height, co};
+  std::vector<double> ms;
+  for (int i = 0; i < warmup + count; ++i) {
+    f.time = static_cast<float>(i) / 30.0f;
+    const auto t = Clock::now();
+    if (move_light && !r.scene().lights.empty()) {
+      Light l = r.scene().lights[0];
+      const float c = std::cos(0.0349f), sn = std::sin(0.0349f);
+      const float x = l.direction[0], z = l.direction[2];
+      l.direction[0] = c * x - sn * z;
+      l.direction[2] = sn * x + c * z;
+      if (Status st = r.set_light(0, l); !st) return st.error();
+    }
+    if (Status st = r.render(f); !st) return st.error();
+    r.finish();
+    if (i >= warmup) ms.push_back(ms_since(t));
+  }
+  return FrameTimes{median(ms), *std::min_element(ms.begin(), ms.end())};
+}
+
+}  // namespace caustix::bench

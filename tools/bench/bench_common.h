@@ -1,0 +1,38 @@
+#pragma once
+// Pieces shared by the caustix-bench subcommands.
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
+
+namespace caustix::bench {
+
+using Clock = std::chrono::steady_clock;
+inline double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+double median(std::vector<double> v);
+
+// A baked scene loaded into a headless context and a renderer.
+struct Session {
+  std::unique_ptr<runtime::HeadlessContext> context;
+  std::unique_ptr<runtime::Renderer> renderer;
+};
+Result<Session> open_scene(const std::string& cxb);
+
+struct FrameTimes {
+  double median_ms = 0, min_ms = 0;
+};
+// Milliseconds per frame (render + glFinish) of `count` frames after
+// `warmup` unmeasured ones, the animation advancing 1/30 s per frame; with
+// move_light the first light turns 2 degrees about the vertical each frame
+// (its level maps are re-derived on the GPU every frame).
+Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
+                               int warmup, int count, bool move_light = false);
+
+}  // namespace caustix::bench

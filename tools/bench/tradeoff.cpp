@@ -1,0 +1,189 @@
+#include "tradeoff.h"
+
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <optional>
+
+#include "bench_common.h"
+#include "caustix/bake/bake.h"
+#include "caustix/bake/presets.h"
+#include "caustix/common/cli.h"
+#include "caustix/metrics/image_metrics.h"
+#include "caustix/runtime/image_output.h"
+
+namespace caustix::bench {
+namespace {
+
+struct Setting {
+  bake::BakeOptions bake;
+  runtime::CausticsOptions caustics;
+};
+
+struct Knob {
+  const char* name;
+  std::vector<double> values;
+  bool glass_only;  // only scenes with transparent objects
+  bool water_only;  // only scenes with water (level maps)
+  std::function<void(Setting&, double)> apply;
+};
+
+// Each knob's values bracket its default (balanced) on both sides.
+const std::vector<Knob>& knobs() {
+  static const std::vector<Knob> k{
+      {"planes", {2, 4, 8, 16, 32, 64, 128}, false, true,
+       [](Setting& s, double v) { s.bake.level_maps.slicing.planes = static_cast<std::uint32_t>(v); }},
+      {"epsilon", {0.001, 0.003, 0.01, 0.03, 0.1, 0.3}, false, true,
+       [](Setting& s, double v) { s.bake.level_maps.slicing.epsilon = v; }},
+      {"levels", {1, 4, 16, 64, 256, 1024}, false, true,
+       [](Setting& s, double v) { s.bake.level_maps.slicing.levels = static_cast<std::uint32_t>(v); }},
+      {"map-size", {64, 128, 256, 512, 1024, 2048}, false, true,
+       [](Setting& s, double v) { s.bake.level_maps.map_size = static_cast<std::uint32_t>(v); }},
+      {"caustics-size", {128, 256, 512, 1024, 2048}, false, true,
+       [](Setting& s, double v) { s.caustics.map_size = static_cast<std::uint32_t>(v); }},
+      {"water-grid", {0.25, 0.5, 1, 2, 4}, false, true, [](Setting& s, double v) { s.bake.water_grid_scale = v; }},
+      {"ltt-resolution", {8, 12, 16, 20, 24, 32}, true, false,
+       [](Setting& s, double v) { s.bake.transport.resolution = static_cast<std::uint32_t>(v); }},
+      {"glass-size", {128, 256, 512, 1024, 2048}, true, false,
+       [](Setting& s, double v) { s.caustics.glass_map_size = static_cast<std::uint32_t>(v); }},
+      {"position-bits", {8, 10, 12, 14, 16}, false, false,
+       [](Setting& s, double v) { s.bake.draco.position_bits = static_cast<int>(v); }},
+      {"normal-bits", {8, 10, 12, 14, 16}, false, false,
+       [](Setting& s, double v) { s.bake.draco.normal_bits = static_cast<int>(v); }},
+  };
+  return k;
+}
+
+Setting from_preset(const bake::Preset& p) {
+  Setting s{p.options, {}};
+  s.caustics.map_size = p.options.render->caustics_map_size;
+  s.caustics.glass_map_size = p.options.render->glass_map_size;
+  s.caustics.glass_planes = p.options.render->glass_planes;
+  return s;
+}
+
+struct Reference {
+  metrics::Image image;
+  std::array<double, 4> region{};
+  std::string receiver;
+  float time = 0;
+  double noise = 0;
+};
+
+Result<Reference> load_reference(const std::string& path) {
+  auto img = runtime::read_rgb_image(path);
+  if (!img) return img.error();
+  Reference r;
+  r.receiver = img->attribute("caustix:receiver");
+  const auto region = img->region();
+  if (r.receiver.empty() || !region) {
+    return make_error(ErrorCode::kInput, path + ": not an irradiance image (no caustix:receiver / caustix:region)");
+  }
+  r.region = *region;
+  r.time = std::strtof(img->attribute("caustix:time").c_str(), nullptr);
+  r.noise = std::strtod(img->attribute("caustix:relative_noise").c_str(), nullptr);
+  r.image = {img->width, img->height, std::move(img->rgb)};
+  return r;
+}
+
+}  // namespace
+
+std::vector<std::string> tradeoff_knobs() {
+  std::vector<std::string> names;
+  for (const Knob& k : knobs()) names.push_back(k.name);
+  names.push_back("presets");
+  return names;
+}
+
+int tradeoff(const TradeoffRequest& q) {
+  auto fail = [](const Error& e) { return cli::fail("caustix-bench", e); };
+  auto ref = load_reference(q.reference_path);
+  if (!ref) return fail(ref.error());
+  const bake::Preset* base = bake::find_preset(q.base);
+  if (!base) return fail(make_error(ErrorCode::kUsage, "no preset '" + q.base + "'"));
+  auto context = runtime::HeadlessContext::create();
+  if (!context) return fail(context.error());
+
+  std::ofstream out;
+  if (!q.csv.empty()) out.open(q.csv);
+  auto emit = [&](const std::string& line) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+    if (out) out << line << "\n" << std::flush;
+  };
+  emit("scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,gpu_mb,eq29,rel_l1,rms,flux_ratio,"
+       "peak_px,peak_m,reference_noise,renderer");
+
+  // One row: bake with the setting (the baker's own timing), load the bytes,
+  // render the reference's image, then time beauty frames.
+  auto evaluate = [&](const std::string& knob, const std::string& value, const Setting& s) -> Status {
+    const auto t0 = Clock::now();
+    auto baked = bake::bake_scene(q.scene_path, s.bake);
+    if (!baked) return baked.error();
+    const double bake_s = ms_since(t0) / 1000.0;
+    auto scene = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
+    if (!scene) return scene.error();
+    auto renderer = runtime::Renderer::create(*scene);
+    if (!renderer) return renderer.error();
+    runtime::IrradianceRequest ir;
+    ir.receiver = ref->receiver;
+    ir.x0 = static_cast<float>(ref->region[0]);
+    ir.z0 = static_cast<float>(ref->region[1]);
+    ir.x1 = static_cast<float>(ref->region[2]);
+    ir.z1 = static_cast<float>(ref->region[3]);
+    ir.width = ref->image.width;
+    ir.height = ref->image.height;
+    ir.time = ref->time;
+    ir.caustics = s.caustics;
+    auto img = (*renderer)->render_irradiance(ir);
+    if (!img) return img.error();
+    const metrics::Comparison c =
+        metrics::compare({img->width, img->height, std::move(img->rgb)}, ref->image, ref->region);
+    auto times = time_frames(**renderer, s.caustics, q.frame_width, q.frame_height, q.warmup, q.frames);
+    if (!times) return times.error();
+    const runtime::CausticsStats cs = (*renderer)->caustics_stats(false);
+    std::string cells = "-";
+    if (scene->desc.water) cells = std::to_string(scene->desc.water->cells[0]) + "x" + std::to_string(scene->desc.water->cells[1]);
+    char line[1024];
+    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.3f,%zu,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,\"%s\"",
+                  scene->desc.name.c_str(), ref->receiver.c_str(), knob.c_str(), value.c_str(), cells.c_str(), bake_s,
+                  baked->cxb.size(), times->median_ms, times->min_ms, static_cast<double>(cs.gpu_bytes) / 1e6, c.eq29,
+                  c.rel_l1, c.rms, c.flux_ratio, c.peak_error_px, c.peak_error_m.value_or(0), ref->noise,
+                  context->get()->description().c_str());
+    emit(line);
+    return Status::success();
+  };
+
+  // What the scene has decides which knobs apply (one bake of the base).
+  auto probe = bake::bake_scene(q.scene_path, base->options);
+  if (!probe) return fail(probe.error());
+  const bool has_water = probe->scene.water.has_value();
+  const bool has_glass = !probe->transport.empty();
+
+  const std::vector<std::string> wanted = q.knobs.empty() ? tradeoff_knobs() : q.knobs;
+  for (const std::string& name : wanted) {
+    if (name == "presets") {
+      for (const bake::Preset& p : bake::presets()) {
+        if (Status st = evaluate("preset", p.name, from_preset(p)); !st) return fail(st.error());
+      }
+      continue;
+    }
+    const Knob* knob = nullptr;
+    for (const Knob& k : knobs()) knob = name == k.name ? &k : knob;
+    if (!knob) return fail(make_error(ErrorCode::kUsage, "unknown knob '" + name + "'"));
+    if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water)) {
+      std::fprintf(stderr, "caustix-bench: %s does not apply to %s (skipped)\n", knob->name, q.scene_path.c_str());
+      continue;
+    }
+    for (double v : knob->values) {
+      Setting s = from_preset(*base);
+      knob->apply(s, v);
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", v);
+      if (Status st = evaluate(knob->name, value, s); !st) return fail(st.error());
+    }
+  }
+  return kExitOk;
+}
+
+}  // namespace caustix::bench
