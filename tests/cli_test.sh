@@ -48,10 +48,10 @@ cmp -s "$tmp/u.cxb" "$tmp/u2.cxb"; check "1 and 2 threads byte-identical" 0 $?
 # Presets (docs/tradeoff.md): the preset's knobs unless given explicitly, and
 # its runtime defaults recorded in the file (RNDR) for the renderers.
 "$bake" "$scene" -o "$tmp/fast.cxb" --preset fast --planes 5 --report "$tmp/fast.json" -q; check "bake --preset fast" 0 $?
-python3 -c "import json,sys; o=json.load(open(sys.argv[1]))['options']; assert o['planes'] == 5 and o['map_size'] == 256 and o['water_grid_scale'] == 0.5, o" "$tmp/fast.json"
+python3 -c "import json,sys; o=json.load(open(sys.argv[1]))['options']; assert o['planes'] == 5 and o['water_grid_scale'] == 0.5 and o['levels'] == 64, o" "$tmp/fast.json"
 check "preset applied, explicit --planes wins" 0 $?
 "$inspect" "$tmp/fast.cxb" >"$tmp/out"; check "inspect preset file" 0 $?
-contains "preset's runtime defaults recorded" "$tmp/out" "render defaults (preset 'fast'): caustics map 256^2"
+contains "preset's runtime defaults recorded" "$tmp/out" "render defaults (preset 'fast'): caustics map 512^2, glass textures 256^2"
 "$inspect" "$tmp/a.cxb" >"$tmp/out"
 ! grep -q RNDR "$tmp/out"; check "no RNDR chunk without a preset" 0 $?
 "$bake" "$scene" -o "$tmp/x.cxb" --preset turbo 2>"$tmp/err"; check "unknown preset" 2 $?
@@ -105,7 +105,7 @@ compare=$build/tools/caustix-compare
 "$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 -o "$tmp/irr.exr" -q; check "render irradiance" 0 $?
 "$render" "$tmp/a.cxb" --irradiance floor --region -1,-1,1,1 --size 32 --method none -o "$tmp/irr_none.exr" -q; check "render irradiance none" 0 $?
 "$render" "$tmp/fast.cxb" --irradiance floor --region -1,-1,1,1 --size 32 -o "$tmp/irr_fast.exr" -v >"$tmp/rout"; check "render a preset file" 0 $?
-contains "renderer starts from the preset's defaults" "$tmp/rout" "caustics map 256^2"
+contains "renderer starts from the preset's defaults" "$tmp/rout" "glass textures 256^2"
 "$render" "$tmp/fast.cxb" --irradiance floor --region -1,-1,1,1 --size 32 --caustics-size 100 -o "$tmp/irr_fast.exr" -v >"$tmp/rout"
 contains "explicit --caustics-size wins" "$tmp/rout" "caustics map 100^2"
 "$render" "$tmp/a.cxb" --irradiance nosuch -o "$tmp/x.exr" 2>"$tmp/err"; check "unknown receiver" 2 $?

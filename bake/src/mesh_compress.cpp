@@ -7,14 +7,6 @@
 
 namespace caustix::bake {
 
-double position_error_bound(const std::array<float, 3>& lo, const std::array<float, 3>& hi, int bits) {
-  double range = 0;
-  for (int i = 0; i < 3; ++i) range = std::max(range, double{hi[static_cast<std::size_t>(i)]} - lo[static_cast<std::size_t>(i)]);
-  if (range <= 0) range = 1;  // Draco's own convention for flat ranges
-  const double delta = range / static_cast<double>((std::uint64_t{1} << bits) - 1);
-  // Half a quantisation step, plus float rounding of min + q * delta.
-  return 0.5 * delta + 4e-7 * (range + std::max(std::abs(double{lo[0]}), std::max(std::abs(double{lo[1]}), std::abs(double{lo[2]}))));
-}
 
 MeshInfo describe_mesh(const TriangleMesh& mesh, const DracoOptions& options) {
   MeshInfo info;

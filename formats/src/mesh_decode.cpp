@@ -13,6 +13,15 @@ Error mesh_error(const MeshInfo& info, const std::string& msg) {
 
 }  // namespace
 
+double position_error_bound(const std::array<float, 3>& lo, const std::array<float, 3>& hi, int bits) {
+  double range = 0;
+  for (int i = 0; i < 3; ++i) range = std::max(range, double{hi[static_cast<std::size_t>(i)]} - lo[static_cast<std::size_t>(i)]);
+  if (range <= 0) range = 1;  // Draco's own convention for flat ranges
+  const double delta = range / static_cast<double>((std::uint64_t{1} << bits) - 1);
+  // Half a quantisation step, plus float rounding of min + q * delta.
+  return 0.5 * delta + 4e-7 * (range + std::max(std::abs(double{lo[0]}), std::max(std::abs(double{lo[1]}), std::abs(double{lo[2]}))));
+}
+
 Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const MeshInfo& info) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(stream.data()), stream.size());
@@ -41,11 +50,9 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   TriangleMesh out;
   out.positions.resize(mesh->num_points());
   out.normals.resize(mesh->num_points());
-  // Decoded positions may sit half a quantisation step outside the source
-  // bounds; allow a generous slack relative to the extent.
-  double extent = 0;
-  for (std::size_t k = 0; k < 3; ++k) extent = std::max(extent, double{info.bounds_max[k]} - info.bounds_min[k]);
-  const double slack = 1e-3 * std::max(extent, 1e-6);
+  // Decoded positions may sit up to half a quantisation step outside the
+  // source bounds (8 bits: 0.2 % of the extent); allow 1.5 times that.
+  const double slack = 1.5 * position_error_bound(info.bounds_min, info.bounds_max, info.position_bits);
   for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
     auto& p = out.positions[i.value()];
     auto& n = out.normals[i.value()];

@@ -306,7 +306,14 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
-  auto times = time_frames(*r, co, width, height, warmup, count, move_light);
+  runtime::CausticsOptions with_defaults = co;
+  if (co.map_size == 0) {  // the file's recorded defaults (RNDR), else the built-in ones
+    const runtime::CausticsOptions d = runtime::default_caustics_options(r->scene());
+    with_defaults.map_size = d.map_size;
+    with_defaults.glass_map_size = d.glass_map_size;
+    with_defaults.glass_planes = d.glass_planes;
+  }
+  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light);
   if (!times) return cli::fail("caustix-bench", times.error());
   const runtime::CausticsStats cs = r->caustics_stats();
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
@@ -373,8 +380,9 @@ int main(int argc, char** argv) {
   fr->add_option("--size", fsize, "image size WxH")->capture_default_str();
   fr->add_option("--warmup", warmup, "frames not measured")->capture_default_str();
   fr->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
-  std::uint32_t csize = 512;
-  fr->add_option("--caustics-size", csize, "caustics map size")->check(CLI::Range(1, 8192))->capture_default_str();
+  std::uint32_t csize = 0;
+  fr->add_option("--caustics-size", csize, "caustics map size (default: the file's preset, else 512)")
+      ->check(CLI::Range(1, 8192));
   fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
   fr->add_option("--label", label, "first CSV column");
   fr->add_flag("--header", header, "print the CSV header first");

@@ -13,6 +13,7 @@
 
 #include "caustix/common/mesh.h"
 #include "caustix/common/status.h"
+#include "caustix/formats/mesh_decode.h"
 #include "caustix/formats/scene.h"
 
 namespace caustix::bake {
@@ -26,9 +27,8 @@ struct DracoOptions {
   int speed = 3;           // Draco encoder speed 0 (smallest) .. 10 (fastest)
 };
 
-// Largest per-coordinate error of decoded positions, in object-space metres.
-double position_error_bound(const std::array<float, 3>& bounds_min,
-                            const std::array<float, 3>& bounds_max, int bits);
+// Largest per-coordinate error of decoded positions (formats/mesh_decode.h).
+using caustix::position_error_bound;
 
 // The MESH chunk's description of `mesh` compressed with `options`
 // (counts, quantisation bits, bounds; `source` left empty).

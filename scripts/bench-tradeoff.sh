@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Regenerates the speed/accuracy sweeps of docs/tradeoff.md: a reference
+# image per canonical scene (caustix-reference, cached in build/tradeoff/),
+# then caustix-bench tradeoff (every knob from the 'balanced' preset, then
+# the presets) -> docs/results/tradeoff_<scene>.csv and .png. Needs a built
+# tree (scripts/test.sh or scripts/run-default.sh); installs
+# python3-matplotlib if missing. About 40 minutes on 2 cores with llvmpipe.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get install -y -qq --no-install-recommends python3-matplotlib >/dev/null
+fi
+cmake --build build --target caustix-bench caustix-reference
+mkdir -p build/tradeoff docs/results
+
+# scene, receiver, region, image size, photons: 1.5-2.5 cm pixels, reference
+# noise 1.4 % per pixel (glass_ball: 1.6 cm pixels, 2 %).
+run() {
+  local scene=$1 receiver=$2 region=$3 size=$4 photons=$5
+  local ref=build/tradeoff/${scene}_ref.exr
+  if [ ! -f "$ref" ]; then
+    ./build/tools/caustix-reference "assets/scenes/$scene.json" --irradiance "$receiver" --region "$region" \
+      --size "$size" --photons "$photons" -o "$ref"
+  fi
+  ./build/tools/caustix-bench tradeoff "assets/scenes/$scene.json" --reference "$ref" \
+    --csv "docs/results/tradeoff_$scene.csv"
+}
+run wavy_pool floor 0,-0.03125,4,0.03125 256x4 256000000
+run thesis_teapot teapot -1.25,-0.8,1.35,0.8 104x64 128000000
+run glass_ball floor -1,-1,1,1 128x128 32000000
+/usr/bin/python3 scripts/plot_tradeoff.py docs/results wavy_pool thesis_teapot glass_ball
