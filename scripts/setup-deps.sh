@@ -16,6 +16,8 @@ PACKAGES=(
   xvfb xauth
   # small well-kept libraries: JSON, CLI parsing, checksums, threading
   nlohmann-json3-dev libcli11-dev libxxhash-dev libzstd-dev libtbb-dev
+  # Embree: only caustix-bench raycast, measured against CGAL's AABB tree
+  libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots
   libgtest-dev clang-14 libclang-rt-14-dev python3
 )

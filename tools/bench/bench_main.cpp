@@ -12,6 +12,9 @@
 //       a 10k-vertex UV sphere, teapot_solid) and grid resolution R, the
 //       stored table size, bake time and rays per second, and the look-up
 //       error against direct traces at random (vertex, direction) pairs.
+//   caustix-bench raycast [--rays N] [--csv FILE]
+//       First-hit queries per second and agreement: CGAL's AABB tree (the
+//       baker's and caustix-reference's RayCaster) against Embree 3.
 //   caustix-bench tradeoff SCENE.json --reference REF.exr [--knobs a,b] [--base PRESET] [--csv FILE]
 //       The speed/accuracy sweep of docs/tradeoff.md (tools/bench/tradeoff.h).
 
@@ -44,6 +47,7 @@
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 #include "bench_common.h"
+#include "embree_caster.h"
 #include "tradeoff.h"
 
 namespace {
@@ -158,6 +162,78 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
       line += buf;
     }
     std::printf("%s\n", line.c_str());
+    if (out) out << line << "\n";
+  }
+  return kExitOk;
+}
+
+// Rays from random points on a sphere around the mesh toward random points
+// in its box (most hit, some graze or miss), traced by both engines.
+int raycast(const std::string& meshes, int rays, const std::string& csv) {
+  std::ofstream out;
+  if (!csv.empty()) out.open(csv);
+  const std::string header =
+      "model,triangles,threads,cgal_build_ms,embree_build_ms,cgal_rays_per_s,embree_rays_per_s,embree_speedup,"
+      "hit_agreement,max_rel_distance_diff";
+  std::printf("%s\n", header.c_str());
+  if (out) out << header << "\n";
+  std::vector<ImportedMesh> models;
+  for (const Model& model : kModels) {
+    auto m = import_mesh(meshes + model.file);
+    if (!m) return cli::fail("caustix-bench", m.error());
+    models.push_back(std::move(*m));
+  }
+  for (std::size_t mi = 0; mi < models.size(); ++mi) {
+    const TriangleMesh& mesh = models[mi].mesh;
+    const auto world = to_world(mesh);
+    Vec3d lo = world[0], hi = world[0];
+    for (const Vec3d& p : world) {
+      for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+    const Vec3d c{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    const double r = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    std::vector<std::pair<Vec3d, Vec3d>> queries;
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < rays; ++i) {
+      const double z = 2 * u(rng) - 1, phi = 2 * 3.14159265358979 * u(rng), s = std::sqrt(1 - z * z);
+      const Vec3d o{c[0] + r * s * std::cos(phi), c[1] + r * s * std::sin(phi), c[2] + r * z};
+      const Vec3d t{lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng), lo[2] + (hi[2] - lo[2]) * u(rng)};
+      Vec3d d{t[0] - o[0], t[1] - o[1], t[2] - o[2]};
+      const double n = std::hypot(d[0], d[1], d[2]);
+      for (double& x : d) x /= n;
+      queries.emplace_back(o, d);
+    }
+    auto t0 = Clock::now();
+    const RayCaster cgal(world, mesh.triangles, std::vector<std::uint32_t>(mesh.triangles.size(), 0));
+    const double cgal_build = ms_since(t0);
+    t0 = Clock::now();
+    const EmbreeCaster embree(world, mesh.triangles);
+    const double embree_build = ms_since(t0);
+    std::vector<double> a(queries.size()), b(queries.size());
+    auto run = [&](auto&& cast, std::vector<double>& dist) {
+      const auto t = Clock::now();
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          dist[i] = cast(queries[i].first, queries[i].second).value_or(-1.0);
+        }
+      });
+      return static_cast<double>(queries.size()) / (ms_since(t) / 1000.0);
+    };
+    const double cgal_rate = run([&](const Vec3d& o, const Vec3d& d) { return cgal.first_hit(o, d); }, a);
+    const double embree_rate = run([&](const Vec3d& o, const Vec3d& d) { return embree.first_hit(o, d); }, b);
+    std::size_t agree = 0;
+    double max_rel = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if ((a[i] < 0) == (b[i] < 0)) ++agree;
+      if (a[i] > 0 && b[i] > 0) max_rel = std::max(max_rel, std::fabs(a[i] - b[i]) / r);
+    }
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,%zu,%d,%.2f,%.2f,%.0f,%.0f,%.2f,%.6f,%.3g", kModels[mi].name,
+                  mesh.triangles.size(), tbb::this_task_arena::max_concurrency(), cgal_build, embree_build, cgal_rate,
+                  embree_rate, embree_rate / cgal_rate, static_cast<double>(agree) / static_cast<double>(a.size()),
+                  max_rel);
+    std::printf("%s\n", line);
     if (out) out << line << "\n";
   }
   return kExitOk;
@@ -406,6 +482,10 @@ int main(int argc, char** argv) {
   lt->add_option("--normal-bits", normal_bits, "Draco normal quantisation of the glass meshes")
       ->check(CLI::Range(6, 30))->capture_default_str();
   lt->add_option("--csv", csv, "also write the table as CSV");
+  int rays = 1'000'000;
+  auto* ray_cmd = app.add_subcommand("raycast", "first-hit queries per second: CGAL AABB tree against Embree 3");
+  ray_cmd->add_option("--rays", rays, "rays per model")->check(CLI::Range(1, 100'000'000))->capture_default_str();
+  ray_cmd->add_option("--csv", csv, "also write the table as CSV");
   TradeoffRequest tq;
   std::string tsize = "640x480";
   auto* tr = app.add_subcommand("tradeoff", "cost and error against a reference, one knob at a time, and the presets");
@@ -424,6 +504,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   if (*stages) return bake_stages(meshes, repeat, size, csv);
+  if (*ray_cmd) return raycast(meshes, rays, csv);
   if (*tr) {
     if (!cli::parse_size(tsize, tq.frame_width, tq.frame_height)) {
       return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
