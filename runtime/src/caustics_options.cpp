@@ -19,13 +19,15 @@ std::optional<CausticsMethod> parse_method(const std::string& name) {
   return std::nullopt;
 }
 
+void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
+  o.map_size = render.caustics_map_size;
+  o.glass_map_size = render.glass_map_size;
+  o.glass_planes = render.glass_planes;
+}
+
 CausticsOptions default_caustics_options(const SceneDesc& scene) {
   CausticsOptions o;
-  if (scene.render) {
-    o.map_size = scene.render->caustics_map_size;
-    o.glass_map_size = scene.render->glass_map_size;
-    o.glass_planes = scene.render->glass_planes;
-  }
+  if (scene.render) apply_render_defaults(o, *scene.render);
   return o;
 }
 

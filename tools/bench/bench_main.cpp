@@ -384,10 +384,8 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
   auto& r = session->renderer;
   runtime::CausticsOptions with_defaults = co;
   if (co.map_size == 0) {  // the file's recorded defaults (RNDR), else the built-in ones
-    const runtime::CausticsOptions d = runtime::default_caustics_options(r->scene());
-    with_defaults.map_size = d.map_size;
-    with_defaults.glass_map_size = d.glass_map_size;
-    with_defaults.glass_planes = d.glass_planes;
+    with_defaults.map_size = runtime::CausticsOptions{}.map_size;
+    if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
   auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light);
   if (!times) return cli::fail("caustix-bench", times.error());

@@ -56,9 +56,7 @@ const std::vector<Knob>& knobs() {
 
 Setting from_preset(const bake::Preset& p) {
   Setting s{p.options, {}};
-  s.caustics.map_size = p.options.render->caustics_map_size;
-  s.caustics.glass_map_size = p.options.render->glass_map_size;
-  s.caustics.glass_planes = p.options.render->glass_planes;
+  runtime::apply_render_defaults(s.caustics, *p.options.render);
   return s;
 }
 

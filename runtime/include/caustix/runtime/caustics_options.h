@@ -39,8 +39,10 @@ struct CausticsOptions {
   std::uint32_t glass_map_size = 512;
 };
 
+// Sets the fields a bake preset records (RNDR chunk): map sizes, glass planes.
+void apply_render_defaults(CausticsOptions& options, const RenderDefaults& render);
 // The options a renderer starts from for this scene: the built-in defaults
-// above, or the runtime defaults a bake preset recorded (RNDR chunk).
+// above, or the runtime defaults a bake preset recorded.
 CausticsOptions default_caustics_options(const SceneDesc& scene);
 
 // What the last frame's caustics pass did, per level map (for benchmarks).
