@@ -34,6 +34,8 @@ uniform int u_plane_cull;
 uniform int u_pairs;
 uniform int u_plane_count;
 uniform uint u_capacity;  // entries the list holds
+uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres): the acceptance test samples
+                          // the surface across the whole texels a piece touches
 
 // Footprint (in frame U, W) of volume t's rays between planes v = d0 and
 // v = d1 (d0 > d1); false if a ray does not head down through the frame.
@@ -91,11 +93,11 @@ void main() {
   if (u_plane_cull != 0) {
     // The surface under the footprint bounds the depths that matter; the
     // footprint over just those depths is smaller, so refine twice.
-    vec2 range = surface_depths(lo, hi);
+    vec2 range = surface_depths(lo - u_texel, hi + u_texel);
     for (int it = 0; it < 2 && range.x <= range.y && range.x > -1e29; ++it) {
       vec2 l2, h2;
       footprint(t, range.yx, l2, h2);
-      range = surface_depths(l2, h2);
+      range = surface_depths(l2 - u_texel, h2 + u_texel);
     }
     float vmin = range.x, vmax = range.y;
     if (vmin > vmax) return;  // no surface under the footprint

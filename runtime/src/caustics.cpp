@@ -204,6 +204,7 @@ struct CausticsEngine::Impl {
       cull.set("u_plane_cull", o.cull ? 1 : 0);
       cull.set("u_pairs", pairs ? 1 : 0);
       cull.set("u_plane_count", static_cast<int>(nplanes));
+      cull.set("u_texel", glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(m.caustics_size));
       cull.set("u_capacity", static_cast<unsigned>(m.capacity));
       glBindTextureUnit(0, m.depth_tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
@@ -254,7 +255,9 @@ struct CausticsEngine::Impl {
       glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
-      levelmap.set("u_map_scale", glm::vec2(static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size)));
+      const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
+      levelmap.set("u_map_scale", glm::vec2(scale));
+      levelmap.set("u_samples", static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f)));
       glBindTextureUnit(0, m.position_map.get());
       geometry_then_draw(levelmap, 0);
     } else {
