@@ -120,10 +120,17 @@ vec3 irradiance_from_light(vec3 p, vec3 n) {
     vec2 uv = 0.5 * (c.xz / u_frame_half.xz + 1.0);
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
     float front = texture(u_position_map, uv).r;
-    if (c.y < front - u_self_tolerance) return vec3(0.0);  // behind its own first surface
+    float cos_t = max(dot(n, u_frame_V), 0.0);
+    // Behind its own first surface? The map holds the depth at its texel's
+    // centre; within the texel a surface tilted against V departs from it by
+    // up to half the texel's diagonal times tan(theta_t): a slope-scaled
+    // tolerance on top of the windows' (coarse maps on slanted floors went
+    // dark, docs/robustness.md).
+    vec2 texel = 2.0 * u_frame_half.xz / vec2(textureSize(u_position_map, 0));
+    float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
+    if (c.y < front - u_self_tolerance - 0.5 * length(texel) * slope) return vec3(0.0);
     float e = texture(u_caustics_map, uv).r;
     vec3 travel = -u_frame_V;
-    float cos_t = max(dot(n, u_frame_V), 0.0);
     return u_light_color * e * cos_t * exp(-u_absorption * water_path(p, travel)) * shadow_visibility(p, n, u_frame_V);
   }
   vec3 l = u_light_type == 1 ? u_light_direction : normalize(p - u_light_position);

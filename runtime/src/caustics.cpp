@@ -95,6 +95,7 @@ struct CausticsEngine::Impl {
       widest = std::max(widest, p.epsilon);
     }
     m.planes_buffer = gl::make_buffer();
+    if (packed.empty()) packed = {0.0f, 0.0f};  // GL refuses empty buffers; draw_map draws nothing then
     glNamedBufferStorage(m.planes_buffer.get(), static_cast<GLsizeiptr>(packed.size() * 4), packed.data(), 0);
     // A point further behind the first surface than any window (or two
     // depth quanta) is self-shadowed.
@@ -164,6 +165,13 @@ struct CausticsEngine::Impl {
     ensure_planes(m, o);
     ensure_caustics_target(m, o.map_size);
     const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
+    if (nplanes == 0) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
+      const float none[4] = {0, 0, 0, 0};
+      glClearTexImage(m.caustics.get(), 0, GL_RED, GL_FLOAT, none);
+      glGenerateTextureMipmap(m.caustics.get());
+      m.gpu_bytes = bytes_of(m);
+      return;
+    }
 
     // 1. Cull: volumes that miss the frame, and (level map) planes the
     // surface under a volume does not need.
