@@ -34,8 +34,9 @@ uniform int u_plane_cull;
 uniform int u_pairs;
 uniform int u_plane_count;
 uniform uint u_capacity;  // entries the list holds
-uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres): the acceptance test samples
-                          // the surface across the whole texels a piece touches
+uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres) where it is coarser than the
+                          // position map's (else 0): the acceptance test samples the surface across
+                          // the whole texels a piece touches
 
 // Footprint (in frame U, W) of volume t's rays between planes v = d0 and
 // v = d1 (d0 > d1); false if a ray does not head down through the frame.

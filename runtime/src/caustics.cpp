@@ -212,7 +212,12 @@ struct CausticsEngine::Impl {
       cull.set("u_plane_cull", o.cull ? 1 : 0);
       cull.set("u_pairs", pairs ? 1 : 0);
       cull.set("u_plane_count", static_cast<int>(nplanes));
-      cull.set("u_texel", glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(m.caustics_size));
+      // Widen footprints by a caustics texel where the acceptance test
+      // samples surface across it (texels coarser than the position map's);
+      // at finer texels the depth tiles (8 position texels) already cover it.
+      const bool coarse = m.caustics_size < m.lm->map_size;
+      cull.set("u_texel", coarse ? glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(m.caustics_size)
+                                 : glm::vec2(0.0f));
       cull.set("u_capacity", static_cast<unsigned>(m.capacity));
       glBindTextureUnit(0, m.depth_tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
