@@ -38,6 +38,7 @@ uniform vec3 u_frame_V;
 uniform vec3 u_frame_W;
 uniform vec3 u_frame_half;
 uniform float u_self_tolerance;
+uniform float u_position_half_diagonal;  // half a position-map texel's diagonal (metres)
 
 // Glass (seed 002 §4.3): the receiver's illumination textures for this
 // light, on planes perpendicular to the mean transmitted direction
@@ -126,9 +127,8 @@ vec3 irradiance_from_light(vec3 p, vec3 n) {
     // up to half the texel's diagonal times tan(theta_t): a slope-scaled
     // tolerance on top of the windows' (coarse maps on slanted floors went
     // dark, docs/robustness.md).
-    vec2 texel = 2.0 * u_frame_half.xz / vec2(textureSize(u_position_map, 0));
     float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
-    if (c.y < front - u_self_tolerance - 0.5 * length(texel) * slope) return vec3(0.0);
+    if (c.y < front - u_self_tolerance - u_position_half_diagonal * slope) return vec3(0.0);
     float e = texture(u_caustics_map, uv).r;
     vec3 travel = -u_frame_V;
     return u_light_color * e * cos_t * exp(-u_absorption * water_path(p, travel)) * shadow_visibility(p, n, u_frame_V);

@@ -233,6 +233,8 @@ struct Renderer::Impl {
       p.set("u_frame_W", to_glm(f.w));
       p.set("u_frame_half", to_glm(f.half));
       p.set("u_self_tolerance", b->self_tolerance);
+      const float n = static_cast<float>(b->map->map_size);
+      p.set("u_position_half_diagonal", 0.5f * std::hypot(2.0f * f.half[0] / n, 2.0f * f.half[2] / n));
       glBindTextureUnit(2, b->caustics);
       glBindTextureUnit(3, b->position_map);
       return;
