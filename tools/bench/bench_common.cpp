@@ -2,8 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace caustix::bench {
+
+CsvOut::CsvOut(const std::string& path, const std::string& header) {
+  if (!path.empty()) file_.open(path);
+  row(header);
+}
+
+void CsvOut::row(const std::string& line) {
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
+  if (file_) file_ << line << "\n" << std::flush;
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

@@ -2,6 +2,7 @@
 // Pieces shared by the caustix-bench subcommands.
 
 #include <chrono>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,17 @@
 #include "caustix/runtime/renderer.h"
 
 namespace caustix::bench {
+
+// A table printed to stdout and, given a path, written as CSV too. Each row
+// is flushed: long runs can be watched, and a failure keeps the rows so far.
+class CsvOut {
+ public:
+  CsvOut(const std::string& path, const std::string& header);
+  void row(const std::string& line);
+
+ private:
+  std::ofstream file_;
+};
 
 using Clock = std::chrono::steady_clock;
 inline double ms_since(Clock::time_point t0) {

@@ -29,7 +29,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -76,13 +75,9 @@ std::vector<Vec3d> to_world(const TriangleMesh& m) {
 }
 
 int bake_stages(const std::string& meshes, int repeat, std::uint32_t size, const std::string& csv) {
-  std::ofstream out;
-  if (!csv.empty()) out.open(csv);
-  const std::string header =
+  CsvOut out(csv,
       "model,triangles,map_size,threads,import_ms,frame_ms,raster_ms,raycast_ms,profile_ms,level_map_stages_ms,"
-      "raycasts_per_s,raster_speedup";
-  std::printf("%s\n", header.c_str());
-  if (out) out << header << "\n";
+      "raycasts_per_s,raster_speedup");
   const int threads = tbb::this_task_arena::max_concurrency();
   for (const Model& model : kModels) {
     std::vector<double> imp, frame, raster, cast, profile;
@@ -126,15 +121,12 @@ int bake_stages(const std::string& meshes, int repeat, std::uint32_t size, const
     std::snprintf(line, sizeof line, "%s,%zu,%u,%d,%.2f,%.3f,%.2f,%.2f,%.3f,%.2f,%.0f,%.1f", model.name,
                   mesh.mesh.triangles.size(), size, threads, median(imp), median(frame), median(raster), median(cast),
                   median(profile), stages, double(size) * size / (median(cast) / 1000.0), median(cast) / median(raster));
-    std::printf("%s\n", line);
-    if (out) out << line << "\n";
+    out.row(line);
   }
   return kExitOk;
 }
 
 int table_5_4(const std::string& meshes, const std::string& csv) {
-  std::ofstream out;
-  if (!csv.empty()) out.open(csv);
   std::vector<LevelMap> maps;
   for (const Model& model : kModels) {
     auto m = import_mesh(meshes + model.file);
@@ -146,9 +138,7 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
     rasterize_position_map(world, m->mesh.triangles, {1, 1, 1}, lm);
     maps.push_back(std::move(lm));
   }
-  const std::string header = "specified,uniform_planes,sphere,teapot,organic";
-  std::printf("%s\n", header.c_str());
-  if (out) out << header << "\n";
+  CsvOut out(csv, "specified,uniform_planes,sphere,teapot,organic");
   for (std::uint32_t n = 3; n <= 28; ++n) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%u,%u", n, n + 1);
@@ -161,8 +151,7 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
       std::snprintf(buf, sizeof buf, ",%zu", lm.smart_planes.size());
       line += buf;
     }
-    std::printf("%s\n", line.c_str());
-    if (out) out << line << "\n";
+    out.row(line);
   }
   return kExitOk;
 }
@@ -170,13 +159,9 @@ int table_5_4(const std::string& meshes, const std::string& csv) {
 // Rays from random points on a sphere around the mesh toward random points
 // in its box (most hit, some graze or miss), traced by both engines.
 int raycast(const std::string& meshes, int rays, const std::string& csv) {
-  std::ofstream out;
-  if (!csv.empty()) out.open(csv);
-  const std::string header =
+  CsvOut out(csv,
       "model,triangles,threads,cgal_build_ms,embree_build_ms,cgal_rays_per_s,embree_rays_per_s,embree_speedup,"
-      "hit_agreement,max_rel_distance_diff";
-  std::printf("%s\n", header.c_str());
-  if (out) out << header << "\n";
+      "hit_agreement,max_rel_distance_diff");
   std::vector<ImportedMesh> models;
   for (const Model& model : kModels) {
     auto m = import_mesh(meshes + model.file);
@@ -233,8 +218,7 @@ int raycast(const std::string& meshes, int rays, const std::string& csv) {
                   mesh.triangles.size(), tbb::this_task_arena::max_concurrency(), cgal_build, embree_build, cgal_rate,
                   embree_rate, embree_rate / cgal_rate, static_cast<double>(agree) / static_cast<double>(a.size()),
                   max_rel);
-    std::printf("%s\n", line);
-    if (out) out << line << "\n";
+    out.row(line);
   }
   return kExitOk;
 }
@@ -310,13 +294,9 @@ int ltt(const std::string& meshes, const std::vector<std::uint32_t>& resolutions
   }
   Material glass_material;
   glass_material.ior = 1.5f;
-  std::ofstream out;
-  if (!csv.empty()) out.open(csv);
-  const std::string header =
+  CsvOut out(csv,
       "mesh,vertices,resolution,interpolation,stored_bytes,bytes_per_vertex,mb_per_10k_vertices,bake_s,rays_per_s,"
-      "lookups,dir_err_max_deg,dir_err_p99_deg,dir_err_p50_deg,dir_err_mean_deg,dir_err_over_5deg_pct,exit_err_max,exit_err_p99,t_err_max,t_err_p99";
-  std::printf("%s\n", header.c_str());
-  if (out) out << header << "\n";
+      "lookups,dir_err_max_deg,dir_err_p99_deg,dir_err_p50_deg,dir_err_mean_deg,dir_err_over_5deg_pct,exit_err_max,exit_err_p99,t_err_max,t_err_p99");
   for (const GlassMesh& g : glass) {
     bake::TransportOptions opt;
     const TransportTracer tracer(glass_material, g.mesh, opt.max_bounces);
@@ -367,9 +347,7 @@ int ltt(const std::string& meshes, const std::vector<std::uint32_t>& resolutions
                       g.name.c_str(), table.vertex_count, res, to_string(mode), stored, per_vertex, per_vertex * 1e4 / 1e6,
                       report.seconds, static_cast<double>(report.rays) / report.seconds, pairs.size(), de.max, de.p99,
                       de.p50, de.mean, 100 * de.over_5, ee.max, ee.p99, te.max, te.p99);
-        std::printf("%s\n", line);
-        std::fflush(stdout);
-        if (out) out << line << "\n";
+        out.row(line);
       }
     }
   }

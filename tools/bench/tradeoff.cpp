@@ -1,13 +1,14 @@
 #include "tradeoff.h"
 
+#include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <optional>
 
 #include "bench_common.h"
 #include "caustix/bake/bake.h"
 #include "caustix/bake/presets.h"
+#include "caustix/bake/scene_json.h"
 #include "caustix/common/cli.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/image_output.h"
@@ -102,14 +103,7 @@ int tradeoff(const TradeoffRequest& q) {
   auto context = runtime::HeadlessContext::create();
   if (!context) return fail(context.error());
 
-  std::ofstream out;
-  if (!q.csv.empty()) out.open(q.csv);
-  auto emit = [&](const std::string& line) {
-    std::printf("%s\n", line.c_str());
-    std::fflush(stdout);
-    if (out) out << line << "\n" << std::flush;
-  };
-  emit("scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,gpu_mb,eq29,rel_l1,rms,flux_ratio,"
+  CsvOut out(q.csv, "scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,gpu_mb,eq29,rel_l1,rms,flux_ratio,"
        "peak_px,peak_m,reference_noise,renderer");
 
   // One row: bake with the setting (the baker's own timing), load the bytes,
@@ -148,15 +142,16 @@ int tradeoff(const TradeoffRequest& q) {
                   baked->cxb.size(), times->median_ms, times->min_ms, static_cast<double>(cs.gpu_bytes) / 1e6, c.eq29,
                   c.rel_l1, c.rms, c.flux_ratio, c.peak_error_px, c.peak_error_m.value_or(0), ref->noise,
                   context->get()->description().c_str());
-    emit(line);
+    out.row(line);
     return Status::success();
   };
 
-  // What the scene has decides which knobs apply (one bake of the base).
-  auto probe = bake::bake_scene(q.scene_path, base->options);
-  if (!probe) return fail(probe.error());
-  const bool has_water = probe->scene.water.has_value();
-  const bool has_glass = !probe->transport.empty();
+  // What the scene has decides which knobs apply.
+  auto doc = bake::load_scene_json(q.scene_path);
+  if (!doc) return fail(doc.error());
+  const bool has_water = doc->scene.water.has_value();
+  const bool has_glass = std::any_of(doc->scene.objects.begin(), doc->scene.objects.end(),
+                                     [](const Object& o) { return is_transparent(o.role); });
 
   const std::vector<std::string> wanted = q.knobs.empty() ? tradeoff_knobs() : q.knobs;
   for (const std::string& name : wanted) {
