@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
@@ -36,13 +37,7 @@ nlohmann::json scene(const std::string& name) { return test::canonical_scene(nam
 class Caustics : public test::GlTest {
  protected:
   std::unique_ptr<runtime::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
-    auto baked = bake::bake_scene(test::write_scene(j, "caustics_test"), opt);
-    EXPECT_TRUE(baked.ok()) << baked.error().message;
-    auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-    auto r = runtime::Renderer::create(*loaded);
-    EXPECT_TRUE(r.ok()) << r.error().message;
-    return std::move(*r);
+    return test::bake_and_create(test::write_scene(j, "caustics_test"), opt);
   }
 
   static metrics::Image irradiance(runtime::Renderer& r, IrradianceRequest q) {

@@ -12,6 +12,7 @@
 
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/renderer.h"
+#include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
@@ -50,10 +51,8 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
   bake::BakeOptions opt;
   runtime::CausticsOptions co;
   c.edit(j, opt, co);
-  auto baked = bake::bake_scene(test::write_scene(j, std::string("extremes_") + c.name), opt);
-  ASSERT_TRUE(baked.ok()) << baked.error().message;
-  auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  auto loaded = test::bake_and_load(test::write_scene(j, std::string("extremes_") + c.name), opt);
+  ASSERT_TRUE(loaded);
   // Every baked float (depths are integers): frames and plane windows.
   for (const LevelMap& m : loaded->level_maps) {
     std::vector<double> values(m.frame.origin.begin(), m.frame.origin.end());
@@ -92,16 +91,12 @@ TEST_F(Extremes, MapsWithoutPlanesRender) {
   for (std::uint32_t size : {1u, 2u, 4u}) {
     bake::BakeOptions opt;
     opt.level_maps.map_size = size;
-    auto baked = bake::bake_scene(test::kScenes + "thesis_teapot.json", opt);
-    ASSERT_TRUE(baked.ok()) << baked.error().message;
-    auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    auto r = runtime::Renderer::create(*loaded);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto r = test::bake_and_create(test::kScenes + "thesis_teapot.json", opt);
+    ASSERT_TRUE(r);
     for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kVolumetric}) {
       runtime::IrradianceRequest q{"floor", -2, -2, 2, 2, 8, 8, 0.0f, {}};
       q.caustics.method = method;
-      auto img = (*r)->render_irradiance(q);
+      auto img = r->render_irradiance(q);
       ASSERT_TRUE(img.ok()) << size << "^2: " << img.error().message;
       for (float v : img->rgb) ASSERT_TRUE(std::isfinite(v));
     }

@@ -19,6 +19,7 @@
 #include "caustix/bake/light_transport.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
+#include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
@@ -36,11 +37,7 @@ using test::kScenes;
 nlohmann::json scene(const std::string& name) { return test::canonical_scene(name); }
 
 runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
-  auto baked = bake::bake_scene(test::write_scene(j, "glass_test"), opt);
-  EXPECT_TRUE(baked.ok()) << baked.error().message;
-  auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  return std::move(*loaded);
+  return test::bake_and_load(test::write_scene(j, "glass_test"), opt).value();
 }
 
 class Glass : public test::GlTest {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "bake_fixture.h"
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
@@ -24,10 +25,7 @@ struct Image {
 };
 
 Image render(const std::string& scene_json, int w, int h, float time = 0.0f) {
-  auto baked = bake::bake_scene(std::string(CAUSTIX_SOURCE_DIR) + "/" + scene_json, {});
-  EXPECT_TRUE(baked.ok()) << baked.error().message;
-  auto scene = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  auto scene = test::bake_and_load(std::string(CAUSTIX_SOURCE_DIR) + "/" + scene_json);
   auto ctx = HeadlessContext::create();
   EXPECT_TRUE(ctx.ok()) << ctx.error().message;
   auto r = Renderer::create(*scene);

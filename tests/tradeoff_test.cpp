@@ -16,6 +16,7 @@
 #include "caustix/bake/presets.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/renderer.h"
+#include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "reference.h"
 #include "scene_fixture.h"
@@ -46,14 +47,11 @@ class Tradeoff : public test::GlTest {
   static Outcome run(const std::string& scene, const bake::BakeOptions& opt,
                      std::optional<runtime::CausticsOptions> caustics, const reference::Image& ref,
                      const std::string& receiver, std::array<double, 4> region) {
-    auto baked = bake::bake_scene(test::kScenes + scene + ".json", opt);
-    EXPECT_TRUE(baked.ok()) << baked.error().message;
-    if (!baked.ok()) return {};
-    auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
-    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto loaded = test::bake_and_load(test::kScenes + scene + ".json", opt);
+    if (!loaded) return {};
     auto r = runtime::Renderer::create(*loaded);
     EXPECT_TRUE(r.ok()) << r.error().message;
-    if (!loaded.ok() || !r.ok()) return {};
+    if (!r.ok()) return {};
     runtime::IrradianceRequest q;
     q.receiver = receiver;
     q.x0 = static_cast<float>(region[0]);
