@@ -285,7 +285,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
       s.geometry.set("u_model", to_glm(scene.objects[g.object].transform));
       s.geometry.set("u_triangle_count", g.triangles);
       s.geometry.set("u_plane_count", planes);
-      glProgramUniform1fv(s.geometry.id(), glGetUniformLocation(s.geometry.id(), "u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
+      glProgramUniform1fv(s.geometry.id(), s.geometry.loc("u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
       s.geometry.set("u_map_size", static_cast<float>(size));
       s.geometry.set("u_max_magnification", co.max_magnification);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());

@@ -257,7 +257,7 @@ struct Renderer::Impl {
     p.set("u_glass_W", to_glm(f.w));
     p.set("u_glass_half", to_glm(f.half));
     p.set("u_glass_planes", static_cast<int>(g->plane_v.size()));
-    glProgramUniform1fv(p.id(), glGetUniformLocation(p.id(), "u_glass_plane_v"), static_cast<GLsizei>(g->plane_v.size()), g->plane_v.data());
+    glProgramUniform1fv(p.id(), p.loc("u_glass_plane_v"), static_cast<GLsizei>(g->plane_v.size()), g->plane_v.data());
     p.set("u_glass_tolerance", g->tolerance);
     glBindTextureUnit(4, g->illumination);
     glBindTextureUnit(5, g->target);
