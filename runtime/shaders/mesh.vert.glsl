@@ -1,12 +1,16 @@
 #version 450 core
 // Object-space mesh -> world and clip space. Used by the receiver passes and
-// the shadow-map passes (with the light's view-projection).
+// the shadow-map passes (with the light's view-projection). u_clip_plane
+// (world, a.x + b >= 0 kept) splits the scene at the water for the
+// refraction and reflection textures (seed 001 §5.1-5.2); it acts only
+// where the renderer enables GL_CLIP_DISTANCE0.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_proj;
+uniform vec4 u_clip_plane;
 
 out vec3 v_world;
 out vec3 v_normal;
@@ -16,4 +20,5 @@ void main() {
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   gl_Position = u_view_proj * world;
+  gl_ClipDistance[0] = dot(u_clip_plane, vec4(world.xyz, 1.0));
 }

@@ -1,22 +1,31 @@
 // Diffuse receivers (prefixed with #version and lighting.glsl). Pass 0
 // writes ambient and depth; each later pass adds one light with additive
 // blending: I_o = sum_lights I_c I_d + I_a (seed 000 eq. 4-19, 4-20), with
-// I_c I_d = albedo * irradiance.
+// I_c I_d = albedo * irradiance. Seen through water (u_fog = 1: the camera
+// under water, or the reflection texture seen from below) the colour is
+// attenuated towards the water colour by the distance to the eye, seed 001
+// eq. 10: C = C_w + a (C_obj - C_w), a = e^(-k d) (eq. 4); with additive
+// passes, the ambient pass carries (1 - a) C_w and every pass is scaled by a.
 in vec3 v_world;
 in vec3 v_normal;
 
 uniform int u_pass;  // 0 ambient, 1 a light
 uniform vec3 u_albedo;
 uniform vec3 u_ambient;
+uniform int u_fog;
+uniform vec3 u_fog_eye;
+uniform vec3 u_fog_k;
+uniform vec3 u_water_color;
 
 out vec4 o_color;
 
 void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;  // open meshes are lit from either side
+  vec3 a = u_fog != 0 ? exp(-u_fog_k * length(v_world - u_fog_eye)) : vec3(1.0);
   if (u_pass == 0) {
-    o_color = vec4(u_albedo * u_ambient, 1.0);
+    o_color = vec4(a * u_albedo * u_ambient + (1.0 - a) * u_water_color, 1.0);
     return;
   }
-  o_color = vec4(u_albedo * irradiance_from_light(v_world, n), 0.0);
+  o_color = vec4(a * u_albedo * irradiance_from_light(v_world, n), 0.0);
 }

@@ -1,32 +1,172 @@
-#version 450 core
-// Water surface over the already-drawn underwater scene (premultiplied
-// alpha): Schlick-Fresnel reflection of the sky, a faint body colour, and the
-// sun's specular highlight. Refraction, caustics and the underwater view come
-// with the level-map and water-appearance work.
+// The water surface seen by the camera (seed 001, Mihálik, ch. 6-7 and §9.1;
+// prefixed with #version and optics.glsl). Drawn opaque over the scene.
+//
+// From above (§7.1-7.4): the refracted view ray is followed into the
+// refraction texture (the underwater part seen from the refraction camera,
+// §5.1) by the W/A iteration against that texture's depth; its colour is
+// attenuated towards the water colour over the path |A - U| (eq. 4-5); the
+// reflection texture (the part above, from the mirrored camera, §5.2) is
+// read at U + c R (eq. 6); both are mixed by Fresnel (eq. 7-9).
+// From below (§7.5): refraction by the approximation R1 = n(-N - E) + N
+// (eq. 12), which never fails where refract() would beyond the critical
+// angle, read at U + m R1 (eq. 13) in the texture of the part above; the
+// reflection at U + m R2 (eq. 14-15) in the mirrored texture of the part
+// below, which was fogged when it was drawn (eq. 10); attenuation over
+// |U - C1| (eq. 5).
 in vec3 v_world;
 in vec3 v_normal;
 
 uniform vec3 u_eye;
-uniform vec3 u_sky;
+uniform int u_under;  // 1: the camera is under the water
 uniform float u_ior;
+// Refraction camera: world -> its view space, its projection with FOV_ext,
+// and that projection's depth terms (clip z = A z + B, clip w = -z).
+uniform mat4 u_refr_view;
+uniform mat4 u_refr_proj;
+uniform vec2 u_refr_depth_ab;
+uniform mat4 u_refl_view_proj;  // world -> the mirrored camera's clip space (with FOV_ext)
+layout(binding = 0) uniform sampler2D u_refr_color;
+layout(binding = 1) uniform sampler2D u_refr_depth;
+layout(binding = 2) uniform sampler2D u_refl_color;
+
+uniform int u_steps;
+uniform int u_refraction;
+uniform int u_reflection;
+uniform int u_colour;
+uniform int u_fresnel_exact;
+uniform float u_q;
+uniform float u_c;
+uniform float u_m;
+uniform vec3 u_k;
+uniform vec3 u_water_color;  // radiance of deep water (C_water)
 uniform vec3 u_sun_direction;  // direction of travel; zero if no sun
 uniform vec3 u_sun_color;
+uniform int u_debug;  // WaterDebug: 0 colour, 1 F, 2 W/A lookup, 3 exact lookup
 
 out vec4 o_color;
 
+vec2 refr_uv(vec3 v) {
+  vec4 c = u_refr_proj * vec4(v, 1.0);
+  return c.xy / c.w * 0.5 + 0.5;
+}
+
+// ConvertDepth of §9.1: a depth-buffer value -> view-space z (negative).
+float view_z(vec2 uv) {
+  float d = texture(u_refr_depth, uv).r;
+  return -u_refr_depth_ab.y / ((2.0 * d - 1.0) + u_refr_depth_ab.x);
+}
+
+// §7.1: where the ray u + s r (refraction-camera view space) meets the
+// depth texture. Returns W (xyz) and |A - W| (w); a_out is A, the point of
+// the depth texture on the camera ray through W.
+vec4 wa_iteration(vec3 u, vec3 r, int steps, out vec3 a_out) {
+  vec3 w_best = u, a_best = u;
+  float best = 1e30;
+  vec3 wi = u, ai = u;  // W_0 = A_0 = U
+  for (int i = 0; i < steps; ++i) {
+    if (wi.z > -1e-6) break;  // behind the refraction camera
+    vec3 an = wi * (view_z(refr_uv(wi)) / wi.z);  // A_(i+1)
+    float dist = length(an - wi);
+    if (dist < best) {
+      best = dist;
+      w_best = wi;
+      a_best = an;
+    }
+    // Eq. 3: the point of p (u + s r) nearest the line A_i A_(i+1) ...
+    vec3 q = an - ai;
+    vec3 rq = cross(r, q);
+    float nn = dot(rq, rq);
+    vec3 wn = wi;
+    bool between = i > 0 && nn > 1e-12 * dot(q, q);
+    if (between) {
+      wn = u + max(dot(cross(ai - u, q), rq) / nn, 0.0) * r;
+      // ... if it lies between them (§9.1's 10 % slack) ...
+      between = length(q) * 1.1 >= length(wn - ai) + length(an - wn);
+    }
+    // ... else |A_(i+1) - W_i| along p, down if W_i is nearer the camera
+    // than A_(i+1), back up towards U if it is beyond (figs. 11-12).
+    if (!between) wn = wi + (abs(wi.z) > abs(an.z) ? -dist : dist) * r;
+    ai = an;
+    wi = wn;
+  }
+  a_out = a_best;
+  return vec4(w_best, best);
+}
+
+// The reference for the W/A iteration: march the same ray through the same
+// depth texture in steps of 1/256 of the depth under U, then bisect.
+vec3 exact_lookup(vec3 u, vec3 r) {
+  float dv = length(u * (view_z(refr_uv(u)) / u.z) - u);
+  float ds = max(dv, 1e-4) / 256.0;
+  float s0 = 0.0, s1 = -1.0;
+  for (int i = 1; i <= 8192; ++i) {
+    vec3 p = u + float(i) * ds * r;
+    if (p.z > -1e-6) break;
+    if (abs(p.z) >= abs(view_z(refr_uv(p)))) {
+      s1 = float(i) * ds;
+      break;
+    }
+    s0 = float(i) * ds;
+  }
+  if (s1 < 0.0) return u + s0 * r;
+  for (int i = 0; i < 24; ++i) {
+    float sm = 0.5 * (s0 + s1);
+    vec3 p = u + sm * r;
+    if (abs(p.z) >= abs(view_z(refr_uv(p)))) s1 = sm; else s0 = sm;
+  }
+  return u + s1 * r;
+}
+
 void main() {
-  vec3 n = normalize(v_normal);
-  vec3 v = normalize(u_eye - v_world);
-  if (dot(n, v) < 0.0) n = -n;  // seen from below
-  float cos_i = clamp(dot(n, v), 0.0, 1.0);
-  float r0 = (u_ior - 1.0) / (u_ior + 1.0);
-  r0 *= r0;
-  float fresnel = r0 + (1.0 - r0) * pow(1.0 - cos_i, 5.0);
-  vec3 r = reflect(-v, n);
-  vec3 sky = u_sky * (0.55 + 0.45 * clamp(r.y, 0.0, 1.0));
-  float spec = pow(max(dot(r, -u_sun_direction), 0.0), 600.0) * 30.0;
-  const vec3 body = vec3(0.01, 0.05, 0.07);
-  const float body_alpha = 0.2;
-  float alpha = fresnel + (1.0 - fresnel) * body_alpha;
-  o_color = vec4(fresnel * sky + (1.0 - fresnel) * body_alpha * body + spec * u_sun_color, alpha);
+  vec3 n = normalize(v_normal);  // up, towards the sky
+  vec3 e = normalize(u_eye - v_world);
+  vec3 to_cam_n = u_under != 0 ? -n : n;
+  float cos_e = clamp(dot(e, to_cam_n), 0.0, 1.0);
+
+  // Fresnel (eq. 7-8; f is the same from either side).
+  float f = (u_ior - 1.0) / (u_ior + 1.0);
+  f *= f;
+  float fresnel = u_fresnel_exact != 0 ? fresnel_reflectance(cos_e, u_under != 0 ? u_ior : 1.0 / u_ior)
+                                       : f + (1.0 - f) * pow(1.0 - cos_e, u_q);
+  if (u_reflection == 0) fresnel = 0.0;
+
+  vec3 refr_color, refl_color;
+  float d;  // path length in water for eq. 4
+  vec2 lookup = vec2(0.0);
+  float residual = 0.0;
+  vec3 u1 = (u_refr_view * vec4(v_world, 1.0)).xyz;
+  if (u_under == 0) {
+    vec3 r = u_refraction != 0 ? refract(-e, n, 1.0 / u_ior) : -e;
+    vec3 r1 = normalize(mat3(u_refr_view) * r);
+    vec3 a;
+    vec4 w = wa_iteration(u1, r1, u_steps, a);
+    lookup = refr_uv(w.xyz);
+    residual = w.w;
+    if (u_debug == 3) lookup = refr_uv(exact_lookup(u1, r1));
+    refr_color = texture(u_refr_color, lookup).rgb;
+    d = length(a - u1);
+    vec3 rr = reflect(-e, n);
+    vec4 c = u_refl_view_proj * vec4(v_world + u_c * rr, 1.0);  // eq. 6
+    refl_color = texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
+  } else {
+    vec3 r1 = u_refraction != 0 ? u_ior * (-n - e) + n : -e;  // eq. 12
+    lookup = refr_uv(u1 + u_m * normalize(mat3(u_refr_view) * r1));  // eq. 13
+    refr_color = texture(u_refr_color, lookup).rgb;
+    d = length(u_eye - v_world);
+    vec3 r2 = 2.0 * dot(-n, e) * -n - e;  // eq. 14, with the normal facing the camera
+    vec4 c = u_refl_view_proj * vec4(v_world + u_m * r2, 1.0);  // eq. 15
+    refl_color = texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
+  }
+  vec3 a = u_colour != 0 ? exp(-u_k * d) : vec3(1.0);       // eq. 4
+  vec3 refr_new = u_water_color + a * (refr_color - u_water_color);  // eq. 5
+  vec3 color = refr_new + fresnel * (refl_color - refr_new);       // eq. 9
+  if (u_under == 0) {
+    // The sun's highlight (the reflection texture holds no sun).
+    float spec = pow(max(dot(reflect(-e, n), -u_sun_direction), 0.0), 600.0) * 30.0;
+    if (u_reflection != 0) color += spec * u_sun_color;
+  }
+
+  if (u_debug == 1) color = vec3(fresnel, 0.0, 0.0);
+  if (u_debug == 2 || u_debug == 3) color = vec3(lookup, residual);
+  o_color = vec4(color, u_debug != 0 ? 2.0 : 1.0);  // alpha 2 marks the water's pixels in diagnostic images
 }

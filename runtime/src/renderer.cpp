@@ -14,6 +14,7 @@
 #include "gl_program.h"
 #include "gpu_mesh.h"
 #include "water_surface.h"
+#include "water_view.h"
 
 namespace caustix::runtime {
 namespace {
@@ -57,6 +58,19 @@ std::string with_lighting(const char* main_src) {
   return std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_lighting_glsl + main_src;
 }
 
+// One camera's receiver passes: where they go and how they are cut (the
+// main view, or seed 001's refraction and reflection textures).
+struct PassView {
+  GLuint fbo = 0;
+  int width = 0, height = 0;
+  glm::mat4 view_proj{1.0f};
+  std::optional<glm::vec4> clip;  // world plane, a.x + b >= 0 kept
+  bool mirrored = false;          // reflection camera: winding flips
+  bool fog = false;               // seed 001 eq. 10, distance from fog_eye
+  glm::vec3 fog_eye{0.0f};
+  glm::vec3 clear{0.0f};
+};
+
 // The light's direction of travel below flat water (eq. 2-8 with normal +y).
 glm::vec3 refracted_flat(const glm::vec3& l, float ior) { return glm::refract(l, glm::vec3(0, 1, 0), 1.0f / ior); }
 
@@ -72,6 +86,7 @@ struct Renderer::Impl {
   glm::vec3 lo{0}, hi{0};
 
   gl::Program receiver, irradiance, shadow, water_program, present;
+  std::optional<WaterView> water_view;  // seed 001 surface (scenes with water)
   gl::VertexArray empty_vao;
 
   // Shadow maps: created only for the light kinds the scene has.
@@ -264,15 +279,58 @@ struct Renderer::Impl {
   }
 
   void draw_receivers(const gl::Program& p, int pass, std::uint32_t li, const CausticsOptions& co,
-                      std::optional<std::uint32_t> only) const {
+                      std::optional<std::uint32_t> only, bool cull_closed = false) const {
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
       if (only && *only != i) continue;
       if (is_transparent(scene.objects[i].role)) continue;  // drawn as glass (GlassEngine::draw_glass)
+      if (cull_closed && meshes[scene.objects[i].mesh_index].closed) {
+        glEnable(GL_CULL_FACE);
+      } else {
+        glDisable(GL_CULL_FACE);
+      }
       set_model(p, i);
       p.set("u_albedo", to_glm(scene.objects[i].material.albedo));
       if (pass != 0) set_object_light(p, i, li, co);
       draw_object(i);
     }
+  }
+
+  // Receivers into one view: pass 0 clears and lays down ambient and depth,
+  // pass 1 adds light `li` (prepare_light has run).
+  void draw_view(const PassView& v, int pass, std::uint32_t li, const FrameParams& f,
+                 const glm::vec3& water_color, const glm::vec3& k) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
+    glViewport(0, 0, v.width, v.height);
+    glEnable(GL_DEPTH_TEST);
+    if (pass == 0) {
+      const float clear[4] = {v.clear.r, v.clear.g, v.clear.b, 0.0f};
+      glClearNamedFramebufferfv(v.fbo, GL_COLOR, 0, clear);
+      glDepthMask(GL_TRUE);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      glDisable(GL_BLEND);
+      glDepthFunc(GL_LESS);
+    } else {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      glDepthMask(GL_FALSE);
+      glDepthFunc(GL_LEQUAL);
+    }
+    if (v.clip) glEnable(GL_CLIP_DISTANCE0);
+    glFrontFace(v.mirrored ? GL_CW : GL_CCW);
+    const gl::Program& p = receiver;
+    p.use();
+    p.set("u_view_proj", v.view_proj);
+    p.set("u_clip_plane", v.clip.value_or(glm::vec4(0.0f)));
+    p.set("u_pass", pass);
+    p.set("u_ambient", kAmbient * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]));
+    p.set("u_fog", v.fog ? 1 : 0);
+    p.set("u_fog_eye", v.fog_eye);
+    p.set("u_fog_k", k);
+    p.set("u_water_color", water_color);
+    draw_receivers(p, pass, li, f.caustics, std::nullopt, v.clip.has_value());
+    glDisable(GL_CLIP_DISTANCE0);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
   }
 };
 
@@ -379,9 +437,12 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
     auto water = WaterSurface::create(*s.scene.water);
     if (!water) return water.error();
     s.water.emplace(std::move(*water));
-    auto wp = gl::Program::build("water", shaders::k_water_vert_glsl, shaders::k_water_frag_glsl);
+    auto wp = gl::Program::build("water_plain", shaders::k_water_vert_glsl, shaders::k_water_plain_frag_glsl);
     if (!wp) return wp.error();
     s.water_program = std::move(*wp);
+    auto view = WaterView::create();
+    if (!view) return view.error();
+    s.water_view.emplace(std::move(*view));
     if (!scene.level_maps.empty()) {
       Impl* impl = &s;
       s.level_maps = scene.level_maps;
@@ -402,80 +463,101 @@ Status Renderer::render(const FrameParams& f) {
     return make_error(ErrorCode::kUsage, "image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
                                              " is outside 1..16384");
   }
+  const WaterLook& look = f.water;
+  if (look.steps < 1 || look.steps > 64 || look.texture_size < 1 || look.texture_size > 8192 ||
+      !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
+    return make_error(ErrorCode::kUsage, "water look: steps must be 1..64, texture size 1..8192, FOV_ext 1..4");
+  }
   s.hdr.ensure(f.width, f.height, GL_RGBA32F, true);
   if (s.caustics) s.caustics->reset_stats();
   if (s.water) s.water->update(f.time);
 
-  const glm::vec3 eye = to_glm(f.camera.position);
-  const glm::mat4 view = glm::lookAt(eye, to_glm(f.camera.target), to_glm(f.camera.up));
-  const glm::mat4 proj = glm::perspective(glm::radians(f.camera.fov_y_deg),
-                                          static_cast<float>(f.width) / static_cast<float>(f.height),
-                                          f.camera.near_plane, f.camera.far_plane);
-  const glm::mat4 view_proj = proj * view;
+  ViewCamera main;
+  main.eye = to_glm(f.camera.position);
+  main.view = glm::lookAt(main.eye, to_glm(f.camera.target), to_glm(f.camera.up));
+  const float aspect = static_cast<float>(f.width) / static_cast<float>(f.height);
+  main.proj = glm::perspective(glm::radians(f.camera.fov_y_deg), aspect, f.camera.near_plane, f.camera.far_plane);
+  const glm::mat4 view_proj = main.proj * main.view;
   const glm::vec3 sky(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
 
-  glEnable(GL_DEPTH_TEST);
+  // The sun (first directional light): highlight, glow, and with the
+  // ambient sky the light that enters the water and gives it its colour.
+  glm::vec3 sun_dir(0.0f), sun_color(0.0f);
+  glm::vec3 light_in_water = kAmbient * sky;
+  for (const Light& l : s.scene.lights) {
+    if (l.type != LightType::kDirectional) continue;
+    const glm::vec3 d = glm::normalize(to_glm(l.direction));
+    if (sun_color == glm::vec3(0.0f)) {
+      sun_dir = d;
+      sun_color = to_glm(l.color) * l.irradiance;
+    }
+    if (s.scene.water && d.y < 0.0f) {
+      const double t = fresnel_transmittance(-d.y, 1.0 / s.scene.water->ior);
+      light_in_water += to_glm(l.color) * (l.irradiance * -d.y * static_cast<float>(t));
+    }
+  }
+  const glm::vec3 water_color = look.water_color * light_in_water;
+  const glm::vec3 k = look.attenuation ? *look.attenuation : (s.scene.water ? to_glm(s.scene.water->absorption) : glm::vec3(0.0f));
+
+  // Views: the main camera, and with water seed 001's two textures (§5.1-5.2).
+  const bool textured = s.water && look.textures;
+  std::optional<WaterCameras> cams;
+  std::vector<PassView> views;
+  views.push_back(PassView{s.hdr.fbo.get(), f.width, f.height, view_proj, std::nullopt, false, false, main.eye, sky});
+  if (textured) {
+    cams = water_cameras(main, f.camera.fov_y_deg, aspect, f.camera.near_plane, f.camera.far_plane, *s.scene.water, look);
+    s.water_view->ensure_targets(look.texture_size);
+    const int n = s.water_view->size();
+    PassView& m = views[0];
+    if (cams->under) {  // eq. 10 on everything the camera sees directly; the deep background is water
+      m.fog = true;
+      m.clear = water_color;
+    }
+    const glm::vec3 refr_clear = cams->under ? sky : water_color;
+    views.push_back(PassView{s.water_view->refraction_fbo(), n, n, cams->refraction.proj * cams->refraction.view,
+                             cams->refraction_clip, false, false, cams->refraction.eye, refr_clear});
+    // From below, the mirrored texture shows the water's inside, fogged
+    // along the mirrored camera's rays (§7.5).
+    views.push_back(PassView{s.water_view->reflection_fbo(), n, n, cams->reflection.proj * cams->reflection.view,
+                             cams->reflection_clip, true, cams->under, cams->reflection.eye, cams->under ? water_color : sky});
+  }
+
   glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-
-  // Ambient pass: lays down depth.
-  glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
-  glViewport(0, 0, f.width, f.height);
-  const float clear[4] = {sky.r, sky.g, sky.b, 0.0f};
-  glClearNamedFramebufferfv(s.hdr.fbo.get(), GL_COLOR, 0, clear);
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glDepthFunc(GL_LESS);
-  s.receiver.use();
-  s.receiver.set("u_view_proj", view_proj);
-  s.receiver.set("u_pass", 0);
-  s.receiver.set("u_ambient", kAmbient * sky);
-  s.draw_receivers(s.receiver, 0, 0, f.caustics, std::nullopt);
-
-  // One additive pass per light: I_o = sum_lights I_c I_d + I_a (eq. 4-19, 4-20).
+  for (const PassView& v : views) s.draw_view(v, 0, 0, f, water_color, k);
+  // One additive pass per light and view: I_o = sum_lights I_c I_d + I_a (eq. 4-19, 4-20).
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     CAUSTIX_RETURN_IF_ERROR(s.prepare_light(li, f.caustics, s.receiver));
-    glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
-    glViewport(0, 0, f.width, f.height);
-    glEnable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glDepthMask(GL_FALSE);
-    glDepthFunc(GL_LEQUAL);
-    s.receiver.use();
-    s.receiver.set("u_view_proj", view_proj);
-    s.receiver.set("u_pass", 1);
-    s.draw_receivers(s.receiver, 1, li, f.caustics, std::nullopt);
+    for (const PassView& v : views) s.draw_view(v, 1, li, f, water_color, k);
   }
 
   if (s.glass) {
-    s.glass->draw_glass(s.scene, view_proj, eye, sky, s.hdr.color.get(), s.hdr.depth.get(), 2.0f * s.scene_radius());
-    glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
+    s.glass->draw_glass(s.scene, view_proj, main.eye, sky, s.hdr.color.get(), s.hdr.depth.get(), 2.0f * s.scene_radius());
   }
   if (s.water) {
-    glm::vec3 sun_dir(0.0f), sun_color(0.0f);
-    for (const Light& l : s.scene.lights) {
-      if (l.type == LightType::kDirectional) {
-        sun_dir = to_glm(l.direction);
-        sun_color = to_glm(l.color) * l.irradiance;
-        break;
-      }
-    }
     glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
     glViewport(0, 0, f.width, f.height);
     glEnable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LESS);
-    s.water_program.use();
-    s.water_program.set("u_view_proj", view_proj);
-    s.water_program.set("u_eye", eye);
-    s.water_program.set("u_sky", sky);
-    s.water_program.set("u_ior", s.scene.water->ior);
-    s.water_program.set("u_sun_direction", sun_dir);
-    s.water_program.set("u_sun_color", sun_color);
-    s.water->draw();
+    if (textured) {
+      glDisable(GL_BLEND);
+      const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, s.scene.water->ior, water_color, k, sun_dir, sun_color};
+      s.water_view->draw_surface(sp, look, [&]() { s.water->draw(); });
+      if (look.glow && look.debug == WaterDebug::kNone && !cams->under && sun_color != glm::vec3(0.0f)) {
+        s.water_view->draw_glow(sp, s.hdr.fbo.get(), f.width, f.height, [&]() { s.water->draw(); });
+      }
+    } else {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
+      s.water_program.use();
+      s.water_program.set("u_view_proj", view_proj);
+      s.water_program.set("u_eye", main.eye);
+      s.water_program.set("u_sky", sky);
+      s.water_program.set("u_ior", s.scene.water->ior);
+      s.water_program.set("u_sun_direction", sun_dir);
+      s.water_program.set("u_sun_color", sun_color);
+      s.water->draw();
+    }
   }
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
@@ -606,6 +688,7 @@ void Renderer::set_wave_scale(float scale) {
 CausticsStats Renderer::caustics_stats(bool read_gpu_counters) {
   CausticsStats st = impl_->caustics ? impl_->caustics->stats(read_gpu_counters) : CausticsStats{};
   if (impl_->glass) st.gpu_bytes += impl_->glass->gpu_bytes();  // tables, rays, targets, illumination textures
+  if (impl_->water_view) st.gpu_bytes += impl_->water_view->gpu_bytes();  // refraction, reflection, glow targets
   return st;
 }
 

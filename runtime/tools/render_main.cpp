@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <tuple>
 
 #include "caustix/common/cli.h"
 #include "caustix/runtime/gl_context.h"
@@ -56,6 +57,26 @@ int main(int argc, char** argv) {
                      std::to_string(built_in.glass_map_size))
       ->check(CLI::Range(1, 8192));
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
+  // The water surface (seed 001).
+  WaterLook look;
+  std::string fresnel = "approx", camera_pos, camera_target;
+  bool plain_water = false, no_refraction = false, no_reflection = false, no_colour = false, no_glow = false;
+  app.add_flag("--plain-water", plain_water, "water without refraction/reflection textures (sky reflection over the scene)");
+  app.add_flag("--no-refraction", no_refraction, "water: look straight through (no bending, §7.1 off)");
+  app.add_flag("--no-reflection", no_reflection, "water: no reflection (F = 0)");
+  app.add_flag("--no-water-colour", no_colour, "water: no attenuation towards the water colour (eq. 4-5, 10)");
+  app.add_flag("--no-glow", no_glow, "water: no glow on the sun's highlight (§9.3)");
+  app.add_option("--fresnel", fresnel, "water: approx (eq. 7-8, q = --fresnel-q) or exact (unpolarised, with TIR)")
+      ->check(CLI::IsMember({"approx", "exact"}))->capture_default_str();
+  app.add_option("--fresnel-q", look.fresnel_q, "water: q of eq. 7")->check(CLI::Range(0.1f, 100.0f))->capture_default_str();
+  app.add_option("--water-steps", look.steps, "water: W/A iterations of the refracted lookup (§7.1)")
+      ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--water-texture", look.texture_size, "water: refraction/reflection texture size (N x N)")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_option("--fov-ext", look.fov_ext, "water: field-of-view extension of the textures (fig. 5)")
+      ->check(CLI::Range(1.0f, 4.0f))->capture_default_str();
+  app.add_option("--camera", camera_pos, "camera position x,y,z (default: the scene's camera)");
+  app.add_option("--target", camera_target, "camera target x,y,z (with --camera; default: the scene's)");
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print the renderer and timings");
   if (auto rc = cli::parse(app, "caustix-render", argc, argv)) return *rc;
@@ -78,6 +99,24 @@ int main(int argc, char** argv) {
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
+  look.textures = !plain_water;
+  look.refraction = !no_refraction;
+  look.reflection = !no_reflection;
+  look.colour = !no_colour;
+  look.glow = !no_glow;
+  look.fresnel = fresnel == "exact" ? FresnelMode::kExact : FresnelMode::kApprox;
+  Camera camera = (*renderer)->default_camera();
+  for (auto [text, name, out] : {std::tuple{&camera_pos, "--camera", &camera.position},
+                                 std::tuple{&camera_target, "--target", &camera.target}}) {
+    if (text->empty()) continue;
+    float x = 0, y = 0, z = 0;
+    char extra = 0;
+    if (std::sscanf(text->c_str(), "%f,%f,%f%c", &x, &y, &z, &extra) != 3 || !std::isfinite(x) || !std::isfinite(y) ||
+        !std::isfinite(z)) {
+      return fail(make_error(ErrorCode::kUsage, std::string(name) + " '" + *text + "' is not x,y,z"));
+    }
+    *out = {x, y, z};
+  }
 
   const auto t0 = std::chrono::steady_clock::now();
   Status written;
@@ -106,7 +145,7 @@ int main(int argc, char** argv) {
                                  {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", method},
                                  {"caustix:time", std::to_string(q.time)}});
   } else if (is_float_image_path(out_path)) {
-    FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
+    const FrameParams frame{camera, time, width, height, caustics, look};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
@@ -123,7 +162,7 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
-    FrameParams frame{(*renderer)->default_camera(), time, width, height, caustics};
+    const FrameParams frame{camera, time, width, height, caustics, look};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;

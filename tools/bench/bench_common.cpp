@@ -34,7 +34,7 @@ Result<Session> open_scene(const std::string& cxb) {
 
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light) {
-  runtime::FrameParams f{r.default_camera(), 0.0f, width, height, co};
+  runtime::FrameParams f{r.default_camera(), 0.0f, width, height, co, {}};
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {
     f.time = static_cast<float>(i) / 30.0f;

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -25,12 +26,52 @@
 
 namespace caustix::runtime {
 
+// How the water surface looks (seed 001, Mihálik, ch. 5-9). Each effect can
+// be switched off on its own, for the viewer's toggles and for measuring
+// what it costs.
+enum class FresnelMode {
+  kApprox,  // eq. 7-8: F = f + (1 - f)(1 - E.N)^q
+  kExact,   // unpolarised Fresnel reflectance, total internal reflection included
+};
+
+// Diagnostic outputs of the water surface instead of its colour (tests and
+// the iteration study of docs/water.md). The water's pixels have alpha 2
+// in read_hdr(); the others keep the scene's colour.
+enum class WaterDebug {
+  kNone,
+  kFresnel,      // r: the reflected fraction F used for the pixel
+  kLookup,       // rg: refraction-texture coordinates the W/A iteration found, b: its |A - W|
+  kExactLookup,  // rg: where the refracted ray meets the same depth texture, by an exact march
+};
+
+struct WaterLook {
+  bool textures = true;    // false: the plain surface (sky reflection, no refraction textures)
+  bool refraction = true;  // §7.1: bend the view ray; off: look straight through
+  bool reflection = true;  // §5.2/§7.3: reflection texture; off: no reflection
+  bool colour = true;      // eq. 4-5 (and eq. 10 under water): attenuation towards the water colour
+  bool glow = true;        // §9.3
+  FresnelMode fresnel = FresnelMode::kApprox;
+  int steps = 3;              // W/A iterations (§7.1; the paper could afford 3)
+  int texture_size = 512;     // refraction and reflection textures, square (table 3: 256..1024)
+  float fov_ext = 1.5f;       // FOV_ext (fig. 5, table 1)
+  float fresnel_q = 5.0f;     // q of eq. 7 (table 1)
+  float reflect_scale = 1.0f; // c of eq. 6 (table 1; metres)
+  float under_scale = 1.5f;   // m of eq. 13/15 (§7.5)
+  // Water colour as a reflectance; its radiance is this times the light
+  // entering the water (docs/water.md). Table 1: (0, 0.2, 0.1).
+  glm::vec3 water_color{0.0f, 0.2f, 0.1f};
+  // k of eq. 4, per metre and channel; unset: the scene's absorption.
+  std::optional<glm::vec3> attenuation;
+  WaterDebug debug = WaterDebug::kNone;
+};
+
 struct FrameParams {
   Camera camera;
   float time = 0.0f;  // seconds, drives the waves
   int width = 640;
   int height = 480;
   CausticsOptions caustics;
+  WaterLook water;
 };
 
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];

@@ -1,0 +1,176 @@
+#include "water_view.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "caustix_shaders.h"
+
+namespace caustix::runtime {
+
+WaterCameras water_cameras(const ViewCamera& main, float fov_y_deg, float aspect, float near_plane, float far_plane,
+                           const Water& water, const WaterLook& look) {
+  WaterCameras c;
+  const float level = water.level;
+  float crest = 1e-3f;  // "a little bit" beyond the rest level: the highest crest
+  for (const Wave& w : water.waves) crest += std::fabs(w.amplitude);
+  c.under = main.eye.y < level;
+
+  const glm::mat4 widen = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / look.fov_ext, 1.0f / look.fov_ext, 1.0f));
+  const glm::mat4 proj = widen * glm::perspective(glm::radians(fov_y_deg), aspect, near_plane, far_plane);
+  const glm::mat4 mirror = glm::translate(glm::mat4(1.0f), glm::vec3(0, level, 0)) *
+                           glm::scale(glm::mat4(1.0f), glm::vec3(1, -1, 1)) *
+                           glm::translate(glm::mat4(1.0f), glm::vec3(0, -level, 0));
+  c.reflection = {main.view * mirror, proj, glm::vec3(mirror * glm::vec4(main.eye, 1.0f))};
+  c.refraction = {main.view, proj, main.eye};
+
+  if (!c.under && look.refraction) {
+    // Eq. 1: O, where the bottom ray of the frustum (I) meets the water.
+    const glm::mat3 to_world = glm::transpose(glm::mat3(main.view));
+    const glm::vec3 i = glm::normalize(to_world * glm::vec3(0.0f, -std::tan(glm::radians(fov_y_deg) * 0.5f), -1.0f));
+    if (i.y < -1e-4f) {
+      const glm::vec3 o = main.eye + i * ((level - main.eye.y) / i.y);
+      const glm::vec3 r = glm::refract(i, glm::vec3(0, 1, 0), 1.0f / water.ior);  // eq. 2
+      const glm::vec3 axis = glm::cross(i, r);
+      const float s = glm::length(axis);
+      if (s > 1e-6f) {
+        const glm::mat4 rot = glm::translate(glm::mat4(1.0f), o) * glm::rotate(glm::mat4(1.0f), std::atan2(s, glm::dot(i, r)), axis / s) *
+                              glm::translate(glm::mat4(1.0f), -o);
+        c.refraction.view = main.view * glm::inverse(rot);
+        c.refraction.eye = glm::vec3(rot * glm::vec4(main.eye, 1.0f));
+      }
+    }
+  }
+  const glm::vec4 keep_below(0, -1, 0, level + crest), keep_above(0, 1, 0, -(level - crest));
+  c.refraction_clip = c.under ? keep_above : keep_below;
+  c.reflection_clip = c.under ? keep_below : keep_above;
+  return c;
+}
+
+WaterView::Target WaterView::make_target(int w, int h, GLenum color_format, bool with_depth) {
+  Target t;
+  t.fbo = gl::make_framebuffer();
+  t.color = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.color.get(), 1, color_format, w, h);
+  glTextureParameteri(t.color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
+  if (with_depth) {
+    t.depth = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    glTextureParameteri(t.depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+  }
+  return t;
+}
+
+Result<WaterView> WaterView::create() {
+  WaterView w;
+  const std::string surface_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_water_frag_glsl;
+  struct Spec {
+    gl::Program* out;
+    const char* name;
+    const char* vs;
+    const char* fs;
+  };
+  for (const Spec& spec : {Spec{&w.surface_, "water_surface", shaders::k_water_vert_glsl, surface_fs.c_str()},
+                           Spec{&w.highlight_, "glow_highlight", shaders::k_water_vert_glsl, shaders::k_glow_highlight_frag_glsl},
+                           Spec{&w.glow_, "glow", shaders::k_present_vert_glsl, shaders::k_glow_frag_glsl}}) {
+    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
+    if (!p) return p.error();
+    *spec.out = std::move(*p);
+  }
+  w.empty_vao_ = gl::make_vertex_array();
+  return w;
+}
+
+void WaterView::ensure_targets(int size) {
+  if (size == size_) return;
+  // Half floats: caustic foci reach tens of E0, far below 65504.
+  refraction_ = make_target(size, size, GL_RGBA16F, true);
+  reflection_ = make_target(size, size, GL_RGBA16F, true);
+  size_ = size;
+}
+
+void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const {
+  const WaterCameras& c = *p.cameras;
+  const gl::Program& s = surface_;
+  s.use();
+  s.set("u_view_proj", p.view_proj);
+  s.set("u_eye", p.eye);
+  s.set("u_under", c.under ? 1 : 0);
+  s.set("u_ior", p.ior);
+  s.set("u_refr_view", c.refraction.view);
+  s.set("u_refr_proj", c.refraction.proj);
+  s.set("u_refr_depth_ab", glm::vec2(c.refraction.proj[2][2], c.refraction.proj[3][2]));
+  s.set("u_refl_view_proj", c.reflection.proj * c.reflection.view);
+  s.set("u_steps", look.steps);
+  s.set("u_refraction", look.refraction ? 1 : 0);
+  s.set("u_reflection", look.reflection ? 1 : 0);
+  s.set("u_colour", look.colour ? 1 : 0);
+  s.set("u_fresnel_exact", look.fresnel == FresnelMode::kExact ? 1 : 0);
+  s.set("u_q", look.fresnel_q);
+  s.set("u_c", look.reflect_scale);
+  s.set("u_m", look.under_scale);
+  s.set("u_k", p.k);
+  s.set("u_water_color", p.water_color);
+  s.set("u_sun_direction", p.sun_direction);
+  s.set("u_sun_color", p.sun_color);
+  s.set("u_debug", static_cast<int>(look.debug));
+  glBindTextureUnit(0, refraction_.color.get());
+  glBindTextureUnit(1, refraction_.depth.get());
+  glBindTextureUnit(2, reflection_.color.get());
+  draw_water();
+}
+
+void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, int height,
+                          const std::function<void()>& draw_water) {
+  const int w = std::max(1, width / 4), h = std::max(1, height / 4);
+  if (w != glow_w_ || h != glow_h_) {
+    glow_target_ = make_target(w, h, GL_RGBA16F, true);
+    glow_w_ = w;
+    glow_h_ = h;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, glow_target_.fbo.get());
+  glViewport(0, 0, w, h);
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(glow_target_.fbo.get(), GL_COLOR, 0, zero);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_BLEND);
+  highlight_.use();
+  highlight_.set("u_view_proj", p.view_proj);
+  highlight_.set("u_eye", p.eye);
+  highlight_.set("u_sun_direction", p.sun_direction);
+  highlight_.set("u_sun_color", p.sun_color);
+  draw_water();
+
+  glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
+  glViewport(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glow_.use();
+  glBindTextureUnit(0, glow_target_.color.get());
+  glBindVertexArray(empty_vao_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+}
+
+std::uint64_t WaterView::gpu_bytes() const {
+  const std::uint64_t s = static_cast<std::uint64_t>(size_) * static_cast<std::uint64_t>(size_);
+  const std::uint64_t g = static_cast<std::uint64_t>(glow_w_) * static_cast<std::uint64_t>(glow_h_);
+  return s * (8 + 4) * 2 + g * (8 + 4);
+}
+
+}  // namespace caustix::runtime

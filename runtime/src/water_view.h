@@ -1,0 +1,83 @@
+#pragma once
+// The water surface's appearance (seed 001, Mihálik, ch. 5-9): the cameras
+// of the refraction and reflection textures, the textures themselves, the
+// surface shader that reads them, and the glow. The renderer draws the
+// scene into the textures (it owns the lighting passes); this class says
+// from where and keeps the targets. Internal to the runtime.
+
+#include <functional>
+
+#include <glm/glm.hpp>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/scene.h"
+#include "caustix/runtime/renderer.h"
+#include "gl_program.h"
+
+namespace caustix::runtime {
+
+// One camera of the frame: the main view or a texture's.
+struct ViewCamera {
+  glm::mat4 view{1.0f}, proj{1.0f};
+  glm::vec3 eye{0.0f};
+};
+
+struct WaterCameras {
+  bool under = false;  // the main camera is below the water's rest level
+  ViewCamera refraction, reflection;
+  // World clip planes (a.x + b >= 0 kept) of the two texture passes: a
+  // little beyond the rest level, by the waves' largest crest.
+  glm::vec4 refraction_clip{0.0f}, reflection_clip{0.0f};
+};
+
+// §5.1-5.2 and fig. 5. From above: the refraction camera is the main camera
+// rotated about O, where the bottom ray of its frustum meets the water
+// (eq. 1), by the angle between that ray and its refraction (eq. 2); from
+// below it is the main camera. The reflection camera is the main camera
+// mirrored in the water plane. Both projections widen the field of view by
+// FOV_ext (x and y scaled by 1/FOV_ext).
+WaterCameras water_cameras(const ViewCamera& main, float fov_y_deg, float aspect, float near_plane, float far_plane,
+                           const Water& water, const WaterLook& look);
+
+class WaterView {
+ public:
+  static Result<WaterView> create();
+
+  // Colour + depth targets of the two textures (texture_size^2).
+  void ensure_targets(int size);
+  GLuint refraction_fbo() const { return refraction_.fbo.get(); }
+  GLuint reflection_fbo() const { return reflection_.fbo.get(); }
+  int size() const { return size_; }
+
+  struct SurfaceParams {
+    const WaterCameras* cameras;
+    glm::mat4 view_proj;  // main camera
+    glm::vec3 eye;
+    float ior;
+    glm::vec3 water_color;  // radiance
+    glm::vec3 k;            // per metre
+    glm::vec3 sun_direction, sun_color;
+  };
+  // The surface, opaque, into the bound framebuffer (depth-tested against
+  // the scene). `draw_water` issues the grid's draw call.
+  void draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const;
+  // §9.3: the highlight at a quarter of the frame's size, spread over the
+  // diagonals and added to `target_fbo` (width x height).
+  void draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, int height,
+                 const std::function<void()>& draw_water);
+
+  std::uint64_t gpu_bytes() const;
+
+ private:
+  struct Target {
+    gl::Framebuffer fbo;
+    gl::Texture color, depth;
+  };
+  static Target make_target(int w, int h, GLenum color_format, bool with_depth);
+  gl::Program surface_, highlight_, glow_;
+  gl::VertexArray empty_vao_;
+  Target refraction_, reflection_, glow_target_;
+  int size_ = 0, glow_w_ = 0, glow_h_ = 0;
+};
+
+}  // namespace caustix::runtime
