@@ -76,6 +76,28 @@ TEST_F(Caustics, FlatPoolTransmitsFresnelTimesCosine) {
   }
 }
 
+// Photon splatting (seed 001 ch. 8): each photon carries E0 cos T of its
+// water patch, so the mean is the flat-water value; the spread per pixel is
+// the photon grid against the caustics texels (tent-filtered splats), and
+// shrinks with more photons.
+TEST_F(Caustics, SplatFlatPoolMeanAndSpread) {
+  auto r = renderer(scene("flat_pool"));
+  const double expected = fresnel_t(std::cos(30 * kPi / 180), 1.33) * std::cos(30 * kPi / 180);
+  for (auto [photons, spread] : {std::pair{1024u, 0.05}, std::pair{2048u, 0.01}}) {
+    IrradianceRequest q{"floor", -2, -2, 2, 2, 64, 64, 0.0f, {}};
+    q.caustics.method = CausticsMethod::kSplat;
+    q.caustics.photons = photons;
+    const auto img = irradiance(*r, q);
+    double sum = 0, worst = 0;
+    for (float v : img.rgb) {
+      sum += v;
+      worst = std::max(worst, std::fabs(v / expected - 1));
+    }
+    EXPECT_NEAR(sum / img.rgb.size() / expected, 1.0, 0.005) << photons << " photons";
+    EXPECT_LT(worst, spread) << photons << " photons";
+  }
+}
+
 TEST_F(Caustics, AbsorptionScalesByExpMinusKd) {
   auto j = scene("flat_pool");
   j["water"]["absorption"] = {0.1, 0.3, 0.6};

@@ -72,6 +72,14 @@ struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
   gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, profile;
+  gl::Program splat_photon, splat_points;
+  // Photon splatting (one set, reused map after map): the photon texture,
+  // the vertex buffer it is copied into, and the points' vertex array.
+  gl::Texture photon_texture;
+  gl::Framebuffer photon_fbo;
+  gl::Buffer photon_vbo;
+  gl::VertexArray photon_vao;
+  std::uint32_t photon_size = 0;
   gl::Buffer histogram;
   std::uint32_t histogram_levels = 0;
   gl::Buffer refracted, flux;
@@ -160,10 +168,95 @@ struct CausticsEngine::Impl {
     return pm + cm + sl + tiles + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
   }
 
-  void draw_map(MapGpu& m, const CausticsOptions& o) {
+  // Seed 001 ch. 8, GPU variant: render the water along V into the photon
+  // texture (splat_photon.frag), copy it into a vertex buffer through the
+  // pixel-pack binding (the paper's PBO route), draw it as points with
+  // additive blending into the caustics map.
+  void draw_splat(MapGpu& m, const CausticsOptions& o, const Light& light) {
+    const BoundingFrame& f = m.lm->frame;
+    const std::uint32_t p = o.photons;
+    if (photon_size != p) {
+      photon_texture = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(photon_texture.get(), 1, GL_RGBA32F, static_cast<GLsizei>(p), static_cast<GLsizei>(p));
+      photon_fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(photon_fbo.get(), GL_COLOR_ATTACHMENT0, photon_texture.get(), 0);
+      photon_vbo = gl::make_buffer();
+      glNamedBufferStorage(photon_vbo.get(), GLsizeiptr{16} * p * p, nullptr, 0);
+      photon_vao = gl::make_vertex_array();
+      glVertexArrayVertexBuffer(photon_vao.get(), 0, photon_vbo.get(), 0, 16);
+      glEnableVertexArrayAttrib(photon_vao.get(), 0);
+      glVertexArrayAttribFormat(photon_vao.get(), 0, 4, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(photon_vao.get(), 0, 0);
+      photon_size = p;
+    }
+    // The window: the frame's U-W rectangle grown by a margin, so that
+    // photons the waves bend in from beside it are counted.
+    constexpr float kMargin = 0.1f;
+    const float gx = f.half[0] * (1 + 2 * kMargin), gz = f.half[2] * (1 + 2 * kMargin);
+    const glm::vec3 origin(static_cast<float>(f.origin[0]), static_cast<float>(f.origin[1]), static_cast<float>(f.origin[2]));
+    glm::mat4 to_clip(0.0f);  // world -> (U / gx, W / gz, 0, 1) about the frame's origin
+    for (int k = 0; k < 3; ++k) {
+      to_clip[k][0] = f.u[k] / gx;
+      to_clip[k][1] = f.w[k] / gz;
+    }
+    to_clip[3][0] = -glm::dot(v3(f.u), origin) / gx;
+    to_clip[3][1] = -glm::dot(v3(f.w), origin) / gz;
+    to_clip[3][3] = 1.0f;
+    const float zero[4] = {0, 0, 0, 0};
+    glBindFramebuffer(GL_FRAMEBUFFER, photon_fbo.get());
+    glViewport(0, 0, static_cast<GLsizei>(p), static_cast<GLsizei>(p));
+    glClearNamedFramebufferfv(photon_fbo.get(), GL_COLOR, 0, zero);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    splat_photon.use();
+    splat_photon.set("u_view_proj", to_clip);
+    set_frame(splat_photon, f);
+    splat_photon.set("u_light_type", static_cast<int>(light.type));
+    splat_photon.set("u_light_direction", v3(light.direction));
+    splat_photon.set("u_light_position", v3(light.position));
+    splat_photon.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
+    splat_photon.set("u_ior", water->water().ior);
+    splat_photon.set("u_pixel_area", (2 * gx / static_cast<float>(p)) * (2 * gz / static_cast<float>(p)));
+    const float texel_u = 2 * f.half[0] / static_cast<float>(m.caustics_size), texel_w = 2 * f.half[2] / static_cast<float>(m.caustics_size);
+    splat_photon.set("u_texel_area", texel_u * texel_w);
+    splat_photon.set("u_tolerance", m.self_tolerance + 4.0f * 2.0f * std::max(f.half[0], f.half[2]) / static_cast<float>(m.lm->map_size));
+    glBindTextureUnit(0, m.position_map.get());
+    water->bind_buffers();
+    water->draw();
+
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, photon_vbo.get());
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT);
+    glGetTextureImage(photon_texture.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(GLsizeiptr{16} * p * p), nullptr);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+    glViewport(0, 0, static_cast<GLsizei>(m.caustics_size), static_cast<GLsizei>(m.caustics_size));
+    glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    splat_points.use();
+    splat_points.set("u_size", static_cast<float>(m.caustics_size));
+    glBindVertexArray(photon_vao.get());
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(p * p));
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glGenerateTextureMipmap(m.caustics.get());
+    m.gpu_bytes = bytes_of(m) + std::uint64_t{32} * p * p;  // photon texture and its vertex buffer
+    stats.volumes_total += std::uint64_t{p} * p;
+  }
+
+  void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light) {
     const BoundingFrame& f = m.lm->frame;
     ensure_planes(m, o);
     ensure_caustics_target(m, o.map_size);
+    if (o.method == CausticsMethod::kSplat) {
+      draw_splat(m, o, light);
+      return;
+    }
     const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
     if (nplanes == 0) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
       const float none[4] = {0, 0, 0, 0};
@@ -337,11 +430,14 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     const char* fs;
   };
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
+  const std::string splat_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_splat_photon_frag_glsl;
   const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   for (const Spec& spec : {Spec{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
                            Spec{&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
                            Spec{&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
+                           Spec{&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
+                           Spec{&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
                            Spec{&s.combine, "volumetric_combine", shaders::k_present_vert_glsl, shaders::k_volumetric_combine_frag_glsl}}) {
     auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
     if (!p) return p.error();
@@ -492,8 +588,16 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
   for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
   if (!any || o.method == CausticsMethod::kNone) return Status::success();
 
-  // Refract at every water vertex, then each triangle's flux (eq. 2-8, 4-18).
+  // Refract at every water vertex, then each triangle's flux (eq. 2-8, 4-18);
+  // photon splatting refracts per photon instead.
   s.water->bind_buffers();
+  if (o.method == CausticsMethod::kSplat) {
+    for (std::size_t i = 0; i < s.maps.size(); ++i) {
+      if (s.maps[i].lm->light != light) continue;
+      s.draw_map(s.maps[i], o, desc);
+    }
+    return gl::check_gl("photon splatting");
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
   s.prepare.use();
@@ -514,7 +618,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
 
   for (std::size_t i = 0; i < s.maps.size(); ++i) {
     if (s.maps[i].lm->light != light) continue;
-    s.draw_map(s.maps[i], o);
+    s.draw_map(s.maps[i], o, desc);
     s.drawn_maps.push_back(i);
   }
   return gl::check_gl("caustics pass");

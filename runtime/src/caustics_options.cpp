@@ -7,13 +7,15 @@ const char* to_string(CausticsMethod m) {
     case CausticsMethod::kLevelMap: return "levelmap";
     case CausticsMethod::kUniform: return "uniform";
     case CausticsMethod::kVolumetric: return "volumetric";
+    case CausticsMethod::kSplat: return "splat";
     case CausticsMethod::kNone: return "none";
   }
   return "?";
 }
 
 std::optional<CausticsMethod> parse_method(const std::string& name) {
-  for (CausticsMethod m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric, CausticsMethod::kNone}) {
+  for (CausticsMethod m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric, CausticsMethod::kSplat,
+                          CausticsMethod::kNone}) {
     if (name == to_string(m)) return m;
   }
   return std::nullopt;

@@ -36,8 +36,11 @@ int main(int argc, char** argv) {
                  "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
                  "no albedo or ambient) instead of the beauty image");
   app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
-  app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
-      ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "none"}))->capture_default_str();
+  app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric, splat (photon splatting, seed 001 ch. 8) for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
+      ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "splat", "none"}))->capture_default_str();
+  std::uint32_t photons = 0;
+  app.add_option("--photons", photons, "splat: photon texture P (P x P photons per map); default " + std::to_string(CausticsOptions{}.photons))
+      ->check(CLI::Range(1, 8192));
   app.add_option("--planes", planes, "re-slice: uniform n pieces; smart eps = h/(2n) (default: as baked)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--epsilon", epsilon, "re-slice smart planes with this acceptance half-width, metres")
@@ -99,6 +102,7 @@ int main(int argc, char** argv) {
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
+  if (photons > 0) caustics.photons = photons;
   look.textures = !plain_water;
   look.refraction = !no_refraction;
   look.reflection = !no_reflection;

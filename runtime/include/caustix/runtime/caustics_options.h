@@ -15,6 +15,7 @@ enum class CausticsMethod {
   kLevelMap,    // level map with smart-sliced planes (seed 000 ch. 4, §4.7.2)
   kUniform,     // level map with the uniform planes (eq. 4-6..4-9)
   kVolumetric,  // the volumetric baseline: one slice image per plane (§5.2.1)
+  kSplat,       // photon splatting (seed 001 ch. 8, GPU variant): photon texture -> points, additive
   kNone,        // no caustics: refraction and Fresnel through flat water only; glass casts a plain shadow
 };
 
@@ -33,6 +34,9 @@ struct CausticsOptions {
   // frame, and draw each volume only through the planes the surface under
   // it needs. Off: every volume through every plane, as the thesis did.
   bool cull = true;
+  // Photon splatting: the water is rasterised into a photons x photons
+  // texture over the frame's window (plus a margin), one photon a texel.
+  std::uint32_t photons = 1024;
   // Glass (seed 002 §4.2): virtual planes per target (the paper: 4; at most
   // 16) and the illumination-texture size (the paper: 512).
   std::uint32_t glass_planes = 4;
