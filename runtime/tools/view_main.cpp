@@ -3,7 +3,10 @@
 // quits. Caustics: M cycles the method (levelmap, uniform, volumetric,
 // none), +/- change the plane count, [ ] the acceptance epsilon, arrow keys
 // move the first light (the level maps are re-derived on the GPU), W/S
-// scale the waves, C toggles culling. The state and the frame time are in
+// scale the waves, C toggles culling. Water surface (seed 001): T plain /
+// textured surface, 1 refraction, 2 reflection, 3 water colour, 4 glow,
+// F approximate / exact Fresnel, , and . fewer / more W/A steps. Orbiting
+// below the horizontal (or panning down) takes the camera under the water. The state and the frame time are in
 // the title bar and printed once a second.
 // --screenshot FILE --frames N renders N frames, saves the window and exits
 // (used by the tests under Xvfb).
@@ -57,6 +60,7 @@ struct ViewState {
   double last_x = 0, last_y = 0;
   bool rotating = false, panning = false;
   caustix::runtime::CausticsOptions caustics;
+  caustix::runtime::WaterLook look;
   float wave_scale = 1.0f;
   float light_azimuth = 0.0f, light_elevation = 0.0f;  // first light, degrees
   bool light_moved = false;
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
   CLI::App app{"caustix-view: interactive viewer for a baked .cxb scene"};
   app.footer(
       "Controls: left drag orbit, right drag pan, wheel zoom, Space pause waves, R reset, Esc quit.\n"
+      "Water: T plain/textured, 1 refraction, 2 reflection, 3 colour, 4 glow, F Fresnel, , . W/A steps.\n"
       "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
       "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
@@ -130,7 +135,17 @@ int main(int argc, char** argv) {
         case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
         case GLFW_KEY_SPACE: s->paused = !s->paused; break;
         case GLFW_KEY_R: s->orbit = s->home; break;
-        case GLFW_KEY_M: c.method = static_cast<CausticsMethod>((static_cast<int>(c.method) + 1) % 4); break;
+        case GLFW_KEY_M: c.method = static_cast<CausticsMethod>((static_cast<int>(c.method) + 1) % 5); break;
+        case GLFW_KEY_T: s->look.textures = !s->look.textures; break;
+        case GLFW_KEY_1: s->look.refraction = !s->look.refraction; break;
+        case GLFW_KEY_2: s->look.reflection = !s->look.reflection; break;
+        case GLFW_KEY_3: s->look.colour = !s->look.colour; break;
+        case GLFW_KEY_4: s->look.glow = !s->look.glow; break;
+        case GLFW_KEY_F:
+          s->look.fresnel = s->look.fresnel == FresnelMode::kExact ? FresnelMode::kApprox : FresnelMode::kExact;
+          break;
+        case GLFW_KEY_COMMA: s->look.steps = std::max(1, s->look.steps - 1); break;
+        case GLFW_KEY_PERIOD: s->look.steps = std::min(64, s->look.steps + 1); break;
         case GLFW_KEY_EQUAL:
         case GLFW_KEY_KP_ADD: c.planes = std::min(4096u, c.planes.value_or(32) + 4); break;
         case GLFW_KEY_MINUS:
@@ -205,6 +220,7 @@ int main(int argc, char** argv) {
       frame.width = fw;
       frame.height = fh;
       frame.caustics = state.caustics;
+      frame.water = state.look;
       if (Status st = (*renderer)->render(frame); !st) {
         rc = fail(st.error());
         break;
@@ -238,11 +254,18 @@ int main(int argc, char** argv) {
         char planes[16] = "baked", eps[16] = "baked";
         if (c.planes) std::snprintf(planes, sizeof planes, "%u", *c.planes);
         if (c.epsilon) std::snprintf(eps, sizeof eps, "%.4g m", *c.epsilon);
+        const WaterLook& wl = state.look;
+        char water[96] = "plain";
+        if (wl.textures) {
+          std::snprintf(water, sizeof water, "%s%s%s%s %s Fresnel, %d steps", wl.refraction ? "R" : "-",
+                        wl.reflection ? "M" : "-", wl.colour ? "C" : "-", wl.glow ? "G" : "-",
+                        wl.fresnel == FresnelMode::kExact ? "exact" : "approx.", wl.steps);
+        }
         std::snprintf(title, sizeof title,
                       "caustix-view  %.2f ms/frame  | %s%s, planes %s, eps %s | light el %.0f az %.0f (re-derived in %.1f ms) | "
-                      "waves x%.2f | %s",
+                      "waves x%.2f | water %s | %s",
                       frame_ms_sum / frame_count, to_string(c.method), c.cull ? "" : " (no culling)", planes, eps,
-                      state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, gl_name.c_str());
+                      state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, water, gl_name.c_str());
         glfwSetWindowTitle(window, title);
         std::printf("%s\n", title + 14);
         std::fflush(stdout);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,8 +44,10 @@ struct FrameTimes {
 // Milliseconds per frame (render + glFinish) of `count` frames after
 // `warmup` unmeasured ones, the animation advancing 1/30 s per frame; with
 // move_light the first light turns 2 degrees about the vertical each frame
-// (its level maps are re-derived on the GPU every frame).
+// (its level maps are re-derived on the GPU every frame). The camera is the
+// scene's unless given; `look` is the water surface's.
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
-                               int warmup, int count, bool move_light = false);
+                               int warmup, int count, bool move_light = false, const runtime::WaterLook& look = {},
+                               const std::optional<Camera>& camera = std::nullopt);
 
 }  // namespace caustix::bench

@@ -48,6 +48,7 @@
 #include "bench_common.h"
 #include "embree_caster.h"
 #include "tradeoff.h"
+#include "water.h"
 
 namespace {
 
@@ -476,6 +477,13 @@ int main(int argc, char** argv) {
   tr->add_option("--warmup", tq.warmup, "frames not measured")->check(CLI::Range(0, 1000))->capture_default_str();
   tr->add_option("--frames", tq.frames, "frames measured (median)")->check(CLI::Range(1, 1000))->capture_default_str();
   tr->add_option("--csv", tq.csv, "also write the rows as CSV");
+  std::string wsize = "640x480";
+  int wframes = 5;
+  auto* wa = app.add_subcommand("water", "ms per frame of each water-surface effect (seed 001) and texture size");
+  wa->add_option("scene", cxb, "baked scene with water (.cxb)")->required();
+  wa->add_option("--size", wsize, "frame size WxH")->capture_default_str();
+  wa->add_option("--frames", wframes, "frames measured per setting (median)")->check(CLI::Range(1, 1000))->capture_default_str();
+  wa->add_option("--csv", csv, "also write the table as CSV");
   if (auto rc = cli::parse(app, "caustix-bench", argc, argv)) return *rc;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
@@ -486,6 +494,11 @@ int main(int argc, char** argv) {
       return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
     }
     return tradeoff(tq);
+  }
+  if (*wa) {
+    int w = 0, h = 0;
+    if (!cli::parse_size(wsize, w, h)) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
+    return water_effects(cxb, w, h, 1, wframes, csv);
   }
   if (*lt) return ltt(meshes, resolutions, samples, min_cos, normal_bits, csv);
   if (*me) {

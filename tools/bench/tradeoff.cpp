@@ -44,7 +44,7 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.caustics.map_size = static_cast<std::uint32_t>(v); }},
       {"water-grid", {0.25, 0.5, 1, 2, 4}, false, true, [](Setting& s, double v) { s.bake.water_grid_scale = v; }},
       // Another method: photon splatting (seed 001 ch. 8) at P x P photons per map.
-      {"splat-photons", {256, 512, 1024, 2048, 4096}, false, true,
+      {"splat-photons", {256, 512, 1024, 2048}, false, true,
        [](Setting& s, double v) {
          s.caustics.method = runtime::CausticsMethod::kSplat;
          s.caustics.photons = static_cast<std::uint32_t>(v);
