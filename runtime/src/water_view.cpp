@@ -48,25 +48,23 @@ WaterCameras water_cameras(const ViewCamera& main, float fov_y_deg, float aspect
   return c;
 }
 
-WaterView::Target WaterView::make_target(int w, int h, GLenum color_format, bool with_depth) {
+WaterView::Target WaterView::make_target(int w, int h, GLenum color_format) {
+  // Colour filtered (bent lookups fall between texels), depth read exactly.
+  auto texture = [&](GLenum format, GLenum filter) {
+    gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.get(), 1, format, w, h);
+    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+  };
   Target t;
   t.fbo = gl::make_framebuffer();
-  t.color = gl::make_texture(GL_TEXTURE_2D);
-  glTextureStorage2D(t.color.get(), 1, color_format, w, h);
-  glTextureParameteri(t.color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(t.color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t.color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  t.color = texture(color_format, GL_LINEAR);
+  t.depth = texture(GL_DEPTH_COMPONENT32F, GL_NEAREST);
   glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
-  if (with_depth) {
-    t.depth = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    glTextureParameteri(t.depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
-  }
+  glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
   return t;
 }
 
@@ -93,8 +91,8 @@ Result<WaterView> WaterView::create() {
 void WaterView::ensure_targets(int size) {
   if (size == size_) return;
   // Half floats: caustic foci reach tens of E0, far below 65504.
-  refraction_ = make_target(size, size, GL_RGBA16F, true);
-  reflection_ = make_target(size, size, GL_RGBA16F, true);
+  refraction_ = make_target(size, size, GL_RGBA16F);
+  reflection_ = make_target(size, size, GL_RGBA16F);
   size_ = size;
 }
 
@@ -133,7 +131,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, 
                           const std::function<void()>& draw_water) {
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
-    glow_target_ = make_target(w, h, GL_RGBA16F, true);
+    glow_target_ = make_target(w, h, GL_RGBA16F);
     glow_w_ = w;
     glow_h_ = h;
   }

@@ -73,7 +73,7 @@ class WaterView {
     gl::Framebuffer fbo;
     gl::Texture color, depth;
   };
-  static Target make_target(int w, int h, GLenum color_format, bool with_depth);
+  static Target make_target(int w, int h, GLenum color_format);  // colour + depth
   gl::Program surface_, highlight_, glow_;
   gl::VertexArray empty_vao_;
   Target refraction_, reflection_, glow_target_;
