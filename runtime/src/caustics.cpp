@@ -591,35 +591,31 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
   // Refract at every water vertex, then each triangle's flux (eq. 2-8, 4-18);
   // photon splatting refracts per photon instead.
   s.water->bind_buffers();
-  if (o.method == CausticsMethod::kSplat) {
-    for (std::size_t i = 0; i < s.maps.size(); ++i) {
-      if (s.maps[i].lm->light != light) continue;
-      s.draw_map(s.maps[i], o, desc);
-    }
-    return gl::check_gl("photon splatting");
+  const bool splat = o.method == CausticsMethod::kSplat;
+  if (!splat) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
+    s.prepare.use();
+    s.prepare.set("u_light_type", static_cast<int>(desc.type));
+    s.prepare.set("u_light_direction", v3(desc.direction));
+    s.prepare.set("u_light_position", v3(desc.position));
+    s.prepare.set("u_light_power", desc.type == LightType::kDirectional ? desc.irradiance : desc.intensity);
+    s.prepare.set("u_ior", s.water->water().ior);
+    s.prepare.set("u_mode", 0);
+    s.prepare.set("u_count", s.water->vertex_count());
+    glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    s.prepare.set("u_mode", 1);
+    s.prepare.set("u_count", s.water->triangle_count());
+    glDispatchCompute((s.water->triangle_count() + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    s.stats.water_triangles = s.water->triangle_count();
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
-  s.prepare.use();
-  s.prepare.set("u_light_type", static_cast<int>(desc.type));
-  s.prepare.set("u_light_direction", v3(desc.direction));
-  s.prepare.set("u_light_position", v3(desc.position));
-  s.prepare.set("u_light_power", desc.type == LightType::kDirectional ? desc.irradiance : desc.intensity);
-  s.prepare.set("u_ior", s.water->water().ior);
-  s.prepare.set("u_mode", 0);
-  s.prepare.set("u_count", s.water->vertex_count());
-  glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  s.prepare.set("u_mode", 1);
-  s.prepare.set("u_count", s.water->triangle_count());
-  glDispatchCompute((s.water->triangle_count() + 63) / 64, 1, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  s.stats.water_triangles = s.water->triangle_count();
 
   for (std::size_t i = 0; i < s.maps.size(); ++i) {
     if (s.maps[i].lm->light != light) continue;
     s.draw_map(s.maps[i], o, desc);
-    s.drawn_maps.push_back(i);
+    if (!splat) s.drawn_maps.push_back(i);  // splatting fills no culling counters
   }
   return gl::check_gl("caustics pass");
 }
