@@ -21,6 +21,7 @@
 #include "caustix/runtime/renderer.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
+#include "hostile_meshes.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
 
@@ -235,6 +236,49 @@ TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
   EXPECT_EQ(baked.error().code, ErrorCode::kInput);
   EXPECT_NE(baked.error().message.find("boundary edge"), std::string::npos) << baked.error().message;
   EXPECT_NE(baked.error().message.find("teapot.obj"), std::string::npos) << baked.error().message;
+}
+
+// Light transport runs inside the object: a closed mesh that is wound
+// inconsistently, inside out, or has edges of three triangles is refused,
+// saying which, before any tracing.
+TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
+  using test::CubeFlaw;
+  const std::vector<std::pair<CubeFlaw, std::string>> cases{
+      {CubeFlaw::kFlippedFace, "3 edge(s) whose two triangles are wound inconsistently"},
+      {CubeFlaw::kInsideOut, "wound inside out"},
+      {CubeFlaw::kDuplicateFace, "non-manifold edge(s)"},
+      {CubeFlaw::kFin, "2 boundary edge(s) of holes, 1 non-manifold edge(s)"}};
+  for (const auto& [flaw, says] : cases) {
+    const auto mesh = std::filesystem::temp_directory_path() / ("caustix_flawed_cube_" + std::to_string(int(flaw)) + ".obj");
+    std::ofstream(mesh) << test::to_obj(test::unit_cube(flaw));
+    nlohmann::json j = scene("glass_ball");
+    j["objects"][1]["mesh"] = mesh.string();
+    auto baked = bake::bake_scene(test::write_scene(j, "glass_flawed"), {});
+    ASSERT_FALSE(baked.ok()) << says;
+    EXPECT_EQ(baked.error().code, ErrorCode::kInput);
+    EXPECT_NE(baked.error().message.find(mesh.string() + ": transparent object 'ball'"), std::string::npos) << baked.error().message;
+    EXPECT_NE(baked.error().message.find(says), std::string::npos) << baked.error().message;
+  }
+  // The intact cube bakes.
+  const auto mesh = std::filesystem::temp_directory_path() / "caustix_cube.obj";
+  std::ofstream(mesh) << test::to_obj(test::unit_cube());
+  nlohmann::json j = scene("glass_ball");
+  j["objects"][1]["mesh"] = mesh.string();
+  bake::BakeOptions opt;
+  opt.transport.resolution = 4;
+  auto baked = bake::bake_scene(test::write_scene(j, "glass_cube"), opt);
+  EXPECT_TRUE(baked.ok()) << baked.error().message;
+}
+
+// A table above kMaxTransportEntries (1 GiB) is refused before tracing:
+// the solid teapot's 4.7k vertices x 128^2 directions = 76 M entries.
+TEST(LightTransport, TablesAboveTheLimitAreRefusedUpFront) {
+  bake::BakeOptions opt;
+  opt.transport.resolution = 128;
+  auto baked = bake::bake_scene(kScenes + "glass_teapot.json", opt);
+  ASSERT_FALSE(baked.ok());
+  EXPECT_EQ(baked.error().code, ErrorCode::kInput);
+  EXPECT_NE(baked.error().message.find("above the limit of 67108864"), std::string::npos) << baked.error().message;
 }
 
 TEST(LightTransport, TableIsIndependentOfThreadCount) {

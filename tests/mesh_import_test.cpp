@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cstring>
 #include <fstream>
 
 #include "caustix/bake/mesh_import.h"
+#include "caustix/common/mesh_topology.h"
+#include "hostile_meshes.h"
 
 namespace caustix::bake {
 namespace {
@@ -103,6 +106,92 @@ TEST_F(MeshImport, DegenerateFacesAreDroppedWithAWarning) {
   EXPECT_EQ(m->mesh.positions.size(), 3u);  // the unused vertex is compacted away
   ASSERT_EQ(m->warnings.size(), 1u);
   EXPECT_NE(m->warnings[0].find("degenerate"), std::string::npos);
+}
+
+// A header that lies about its counts, in either direction, is refused
+// before OpenMesh reads the file: OpenMesh would reserve memory for the
+// declared counts (10^9: std::bad_alloc, a crash), invent faces from stale
+// values where an ASCII OFF ends early, or silently read fewer faces than a
+// PLY header declares.
+TEST_F(MeshImport, HeadersThatLieAboutTheirCountsAreRefused) {
+  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  std::string stl(84, '\0');
+  const std::uint32_t claimed = 1000000000;  // 10^9 triangles, one present
+  std::memcpy(stl.data() + 80, &claimed, 4);
+  stl += std::string(50, '\0');
+  std::string binary_ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  binary_ply += std::string(3 * 12 + 13, '\0');
+  const std::vector<std::pair<std::string, std::string>> files{
+      {"more_vertices.off", "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"more_faces.off", "OFF\n3 5 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"fewer_faces.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n"},
+      {"a_billion.off", "OFF\n1000000000 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"more_faces.ply", ply_head + "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"binary.ply", binary_ply},
+      {"binary.stl", stl}};
+  for (const auto& [name, text] : files) {
+    auto m = import_mesh(write(name, text));
+    ASSERT_FALSE(m.ok()) << name;
+    EXPECT_EQ(m.error().code, ErrorCode::kInput) << name;
+    EXPECT_NE(m.error().message.find(name + ": the header declares"), std::string::npos) << m.error().message;
+  }
+  // Honest headers still read, blank lines included.
+  auto m = import_mesh(write("honest.off", "OFF\n3 1 0\n\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  ASSERT_TRUE(m.ok()) << m.error().message;
+}
+
+// Non-manifold edges, duplicate faces and inconsistent winding are legal in
+// a receiver (it is drawn two-sided unless closed): imported with a warning
+// where OpenMesh had to split vertices, nothing dropped.
+TEST_F(MeshImport, NonManifoldDuplicateAndMiswoundFacesImportWithWarnings) {
+  for (auto flaw : {test::CubeFlaw::kFin, test::CubeFlaw::kDuplicateFace, test::CubeFlaw::kFlippedFace}) {
+    const TriangleMesh cube = test::unit_cube(flaw);
+    auto m = import_mesh(write("flawed.obj", test::to_obj(cube)));
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    EXPECT_EQ(m->mesh.triangles.size(), cube.triangles.size());
+    ASSERT_FALSE(m->warnings.empty());
+    EXPECT_NE(m->warnings[0].find("non-manifold"), std::string::npos) << m->warnings[0];
+  }
+}
+
+TEST(EdgeCensus, ClassifiesEveryFlaw) {
+  using test::CubeFlaw;
+  const EdgeCensus ok = census_edges(test::unit_cube());
+  EXPECT_TRUE(ok.closed());
+  EXPECT_NEAR(ok.signed_volume, 1.0, 1e-12);
+  const EdgeCensus inside_out = census_edges(test::unit_cube(CubeFlaw::kInsideOut));
+  EXPECT_TRUE(inside_out.closed());  // closed, but wound inward: the volume says so
+  EXPECT_NEAR(inside_out.signed_volume, -1.0, 1e-12);
+  const EdgeCensus flipped = census_edges(test::unit_cube(CubeFlaw::kFlippedFace));
+  EXPECT_EQ(flipped.inconsistent.size(), 3u);
+  EXPECT_TRUE(flipped.open.empty() && flipped.non_manifold.empty());
+  const EdgeCensus hole = census_edges(test::unit_cube(CubeFlaw::kHole));
+  EXPECT_EQ(hole.open.size(), 3u);
+  const EdgeCensus fin = census_edges(test::unit_cube(CubeFlaw::kFin));
+  EXPECT_EQ(fin.open.size(), 2u);
+  EXPECT_EQ(fin.non_manifold.size(), 1u);
+  EXPECT_EQ(census_edges(test::unit_cube(CubeFlaw::kDuplicateFace)).non_manifold.size(), 3u);
+  // Split seams (a vertex per face corner, as box.obj has) weld by position.
+  TriangleMesh split = test::unit_cube();
+  TriangleMesh seams;
+  for (const auto& t : split.triangles) {
+    std::array<std::uint32_t, 3> u{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      u[k] = static_cast<std::uint32_t>(seams.positions.size());
+      seams.positions.push_back(split.positions[t[k]]);
+    }
+    seams.triangles.push_back(u);
+  }
+  EXPECT_TRUE(census_edges(seams).closed());
+  // Two cubes sharing an edge bound a solid: each directed edge has an opposite.
+  TriangleMesh two = test::unit_cube();
+  for (const auto& p : test::unit_cube().positions) two.positions.push_back({p[0] + 1, p[1] + 1, p[2]});
+  for (const auto& t : test::unit_cube().triangles) two.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
+  const EdgeCensus pair = census_edges(two);
+  EXPECT_TRUE(pair.closed());
+  EXPECT_NEAR(pair.signed_volume, 2.0, 1e-12);
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 #include "caustix/bake/bake.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "caustix/bake/light_transport.h"
+#include "caustix/common/mesh_topology.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/scene_json.h"
 #include "caustix/formats/mesh_decode.h"
@@ -16,6 +19,38 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Light transport runs inside transparent objects (seed 002 §3): they must
+// bound a solid, wound outward. Returns what is wrong, naming up to five
+// edges (0-based vertex indices and the first vertex's position).
+std::optional<std::string> closed_solid_issue(const TriangleMesh& mesh) {
+  const EdgeCensus c = census_edges(mesh);
+  const std::array<std::pair<const std::vector<EdgeCensus::Edge>*, const char*>, 3> kinds{{
+      {&c.open, "boundary edge(s) of holes"},
+      {&c.inconsistent, "edge(s) whose two triangles are wound inconsistently"},
+      {&c.non_manifold, "non-manifold edge(s) (more than two triangles)"}}};
+  std::string counts, first;
+  for (const auto& [edges, what] : kinds) {
+    if (edges->empty()) continue;
+    counts += (counts.empty() ? "" : ", ") + std::to_string(edges->size()) + " " + what;
+    if (!first.empty()) continue;
+    for (std::size_t k = 0; k < std::min<std::size_t>(edges->size(), 5); ++k) {
+      const auto& e = (*edges)[k];
+      const auto& p = mesh.positions[e.first];
+      first += (k ? ", " : "") + std::to_string(e.first) + "-" + std::to_string(e.second) + " at (" + std::to_string(p[0]) +
+               ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
+    }
+    first = std::string("first: ") + first + (edges->size() > 5 ? ", ..." : "");
+  }
+  if (!counts.empty()) {
+    return "must be a closed, consistently wound mesh; it has " + counts + "; " + first + " (vertex indices, 0-based)";
+  }
+  if (!(c.signed_volume > 0)) {
+    return "is wound inside out or encloses no volume (signed volume " + std::to_string(c.signed_volume) +
+           " m^3 in object space); its triangles must wind counter-clockwise seen from outside";
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -96,20 +131,18 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
     const std::string& path = doc->mesh_paths[o.mesh_index];
-    const auto open = boundary_edges(meshes[o.mesh_index]);
-    if (!open.empty()) {
-      std::string list;
-      for (std::size_t k = 0; k < std::min<std::size_t>(open.size(), 5); ++k) {
-        const auto& p = meshes[o.mesh_index].positions[open[k].first];
-        list += (k ? ", " : "") + std::to_string(open[k].first) + "-" + std::to_string(open[k].second) + " at (" +
-                std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
-      }
-      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "' must be a closed mesh; " +
-                                               std::to_string(open.size()) + " boundary edge(s) (vertex indices, 0-based): " +
-                                               list + (open.size() > 5 ? ", ..." : ""));
+    if (auto issue = closed_solid_issue(meshes[o.mesh_index])) {
+      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "' " + *issue);
     }
     auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
     if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
+    const std::uint64_t r = options.transport.resolution, entries = decoded->positions.size() * r * r;
+    if (entries > kMaxTransportEntries) {
+      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its light-transport table would hold " +
+                                               std::to_string(decoded->positions.size()) + " vertices x " + std::to_string(r) +
+                                               "^2 directions = " + std::to_string(entries) + " entries, above the limit of " +
+                                               std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution or simplify the mesh");
+    }
     TransportReport rep;
     tables.push_back(trace_transport_table(oi, o.material, *decoded, options.transport, &rep));
     out.transport.push_back(rep);

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <map>
 
 #include "caustix/bake/ray_cast.h"
 #include "caustix/formats/frame.h"
@@ -53,24 +52,6 @@ struct Surface {
 };
 
 }  // namespace
-
-std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_edges(const TriangleMesh& mesh) {
-  // Closedness is geometric: vertices at exactly the same position count as
-  // one (meshes split seams for normals, and OpenMesh splits non-manifold
-  // "pinch" vertices on import).
-  std::map<Vec3f, std::uint32_t> first;
-  std::vector<std::uint32_t> canon(mesh.positions.size());
-  for (std::uint32_t i = 0; i < mesh.positions.size(); ++i) canon[i] = first.try_emplace(mesh.positions[i], i).first->second;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  for (const auto& t : mesh.triangles) {
-    for (std::size_t k = 0; k < 3; ++k) ++directed[{canon[t[k]], canon[t[(k + 1) % 3]]}];
-  }
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  for (const auto& [e, n] : directed) {
-    if (!directed.contains({e.second, e.first})) out.push_back(e);
-  }
-  return out;
-}
 
 struct TransportTracer::Impl {
   Surface surface;

@@ -5,8 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <new>
+#include <optional>
 #include <sstream>
 
 namespace caustix::bake {
@@ -37,7 +41,12 @@ ReadOutcome read_with_report(OmMesh& m, const std::string& path) {
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
   m.request_vertex_normals();
   ReadOutcome out;
-  out.ok = OpenMesh::IO::read_mesh(m, path, opt);
+  try {
+    out.ok = OpenMesh::IO::read_mesh(m, path, opt);
+  } catch (const std::bad_alloc&) {  // counts the header check cannot bound (OBJ)
+    out.ok = false;
+    captured << "out of memory";
+  }
   out.had_normals = opt.vertex_has_normal();
   omerr().flush();
   omerr().disconnect(captured);
@@ -56,6 +65,130 @@ bool finite3(const OmMesh::Point& p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+
+// Element counts declared in a file's header (OFF, PLY, binary STL), checked
+// against the data that follows before OpenMesh reads it: OpenMesh reserves
+// memory for the declared counts (10^9 vertices: std::bad_alloc), invents
+// faces from stale values when an ASCII OFF ends early, and silently reads
+// fewer faces than a PLY header declares. A header that lies in either
+// direction is refused with both counts.
+struct Declared {
+  std::uint64_t vertices = 0, faces = 0;
+};
+
+std::string trim_comment(std::string line) {
+  if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+  const auto b = line.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  return line.substr(b, line.find_last_not_of(" \t\r") + 1 - b);
+}
+
+// Non-blank, non-comment lines left in `in` (ASCII data of OFF and PLY: one
+// vertex or one face per line).
+std::uint64_t count_data_lines(std::istream& in) {
+  std::uint64_t n = 0;
+  for (std::string line; std::getline(in, line);) n += !trim_comment(line).empty();
+  return n;
+}
+
+std::optional<std::string> check_declared_counts(const std::string& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (!in || ec) return std::string("cannot open the file");
+  const auto lie = [](const std::string& declared, const std::string& found) {
+    return "the header declares " + declared + " but the file holds " + found +
+           "; refusing a file whose header does not match its data";
+  };
+  const auto declared = [](const Declared& d, const char* unit) {
+    return std::to_string(d.vertices) + " vertices and " + std::to_string(d.faces) + " faces" + unit;
+  };
+  std::string lower = ext;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == ".off") {
+    std::string line, first;
+    while (first.empty() && std::getline(in, line)) first = trim_comment(line);
+    if (first.size() < 3 || first.compare(first.size() - 3, 3, "OFF") != 0) return std::nullopt;  // OpenMesh decides
+    if (first.find(' ') != std::string::npos) return std::nullopt;  // "OFF BINARY": left to OpenMesh
+    std::string counts;
+    while (counts.empty() && std::getline(in, line)) counts = trim_comment(line);
+    std::istringstream cs(counts);
+    Declared d;
+    if (!(cs >> d.vertices >> d.faces)) return std::string("the OFF header has no vertex and face counts");
+    const std::uint64_t lines = count_data_lines(in);
+    if (lines != d.vertices + d.faces) {
+      return lie(declared(d, " (one line each)"), std::to_string(lines) + " data lines");
+    }
+    return std::nullopt;
+  }
+  if (lower == ".ply") {
+    std::string line, format;
+    Declared d;
+    std::uint64_t vertex_bytes = 0;  // binary: bytes per vertex record
+    bool in_vertex = false, ended = false;
+    while (std::getline(in, line)) {
+      std::istringstream ls(line);
+      std::string word;
+      ls >> word;
+      if (word == "format") ls >> format;
+      else if (word == "element") {
+        std::string name;
+        std::uint64_t n = 0;
+        ls >> name >> n;
+        in_vertex = name == "vertex";
+        if (name == "vertex") d.vertices = n;
+        if (name == "face") d.faces = n;
+      } else if (word == "property" && in_vertex) {
+        std::string type;
+        ls >> type;
+        for (const auto& [t, bytes] : {std::pair{"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2},
+                                       {"ushort", 2}, {"int16", 2}, {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4},
+                                       {"uint32", 4}, {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}}) {
+          if (type == t) vertex_bytes += static_cast<std::uint64_t>(bytes);
+        }
+      } else if (word == "end_header") {
+        ended = true;
+        break;
+      }
+    }
+    if (!ended) return std::string("the PLY header has no end_header line");
+    if (format == "ascii") {
+      const std::uint64_t lines = count_data_lines(in);
+      if (lines != d.vertices + d.faces) {
+        return lie(declared(d, " (one line each)"), std::to_string(lines) + " data lines");
+      }
+      return std::nullopt;
+    }
+    // Binary: each face needs at least its count byte and three indices.
+    const auto pos = in.tellg();
+    const std::uint64_t data = pos < 0 ? 0 : file_size - static_cast<std::uint64_t>(pos);
+    const long double need = static_cast<long double>(d.vertices) * static_cast<long double>(vertex_bytes) +
+                             static_cast<long double>(d.faces) * 4.0L;
+    if (need > static_cast<long double>(data)) {
+      return lie(declared(d, ""), std::to_string(data) + " bytes of data, fewer than they take");
+    }
+    return std::nullopt;
+  }
+  if (lower == ".stl") {
+    char head[84] = {};
+    in.read(head, sizeof head);
+    if (in.gcount() < 84) return std::nullopt;
+    std::string start(head, 5);
+    for (char& c : start) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::uint32_t n = 0;
+    std::memcpy(&n, head + 80, 4);
+    const std::uint64_t binary_size = 84 + 50 * std::uint64_t{n};
+    // ASCII STL starts with "solid" (so may a binary one's free-form header:
+    // then the size decides, as OpenMesh's reader does).
+    if (start == "solid" && binary_size != file_size) return std::nullopt;
+    if (binary_size != file_size) {
+      return lie(std::to_string(n) + " triangles", std::to_string(file_size) + " bytes (a binary STL of that many takes " +
+                                     std::to_string(binary_size) + ")");
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 Result<ImportedMesh> import_mesh(const std::string& path) {
@@ -69,6 +202,7 @@ Result<ImportedMesh> import_mesh(const std::string& path) {
     return input_error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
   }
 
+  if (auto lie = check_declared_counts(path, ext)) return input_error(path, *lie);
   OmMesh m;
   const ReadOutcome read = read_with_report(m, path);
   if (!read.ok) {

@@ -21,7 +21,6 @@ using cxb::detail::zstd_decompress_exact;
 
 constexpr double kQ = 65535.0;
 constexpr int kZstdLevel = 6;  // a middle setting, not tuned (the level sweep is still to do)
-constexpr std::size_t kMaxRawBytes = std::size_t{1} << 30;
 constexpr std::size_t kMaxRatio = 4096;
 
 // x in [lo, hi] to 16 bits, rounded to a multiple of 2^(16 - bits)
@@ -331,7 +330,7 @@ Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t>
   if (!d.span(packed, packed_size, "table data") || !d.finish()) return d.error();
   const std::size_t raw_size = std::size_t{t.vertex_count} * t.resolution * t.resolution * kFields * 2;
   const std::string expected = std::to_string(t.vertex_count) + " x " + std::to_string(t.resolution) + "^2 entries";
-  if (raw_size > kMaxRawBytes || raw_size > kMaxRatio * (packed.size() + 64)) {
+  if (raw_size > kMaxTransportEntries * 16 || raw_size > kMaxRatio * (packed.size() + 64)) {
     d.fail("table data of " + expected + " exceeds the 1 GiB / 4096:1 bounds");
     return d.error();
   }

@@ -1,9 +1,8 @@
 #include "gpu_mesh.h"
 
-#include <algorithm>
-#include <map>
-#include <utility>
 #include <vector>
+
+#include "caustix/common/mesh_topology.h"
 
 namespace caustix::runtime {
 
@@ -30,26 +29,8 @@ GpuMesh upload_mesh(const TriangleMesh& m) {
   glEnableVertexArrayAttrib(vao, 1);
   glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
   glVertexArrayAttribBinding(vao, 1, 0);
-  g.closed = is_closed(m);
+  g.closed = !m.triangles.empty() && census_edges(m).closed();
   return g;
-}
-
-bool is_closed(const TriangleMesh& m) {
-  if (m.triangles.empty()) return false;
-  std::map<std::array<float, 3>, std::uint32_t> weld;
-  std::vector<std::uint32_t> id(m.positions.size());
-  for (std::size_t i = 0; i < m.positions.size(); ++i) id[i] = weld.emplace(m.positions[i], static_cast<std::uint32_t>(weld.size())).first->second;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(m.triangles.size() * 3);
-  for (const auto& t : m.triangles) {
-    for (int k = 0; k < 3; ++k) edges.emplace_back(id[t[k]], id[t[(k + 1) % 3]]);
-  }
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    if (i + 1 < edges.size() && edges[i] == edges[i + 1]) return false;  // the same direction twice
-    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(edges[i].second, edges[i].first))) return false;
-  }
-  return true;
 }
 
 }  // namespace caustix::runtime

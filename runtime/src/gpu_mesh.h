@@ -12,8 +12,7 @@ struct GpuMesh {
   gl::Buffer vertices;
   gl::Buffer indices;
   GLsizei index_count = 0;
-  // Closed and consistently wound (every edge, positions welded, used once
-  // in each direction): back faces are never seen from outside, so passes
+  // Closed and consistently wound (common/mesh_topology.h): back faces are never seen from outside, so passes
   // that cut it open (seed 001 §5.1, fig. 3) may cull them.
   bool closed = false;
 
@@ -24,6 +23,5 @@ struct GpuMesh {
 };
 
 GpuMesh upload_mesh(const TriangleMesh& mesh);
-bool is_closed(const TriangleMesh& mesh);
 
 }  // namespace caustix::runtime

@@ -37,11 +37,6 @@ struct TransportReport {
   double direction_error_rad = 0;    // quantisation bound of exit directions
 };
 
-// Directed edges (a, b) of triangles whose opposite edge (b, a) no triangle
-// has: the boundary of an open mesh (or edges of inconsistent winding).
-// Vertices at the same position are one vertex here.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_edges(const TriangleMesh& mesh);
-
 // Exact transport of one incident direction at one vertex (what each table
 // entry stores, before quantisation); for the table and as the oracle of
 // the look-up tests. Thread-safe.

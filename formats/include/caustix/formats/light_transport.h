@@ -58,6 +58,10 @@ inline constexpr std::uint32_t kDefaultTransportResolution = 20;
 inline constexpr std::uint32_t kMinTransportBits = 8;
 inline constexpr std::uint32_t kMaxTransportBits = 16;
 inline constexpr std::uint32_t kDefaultTransportBits = 12;
+// Entries (vertices x R^2) of one table: 16 bytes each, 1 GiB at most. The
+// baker refuses a larger table before tracing it, the reader a file that
+// claims one.
+inline constexpr std::uint64_t kMaxTransportEntries = std::uint64_t{1} << 26;
 
 enum class TransportStatus : std::uint8_t { kLeaves = 0, kTrapped = 1, kOccluded = 2 };
 
