@@ -12,6 +12,7 @@
 
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/renderer.h"
+#include "caustix/runtime/scene_loader.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
@@ -32,6 +33,9 @@ struct Case {
   // False where the physical value is known not to hold yet: only
   // finiteness is checked (docs/robustness.md says why).
   bool physical = true;
+  // The whole scene scaled by `scale` about the origin, then moved by
+  // `offset` along x and z (floor, water, camera and the sampled window).
+  double scale = 1, offset = 0;
 };
 
 std::ostream& operator<<(std::ostream& os, const Case& c) { return os << c.name; }
@@ -39,6 +43,18 @@ std::ostream& operator<<(std::ostream& os, const Case& c) { return os << c.name;
 void set_sun(nlohmann::json& j, double elevation_deg) {
   const double e = elevation_deg * kPi / 180;
   j["lights"][0]["direction"] = {std::cos(e), -std::sin(e), 0.0};
+}
+
+void scale_and_move(nlohmann::json& j, double s, double t) {
+  auto& tr = j["objects"][0]["transform"];
+  tr["scale"] = {8 * s, s, 8 * s};
+  tr["translate"] = {t, 0.0, t};
+  j["water"]["level"] = 2 * s;
+  j["water"]["grid"]["extent"] = {-6 * s + t, -6 * s + t, 6 * s + t, 6 * s + t};
+  for (const char* k : {"position", "target"}) {
+    auto& p = j["camera"][k];
+    p = {p[0].get<double>() * s + t, p[1].get<double>() * s, p[2].get<double>() * s + t};
+  }
 }
 
 class Extremes : public test::GlTest, public ::testing::WithParamInterface<Case> {};
@@ -51,6 +67,7 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
   bake::BakeOptions opt;
   runtime::CausticsOptions co;
   c.edit(j, opt, co);
+  if (c.scale != 1 || c.offset != 0) scale_and_move(j, c.scale, c.offset);
   auto loaded = test::bake_and_load(test::write_scene(j, std::string("extremes_") + c.name), opt);
   ASSERT_TRUE(loaded);
   // Every baked float (depths are integers): frames and plane windows.
@@ -66,7 +83,8 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
   }
   auto r = runtime::Renderer::create(*loaded);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  runtime::IrradianceRequest q{"floor", -1, -1, 1, 1, 16, 16, 0.0f, co};
+  const float lo = static_cast<float>(c.offset - c.scale), hi = static_cast<float>(c.offset + c.scale);
+  runtime::IrradianceRequest q{"floor", lo, lo, hi, hi, 16, 16, 0.0f, co};
   auto img = (*r)->render_irradiance(q);
   ASSERT_TRUE(img.ok()) << img.error().message;
   // Light travelling (cos e, -sin e, 0) meets the water at theta = 90 - e
@@ -100,6 +118,76 @@ TEST_F(Extremes, MapsWithoutPlanesRender) {
       ASSERT_TRUE(img.ok()) << size << "^2: " << img.error().message;
       for (float v : img->rgb) ASSERT_TRUE(std::isfinite(v));
     }
+  }
+}
+
+// A 1 mm floor 10 km out: float world coordinates there are 0.98 mm apart,
+// so the runtime cannot resolve it (the irradiance window itself collapses
+// to one float). The baker says so; the render stays finite.
+TEST_F(Extremes, TinyObjectFarOutIsWarnedAbout) {
+  nlohmann::json j = test::canonical_scene("flat_pool");
+  scale_and_move(j, 1e-3 / 8, 1e4);
+  auto baked = bake::bake_scene(test::write_scene(j, "extremes_tiny_far"), {});
+  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  bool warned = false;
+  for (const auto& w : baked->warnings) warned = warned || w.find("move the scene nearer the origin") != std::string::npos;
+  EXPECT_TRUE(warned);
+  auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  auto r = runtime::Renderer::create(*loaded);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  runtime::IrradianceRequest q{"floor", 9999.99f, 9999.99f, 10000.01f, 10000.01f, 8, 8, 0.0f, {}};
+  auto img = (*r)->render_irradiance(q);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  for (float v : img->rgb) ASSERT_TRUE(std::isfinite(v));
+  // A 1 mm floor near the origin and a 8 m floor 10 km out draw no warning.
+  for (auto [scale, offset] : {std::pair{1e-3 / 8, 0.0}, std::pair{1.0, 1e4}}) {
+    nlohmann::json k = test::canonical_scene("flat_pool");
+    scale_and_move(k, scale, offset);
+    auto ok = bake::bake_scene(test::write_scene(k, "extremes_no_warning"), {});
+    ASSERT_TRUE(ok.ok()) << ok.error().message;
+    for (const auto& w : ok->warnings) EXPECT_EQ(w.find("nearer the origin"), std::string::npos) << w;
+  }
+}
+
+// Steep waves (slopes above 1) with the sun straight down: refracted rays
+// cross everywhere (folds), the area ratio of eq. 4-18 diverges on fold
+// lines, and the caustics method bounds it: A_d >= A_beam / M, M = 10^4
+// (CausticsOptions::max_magnification), so no pixel exceeds M E0 T and the
+// lost flux is what falls on exact folds. Energy oracle: a wave along x
+// with slope s(x) = A k cos(k x) lets E0 T(theta_i) through per unit of
+// horizontal area (the slant factor and cos theta_i cancel), and all of it
+// lands on the floor, so over whole periods the floor's mean irradiance is
+// the mean of T(1 / sqrt(1 + s^2)) over a period.
+TEST_F(Extremes, SteepWavesConserveEnergyAndStayBounded) {
+  const double wavelength = 1.0, k = 2 * kPi / wavelength;
+  for (double slope : {0.5, 0.75, 1.5, 3.0}) {
+    nlohmann::json j = test::canonical_scene("flat_pool");
+    set_sun(j, 90);
+    j["water"]["grid"] = {{"cells", {600, 8}}, {"extent", {-3, -3, 3, 3}}};  // 1 cm along the wave
+    j["water"]["waves"] = {{{"amplitude", slope / k}, {"wavelength", wavelength}, {"direction", {1, 0}}}};
+    auto r = test::bake_and_create(test::write_scene(j, "extremes_steep"));
+    ASSERT_TRUE(r);
+    const int w = 512;  // 2 periods, 3.9 mm pixels
+    runtime::IrradianceRequest q{"floor", -1, -0.05f, 1, 0.05f, w, 4, 0.0f, {}};
+    q.caustics.map_size = 2048;
+    auto img = r->render_irradiance(q);
+    ASSERT_TRUE(img.ok()) << img.error().message;
+    double mean = 0, peak = 0;
+    for (std::size_t i = 0; i < img->rgb.size(); i += 3) {
+      ASSERT_TRUE(std::isfinite(img->rgb[i]));
+      mean += img->rgb[i] / (img->rgb.size() / 3);
+      peak = std::max(peak, double{img->rgb[i]});
+    }
+    double expected = 0;
+    const int n = 100000;
+    for (int i = 0; i < n; ++i) {
+      const double s = slope * std::cos(2 * kPi * (i + 0.5) / n);
+      expected += fresnel_t(1 / std::sqrt(1 + s * s), 1.33) / n;
+    }
+    std::printf("slope %.2f: mean E/E0 %.5f, expected %.5f (ratio %.5f), peak %.2f\n", slope, mean, expected, mean / expected, peak);
+    EXPECT_NEAR(mean / expected, 1.0, 0.01) << "slope " << slope;
+    EXPECT_LE(peak, 1e4 * fresnel_t(1, 1.33));
   }
 }
 
@@ -164,7 +252,10 @@ INSTANTIATE_TEST_SUITE_P(
                  j["lights"].push_back(sun);
                }
              },
-             60, 1.33, 64}),
+             60, 1.33, 64},
+        Case{"10_km_from_the_origin", no_edit, 60, 1.33, 1, true, 1, 1e4},
+        Case{"1_mm_across", no_edit, 60, 1.33, 1, true, 1e-3 / 8},
+        Case{"100_km_wide", no_edit, 60, 1.33, 1, true, 1e5 / 8}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 }  // namespace

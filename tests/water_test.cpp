@@ -218,6 +218,35 @@ TEST_F(Water, UnderwaterBeyondCriticalAngle) {
   }
 }
 
+// The picture is affine in the sun's irradiance E0 (ambient and sky are
+// constant): img(E) = A + E B. Renders at E0 = 1 and 2 give A and B; at
+// E0 = 10^6 a caustic focus is far above half float's 65504. The water's
+// refraction, reflection and glow targets were RGBA16F: llvmpipe clamped
+// them there (the floor seen through the water came out at 1.7 % of its
+// value), other drivers may store Inf. They are RGBA32F now.
+TEST_F(Water, BrightSunScalesLinearlyPastHalfFloat) {
+  const Camera cam = make_camera({5, 7, 7}, {0, 0, 0}, {0, 1, 0}, 45.0f);
+  std::vector<std::vector<float>> img;
+  for (double e0 : {1.0, 2.0, 1e6}) {
+    nlohmann::json j = test::canonical_scene("wavy_pool");
+    j["lights"][0]["irradiance"] = e0;
+    auto r = test::bake_and_create(test::write_scene(j, "water_bright"));
+    ASSERT_TRUE(r);
+    img.push_back(render(*r, cam, 160, 120, WaterLook{}));
+  }
+  double peak = 0, worst = 0;
+  for (std::size_t i = 0; i < img[0].size(); ++i) {
+    if (i % 4 == 3) continue;  // alpha
+    const double b = img[1][i] - img[0][i], a = img[0][i] - b;
+    peak = std::max(peak, 1e6 * b);
+    ASSERT_TRUE(std::isfinite(img[2][i])) << "pixel " << i / 4;
+    worst = std::max(worst, std::fabs(img[2][i] - (a + 1e6 * b)));
+  }
+  EXPECT_GT(peak, 1e5) << "a focus above half float's range";
+  // Float rounding of B (values ~1, 1e-7 relative) times 10^6.
+  EXPECT_LT(worst, 1e-4 * peak) << "largest departure " << worst << " of a peak " << peak;
+}
+
 // Golden images (llvmpipe): thesis_teapot from its own camera and from
 // under the surface, tone-mapped 8-bit. A change of the look shows as a
 // failure here; CAUSTIX_UPDATE_GOLDEN=1 writes the new images instead.

@@ -10,6 +10,7 @@
 #include "caustix/common/mesh_topology.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/scene_json.h"
+#include "caustix/formats/frame.h"
 #include "caustix/formats/mesh_decode.h"
 #include "caustix/formats/scene.h"
 
@@ -51,6 +52,29 @@ std::optional<std::string> closed_solid_issue(const TriangleMesh& mesh) {
            " m^3 in object space); its triangles must wind counter-clockwise seen from outside";
   }
   return std::nullopt;
+}
+
+// The runtime draws in float world coordinates, spaced |x| 2^-23 apart near
+// x (10 km: 1 mm). An object smaller than 1000 such spacings loses its shape
+// on the GPU; nothing in the file can fix that, so say so.
+std::optional<std::string> float_precision_warning(const Object& o, const TriangleMesh& mesh) {
+  const std::vector<Vec3d> world = world_points(o.transform, mesh.positions);
+  Vec3d lo = world.front(), hi = lo;
+  double reach = 0;
+  for (const Vec3d& p : world) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+      reach = std::max(reach, std::abs(p[k]));
+    }
+  }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double spacing = reach * std::ldexp(1.0, -23);
+  if (!(extent < 1000 * spacing)) return std::nullopt;
+  return "object '" + o.name + "' is " + std::to_string(extent) + " m across at " + std::to_string(reach) +
+         " m from the origin, where float coordinates are " + std::to_string(spacing) +
+         " m apart: the runtime resolves its shape to 1 part in " + std::to_string(static_cast<long long>(extent / spacing)) +
+         "; move the scene nearer the origin";
 }
 
 }  // namespace
@@ -110,6 +134,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
 
   if (auto issue = validate_scene(scene)) {
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
+  }
+  for (const Object& o : scene.objects) {
+    if (auto w = float_precision_warning(o, meshes[o.mesh_index])) out.warnings.push_back(*w);
   }
   auto t0 = Clock::now();
   auto stage = bake_level_maps(scene, meshes, options.level_maps);

@@ -23,10 +23,58 @@ void load_primitive() {
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
+// A sliver (height under its longest edge below kSliver texels, as near
+// folds where refracted rays cross) is taken as a line density along that
+// edge, its "spine" a -> b: the cross-section height rises linearly from 0
+// at a to h at the foot of c (parameter tc) and falls to 0 at b, so the
+// area over t in [0, t] is L G(t), G(t) = h/2 t^2/tc before tc and
+// h/2 (tc + (t - tc)(2 - t - tc)/(1 - tc)) after, G(1) = h/2. A texel gets
+// L (G(t1) - G(t0)) for the part [t0, t1] of the spine inside it (half-open
+// texels, so pieces tile the spine exactly). Clipping the texel square
+// against a sliver instead needs edge functions of size L x 1 to resolve
+// heights of 1e-5 texels: float rounding then gives each texel a noisy
+// piece, and dropping the negative ones (max(twice, 0)) added up to +4 %
+// of the light at 4096^2 on a wave of slope 0.5 (docs/robustness.md).
+const float kSliver = 1.0 / 16.0;
+
+float tent_integral(float t, float tc, float h) {
+  if (t <= tc) return tc > 0.0 ? 0.5 * h * t * t / tc : 0.0;
+  return 0.5 * h * (tc + (t - tc) * (2.0 - t - tc) / max(1.0 - tc, 1e-30));
+}
+
+float sliver_coverage(vec2 a, vec2 b, vec2 c, vec2 lo) {
+  vec2 d = b - a;
+  float len2 = dot(d, d);
+  if (len2 <= 0.0) return 0.0;
+  float h = abs(cross2(d, c - a)) / sqrt(len2);
+  float tc = clamp(dot(c - a, d) / len2, 0.0, 1.0);
+  // Liang-Barsky: the part of a + t d, t in [0, 1], with lo <= p < lo + 1.
+  float t0 = 0.0, t1 = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0.0) {
+      if (a[k] < lo[k] || a[k] >= lo[k] + 1.0) return 0.0;
+    } else {
+      float ta = (lo[k] - a[k]) / d[k], tb = (lo[k] + 1.0 - a[k]) / d[k];
+      t0 = max(t0, min(ta, tb));
+      t1 = min(t1, max(ta, tb));
+    }
+  }
+  if (t1 <= t0) return 0.0;
+  return sqrt(len2) * (tent_integral(t1, tc, h) - tent_integral(t0, tc, h));
+}
+
 float texel_coverage() {
+  vec2 lo = floor(gl_FragCoord.xy);
+  {
+    vec2 a = v_q0, b = v_q1, c = v_q2;
+    vec2 e01 = v_q1 - v_q0, e12 = v_q2 - v_q1, e20 = v_q0 - v_q2;
+    float l01 = dot(e01, e01), l12 = dot(e12, e12), l20 = dot(e20, e20), longest = l01;
+    if (l12 > longest) { a = v_q1; b = v_q2; c = v_q0; longest = l12; }
+    if (l20 > longest) { a = v_q2; b = v_q0; c = v_q1; longest = l20; }
+    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c, lo);
+  }
   vec2 tri[3] = vec2[3](v_q0, v_q1, v_q2);
   if (cross2(v_q1 - v_q0, v_q2 - v_q0) < 0.0) tri = vec2[3](v_q0, v_q2, v_q1);  // counter-clockwise
-  vec2 lo = floor(gl_FragCoord.xy);
   // Fast paths: the texel wholly inside every edge, or wholly outside one.
   bool inside = true;
   for (int e = 0; e < 3; ++e) {

@@ -90,9 +90,11 @@ Result<WaterView> WaterView::create() {
 
 void WaterView::ensure_targets(int size) {
   if (size == size_) return;
-  // Half floats: caustic foci reach tens of E0, far below 65504.
-  refraction_ = make_target(size, size, GL_RGBA16F);
-  reflection_ = make_target(size, size, GL_RGBA16F);
+  // Full floats: half floats top out at 65504, which a caustic focus
+  // (tens of E0) passes for E0 above ~10^3 (a real sun is ~10^3 W/m^2);
+  // the overflow became Inf on the water (docs/robustness.md).
+  refraction_ = make_target(size, size, GL_RGBA32F);
+  reflection_ = make_target(size, size, GL_RGBA32F);
   size_ = size;
 }
 
@@ -131,7 +133,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, 
                           const std::function<void()>& draw_water) {
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
-    glow_target_ = make_target(w, h, GL_RGBA16F);
+    glow_target_ = make_target(w, h, GL_RGBA32F);  // the sun's highlight scales with E0 (see above)
     glow_w_ = w;
     glow_h_ = h;
   }
