@@ -57,6 +57,21 @@ void scale_and_move(nlohmann::json& j, double s, double t) {
   }
 }
 
+// Every baked float of the level maps (depths are integers): frames and
+// plane windows.
+void expect_finite_level_maps(const runtime::RuntimeScene& scene) {
+  for (const LevelMap& m : scene.level_maps) {
+    std::vector<double> values(m.frame.origin.begin(), m.frame.origin.end());
+    for (const Vec3f* v : {&m.frame.u, &m.frame.v, &m.frame.w, &m.frame.half, &m.frame.symmetric_size}) {
+      values.insert(values.end(), v->begin(), v->end());
+    }
+    for (const auto* set : {&m.uniform_planes, &m.smart_planes}) {
+      for (const ReferencePlane& p : *set) values.insert(values.end(), {p.offset, p.epsilon});
+    }
+    for (double v : values) EXPECT_TRUE(std::isfinite(v)) << "non-finite baked level-map value";
+  }
+}
+
 class Extremes : public test::GlTest, public ::testing::WithParamInterface<Case> {};
 
 TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
@@ -70,17 +85,7 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
   if (c.scale != 1 || c.offset != 0) scale_and_move(j, c.scale, c.offset);
   auto loaded = test::bake_and_load(test::write_scene(j, std::string("extremes_") + c.name), opt);
   ASSERT_TRUE(loaded);
-  // Every baked float (depths are integers): frames and plane windows.
-  for (const LevelMap& m : loaded->level_maps) {
-    std::vector<double> values(m.frame.origin.begin(), m.frame.origin.end());
-    for (const Vec3f* v : {&m.frame.u, &m.frame.v, &m.frame.w, &m.frame.half, &m.frame.symmetric_size}) {
-      values.insert(values.end(), v->begin(), v->end());
-    }
-    for (const auto* set : {&m.uniform_planes, &m.smart_planes}) {
-      for (const ReferencePlane& p : *set) values.insert(values.end(), {p.offset, p.epsilon});
-    }
-    for (double v : values) ASSERT_TRUE(std::isfinite(v)) << "non-finite baked level-map value";
-  }
+  expect_finite_level_maps(*loaded);
   auto r = runtime::Renderer::create(*loaded);
   ASSERT_TRUE(r.ok()) << r.error().message;
   const float lo = static_cast<float>(c.offset - c.scale), hi = static_cast<float>(c.offset + c.scale);
@@ -186,10 +191,76 @@ TEST_F(Extremes, SteepWavesConserveEnergyAndStayBounded) {
       expected += fresnel_t(1 / std::sqrt(1 + s * s), 1.33) / n;
     }
     std::printf("slope %.2f: mean E/E0 %.5f, expected %.5f (ratio %.5f), peak %.2f\n", slope, mean, expected, mean / expected, peak);
-    EXPECT_NEAR(mean / expected, 1.0, 0.01) << "slope " << slope;
+    // Measured within 2e-5; float rounding of the deposits allows 1e-3.
+    EXPECT_NEAR(mean / expected, 1.0, 1e-3) << "slope " << slope;
     EXPECT_LE(peak, 1e4 * fresnel_t(1, 1.33));
   }
 }
+
+// Every canonical scene at two corners of the parameter space at once, the
+// whole frame rendered (level maps and photon splatting): no NaN or Inf in
+// any baked value or pixel, and nothing refused. "grazing": suns 0.5 deg
+// above the horizon, IOR 4 for water and glass, one plane, one depth level,
+// 8^2 position and caustics maps. "dense": suns straight down, IOR 1.0001,
+// 4096 planes, 10 000 depth levels, eps 10^-9, 512^2 maps.
+struct Corner {
+  const char* name;
+  double elevation_deg, ior;
+  std::uint32_t planes, levels, map_size;
+  double epsilon;
+};
+
+class CanonicalCorners : public test::GlTest,
+                         public ::testing::WithParamInterface<std::tuple<const char*, Corner>> {};
+
+TEST_P(CanonicalCorners, StayFinite) {
+  const auto& [name, corner] = GetParam();
+  nlohmann::json j = test::canonical_scene(name);
+  const double e = corner.elevation_deg * kPi / 180;
+  for (auto& l : j["lights"]) {
+    if (l["type"] != "directional") continue;
+    const double dx = l["direction"][0].get<double>(), dz = l["direction"][2].get<double>();
+    const double h = std::hypot(dx, dz);
+    const double ux = h > 0 ? dx / h : 1, uz = h > 0 ? dz / h : 0;
+    l["direction"] = {std::cos(e) * ux, -std::sin(e), std::cos(e) * uz};
+  }
+  if (j.contains("water")) j["water"]["ior"] = corner.ior;
+  for (auto& o : j["objects"]) {
+    if (o.contains("material") && o["material"].value("transparent", false)) o["material"]["ior"] = corner.ior;
+  }
+  bake::BakeOptions opt;
+  opt.level_maps.slicing.planes = corner.planes;
+  opt.level_maps.slicing.levels = corner.levels;
+  if (corner.epsilon > 0) opt.level_maps.slicing.epsilon = corner.epsilon;
+  opt.level_maps.map_size = corner.map_size;
+  opt.transport.resolution = 8;  // the table's extremes are glass_test's
+  auto loaded = test::bake_and_load(test::write_scene(j, std::string("corner_") + name + "_" + corner.name), opt);
+  ASSERT_TRUE(loaded);
+  expect_finite_level_maps(*loaded);
+  auto r = runtime::Renderer::create(*loaded);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kSplat}) {
+    runtime::FrameParams f;
+    f.camera = loaded->desc.camera.value_or(Camera{});
+    f.width = 96;
+    f.height = 72;
+    f.caustics = runtime::default_caustics_options(loaded->desc);
+    f.caustics.method = method;
+    f.caustics.map_size = corner.map_size;
+    f.caustics.photons = 256;
+    const Status st = (*r)->render(f);
+    ASSERT_TRUE(st.ok()) << st.error().message;
+    const std::vector<float> img = (*r)->read_hdr();
+    for (std::size_t i = 0; i < img.size(); ++i) ASSERT_TRUE(std::isfinite(img[i])) << runtime::to_string(method) << " pixel " << i / 4;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, CanonicalCorners,
+    ::testing::Combine(::testing::Values("default", "flat_pool", "wavy_pool", "thesis_teapot", "thesis_sphere",
+                                         "thesis_organic", "glass_ball", "glass_teapot"),
+                       ::testing::Values(Corner{"grazing", 0.5, 4.0, 1, 1, 8, 0}, Corner{"dense", 90, 1.0001, 4096, 10000, 512, 1e-9})),
+    [](const auto& info) { return std::string(std::get<0>(info.param)) + "_" + std::get<1>(info.param).name; });
 
 void no_edit(nlohmann::json&, bake::BakeOptions&, runtime::CausticsOptions&) {}
 
@@ -239,6 +310,14 @@ INSTANTIATE_TEST_SUITE_P(
              false},
         Case{"caustics_map_2x2",
              [](nlohmann::json&, bake::BakeOptions&, runtime::CausticsOptions& co) { co.map_size = 2; }},
+        // Found by this suite and fixed: edge texels' coverage was summed in
+        // absolute texel coordinates; at 8192^2 the floor came out 0.8476
+        // to 0.8912 against 0.8477, now 0.84774 everywhere (81 s on
+        // llvmpipe, so CI runs 4096^2; docs/robustness.md).
+        Case{"caustics_map_4096x4096",
+             [](nlohmann::json&, bake::BakeOptions&, runtime::CausticsOptions& co) { co.map_size = 4096; }},
+        Case{"position_map_8192x8192",
+             [](nlohmann::json&, bake::BakeOptions& o, runtime::CausticsOptions&) { o.level_maps.map_size = 8192; }},
         Case{"position_and_caustics_maps_32x32",
              [](nlohmann::json&, bake::BakeOptions& o, runtime::CausticsOptions& co) {
                o.level_maps.map_size = 32;

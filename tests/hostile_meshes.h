@@ -38,10 +38,55 @@ inline TriangleMesh unit_cube(CubeFlaw flaw = CubeFlaw::kNone) {
   return m;
 }
 
+// The cube [-0.5, 0.5]^3 with each face an n x n grid of its own vertices
+// (split seams, closed by position), outward counter-clockwise: flat faces
+// with vertices inside them, which per-vertex light transport needs.
+inline TriangleMesh subdivided_cube(int n) {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side : {-1, 1}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const auto base = static_cast<std::uint32_t>(m.positions.size());
+      for (int i = 0; i <= n; ++i) {
+        for (int k = 0; k <= n; ++k) {
+          std::array<float, 3> p{};
+          p[static_cast<std::size_t>(axis)] = 0.5f * static_cast<float>(side);
+          p[static_cast<std::size_t>(u)] = static_cast<float>(i) / static_cast<float>(n) - 0.5f;
+          p[static_cast<std::size_t>(v)] = static_cast<float>(k) / static_cast<float>(n) - 0.5f;
+          m.positions.push_back(p);
+          std::array<float, 3> normal{};
+          normal[static_cast<std::size_t>(axis)] = static_cast<float>(side);
+          m.normals.push_back(normal);
+        }
+      }
+      const auto at = [&](int i, int k) { return base + static_cast<std::uint32_t>(i * (n + 1) + k); };
+      for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < n; ++k) {
+          // (u, v, axis) is right-handed: u x v = +axis, so (i,k) -> (i+1,k)
+          // -> (i+1,k+1) winds counter-clockwise seen from +axis.
+          std::array<std::uint32_t, 3> t0{at(i, k), at(i + 1, k), at(i + 1, k + 1)}, t1{at(i, k), at(i + 1, k + 1), at(i, k + 1)};
+          if (side < 0) {
+            std::swap(t0[1], t0[2]);
+            std::swap(t1[1], t1[2]);
+          }
+          m.triangles.push_back(t0);
+          m.triangles.push_back(t1);
+        }
+      }
+    }
+  }
+  return m;
+}
+
 inline std::string to_obj(const TriangleMesh& m) {
   std::string s;
   for (const auto& p : m.positions) s += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
-  for (const auto& t : m.triangles) s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  for (const auto& n : m.normals) s += "vn " + std::to_string(n[0]) + " " + std::to_string(n[1]) + " " + std::to_string(n[2]) + "\n";
+  for (const auto& t : m.triangles) {
+    s += "f";
+    for (std::uint32_t i : t) s += " " + std::to_string(i + 1) + "//" + std::to_string(i + 1);
+    s += "\n";
+  }
   return s;
 }
 

@@ -63,33 +63,40 @@ float sliver_coverage(vec2 a, vec2 b, vec2 c, vec2 lo) {
   return sqrt(len2) * (tent_integral(t1, tc, h) - tent_integral(t0, tc, h));
 }
 
+// Everything below is computed relative to the texel's corner, so that the
+// clipped polygon's coordinates lie in [0, 1]: with absolute texel
+// coordinates (up to the map size) the shoelace sum cancelled products of
+// ~10^7 (4096^2 maps) to ~10^8 (8192^2) down to an area below 1, and the
+// rounding, with max(twice, 0) dropping the negative half, lit texels along
+// triangle edges up to +30 % (docs/robustness.md).
 float texel_coverage() {
   vec2 lo = floor(gl_FragCoord.xy);
+  vec2 q0 = v_q0 - lo, q1 = v_q1 - lo, q2 = v_q2 - lo;
   {
-    vec2 a = v_q0, b = v_q1, c = v_q2;
-    vec2 e01 = v_q1 - v_q0, e12 = v_q2 - v_q1, e20 = v_q0 - v_q2;
+    vec2 a = q0, b = q1, c = q2;
+    vec2 e01 = q1 - q0, e12 = q2 - q1, e20 = q0 - q2;
     float l01 = dot(e01, e01), l12 = dot(e12, e12), l20 = dot(e20, e20), longest = l01;
-    if (l12 > longest) { a = v_q1; b = v_q2; c = v_q0; longest = l12; }
-    if (l20 > longest) { a = v_q2; b = v_q0; c = v_q1; longest = l20; }
-    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c, lo);
+    if (l12 > longest) { a = q1; b = q2; c = q0; longest = l12; }
+    if (l20 > longest) { a = q2; b = q0; c = q1; longest = l20; }
+    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c, vec2(0.0));
   }
-  vec2 tri[3] = vec2[3](v_q0, v_q1, v_q2);
-  if (cross2(v_q1 - v_q0, v_q2 - v_q0) < 0.0) tri = vec2[3](v_q0, v_q2, v_q1);  // counter-clockwise
+  vec2 tri[3] = vec2[3](q0, q1, q2);
+  if (cross2(q1 - q0, q2 - q0) < 0.0) tri = vec2[3](q0, q2, q1);  // counter-clockwise
   // Fast paths: the texel wholly inside every edge, or wholly outside one.
   bool inside = true;
   for (int e = 0; e < 3; ++e) {
     vec2 a = tri[e], d = tri[(e + 1) % 3] - a;
-    float s0 = cross2(d, lo - a), s1 = cross2(d, lo + vec2(1, 0) - a);
-    float s2 = cross2(d, lo + vec2(1, 1) - a), s3 = cross2(d, lo + vec2(0, 1) - a);
+    float s0 = cross2(d, -a), s1 = cross2(d, vec2(1, 0) - a);
+    float s2 = cross2(d, vec2(1, 1) - a), s3 = cross2(d, vec2(0, 1) - a);
     if (max(max(s0, s1), max(s2, s3)) < 0.0) return 0.0;
     inside = inside && min(min(s0, s1), min(s2, s3)) >= 0.0;
   }
   if (inside) return 1.0;
   vec2 poly[8];
-  poly[0] = lo;
-  poly[1] = lo + vec2(1.0, 0.0);
-  poly[2] = lo + vec2(1.0, 1.0);
-  poly[3] = lo + vec2(0.0, 1.0);
+  poly[0] = vec2(0.0, 0.0);
+  poly[1] = vec2(1.0, 0.0);
+  poly[2] = vec2(1.0, 1.0);
+  poly[3] = vec2(0.0, 1.0);
   int n = 4;
   for (int e = 0; e < 3 && n > 0; ++e) {
     vec2 a = tri[e], d = tri[(e + 1) % 3] - a;

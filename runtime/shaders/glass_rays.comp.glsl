@@ -33,7 +33,13 @@ void main() {
   rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
   rays[3u * v + 1u] = vec4(dir_w, 0.0);
   rays[3u * v + 2u] = vec4(colour, 0.0);
-  if (t.leaves) {
+  // Only vertices facing the light take light in: the table covers the
+  // hemisphere around the normal, and its look-up clamps directions beyond
+  // it to the rim. Counting those (a cube lit straight down: the bottom
+  // face's upward rims cancelled the top face's downward rays) turned the
+  // mean direction sideways and the target's frame edge-on, and no light
+  // reached it (docs/robustness.md).
+  if (t.leaves && dot(n, to_light) > 0.0) {
     ivec3 q = ivec3(round(dir_w * t.transmittance * 4096.0));
     atomicAdd(dir_sum[0], q.x);
     atomicAdd(dir_sum[1], q.y);
