@@ -91,6 +91,9 @@ TEST(SceneJson, AbsurdValuesAreLocated) {
   EXPECT_NE(msg.find("scene.json:1:69: /water/ior"), std::string::npos) << msg;
   msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "water": {"level": 0, "grid": {"cells": [-4, 2]}}})");
   EXPECT_NE(msg.find("/water/grid/cells/0"), std::string::npos) << msg;
+  // An empty water extent would make zero-area water triangles.
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "water": {"level": 0, "grid": {"extent": [1, -6, 1, 6]}}})");
+  EXPECT_NE(msg.find("/water/grid/extent"), std::string::npos) << msg;
 }
 
 TEST(SceneJson, DuplicateKeysAndNamesAreErrors) {
