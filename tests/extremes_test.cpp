@@ -1,9 +1,13 @@
-// Numerical stability at the edges of the parameter space (issue 8), on
-// flat_pool, where physics gives every pixel: the floor under flat water
-// receives E0 T(theta) cos(theta) (no absorption), T the unpolarised
-// Fresnel transmittance. Each case bakes an edited scene, renders the floor's
-// irradiance and checks that every pixel is finite and every baked value
-// and pixel agrees with that value. docs/robustness.md lists the cases.
+// Numerical stability at the edges of the parameter space (issue 8).
+// Mostly on flat_pool, where physics gives every pixel: the floor under
+// flat water receives E0 T(theta) cos(theta) (no absorption), T the
+// unpolarised Fresnel transmittance. Each case bakes an edited scene,
+// renders the floor's irradiance and checks that every pixel is finite and
+// every baked value and pixel agrees with that value. Besides: steep waves
+// against a periodic-wave energy oracle, a 2 M-triangle receiver, a tiny
+// object far out, maps without planes, and every canonical scene at two
+// corners of the parameter space (finite only). docs/robustness.md lists
+// the cases.
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 #include <optional>
 
 #include "caustix/bake/light_transport.h"
-#include "caustix/common/mesh_topology.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/scene_json.h"
+#include "caustix/common/mesh_topology.h"
 #include "caustix/formats/frame.h"
 #include "caustix/formats/mesh_decode.h"
 #include "caustix/formats/scene.h"

@@ -65,7 +65,6 @@ bool finite3(const OmMesh::Point& p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
-
 // Element counts declared in a file's header (OFF, PLY, binary STL), checked
 // against the data that follows before OpenMesh reads it: OpenMesh reserves
 // memory for the declared counts (10^9 vertices: std::bad_alloc), invents
@@ -125,6 +124,7 @@ std::optional<std::string> check_declared_counts(const std::string& path, const 
     std::string line, format;
     Declared d;
     std::uint64_t vertex_bytes = 0;  // binary: bytes per vertex record
+    std::uint64_t all_elements = 0;  // ASCII: one line each, whatever the element
     bool in_vertex = false, ended = false;
     while (std::getline(in, line)) {
       std::istringstream ls(line);
@@ -135,6 +135,7 @@ std::optional<std::string> check_declared_counts(const std::string& path, const 
         std::string name;
         std::uint64_t n = 0;
         ls >> name >> n;
+        all_elements += n;
         in_vertex = name == "vertex";
         if (name == "vertex") d.vertices = n;
         if (name == "face") d.faces = n;
@@ -154,8 +155,9 @@ std::optional<std::string> check_declared_counts(const std::string& path, const 
     if (!ended) return std::string("the PLY header has no end_header line");
     if (format == "ascii") {
       const std::uint64_t lines = count_data_lines(in);
-      if (lines != d.vertices + d.faces) {
-        return lie(declared(d, " (one line each)"), std::to_string(lines) + " data lines");
+      if (lines != all_elements) {
+        return lie(declared(d, "") + " (" + std::to_string(all_elements) + " elements in all, one line each)",
+                   std::to_string(lines) + " data lines");
       }
       return std::nullopt;
     }

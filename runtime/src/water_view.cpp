@@ -92,7 +92,8 @@ void WaterView::ensure_targets(int size) {
   if (size == size_) return;
   // Full floats: half floats top out at 65504, which a caustic focus
   // (tens of E0) passes for E0 above ~10^3 (a real sun is ~10^3 W/m^2);
-  // the overflow became Inf on the water (docs/robustness.md).
+  // llvmpipe clamped the overflow, other drivers store Inf
+  // (Water.BrightSunScalesLinearlyPastHalfFloat, docs/robustness.md).
   refraction_ = make_target(size, size, GL_RGBA32F);
   reflection_ = make_target(size, size, GL_RGBA32F);
   size_ = size;

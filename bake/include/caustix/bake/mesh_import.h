@@ -3,7 +3,9 @@
 // file extension) and validation.
 //
 // Contract: never crashes on a malformed file. Refuses (kInput, naming the
-// file and the vertex or face index) a file that cannot be read, has no
+// file and the vertex or face index) a file whose header's element counts
+// do not match its data (OFF, PLY, binary STL; checked before OpenMesh
+// reads it), that cannot be read, has no
 // faces, has a non-finite coordinate or normal, or lost data on import
 // (OpenMesh drops faces with out-of-range vertex indices and values it cannot
 // parse; a mesh with missing faces is refused, not silently baked). Polygons
