@@ -42,19 +42,20 @@ float tent_integral(float t, float tc, float h) {
   return 0.5 * h * (tc + (t - tc) * (2.0 - t - tc) / max(1.0 - tc, 1e-30));
 }
 
-float sliver_coverage(vec2 a, vec2 b, vec2 c, vec2 lo) {
+// a, b, c relative to the texel's corner: the texel is [0, 1]^2.
+float sliver_coverage(vec2 a, vec2 b, vec2 c) {
   vec2 d = b - a;
   float len2 = dot(d, d);
   if (len2 <= 0.0) return 0.0;
   float h = abs(cross2(d, c - a)) / sqrt(len2);
   float tc = clamp(dot(c - a, d) / len2, 0.0, 1.0);
-  // Liang-Barsky: the part of a + t d, t in [0, 1], with lo <= p < lo + 1.
+  // Liang-Barsky: the part of a + t d, t in [0, 1], with 0 <= p < 1.
   float t0 = 0.0, t1 = 1.0;
   for (int k = 0; k < 2; ++k) {
     if (d[k] == 0.0) {
-      if (a[k] < lo[k] || a[k] >= lo[k] + 1.0) return 0.0;
+      if (a[k] < 0.0 || a[k] >= 1.0) return 0.0;
     } else {
-      float ta = (lo[k] - a[k]) / d[k], tb = (lo[k] + 1.0 - a[k]) / d[k];
+      float ta = -a[k] / d[k], tb = (1.0 - a[k]) / d[k];
       t0 = max(t0, min(ta, tb));
       t1 = min(t1, max(ta, tb));
     }
@@ -78,7 +79,7 @@ float texel_coverage() {
     float l01 = dot(e01, e01), l12 = dot(e12, e12), l20 = dot(e20, e20), longest = l01;
     if (l12 > longest) { a = q1; b = q2; c = q0; longest = l12; }
     if (l20 > longest) { a = q2; b = q0; c = q1; longest = l20; }
-    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c, vec2(0.0));
+    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c);
   }
   vec2 tri[3] = vec2[3](q0, q1, q2);
   if (cross2(q1 - q0, q2 - q0) < 0.0) tri = vec2[3](q0, q2, q1);  // counter-clockwise

@@ -168,6 +168,15 @@ struct CausticsEngine::Impl {
     return pm + cm + sl + tiles + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
   }
 
+  // The light and the water's IOR, for the passes that refract at the water.
+  void set_light(const gl::Program& p, const Light& light) const {
+    p.set("u_light_type", static_cast<int>(light.type));
+    p.set("u_light_direction", v3(light.direction));
+    p.set("u_light_position", v3(light.position));
+    p.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
+    p.set("u_ior", water->water().ior);
+  }
+
   // Seed 001 ch. 8, GPU variant: render the water along V into the photon
   // texture (splat_photon.frag), copy it into a vertex buffer through the
   // pixel-pack binding (the paper's PBO route), draw it as points with
@@ -212,11 +221,7 @@ struct CausticsEngine::Impl {
     splat_photon.use();
     splat_photon.set("u_view_proj", to_clip);
     set_frame(splat_photon, f);
-    splat_photon.set("u_light_type", static_cast<int>(light.type));
-    splat_photon.set("u_light_direction", v3(light.direction));
-    splat_photon.set("u_light_position", v3(light.position));
-    splat_photon.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
-    splat_photon.set("u_ior", water->water().ior);
+    set_light(splat_photon, light);
     splat_photon.set("u_pixel_area", (2 * gx / static_cast<float>(p)) * (2 * gz / static_cast<float>(p)));
     const float texel_u = 2 * f.half[0] / static_cast<float>(m.caustics_size), texel_w = 2 * f.half[2] / static_cast<float>(m.caustics_size);
     splat_photon.set("u_texel_area", texel_u * texel_w);
@@ -423,41 +428,23 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.water = &water;
   s.draw_object = std::move(draw_object);
   s.model_of = std::move(model_of);
-  struct Spec {
-    gl::Program* out;
-    const char* name;
-    const char* vs;
-    const char* fs;
-  };
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
   const std::string splat_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_splat_photon_frag_glsl;
   const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
-  for (const Spec& spec : {Spec{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
-                           Spec{&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
-                           Spec{&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
-                           Spec{&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
-                           Spec{&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
-                           Spec{&s.combine, "volumetric_combine", shaders::k_present_vert_glsl, shaders::k_volumetric_combine_frag_glsl}}) {
-    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
-    if (!p) return p.error();
-    *spec.out = std::move(*p);
-  }
-  struct ComputeSpec {
-    gl::Program* out;
-    const char* name;
-    const char* src;
-  };
   const std::string prepare_src = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_caustics_prepare_comp_glsl;
-  for (const ComputeSpec& spec : {ComputeSpec{&s.prepare, "caustics_prepare", prepare_src.c_str()},
-                                  ComputeSpec{&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
-                                  ComputeSpec{&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
-                                  ComputeSpec{&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
-                                  ComputeSpec{&s.profile, "profile", shaders::k_profile_comp_glsl}}) {
-    auto p = gl::Program::build_compute(spec.name, spec.src);
-    if (!p) return p.error();
-    *spec.out = std::move(*p);
-  }
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
+      {{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
+       {&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
+       {&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
+       {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
+       {&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
+       {&s.combine, "volumetric_combine", shaders::k_present_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
+       {&s.prepare, "caustics_prepare", prepare_src.c_str()},
+       {&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
+       {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
+       {&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
+       {&s.profile, "profile", shaders::k_profile_comp_glsl}}));
   s.empty_vao = gl::make_vertex_array();
 
   s.refracted = gl::make_buffer();
@@ -596,11 +583,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
     s.prepare.use();
-    s.prepare.set("u_light_type", static_cast<int>(desc.type));
-    s.prepare.set("u_light_direction", v3(desc.direction));
-    s.prepare.set("u_light_position", v3(desc.position));
-    s.prepare.set("u_light_power", desc.type == LightType::kDirectional ? desc.irradiance : desc.intensity);
-    s.prepare.set("u_ior", s.water->water().ior);
+    s.set_light(s.prepare, desc);
     s.prepare.set("u_mode", 0);
     s.prepare.set("u_count", s.water->vertex_count());
     glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);

@@ -58,6 +58,15 @@ Result<Program> Program::build_compute(const std::string& name, const char* cs) 
   return link_program(name, {*c});
 }
 
+Status build_programs(std::initializer_list<ProgramSpec> specs) {
+  for (const ProgramSpec& spec : specs) {
+    auto p = spec.fragment ? Program::build(spec.name, spec.source, spec.fragment) : Program::build_compute(spec.name, spec.source);
+    if (!p) return p.error();
+    *spec.out = std::move(*p);
+  }
+  return Status::success();
+}
+
 Result<Program> link_program(const std::string& name, std::initializer_list<GLuint> shaders) {
   Program p;
   p.id_ = Handle<delete_program>(glCreateProgram());

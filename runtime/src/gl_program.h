@@ -78,6 +78,17 @@ class Program {
   Handle<delete_program> id_;
 };
 
+// A program to build: `source` is the vertex shader, or the compute shader
+// when `fragment` is null.
+struct ProgramSpec {
+  Program* out;
+  const char* name;
+  const char* source;
+  const char* fragment = nullptr;
+};
+// Builds each program into *out, in order; the first failure is returned.
+Status build_programs(std::initializer_list<ProgramSpec> specs);
+
 // Returns an error naming `what` if the GL error flag is set.
 Status check_gl(const char* what);
 

@@ -133,21 +133,12 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string stride = "#define PRIM_STRIDE 6\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
-  auto rays = gl::Program::build_compute("glass_rays", rays_src.c_str());
-  if (!rays) return rays.error();
-  s.rays = std::move(*rays);
-  auto geometry = gl::Program::build_compute("glass_geometry", shaders::k_glass_geometry_comp_glsl);
-  if (!geometry) return geometry.error();
-  s.geometry = std::move(*geometry);
-  auto target = gl::Program::build("glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl);
-  if (!target) return target.error();
-  s.target_program = std::move(*target);
-  auto illum = gl::Program::build("glass_illumination", illum_vs.c_str(), illum_fs.c_str());
-  if (!illum) return illum.error();
-  s.illumination = std::move(*illum);
-  auto surface = gl::Program::build("glass_surface", surface_vs.c_str(), surface_fs.c_str());
-  if (!surface) return surface.error();
-  s.surface = std::move(*surface);
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
+      {{&s.rays, "glass_rays", rays_src.c_str()},
+       {&s.geometry, "glass_geometry", shaders::k_glass_geometry_comp_glsl},
+       {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
+       {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
+       {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()}}));
 
   for (const LightTransportTable& t : tables) {
     Impl::Glass g;

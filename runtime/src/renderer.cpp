@@ -344,20 +344,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
 
   const std::string receiver_fs = with_lighting(shaders::k_receiver_frag_glsl);
   const std::string irradiance_fs = with_lighting(shaders::k_irradiance_frag_glsl);
-  struct Spec {
-    gl::Program* out;
-    const char* name;
-    const char* vs;
-    const char* fs;
-  };
-  for (const Spec& spec : {Spec{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
-                           Spec{&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
-                           Spec{&s.shadow, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl},
-                           Spec{&s.present, "present", shaders::k_present_vert_glsl, shaders::k_present_frag_glsl}}) {
-    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
-    if (!p) return p.error();
-    *spec.out = std::move(*p);
-  }
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
+                                              {&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
+                                              {&s.shadow, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl},
+                                              {&s.present, "present", shaders::k_present_vert_glsl, shaders::k_present_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
   s.cpu_meshes = scene.meshes;

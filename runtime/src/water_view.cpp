@@ -48,7 +48,7 @@ WaterCameras water_cameras(const ViewCamera& main, float fov_y_deg, float aspect
   return c;
 }
 
-WaterView::Target WaterView::make_target(int w, int h, GLenum color_format) {
+WaterView::Target WaterView::make_target(int w, int h) {
   // Colour filtered (bent lookups fall between texels), depth read exactly.
   auto texture = [&](GLenum format, GLenum filter) {
     gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
@@ -61,7 +61,7 @@ WaterView::Target WaterView::make_target(int w, int h, GLenum color_format) {
   };
   Target t;
   t.fbo = gl::make_framebuffer();
-  t.color = texture(color_format, GL_LINEAR);
+  t.color = texture(kColorFormat, GL_LINEAR);
   t.depth = texture(GL_DEPTH_COMPONENT32F, GL_NEAREST);
   glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
   glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
@@ -71,31 +71,18 @@ WaterView::Target WaterView::make_target(int w, int h, GLenum color_format) {
 Result<WaterView> WaterView::create() {
   WaterView w;
   const std::string surface_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_water_frag_glsl;
-  struct Spec {
-    gl::Program* out;
-    const char* name;
-    const char* vs;
-    const char* fs;
-  };
-  for (const Spec& spec : {Spec{&w.surface_, "water_surface", shaders::k_water_vert_glsl, surface_fs.c_str()},
-                           Spec{&w.highlight_, "glow_highlight", shaders::k_water_vert_glsl, shaders::k_glow_highlight_frag_glsl},
-                           Spec{&w.glow_, "glow", shaders::k_present_vert_glsl, shaders::k_glow_frag_glsl}}) {
-    auto p = gl::Program::build(spec.name, spec.vs, spec.fs);
-    if (!p) return p.error();
-    *spec.out = std::move(*p);
-  }
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
+      {{&w.surface_, "water_surface", shaders::k_water_vert_glsl, surface_fs.c_str()},
+       {&w.highlight_, "glow_highlight", shaders::k_water_vert_glsl, shaders::k_glow_highlight_frag_glsl},
+       {&w.glow_, "glow", shaders::k_present_vert_glsl, shaders::k_glow_frag_glsl}}));
   w.empty_vao_ = gl::make_vertex_array();
   return w;
 }
 
 void WaterView::ensure_targets(int size) {
   if (size == size_) return;
-  // Full floats: half floats top out at 65504, which a caustic focus
-  // (tens of E0) passes for E0 above ~10^3 (a real sun is ~10^3 W/m^2);
-  // llvmpipe clamped the overflow, other drivers store Inf
-  // (Water.BrightSunScalesLinearlyPastHalfFloat, docs/robustness.md).
-  refraction_ = make_target(size, size, GL_RGBA32F);
-  reflection_ = make_target(size, size, GL_RGBA32F);
+  refraction_ = make_target(size, size);
+  reflection_ = make_target(size, size);
   size_ = size;
 }
 
@@ -134,7 +121,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, 
                           const std::function<void()>& draw_water) {
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
-    glow_target_ = make_target(w, h, GL_RGBA32F);  // the sun's highlight scales with E0 (see above)
+    glow_target_ = make_target(w, h);
     glow_w_ = w;
     glow_h_ = h;
   }
@@ -171,7 +158,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, 
 std::uint64_t WaterView::gpu_bytes() const {
   const std::uint64_t s = static_cast<std::uint64_t>(size_) * static_cast<std::uint64_t>(size_);
   const std::uint64_t g = static_cast<std::uint64_t>(glow_w_) * static_cast<std::uint64_t>(glow_h_);
-  return s * (8 + 4) * 2 + g * (8 + 4);
+  return s * (kColorBytes + 4) * 2 + g * (kColorBytes + 4);  // colour + 32-bit depth
 }
 
 }  // namespace caustix::runtime

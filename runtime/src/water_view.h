@@ -73,7 +73,13 @@ class WaterView {
     gl::Framebuffer fbo;
     gl::Texture color, depth;
   };
-  static Target make_target(int w, int h, GLenum color_format);  // colour + depth
+  // Colour in full floats: half floats top out at 65504, which a caustic
+  // focus (tens of E0) passes for E0 above ~10^3 (a real sun is ~10^3
+  // W/m^2); llvmpipe clamped the overflow, other drivers store Inf
+  // (Water.BrightSunScalesLinearlyPastHalfFloat, docs/robustness.md).
+  static constexpr GLenum kColorFormat = GL_RGBA32F;
+  static constexpr std::uint64_t kColorBytes = 16;
+  static Target make_target(int w, int h);  // colour + 32-bit depth
   gl::Program surface_, highlight_, glow_;
   gl::VertexArray empty_vao_;
   Target refraction_, reflection_, glow_target_;
