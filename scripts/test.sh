@@ -2,9 +2,12 @@
 # Everything CI checks, on a fresh machine: install dependencies, then
 #   1. the full build (Release) and its tests: unit, round trip, determinism,
 #      golden file, headless render, CLI end to end, viewer under Xvfb;
-#   2. formats/ and its corruption tests under AddressSanitizer + UBSan;
-#   3. a short libFuzzer run of each fuzz target (clang-14): the .cxb reader
-#      and the runtime's loading path, seeded with tests/fuzz/corpus and the
+#   2. what reads untrusted input -- formats/ and its corruption tests, the
+#      baker's scene.json and mesh import tests, the mesh corpus imported and
+#      baked -- under AddressSanitizer + UBSan (CAUSTIX_PARTS=bake);
+#   3. a short libFuzzer run of each fuzz target (clang-14): the .cxb reader,
+#      the runtime's loading path and the mesh importer, seeded with their
+#      committed corpora (tests/fuzz/corpus, tests/fuzz/corpus_mesh) and the
 #      regression inputs.
 # CAUSTIX_FUZZ_SECONDS (default 30) sets the length of each run in step 3.
 set -euo pipefail
@@ -18,14 +21,14 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
 (cd build && ctest --output-on-failure)
 
-echo "== 2/3 formats under AddressSanitizer + UBSan"
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCAUSTIX_FORMATS_ONLY=ON -DCAUSTIX_SANITIZE=ON >/dev/null
+echo "== 2/3 formats, scene.json and mesh import under AddressSanitizer + UBSan"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCAUSTIX_PARTS=bake -DCAUSTIX_SANITIZE=ON >/dev/null
 cmake --build build-asan
 (cd build-asan && ctest --output-on-failure)
 
 echo "== 3/3 libFuzzer, ${CAUSTIX_FUZZ_SECONDS:-30} s per target"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCAUSTIX_FORMATS_ONLY=ON -DCAUSTIX_FUZZ=ON -DCAUSTIX_SANITIZE=ON \
+  -DCAUSTIX_PARTS=bake -DCAUSTIX_FUZZ=ON -DCAUSTIX_SANITIZE=ON \
   -DCAUSTIX_FUZZ_SECONDS="${CAUSTIX_FUZZ_SECONDS:-30}" >/dev/null
-cmake --build build-fuzz
+cmake --build build-fuzz --target fuzz_cxb_reader fuzz_load_scene fuzz_mesh_import
 (cd build-fuzz && ctest --output-on-failure)

@@ -1,4 +1,5 @@
-// Mesh import through OpenMesh: every supported format, and clear errors.
+// Mesh import: every supported format, polygons, and clear errors. The
+// corpus of real-world-shaped files is mesh_corpus_test.cpp.
 
 #include <gtest/gtest.h>
 
@@ -77,7 +78,7 @@ TEST_F(MeshImport, MissingAndUnsupported) {
 TEST_F(MeshImport, OutOfRangeIndexIsRefused) {
   auto m = import_mesh(write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n"));
   ASSERT_FALSE(m.ok());
-  EXPECT_NE(m.error().message.find("1 face(s) refer to a vertex that does not exist"), std::string::npos)
+  EXPECT_NE(m.error().message.find("face 1 refers to vertex 8, a vertex that does not exist"), std::string::npos)
       << m.error().message;
   m = import_mesh(write("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
   ASSERT_FALSE(m.ok());
@@ -109,10 +110,9 @@ TEST_F(MeshImport, DegenerateFacesAreDroppedWithAWarning) {
 }
 
 // A header that lies about its counts, in either direction, is refused
-// before OpenMesh reads the file: OpenMesh would reserve memory for the
-// declared counts (10^9: std::bad_alloc, a crash), invent faces from stale
-// values where an ASCII OFF ends early, or silently read fewer faces than a
-// PLY header declares.
+// before a library reads the file: the readers size containers from the
+// declared counts (10^9: std::bad_alloc, a crash), and would read stale
+// values as faces where data is missing or silently skip what follows.
 TEST_F(MeshImport, HeadersThatLieAboutTheirCountsAreRefused) {
   const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
   std::string stl(84, '\0');
@@ -143,8 +143,8 @@ TEST_F(MeshImport, HeadersThatLieAboutTheirCountsAreRefused) {
 }
 
 // Non-manifold edges, duplicate faces and inconsistent winding are legal in
-// a receiver (it is drawn two-sided unless closed): imported with a warning
-// where OpenMesh had to split vertices, nothing dropped.
+// a receiver (it is drawn two-sided unless closed): imported with a
+// warning, nothing dropped.
 TEST_F(MeshImport, NonManifoldDuplicateAndMiswoundFacesImportWithWarnings) {
   for (auto flaw : {test::CubeFlaw::kFin, test::CubeFlaw::kDuplicateFace, test::CubeFlaw::kFlippedFace}) {
     const TriangleMesh cube = test::unit_cube(flaw);
@@ -192,6 +192,93 @@ TEST(EdgeCensus, ClassifiesEveryFlaw) {
   const EdgeCensus pair = census_edges(two);
   EXPECT_TRUE(pair.closed());
   EXPECT_NEAR(pair.signed_volume, 2.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace caustix::bake
+
+namespace caustix::bake {
+namespace {
+
+double area_of(const TriangleMesh& m) {
+  double a = 0;
+  for (const auto& t : m.triangles) {
+    const auto& p = m.positions[t[0]];
+    const auto& q = m.positions[t[1]];
+    const auto& r = m.positions[t[2]];
+    const double u[3] = {double{q[0]} - p[0], double{q[1]} - p[1], double{q[2]} - p[2]};
+    const double v[3] = {double{r[0]} - p[0], double{r[1]} - p[1], double{r[2]} - p[2]};
+    // +y component of u x v: the polygons below lie in y = 0, facing +y
+    a += 0.5 * (u[2] * v[0] - u[0] * v[2]);
+  }
+  return a;
+}
+
+// A comb (an outline with deep notches) as one OBJ face, and a pentagon
+// with a corner in the middle of an edge (a T-junction): triangulated
+// inside the outline, every triangle facing like the polygon, covering its
+// area exactly. OpenMesh's fan covered the comb's notches too (area 13.5
+// instead of 9) and folded triangles back.
+TEST_F(MeshImport, NonConvexPolygonsAreTriangulatedInsideTheirOutline) {
+  // Comb: base [0,9] x [0,1] with teeth [2k, 2k+1] x [1,3], k = 0..4 (area 9 + 10 = ... )
+  std::string obj;
+  std::vector<std::pair<int, int>> outline{{0, 0}, {9, 0}};
+  for (int k = 4; k >= 0; --k) {
+    outline.push_back({2 * k + 1, 1});
+    outline.push_back({2 * k + 1, 3});
+    outline.push_back({2 * k, 3});
+    if (k > 0) outline.push_back({2 * k, 1});
+  }
+  // Counter-clockwise in (x, z) faces -y; reverse to face +y.
+  for (auto it = outline.rbegin(); it != outline.rend(); ++it) {
+    obj += "v " + std::to_string(it->first) + " 0 " + std::to_string(it->second) + "\n";
+  }
+  obj += "f";
+  for (std::size_t i = 1; i <= outline.size(); ++i) obj += " " + std::to_string(i);
+  obj += "\n";
+  auto m = import_mesh(write("comb.obj", obj));
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->mesh.triangles.size(), outline.size() - 2);
+  EXPECT_NEAR(area_of(m->mesh), 9.0 + 5 * 2.0, 1e-5);  // base 9 x 1, five teeth 1 x 2
+  EXPECT_TRUE(m->warnings.empty());
+  for (const auto& n : m->mesh.normals) EXPECT_NEAR(n[1], 1.0f, 1e-6f);
+
+  m = import_mesh(write("t_junction.off", "OFF\n5 1 0\n0 0 0\n0 0 1\n1 0 1\n1 0 0\n0.5 0 0\n5 0 1 2 3 4\n"));
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->mesh.triangles.size(), 3u);
+  EXPECT_NEAR(area_of(m->mesh), 1.0, 1e-6);
+  EXPECT_TRUE(m->warnings.empty()) << m->warnings.front();  // no zero-area triangle from the collinear corner
+}
+
+// A quad whose outline crosses itself (a bow tie, as scans produce) has no
+// inside to triangulate: it becomes a fan, and the import says so.
+TEST_F(MeshImport, SelfCrossingPolygonIsAFanWithAWarning) {
+  auto m = import_mesh(write("bowtie.obj", "v 0 0 0\nv 1 0 1\nv 1 0 0\nv 0 0 1\nf 1 2 3 4\n"));
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->mesh.triangles.size(), 2u);
+  ASSERT_FALSE(m->warnings.empty());
+  EXPECT_NE(m->warnings[0].find("crosses or touches itself, triangulated as a fan from the first corner, first at face 0"),
+            std::string::npos)
+      << m->warnings[0];
+}
+
+// An ASCII PLY is walked value by value before CGAL reads it: a value
+// that is not a number, a list longer than the data, and data beyond the
+// declared elements are refused with the element, its index and the line.
+TEST_F(MeshImport, PlyDataThatDoesNotMatchItsHeaderIsRefusedWithThePlace) {
+  const std::string head =
+      "ply\nformat ascii 1.0\ncomment x\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {head + "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "'vertex' 1 (line 12): 'zero' is not a number"},
+      {head + "0 0 0\n1 0 0\n0 1 0\n4000000 0 1 2\n", "the data ends inside list 'vertex_indices' of 'face' 0 (line 14)"},
+      {head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n", "more values follow their data (line 15)"},
+      {head + "0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n", "'face' 0 (line 14): list 'vertex_indices' has length -3"}};
+  for (const auto& [text, message] : cases) {
+    auto m = import_mesh(write("bad.ply", text));
+    ASSERT_FALSE(m.ok()) << message;
+    EXPECT_NE(m.error().message.find(message), std::string::npos) << m.error().message;
+  }
 }
 
 }  // namespace

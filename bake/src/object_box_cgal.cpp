@@ -1,7 +1,16 @@
 // CGAL's optimal bounding box lives only in this translation unit (about
 // 20 s and 1.4 GB to compile).
+//
+// Kernel: Exact_predicates_inexact_constructions_kernel. The box is
+// optimised over the points' 3-D convex hull, a combinatorial structure
+// built from orientation tests; with Simple_cartesian<double> those tests
+// contradict each other on ordinary meshes (points on a cylinder's rulings,
+// a scan's nearly coplanar patches), the hull's data structure is corrupted
+// and the process aborts in free() (issue 16: a turbine-blade scan and a
+// cylinder). Exact predicates make the hull correct on any input; the
+// optimiser's own arithmetic (rotations, extents) stays in doubles.
 
-#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/optimal_bounding_box.h>
 
 #include <algorithm>
@@ -12,7 +21,7 @@
 namespace caustix::bake {
 
 ObjectBox oriented_box(const std::vector<Vec3d>& pts) {
-  using K = CGAL::Simple_cartesian<double>;
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   ObjectBox box;
   std::array<Vec3d, 8> corners{};
   if (pts.size() >= 4) {

@@ -1,7 +1,7 @@
 // libFuzzer target: the .cxb container reader and the scene decoder (every
 // chunk: scene, level maps, boxes, light-transport tables) on arbitrary
 // bytes. Must never crash, hang, leak or read out of bounds.
-// Build: CC=clang-14 CXX=clang++-14 cmake -DCAUSTIX_FORMATS_ONLY=ON -DCAUSTIX_FUZZ=ON
+// Build: CC=clang-14 CXX=clang++-14 cmake -DCAUSTIX_PARTS=formats -DCAUSTIX_FUZZ=ON
 // The first input byte picks a mode (reseal.h).
 
 #include "caustix/formats/scene.h"

@@ -12,7 +12,20 @@
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 
+namespace CLI {
+class App;
+}
+
 namespace caustix::bench {
+
+// A group of subcommands registered on caustix-bench's command line; the
+// one the user chose runs.
+class Modes {
+ public:
+  virtual ~Modes() = default;
+  virtual bool chosen() const = 0;
+  virtual int run() = 0;
+};
 
 // A table printed to stdout and, given a path, written as CSV too. Each row
 // is flushed: long runs can be watched, and a failure keeps the rows so far.

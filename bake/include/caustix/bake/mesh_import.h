@@ -1,17 +1,25 @@
 #pragma once
-// Mesh import through OpenMesh (OBJ, OFF, PLY, STL; the format follows the
-// file extension) and validation.
+// Mesh import: OBJ, OFF, PLY and STL (the format follows the file
+// extension, in any case), as the files users bring from other tools write
+// them: OFF with comments and COFF/NOFF/4OFF headers, PLY in any element
+// order with extra properties, ASCII and binary STL, OBJ with groups and
+// negative indices, polygons of any size. Which library reads which format
+// is in bake/src/mesh_soup.h.
 //
-// Contract: never crashes on a malformed file. Refuses (kInput, naming the
-// file and the vertex or face index) a file whose header's element counts
-// do not match its data (OFF, PLY, binary STL; checked before OpenMesh
-// reads it), that cannot be read, has no
-// faces, has a non-finite coordinate or normal, or lost data on import
-// (OpenMesh drops faces with out-of-range vertex indices and values it cannot
-// parse; a mesh with missing faces is refused, not silently baked). Polygons
-// are triangulated; degenerate (zero-area) triangles are dropped and reported
-// as warnings, as are non-manifold vertices OpenMesh had to duplicate. Normals
-// come from the file when it has valid ones, otherwise they are computed.
+// Contract: never crashes, hangs or exhausts memory on a malformed file.
+// Refuses (kInput, the message starting with the path and naming the line,
+// byte, element, vertex or face) a file that cannot be read, whose header
+// declares element counts its data does not hold, that has no faces (a
+// point cloud), a non-finite coordinate or one beyond the float range, or a
+// face referring to a vertex that does not exist (never silently dropped).
+// Polygons are triangulated inside their outline (non-convex ones too, on
+// exact predicates); a polygon whose outline crosses itself becomes a fan,
+// with a warning. Faces with fewer than three distinct corners or zero area
+// are dropped with a warning naming the first ones; non-manifold and
+// inconsistently wound edges import with a warning (a transparent object
+// with them is refused by the baker). Unused vertices are dropped. Normals
+// come from the file when every used vertex has a valid one, otherwise they
+// are the normalised sum of the unit normals of each vertex's triangles.
 
 #include <string>
 #include <vector>

@@ -1,0 +1,143 @@
+// caustix-bench's run-time subcommands: they need only the runtime library
+// and an OpenGL 4.5 context (Mesa or a GPU), so they also build in a
+// CAUSTIX_PARTS=runtime tree for machines without the baker's libraries.
+//
+//   caustix-bench frames SCENE.cxb [--method M] [--planes N] [--size WxH] ...
+//       Milliseconds per frame of the runtime (one CSV line).
+//   caustix-bench methods SCENE.cxb [--planes N] [--size WxH]
+//       Seed 000 table 5-5: eq. 2-9 differences between the methods' images.
+//   caustix-bench water SCENE.cxb [--size WxH] [--frames N] [--csv FILE]
+//       Milliseconds per frame of each water-surface effect (seed 001).
+
+#include "runtime_modes.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+
+#include "caustix/common/cli.h"
+#include "caustix/metrics/image_metrics.h"
+#include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/renderer.h"
+#include "bench_common.h"
+#include "water.h"
+
+namespace caustix::bench {
+namespace {
+
+// Milliseconds per frame of the runtime on a baked scene (one CSV line).
+int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
+           const std::string& label, bool move_light) {
+  auto session = open_scene(cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  auto& r = session->renderer;
+  runtime::CausticsOptions with_defaults = co;
+  if (co.map_size == 0) {  // the file's recorded defaults (RNDR), else the built-in ones
+    with_defaults.map_size = runtime::CausticsOptions{}.map_size;
+    if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
+  }
+  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light);
+  if (!times) return cli::fail("caustix-bench", times.error());
+  const runtime::CausticsStats cs = r->caustics_stats();
+  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
+              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms,
+              times->min_ms, static_cast<unsigned long long>(cs.planes_drawn),
+              static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
+              static_cast<double>(cs.gpu_bytes) / 1e6, session->context->description().c_str());
+  return kExitOk;
+}
+
+// Seed 000 table 5-5 on our code: the eq. 2-9 difference between the
+// images of smart and uniform slicing, and of level map and volumetric, at
+// one plane count (same frame, same time).
+int methods(const std::string& cxb, std::uint32_t planes, int width, int height, const std::string& label) {
+  auto session = open_scene(cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  auto& r = session->renderer;
+  auto image = [&](runtime::CausticsMethod m) {
+    runtime::CausticsOptions co;
+    co.method = m;
+    if (planes > 0) co.planes = planes;
+    runtime::FrameParams f{r->default_camera(), 1.0f, width, height, co, {}};
+    metrics::Image img{width, height, {}};
+    if (!r->render(f)) return img;
+    const auto rgba = r->read_hdr();
+    for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+    return img;
+  };
+  const auto smart = image(runtime::CausticsMethod::kLevelMap);
+  const auto uniform = image(runtime::CausticsMethod::kUniform);
+  const auto volumetric = image(runtime::CausticsMethod::kVolumetric);
+  const auto none = image(runtime::CausticsMethod::kNone);
+  std::printf("%s,%s,%u,%.4f,%.4f,%.4f\n", label.c_str(), cxb.c_str(), planes,
+              metrics::average_luv_difference(smart, uniform), metrics::average_luv_difference(uniform, volumetric),
+              metrics::average_luv_difference(smart, none));
+  return kExitOk;
+}
+
+
+struct RuntimeModes final : Modes {
+  std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
+  std::uint32_t planes = 0, csize = 0;
+  int warmup = 3, count = 10, wframes = 5;
+  bool no_cull = false, header = false, move_light = false;
+  CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr;
+
+  explicit RuntimeModes(CLI::App& app) {
+    fr = app.add_subcommand("frames", "ms per frame of the runtime on a baked scene (one CSV line)");
+    fr->add_option("scene", cxb, "baked scene (.cxb)")->required();
+    fr->add_option("--method", method, "levelmap, uniform, volumetric, splat, none")
+        ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "splat", "none"}))->capture_default_str();
+    fr->add_option("--planes", planes, "re-slice with n planes (0: as baked)")->check(CLI::Range(0, 4096));
+    fr->add_option("--size", fsize, "image size WxH")->capture_default_str();
+    fr->add_option("--warmup", warmup, "frames not measured")->capture_default_str();
+    fr->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
+    fr->add_option("--caustics-size", csize, "caustics map size (default: the file's preset, else 512)")
+        ->check(CLI::Range(1, 8192));
+    fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
+    fr->add_option("--label", label, "first CSV column");
+    fr->add_flag("--header", header, "print the CSV header first");
+    fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
+    me = app.add_subcommand("methods", "eq. 2-9 differences between methods (one CSV line)");
+    me->add_option("scene", cxb, "baked scene (.cxb)")->required();
+    me->add_option("--planes", planes, "re-slice with n planes (0: as baked)")->check(CLI::Range(0, 4096));
+    me->add_option("--size", fsize, "image size WxH")->capture_default_str();
+    me->add_option("--label", label, "first CSV column");
+    me->add_flag("--header", header, "print the CSV header first");
+    wa = app.add_subcommand("water", "ms per frame of each water-surface effect (seed 001) and texture size");
+    wa->add_option("scene", cxb, "baked scene with water (.cxb)")->required();
+    wa->add_option("--size", wsize, "frame size WxH")->capture_default_str();
+    wa->add_option("--frames", wframes, "frames measured per setting (median)")->check(CLI::Range(1, 1000))->capture_default_str();
+    wa->add_option("--csv", csv, "also write the table as CSV");
+  }
+
+  bool chosen() const override { return *fr || *me || *wa; }
+
+  int run() override {
+    int w = 0, h = 0;
+    if (!cli::parse_size(*wa ? wsize : fsize, w, h)) {
+      return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
+    }
+    if (*wa) return water_effects(cxb, w, h, 1, wframes, csv);
+    if (*me) {
+      if (header) std::printf("label,scene,planes,eq29_smart_vs_uniform,eq29_uniform_vs_volumetric,eq29_smart_vs_none\n");
+      return methods(cxb, planes, w, h, label);
+    }
+    if (header) {
+      std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,renderer\n");
+    }
+    runtime::CausticsOptions co;
+    co.method = *runtime::parse_method(method);
+    if (planes > 0) co.planes = planes;
+    co.cull = !no_cull;
+    co.map_size = csize;
+    return frames(cxb, co, w, h, warmup, count, label, move_light);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Modes> add_runtime_modes(CLI::App& app) { return std::make_unique<RuntimeModes>(app); }
+
+}  // namespace caustix::bench
