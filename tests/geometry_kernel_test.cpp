@@ -107,6 +107,21 @@ TEST(GeometryKernel, RaysThroughSharedEdgesAndVerticesHit) {
   EXPECT_EQ(missed, 0u);
 }
 
+// A triangle whose corners are exactly collinear (Draco's quantisation
+// makes such slivers of a glass mesh) must not stop the caster: CGAL's
+// exact ray-triangle code raises an error for a ray along its line (the
+// baker aborted on a real scan, fixed_top.ply). Hits still name the
+// caller's triangle indices.
+TEST(GeometryKernel, DegenerateTrianglesDoNotStopTheCaster) {
+  const std::vector<Vec3d> p{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, -1, 1}, {3, -1, 1}, {0, 2, 1}};
+  const RayCaster caster(p, {{0, 1, 2}, {3, 4, 5}}, {0, 0});
+  EXPECT_FALSE(caster.first_hit({-1, 0, 0}, {1, 0, 0}).has_value());  // along the sliver's line
+  const auto hit = caster.first_hit_triangle({0.5, 0, 0}, {0, 0, 1});
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->triangle, 1u);
+  EXPECT_NEAR(hit->distance, 1.0, 1e-12);
+}
+
 // The enclosed volume's sign says whether a solid is wound inside out; it
 // must not depend on where the solid is. A 1 cm cube 10 km out: summed
 // about the origin, terms of 10^12 m^3 round by about 10^-4 each.

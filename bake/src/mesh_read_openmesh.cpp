@@ -97,8 +97,12 @@ class SoupImporter final : public IO::BaseImporter {
   std::vector<std::array<double, 3>> normals_;
 };
 
-// OpenMesh reports what it could not read only on its omerr stream (a
-// process-wide stream, hence the lock); it is captured for one read.
+// OpenMesh reports what it could not read only on its omerr stream (and
+// chatter such as a missing material file on omlog): process-wide streams,
+// hence the lock. For one read both write straight into a string: their
+// stream buffers are swapped, not their targets -- OpenMesh 9's
+// mostream::disconnect() forgets a target without deleting it (a leak per
+// read that LeakSanitizer reports).
 std::mutex g_omerr_mutex;
 
 }  // namespace
@@ -107,10 +111,9 @@ Result<PolygonSoup> read_obj(const std::string& path) {
   PolygonSoup soup;
   SoupImporter importer(soup);
   std::lock_guard<std::mutex> lock(g_omerr_mutex);
-  std::ostringstream captured;
-  omerr().disconnect(std::cerr);
-  omerr().connect(captured);
-  omlog().disconnect(std::clog);
+  std::ostringstream captured, chatter;
+  std::streambuf* const err = omerr().rdbuf(captured.rdbuf());
+  std::streambuf* const log = omlog().rdbuf(chatter.rdbuf());
   IO::Options options = IO::Options::VertexNormal;
   bool ok = false;
   try {
@@ -118,9 +121,8 @@ Result<PolygonSoup> read_obj(const std::string& path) {
   } catch (const std::bad_alloc&) {
     captured << "out of memory";
   }
-  omerr().flush();
-  omerr().disconnect(captured);
-  omerr().connect(std::cerr);
+  omerr().rdbuf(err);
+  omlog().rdbuf(log);
   if (!ok) {
     std::string report = captured.str();
     while (!report.empty() && std::isspace(static_cast<unsigned char>(report.back()))) report.pop_back();

@@ -33,8 +33,9 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 }  // namespace
 
 struct RayCaster::Impl {
-  std::vector<Triangle> triangles;
-  std::vector<std::uint32_t> owner;
+  std::vector<Triangle> triangles;  // the non-degenerate input triangles
+  std::vector<std::uint32_t> index;  // their indices in the input
+  std::vector<std::uint32_t> owner;  // per input triangle
   Tree tree;
 };
 
@@ -42,10 +43,19 @@ RayCaster::RayCaster(const std::vector<Vec3d>& p, const std::vector<std::array<s
                      const std::vector<std::uint32_t>& owner)
     : impl_(std::make_unique<Impl>()) {
   impl_->triangles.reserve(tris.size());
-  for (const auto& t : tris) {
-    impl_->triangles.emplace_back(K::Point_3(p[t[0]][0], p[t[0]][1], p[t[0]][2]),
-                                  K::Point_3(p[t[1]][0], p[t[1]][1], p[t[1]][2]),
-                                  K::Point_3(p[t[2]][0], p[t[2]][1], p[t[2]][2]));
+  impl_->index.reserve(tris.size());
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const auto& t = tris[i];
+    const Triangle tri(K::Point_3(p[t[0]][0], p[t[0]][1], p[t[0]][2]), K::Point_3(p[t[1]][0], p[t[1]][1], p[t[1]][2]),
+                       K::Point_3(p[t[2]][0], p[t[2]][1], p[t[2]][2]));
+    // A triangle whose corners are exactly collinear (the importer drops
+    // them, but quantising a mesh can make one: a glass mesh's Draco-decoded
+    // sliver) covers no area, and CGAL's exact ray-triangle code stops with
+    // an error on it for a ray in its line ("the triangle is assumed to be
+    // non flat"). Its neighbours cover the surface.
+    if (tri.is_degenerate()) continue;
+    impl_->triangles.push_back(tri);
+    impl_->index.push_back(static_cast<std::uint32_t>(i));
   }
   impl_->owner = owner;
   impl_->tree.insert(impl_->triangles.begin(), impl_->triangles.end());
@@ -82,9 +92,10 @@ std::optional<RayCaster::Hit> RayCaster::first_hit_triangle(const Vec3d& o, cons
   const K::Ray_3 ray(K::Point_3(o[0], o[1], o[2]), K::Vector_3(d[0], d[1], d[2]));
   const auto begin = impl_->triangles.begin();
   const auto& owner = impl_->owner;
-  auto skip = [&](const Iterator& it) { return owner[static_cast<std::size_t>(it - begin)] == skip_owner; };
+  const auto input = [&](const Iterator& it) { return impl_->index[static_cast<std::size_t>(it - begin)]; };
+  auto skip = [&](const Iterator& it) { return owner[input(it)] == skip_owner; };
   if (const auto hit = impl_->tree.first_intersection(ray, skip)) {
-    if (const auto dist = distance_to(ray, hit->first)) return Hit{*dist, static_cast<std::uint32_t>(hit->second - begin)};
+    if (const auto dist = distance_to(ray, hit->first)) return Hit{*dist, input(hit->second)};
   }
   // CGAL 5.5's first_intersection orders and prunes boxes by a ray-box
   // distance computed in doubles, which drops boxes the ray only touches:
@@ -99,7 +110,7 @@ std::optional<RayCaster::Hit> RayCaster::first_hit_triangle(const Vec3d& o, cons
   for (const auto& x : all) {
     if (skip(x.second)) continue;
     const auto dist = distance_to(ray, x.first);
-    if (dist && (!best || *dist < best->distance)) best = Hit{*dist, static_cast<std::uint32_t>(x.second - begin)};
+    if (dist && (!best || *dist < best->distance)) best = Hit{*dist, input(x.second)};
   }
   return best;
 }
