@@ -78,10 +78,16 @@ TEST_F(MeshImport, MissingAndUnsupported) {
 TEST_F(MeshImport, OutOfRangeIndexIsRefused) {
   auto m = import_mesh(write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n"));
   ASSERT_FALSE(m.ok());
-  EXPECT_NE(m.error().message.find("face 1 refers to vertex 8, a vertex that does not exist"), std::string::npos)
+  EXPECT_NE(m.error().message.find("bad.obj: line 5: corner 3 '9' refers to vertex 9; the file has 3 vertices"),
+            std::string::npos)
       << m.error().message;
+  m = import_mesh(write("rel.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n"));  // -3 before the first vertex
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().message.find("line 3: corner 3 '-3' refers to vertex 0"), std::string::npos) << m.error().message;
   m = import_mesh(write("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
   ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().message.find("bad.off: face 0: corner 2 is missing or not a vertex index below 3 (line 6)"), std::string::npos)
+      << m.error().message;
 }
 
 TEST_F(MeshImport, NonFiniteCoordinatesAreRefused) {

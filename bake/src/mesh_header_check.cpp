@@ -25,6 +25,7 @@ namespace {
 
 struct PlyProperty {
   std::string name;
+  std::string type;         // of a scalar, or of a list's items
   int size = 0;             // bytes of a scalar, or of a list's items
   int count_size = 0;       // bytes of a list's length; 0 for a scalar
   bool count_signed = false;
@@ -51,6 +52,41 @@ int ply_type_size(std::string_view t, bool* is_signed = nullptr) {
 }
 
 std::string declared(const PlyElement& e) { return std::to_string(e.count) + " '" + e.name + "' elements"; }
+
+// What CGAL's PLY reader can read (CGAL/IO/PLY.h, PLY_reader.h): it takes
+// a vertex's x, y, z as float or double (any other type it dereferences as
+// a null pointer: found by fuzz_mesh_import) and a missing one as 0, and a
+// face's corners from a vertex_indices or vertex_index list of int or uint.
+// (Normals of another type are skipped with a warning by read_ply.)
+std::optional<std::string> check_ply_types(const std::vector<PlyElement>& elements) {
+  const auto find = [](const PlyElement& e, std::string_view name) -> const PlyProperty* {
+    for (const PlyProperty& p : e.properties) {
+      if (p.name == name) return &p;
+    }
+    return nullptr;
+  };
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex" || e.name == "vertices") {
+      for (const char* axis : {"x", "y", "z"}) {
+        const PlyProperty* p = find(e, axis);
+        if (!p) return "the '" + e.name + "' element has no '" + axis + "' property";
+        if (p->count_size != 0 || (p->type.rfind("float", 0) != 0 && p->type != "double")) {
+          return "the '" + e.name + "' property '" + axis + "' is " + (p->count_size ? "a list of " : "") + p->type +
+                 "; coordinates must be float or double (what CGAL's PLY reader reads)";
+        }
+      }
+    } else if (e.name == "face" || e.name == "faces") {
+      const PlyProperty* p = find(e, "vertex_indices");
+      if (!p) p = find(e, "vertex_index");
+      if (!p) return "the '" + e.name + "' element has no vertex_indices (or vertex_index) list";
+      if (p->count_size == 0 || (p->type != "int" && p->type != "int32" && p->type != "uint" && p->type != "uint32")) {
+        return "the '" + e.name + "' property '" + p->name + "' is " + (p->count_size ? "a list of " : "") + p->type +
+               "; it must be a list of int or uint (what CGAL's PLY reader reads)";
+      }
+    }
+  }
+  return std::nullopt;
+}
 
 std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size) {
   std::string line, format;
@@ -87,12 +123,14 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
         ls >> count_t >> item_t >> p.name;
         p.count_size = ply_type_size(count_t, &p.count_signed);
         p.size = ply_type_size(item_t);
+        p.type = item_t;
         if (p.count_size == 0 || p.size == 0) {
           return "header line " + std::to_string(line_no) + ": unknown list type '" + count_t + " " + item_t + "'";
         }
       } else {
         ls >> p.name;
         p.size = ply_type_size(type);
+        p.type = type;
         if (p.size == 0) return "header line " + std::to_string(line_no) + ": unknown property type '" + type + "'";
       }
       elements.back().properties.push_back(p);
@@ -102,6 +140,7 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
     }
   }
   if (!ended) return std::string("the PLY header has no end_header line");
+  if (auto bad = check_ply_types(elements)) return bad;
   std::streamoff at = in.tellg();
   if (at < 0) at = static_cast<std::streamoff>(file_size);
 

@@ -1,6 +1,18 @@
 // OFF, PLY and STL through CGAL's readers (mesh_soup.h says why these and
 // not OpenMesh's). CGAL's IO headers stay in this translation unit.
 //
+// Sanitizers: CGAL's OFF scanner converts each number it reads as a face
+// size or vertex index from double to size_t; for a value out of range
+// (-1, 1e30) that conversion is undefined, and UBSan's float-cast-overflow
+// stops there (fuzz_mesh_import). What the conversion gives on x86-64 is
+// a huge count or index, which the scanner and read_off refuse at the next
+// value (no allocation is sized from it). Its header code also doubles the
+// declared edge count in an int (File_header_OFF_impl.h), which overflows
+// for a count above 2^30; this file is built with -fwrapv, so that wraps
+// and CGAL replaces the implausible count (the edges are never used). Those
+// two checks are off for this file (bake/CMakeLists.txt); everything else
+// stays checked.
+//
 // Kernel: Simple_cartesian<double>, used only as a point type to read into.
 // Reading decides nothing geometric (the STL reader merges points that
 // compare equal coordinate by coordinate, which is exact on doubles), so no
@@ -156,9 +168,13 @@ Result<PolygonSoup> read_off(const std::string& path) {
       scanner.scan_normal(nx, ny, nz);
       soup.normals.push_back({nx, ny, nz});
     }
-    unsigned char r = 0, g = 0, b = 0;
-    if (scanner.has_vcolors()) scanner.scan_color(r, g, b);  // read past, unused
-    if (scanner.has_textures()) {
+    // Colours and texture coordinates are not used. In ASCII the scanner
+    // has read the whole line already, so they are not interpreted either:
+    // its colour conversion casts any number to unsigned char (undefined
+    // for 9e8, found by fuzz_mesh_import) and its texture look-up indexes
+    // the line's values with an uninitialised offset when the header has
+    // ST without C. A binary file's texture coordinates must be read past.
+    if (scanner.binary() && scanner.has_textures()) {
       double u = 0, v = 0;
       scanner.scan_texture(u, v);
     }
@@ -186,11 +202,7 @@ Result<PolygonSoup> read_off(const std::string& path) {
       }
       soup.corners.push_back(static_cast<std::uint32_t>(id));
     }
-    if (scanner.has_fcolors()) {
-      unsigned char r = 0, g = 0, b = 0;
-      scanner.scan_color(r, g, b);
-    }
-    scanner.skip_to_next_facet(f);  // binary: the colour count and values
+    scanner.skip_to_next_facet(f);  // binary: the colour count and values (ASCII: on the line already read)
     if (in.fail()) return input(where("face " + std::to_string(f) + ": cannot read its colour"));
     soup.add_polygon_end();
   }
@@ -231,12 +243,25 @@ Result<PolygonSoup> read_ply(const std::string& path) {
   }
   // Per-vertex normals, where the vertex element has nx, ny, nz: a second
   // pass through CGAL's point reader (its polygon-soup reader drops them).
+  // CGAL reads normals of type float or double only (any other it
+  // dereferences as a null pointer, as for coordinates).
   std::ifstream head(path, std::ios::binary);
   bool has_normals = false;
+  std::string other_type;
   for (std::string line; std::getline(head, line) && line.rfind("end_header", 0) != 0;) {
-    has_normals = has_normals || line.find(" nx") != std::string::npos;
+    std::istringstream words(line);
+    std::string word, type, name;
+    if (!(words >> word >> type) || word != "property") continue;
+    if (type == "list") words >> name >> name;  // the count and item types
+    words >> name;
+    if (name != "nx" && name != "ny" && name != "nz") continue;
+    has_normals = true;
+    if (type.rfind("float", 0) != 0 && type != "double") other_type = type;
   }
-  if (has_normals) {
+  if (has_normals && !other_type.empty()) {
+    soup.warnings.push_back("the vertex normals (nx, ny, nz) include a " + other_type +
+                            ", not float or double; normals are computed");
+  } else if (has_normals) {
     std::ifstream again(path, std::ios::binary);
     using PointNormal = std::pair<K::Point_3, K::Vector_3>;
     std::vector<PointNormal> pn;

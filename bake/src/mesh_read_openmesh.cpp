@@ -2,13 +2,31 @@
 // OpenMesh's readers talk to an importer interface, and this one records
 // what the file says instead of building a halfedge mesh (which rejects
 // faces with repeated corners and splits non-manifold vertices).
+//
+// OpenMesh 9's OBJ reader trusts the file's face lines: a corner without a
+// vertex index ("f /1") stops the process on an assertion (Debian builds it
+// with assertions on; found by fuzz_mesh_import), an unreadable index is
+// used uninitialised, a relative index is added in int without a bound, and
+// a "v" line it cannot read is skipped while the relative indices still
+// count it. So check_obj() reads the lines the way OpenMesh splits them and
+// refuses, naming the line, what it would misread; a valid file passes
+// untouched and OpenMesh reads it.
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <sstream>
+#include <string_view>
 
 #include "mesh_soup.h"
 
@@ -97,6 +115,136 @@ class SoupImporter final : public IO::BaseImporter {
   std::vector<std::array<double, 3>> normals_;
 };
 
+// The next white-space separated token (as a stream's >> reads it).
+std::string_view next_token(std::string_view& s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  std::size_t end = 0;
+  while (end < s.size() && !std::isspace(static_cast<unsigned char>(s[end]))) ++end;
+  const std::string_view token = s.substr(0, end);
+  s.remove_prefix(end);
+  return token;
+}
+
+// An OBJ index: [+-]digits, at most 9 of them (so OpenMesh's int arithmetic
+// on it cannot overflow), not 0.
+std::optional<long> obj_index(std::string_view s) {
+  std::string_view digits = s;
+  if (!digits.empty() && (digits[0] == '+' || digits[0] == '-')) digits.remove_prefix(1);
+  if (digits.empty() || digits.size() > 9) return std::nullopt;
+  long value = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec != std::errc() || end != digits.data() + digits.size() || value == 0) return std::nullopt;
+  return s[0] == '-' ? -value : value;
+}
+
+// What OpenMesh would misread (see the top of this file), as "line L: ...";
+// otherwise the number of face lines that give fewer than three distinct
+// vertices, which OpenMesh skips (the caller warns).
+struct ObjCheck {
+  std::optional<std::string> error;
+  std::size_t short_faces = 0;
+  std::size_t first_short_line = 0;
+};
+
+// One corner of a face line: v, v/vt, v//vn or v/vt/vn. `positions` and
+// `normals` are the counts so far (relative indices) and in all (absolute).
+std::optional<std::string> check_corner(std::string_view token, long& vertex, std::array<long, 2> positions,
+                                        std::array<long, 2> normals) {
+  std::array<std::string_view, 3> part{};
+  for (std::size_t n = 0;; ++n) {
+    if (n == 3) return std::string("has more than v/vt/vn");
+    const std::size_t slash = token.find('/');
+    part[n] = token.substr(0, slash);
+    if (slash == std::string_view::npos) break;
+    token.remove_prefix(slash + 1);
+  }
+  const auto v = obj_index(part[0]);
+  if (!v) return std::string("has no vertex index (OBJ corners are v, v/vt, v//vn or v/vt/vn; indices count from 1)");
+  vertex = *v > 0 ? *v : positions[0] + *v + 1;
+  if (vertex < 1 || vertex > positions[1]) {
+    return "refers to vertex " + std::to_string(vertex) + "; the file has " + std::to_string(positions[1]) +
+           " vertices";
+  }
+  if (!part[1].empty() && !obj_index(part[1])) return std::string("has an unreadable texture index");
+  if (!part[2].empty()) {
+    const auto vn = obj_index(part[2]);
+    const long normal = vn ? (*vn > 0 ? *vn : normals[0] + *vn + 1) : 0;
+    if (normal < 1 || normal > normals[1]) {
+      return "refers to normal " + std::string(part[2]) + "; the file has " + std::to_string(normals[1]) + " normals";
+    }
+  }
+  return std::nullopt;
+}
+
+// Two passes, as OpenMesh reads: the vertex and normal lines (counted, and
+// each vertex line checked), then the face lines.
+ObjCheck check_obj(const std::string& path) {
+  ObjCheck out;
+  std::ifstream in(path, std::ios::binary);
+  const auto fail = [&](std::size_t line_no, const std::string& what) {
+    out.error = "line " + std::to_string(line_no) + ": " + what;
+    return out;
+  };
+  std::array<long, 2> positions{0, 0}, normals{0, 0};  // so far, in all
+  for (int pass = 0; pass < 2; ++pass) {
+    in.clear();
+    in.seekg(0);
+    positions[0] = normals[0] = 0;
+    std::size_t line_no = 0;
+    for (std::string raw; std::getline(in, raw);) {
+      ++line_no;
+      // OpenMesh trims " \t\r\n" and skips comments and lines that still
+      // start with white space.
+      std::string_view line = raw;
+      line.remove_prefix(std::min(line.size(), line.find_first_not_of(" \t\r\n")));
+      line = line.substr(0, line.find_last_not_of(" \t\r\n") + 1);
+      if (line.empty() || line[0] == '#' || std::isspace(static_cast<unsigned char>(line[0]))) continue;
+      const std::string_view key = next_token(line);
+      if (key == "v") {
+        for (int axis = 0; pass == 0 && axis < 3; ++axis) {
+          // As OpenMesh's stream extraction reads a float: an optional
+          // sign, no hex; a magnitude above FLT_MAX fails it, an underflow
+          // does not (from_chars on a double to tell the two apart).
+          const std::string_view t = next_token(line);
+          if (t.empty()) {
+            return fail(line_no, "vertex " + std::to_string(positions[0] + 1) + " has fewer than 3 coordinates");
+          }
+          const std::string_view number = t.substr(!t.empty() && t[0] == '+' ? 1 : 0);
+          double value = 0;
+          const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
+          if (ec != std::errc() || end != number.data() + number.size() || !std::isfinite(value) ||
+              std::fabs(value) > std::numeric_limits<float>::max()) {
+            return fail(line_no, "vertex " + std::to_string(positions[0] + 1) + ": '" + std::string(t) +
+                                     "' is not a coordinate (a vertex is 'v x y z', finite single-precision numbers)");
+          }
+        }
+        ++positions[0];
+      } else if (key == "vn") {
+        ++normals[0];
+      } else if (key == "f" && pass == 1) {
+        std::vector<long> distinct;
+        std::size_t corner = 0;
+        for (std::string_view token = next_token(line); !token.empty(); token = next_token(line)) {
+          long vertex = 0;
+          if (auto bad = check_corner(token, vertex, positions, normals)) {
+            return fail(line_no, "corner " + std::to_string(corner + 1) + " '" + std::string(token) + "' " + *bad);
+          }
+          ++corner;
+          if (std::find(distinct.begin(), distinct.end(), vertex) == distinct.end()) distinct.push_back(vertex);
+        }
+        if (distinct.size() < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
+      }
+    }
+    if (in.bad()) {
+      out.error = "cannot read the file";
+      return out;
+    }
+    positions[1] = positions[0];
+    normals[1] = normals[0];
+  }
+  return out;
+}
+
 // OpenMesh reports what it could not read only on its omerr stream (and
 // chatter such as a missing material file on omlog): process-wide streams,
 // hence the lock. For one read both write straight into a string: their
@@ -108,6 +256,8 @@ std::mutex g_omerr_mutex;
 }  // namespace
 
 Result<PolygonSoup> read_obj(const std::string& path) {
+  const ObjCheck check = check_obj(path);
+  if (check.error) return make_error(ErrorCode::kInput, *check.error);
   PolygonSoup soup;
   SoupImporter importer(soup);
   std::lock_guard<std::mutex> lock(g_omerr_mutex);
@@ -130,6 +280,11 @@ Result<PolygonSoup> read_obj(const std::string& path) {
                       "OpenMesh's OBJ reader could not read the file" + (report.empty() ? "" : ": " + report));
   }
   if (options.vertex_has_normal()) importer.finish_normals();
+  if (check.short_faces > 0) {
+    soup.warnings.push_back("skipped " + std::to_string(check.short_faces) +
+                            " face(s) with fewer than 3 distinct vertices (first at line " +
+                            std::to_string(check.first_short_line) + ")");
+  }
   return soup;
 }
 

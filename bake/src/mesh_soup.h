@@ -12,20 +12,28 @@
 //        OpenMesh 9 reads none of comments, 4OFF or face colours.
 //   PLY  CGAL's PLY reader (mesh_read_cgal.cpp): elements in any order (faces
 //        before vertices), extra elements and properties, vertex_indices or
-//        vertex_index with any integer list type, ASCII and both binary
-//        byte orders. OpenMesh 9 reads no face element declared before the
-//        vertices and stops at a face's second list property.
+//        vertex_index lists of int or uint (any count type), ASCII and both
+//        binary byte orders. OpenMesh 9 reads no face element declared
+//        before the vertices and stops at a face's second list property.
+//        CGAL reads coordinates and normals only as float or double and
+//        corners only as int or uint: other valid types are refused by name
+//        (normals: skipped with a warning) before it runs, because it
+//        dereferences a null pointer on them (mesh_header_check.cpp).
 //   STL  CGAL's STL reader (mesh_read_cgal.cpp): ASCII, binary, binary files
 //        whose header starts with "solid", several solids in one file.
 //        OpenMesh 9 accepts an ASCII STL with an unparsable number.
 //   OBJ  OpenMesh's OBJ reader (mesh_read_openmesh.cpp) through an importer
 //        that records the soup: groups, materials, negative (relative)
 //        indices, v/vt/vn corners, polygons, tabs and CRLF, l and p lines.
-//        CGAL 5.5's OBJ reader fails on tabs and on l lines.
+//        CGAL 5.5's OBJ reader fails on tabs and on l lines. OpenMesh's
+//        reader trusts its face lines (it stops on an assertion at "f /1"),
+//        so they are checked first and refused by line where it would
+//        misread them (mesh_read_openmesh.cpp).
 //
 // Library readers size containers from the counts a file declares, so
 // check_declared_counts() (mesh_header_check.cpp) first bounds every count
-// by the bytes that follow, without refusing any valid file.
+// by the bytes that follow, without refusing any valid file whose types
+// the reader can take.
 
 #include <array>
 #include <cstdint>

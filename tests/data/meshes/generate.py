@@ -487,6 +487,24 @@ def ply_corpus():
     write("ply_index_out_of_range.ply", ply_file("ascii", [("vertex", XYZ, [list(v) for v in cv]), ("face", FACE, bad)]))
     refused("ply_index_out_of_range.ply", "face 5")
 
+    # Valid PLY types CGAL's reader cannot take (mesh_header_check.cpp):
+    # refused by name, or (normals) skipped with a warning.
+    ip = [("x", "float"), ("y", "int32"), ("z", "float")]
+    write("ply_int_coordinates.ply", ply_file("binary_little_endian", [("vertex", ip, [[x, int(y), z] for x, y, z in cv]),
+                                                                        ("face", FACE, [[f] for f in cf])]))
+    refused("ply_int_coordinates.ply", "the 'vertex' property 'y' is int32; coordinates must be float or double")
+    write("ply_ushort_face_indices.ply",
+          ply_file("ascii", [("vertex", XYZ, [list(v) for v in cv]),
+                             ("face", [("vertex_indices", ("list", "uchar", "ushort"))], [[f] for f in cf])]))
+    refused("ply_ushort_face_indices.ply", "'vertex_indices' is a list of ushort; it must be a list of int or uint")
+    sn = [("nx", "short"), ("ny", "short"), ("nz", "short")]
+    write("ply_short_normals.ply",
+          ply_file("binary_big_endian", [("vertex", XYZ + sn, [list(v) + [int(c * 32767) for c in nv[i]]
+                                                                  for i, v in enumerate(cv)]),
+                                         ("face", FACE, [[f] for f in cf])]))
+    expect("ply_short_normals.ply", cv, cf, True, normals_from_file=False,
+           warning="the vertex normals (nx, ny, nz) include a short, not float or double; normals are computed")
+
 
 # ---------------------------------------------------------------- STL
 
@@ -621,7 +639,26 @@ def obj_corpus():
     lines += ["f " + " ".join(str(k + 1) for k in f) for f in cf]
     lines[len(cv) + 9] = "f 1 2 999"
     write("obj_index_out_of_range.obj", "\n".join(lines) + "\n")
-    refused("obj_index_out_of_range.obj", "vertex that does not exist")
+    refused("obj_index_out_of_range.obj", "line %d: corner 3 '999' refers to vertex 999; the file has %d vertices"
+            % (len(cv) + 10, len(cv)))
+
+    # What OpenMesh's OBJ reader would misread or stop on (mesh_read_openmesh.cpp).
+    lines = ["v %s %s %s" % tuple(g(c) for c in v) for v in cv]
+    lines += ["f " + " ".join(str(k + 1) for k in f) for f in cf]
+    lines[len(cv) + 3] = "f /1 2/2 3/3"
+    write("obj_corner_without_vertex.obj", "\n".join(lines) + "\n")
+    refused("obj_corner_without_vertex.obj", "line %d: corner 1 '/1' has no vertex index" % (len(cv) + 4))
+    lines = ["v %s %s %s" % tuple(g(c) for c in v) for v in cv]
+    lines[5] = "v 0.5 0.25"
+    lines += ["f " + " ".join(str(k - len(cv)) for k in f) for f in cf]
+    write("obj_vertex_two_coordinates.obj", "\n".join(lines) + "\n")
+    refused("obj_vertex_two_coordinates.obj", "line 6: vertex 6 has fewer than 3 coordinates")
+    lines = ["v %s %s %s" % tuple(g(c) for c in v) for v in cv]
+    lines += ["f " + " ".join(str(k + 1) for k in f) for f in cf]
+    lines += ["f 1 2", "f 3 3/1 -%d" % (len(cv) - 2)]
+    write("obj_faces_under_three_vertices.obj", "\n".join(lines) + "\n")
+    expect("obj_faces_under_three_vertices.obj", cv, cf, True,
+           warning="skipped 2 face(s) with fewer than 3 distinct vertices (first at line %d)" % (len(cv) + len(cf) + 1))
 
     write("obj_no_faces.obj", "\n".join("v %s %s %s" % tuple(g(c) for c in v) for v in cv) + "\n")
     refused("obj_no_faces.obj", "no faces")
