@@ -8,9 +8,11 @@
 // with assertions on; found by fuzz_mesh_import), an unreadable index is
 // used uninitialised, a relative index is added in int without a bound, and
 // a "v" line it cannot read is skipped while the relative indices still
-// count it. So check_obj() reads the lines the way OpenMesh splits them and
-// refuses, naming the line, what it would misread; a valid file passes
-// untouched and OpenMesh reads it.
+// count it; and it does not join a line ending in a backslash with the
+// next (OBJ's line continuation). So check_obj() reads the lines the way
+// OpenMesh splits them and refuses, naming the line, what it would misread;
+// a valid file passes untouched and OpenMesh reads it (its continued lines
+// joined first).
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
@@ -126,30 +128,61 @@ std::string_view next_token(std::string_view& s) {
 }
 
 // An OBJ index: [+-]digits, at most 9 of them (so OpenMesh's int arithmetic
-// on it cannot overflow), not 0.
+// on it cannot overflow).
 std::optional<long> obj_index(std::string_view s) {
   std::string_view digits = s;
   if (!digits.empty() && (digits[0] == '+' || digits[0] == '-')) digits.remove_prefix(1);
   if (digits.empty() || digits.size() > 9) return std::nullopt;
   long value = 0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (ec != std::errc() || end != digits.data() + digits.size() || value == 0) return std::nullopt;
+  if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
   return s[0] == '-' ? -value : value;
+}
+
+// Calls line(text, number) for each logical line of an OBJ file: a line
+// that ends in a backslash goes on in the next (the format's continuation,
+// which OpenMesh does not know: it dropped the corners after one). Returns
+// whether any line was continued; `in` is read to its end.
+template <typename Line>
+bool for_each_line(std::istream& in, Line&& line) {
+  bool continued = false;
+  std::string text;
+  std::size_t number = 0, first = 0;
+  for (std::string raw; std::getline(in, raw);) {
+    ++number;
+    if (text.empty()) first = number;
+    const std::size_t last = raw.find_last_not_of(" \t\r");
+    const bool comment = text.empty() && raw.find_first_not_of(" \t") < raw.size() &&
+                         raw[raw.find_first_not_of(" \t")] == '#';
+    if (last != std::string::npos && raw[last] == '\\' && !comment) {
+      text.append(raw, 0, last).push_back(' ');
+      continued = true;
+      continue;
+    }
+    text += raw;
+    line(std::string_view(text), first);
+    text.clear();
+  }
+  if (!text.empty()) line(std::string_view(text), first);
+  return continued;
 }
 
 // What OpenMesh would misread (see the top of this file), as "line L: ...";
 // otherwise the number of face lines that give fewer than three distinct
-// vertices, which OpenMesh skips (the caller warns).
+// vertices, which OpenMesh skips (the caller warns), and whether lines are
+// continued (then OpenMesh reads the joined lines).
 struct ObjCheck {
   std::optional<std::string> error;
   std::size_t short_faces = 0;
   std::size_t first_short_line = 0;
+  bool continued = false;
 };
 
-// One corner of a face line: v, v/vt, v//vn or v/vt/vn. `positions` and
-// `normals` are the counts so far (relative indices) and in all (absolute).
-std::optional<std::string> check_corner(std::string_view token, long& vertex, std::array<long, 2> positions,
-                                        std::array<long, 2> normals) {
+// One corner of a face line: v, v/vt, v//vn or v/vt/vn. `positions` is the
+// count of vertices so far (relative indices) and in all (absolute).
+// Texture and normal indices need only be readable: OpenMesh range-checks
+// those itself, and a vertex left without a normal gets a computed one.
+std::optional<std::string> check_corner(std::string_view token, long& vertex, std::array<long, 2> positions) {
   std::array<std::string_view, 3> part{};
   for (std::size_t n = 0;; ++n) {
     if (n == 3) return std::string("has more than v/vt/vn");
@@ -163,42 +196,32 @@ std::optional<std::string> check_corner(std::string_view token, long& vertex, st
   vertex = *v > 0 ? *v : positions[0] + *v + 1;
   if (vertex < 1 || vertex > positions[1]) {
     return "refers to vertex " + std::to_string(vertex) + "; the file has " + std::to_string(positions[1]) +
-           " vertices";
+           " vertices (counted from 1)";
   }
   if (!part[1].empty() && !obj_index(part[1])) return std::string("has an unreadable texture index");
-  if (!part[2].empty()) {
-    const auto vn = obj_index(part[2]);
-    const long normal = vn ? (*vn > 0 ? *vn : normals[0] + *vn + 1) : 0;
-    if (normal < 1 || normal > normals[1]) {
-      return "refers to normal " + std::string(part[2]) + "; the file has " + std::to_string(normals[1]) + " normals";
-    }
-  }
+  if (!part[2].empty() && !obj_index(part[2])) return std::string("has an unreadable normal index");
   return std::nullopt;
 }
 
-// Two passes, as OpenMesh reads: the vertex and normal lines (counted, and
-// each vertex line checked), then the face lines.
+// Two passes, as OpenMesh reads: the vertex lines (counted, each checked),
+// then the face lines.
 ObjCheck check_obj(const std::string& path) {
   ObjCheck out;
   std::ifstream in(path, std::ios::binary);
-  const auto fail = [&](std::size_t line_no, const std::string& what) {
-    out.error = "line " + std::to_string(line_no) + ": " + what;
-    return out;
-  };
-  std::array<long, 2> positions{0, 0}, normals{0, 0};  // so far, in all
-  for (int pass = 0; pass < 2; ++pass) {
+  std::array<long, 2> positions{0, 0};  // so far, in all
+  for (int pass = 0; pass < 2 && !out.error; ++pass) {
     in.clear();
     in.seekg(0);
-    positions[0] = normals[0] = 0;
-    std::size_t line_no = 0;
-    for (std::string raw; std::getline(in, raw);) {
-      ++line_no;
+    positions[0] = 0;
+    const auto fail = [&](std::size_t line_no, const std::string& what) {
+      if (!out.error) out.error = "line " + std::to_string(line_no) + ": " + what;
+    };
+    out.continued = for_each_line(in, [&](std::string_view line, std::size_t line_no) {
       // OpenMesh trims " \t\r\n" and skips comments and lines that still
       // start with white space.
-      std::string_view line = raw;
       line.remove_prefix(std::min(line.size(), line.find_first_not_of(" \t\r\n")));
       line = line.substr(0, line.find_last_not_of(" \t\r\n") + 1);
-      if (line.empty() || line[0] == '#' || std::isspace(static_cast<unsigned char>(line[0]))) continue;
+      if (out.error || line.empty() || line[0] == '#' || std::isspace(static_cast<unsigned char>(line[0]))) return;
       const std::string_view key = next_token(line);
       if (key == "v") {
         for (int axis = 0; pass == 0 && axis < 3; ++axis) {
@@ -209,7 +232,7 @@ ObjCheck check_obj(const std::string& path) {
           if (t.empty()) {
             return fail(line_no, "vertex " + std::to_string(positions[0] + 1) + " has fewer than 3 coordinates");
           }
-          const std::string_view number = t.substr(!t.empty() && t[0] == '+' ? 1 : 0);
+          const std::string_view number = t.substr(t[0] == '+' ? 1 : 0);
           double value = 0;
           const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
           if (ec != std::errc() || end != number.data() + number.size() || !std::isfinite(value) ||
@@ -219,14 +242,12 @@ ObjCheck check_obj(const std::string& path) {
           }
         }
         ++positions[0];
-      } else if (key == "vn") {
-        ++normals[0];
       } else if (key == "f" && pass == 1) {
         std::vector<long> distinct;
         std::size_t corner = 0;
         for (std::string_view token = next_token(line); !token.empty(); token = next_token(line)) {
           long vertex = 0;
-          if (auto bad = check_corner(token, vertex, positions, normals)) {
+          if (auto bad = check_corner(token, vertex, positions)) {
             return fail(line_no, "corner " + std::to_string(corner + 1) + " '" + std::string(token) + "' " + *bad);
           }
           ++corner;
@@ -234,13 +255,9 @@ ObjCheck check_obj(const std::string& path) {
         }
         if (distinct.size() < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
       }
-    }
-    if (in.bad()) {
-      out.error = "cannot read the file";
-      return out;
-    }
+    });
+    if (in.bad()) out.error = "cannot read the file";
     positions[1] = positions[0];
-    normals[1] = normals[0];
   }
   return out;
 }
@@ -267,7 +284,15 @@ Result<PolygonSoup> read_obj(const std::string& path) {
   IO::Options options = IO::Options::VertexNormal;
   bool ok = false;
   try {
-    ok = IO::IOManager().read(path, importer, options);
+    if (check.continued) {
+      std::ifstream in(path, std::ios::binary);
+      std::string joined;
+      for_each_line(in, [&](std::string_view line, std::size_t) { joined.append(line).push_back('\n'); });
+      std::istringstream text(joined);
+      ok = IO::IOManager().read(text, "obj", importer, options);
+    } else {
+      ok = IO::IOManager().read(path, importer, options);
+    }
   } catch (const std::bad_alloc&) {
     captured << "out of memory";
   }

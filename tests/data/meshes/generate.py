@@ -642,6 +642,20 @@ def obj_corpus():
     refused("obj_index_out_of_range.obj", "line %d: corner 3 '999' refers to vertex 999; the file has %d vertices"
             % (len(cv) + 10, len(cv)))
 
+    # Line continuations (a backslash at the end of a line, as CAD exporters
+    # write long polygons; a comment ending in one is not continued), and
+    # normal references in a file without normals (the normals are computed).
+    sv, sf = star_prism(9)
+    lines = ["# star prism \\", "v %s %s %s" % tuple(g(c) for c in sv[0])]
+    lines += ["v %s %s %s" % tuple(g(c) for c in v) for v in sv[1:]]
+    for f in sf:
+        refs = [f"{k + 1}//{k + 1}" for k in f]
+        half = len(refs) // 2
+        lines.append("f " + " ".join(refs[:half]) + " \\")
+        lines.append("  " + " ".join(refs[half:]))
+    write("obj_line_continuation.obj", "\n".join(lines) + "\n")
+    expect("obj_line_continuation.obj", sv, sf, True, normals_from_file=False)
+
     # What OpenMesh's OBJ reader would misread or stop on (mesh_read_openmesh.cpp).
     lines = ["v %s %s %s" % tuple(g(c) for c in v) for v in cv]
     lines += ["f " + " ".join(str(k + 1) for k in f) for f in cf]
