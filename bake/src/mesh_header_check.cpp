@@ -141,6 +141,15 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
   }
   if (!ended) return std::string("the PLY header has no end_header line");
   if (auto bad = check_ply_types(elements)) return bad;
+  // An element without properties takes no data, so nothing bounds its
+  // count; readers still loop over its items (10^9 of them: seconds spent
+  // reading nothing, found by fuzz_mesh_import). A file cannot mean more
+  // such items than it has bytes.
+  for (const PlyElement& e : elements) {
+    if (e.properties.empty() && e.count > file_size) {
+      return "the header declares " + declared(e) + " without properties: more items than the file has bytes";
+    }
+  }
   std::streamoff at = in.tellg();
   if (at < 0) at = static_cast<std::streamoff>(file_size);
 
@@ -190,7 +199,7 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
       return msg;
     };
     for (const PlyElement& e : elements) {
-      for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (std::uint64_t i = 0; i < e.count && !e.properties.empty(); ++i) {
         for (const PlyProperty& p : e.properties) {
           if (!next()) return fail("the header declares " + declared(e) + ", but the data ends in " + at_item(e, i));
           double v = 0;

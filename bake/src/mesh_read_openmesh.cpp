@@ -243,7 +243,7 @@ ObjCheck check_obj(const std::string& path) {
         }
         ++positions[0];
       } else if (key == "f" && pass == 1) {
-        std::vector<long> distinct;
+        std::vector<long> vertices;
         std::size_t corner = 0;
         for (std::string_view token = next_token(line); !token.empty(); token = next_token(line)) {
           long vertex = 0;
@@ -251,9 +251,11 @@ ObjCheck check_obj(const std::string& path) {
             return fail(line_no, "corner " + std::to_string(corner + 1) + " '" + std::string(token) + "' " + *bad);
           }
           ++corner;
-          if (std::find(distinct.begin(), distinct.end(), vertex) == distinct.end()) distinct.push_back(vertex);
+          vertices.push_back(vertex);
         }
-        if (distinct.size() < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
+        std::sort(vertices.begin(), vertices.end());
+        const auto distinct = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+        if (distinct < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
       }
     });
     if (in.bad()) out.error = "cannot read the file";

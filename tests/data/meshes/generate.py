@@ -497,6 +497,11 @@ def ply_corpus():
           ply_file("ascii", [("vertex", XYZ, [list(v) for v in cv]),
                              ("face", [("vertex_indices", ("list", "uchar", "ushort"))], [[f] for f in cf])]))
     refused("ply_ushort_face_indices.ply", "'vertex_indices' is a list of ushort; it must be a list of int or uint")
+    # An element without properties takes no bytes: its count is bounded by
+    # the file's size (readers loop over its items).
+    t = ply_file("ascii", [("vertex", XYZ, [list(v) for v in cv]), ("face", FACE, [[f] for f in cf])])
+    write("ply_element_without_properties.ply", t.replace(b"end_header", b"element marker 4000000000\nend_header"))
+    refused("ply_element_without_properties.ply", "4000000000 'marker' elements without properties")
     sn = [("nx", "short"), ("ny", "short"), ("nz", "short")]
     write("ply_short_normals.ply",
           ply_file("binary_big_endian", [("vertex", XYZ + sn, [list(v) + [int(c * 32767) for c in nv[i]]
