@@ -57,8 +57,12 @@ std::string declared(const PlyElement& e) { return std::to_string(e.count) + " '
 // a vertex's x, y, z as float or double (any other type it dereferences as
 // a null pointer: found by fuzz_mesh_import) and a missing one as 0, and a
 // face's corners from a vertex_indices or vertex_index list of int or uint.
-// (Normals of another type are skipped with a warning by read_ply.)
-std::optional<std::string> check_ply_types(const std::vector<PlyElement>& elements) {
+// Normals of another type are reported in `normals` (read_ply skips them
+// with a warning).
+std::optional<std::string> check_ply_types(const std::vector<PlyElement>& elements, PlyNormals& normals) {
+  const auto readable = [](const PlyProperty& p) {
+    return p.count_size == 0 && (p.type.rfind("float", 0) == 0 || p.type == "double");
+  };
   const auto find = [](const PlyElement& e, std::string_view name) -> const PlyProperty* {
     for (const PlyProperty& p : e.properties) {
       if (p.name == name) return &p;
@@ -70,9 +74,17 @@ std::optional<std::string> check_ply_types(const std::vector<PlyElement>& elemen
       for (const char* axis : {"x", "y", "z"}) {
         const PlyProperty* p = find(e, axis);
         if (!p) return "the '" + e.name + "' element has no '" + axis + "' property";
-        if (p->count_size != 0 || (p->type.rfind("float", 0) != 0 && p->type != "double")) {
+        if (!readable(*p)) {
           return "the '" + e.name + "' property '" + axis + "' is " + (p->count_size ? "a list of " : "") + p->type +
                  "; coordinates must be float or double (what CGAL's PLY reader reads)";
+        }
+      }
+      for (const char* axis : {"nx", "ny", "nz"}) {
+        const PlyProperty* p = find(e, axis);
+        if (!p) continue;
+        normals.present = true;
+        if (!readable(*p) && normals.unreadable_type.empty()) {
+          normals.unreadable_type = p->count_size ? "list of " + p->type : p->type;
         }
       }
     } else if (e.name == "face" || e.name == "faces") {
@@ -88,7 +100,7 @@ std::optional<std::string> check_ply_types(const std::vector<PlyElement>& elemen
   return std::nullopt;
 }
 
-std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size) {
+std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size, PlyNormals& normals) {
   std::string line, format;
   std::vector<PlyElement> elements;
   std::size_t line_no = 0;
@@ -140,7 +152,7 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
     }
   }
   if (!ended) return std::string("the PLY header has no end_header line");
-  if (auto bad = check_ply_types(elements)) return bad;
+  if (auto bad = check_ply_types(elements, normals)) return bad;
   // An element without properties takes no data, so nothing bounds its
   // count; readers still loop over its items (10^9 of them: seconds spent
   // reading nothing, found by fuzz_mesh_import). A file cannot mean more
@@ -291,12 +303,15 @@ std::optional<std::string> check_ply(std::ifstream& in, std::uint64_t file_size)
 
 }  // namespace
 
-std::optional<std::string> check_declared_counts(const std::string& path, MeshFormat format) {
+std::optional<std::string> check_declared_counts(const std::string& path, MeshFormat format, PlyNormals* normals) {
   std::ifstream in(path, std::ios::binary);
   std::error_code ec;
   const auto size = static_cast<std::uint64_t>(std::filesystem::file_size(path, ec));
   if (!in || ec) return std::string("cannot open the file");
-  if (format == MeshFormat::kPly) return check_ply(in, size);
+  if (format == MeshFormat::kPly) {
+    PlyNormals unused;
+    return check_ply(in, size, normals ? *normals : unused);
+  }
   if (format == MeshFormat::kStl) {
     char head[84] = {};
     in.read(head, sizeof head);

@@ -220,7 +220,8 @@ Result<PolygonSoup> read_off(const std::string& path) {
 }
 
 Result<PolygonSoup> read_ply(const std::string& path) {
-  if (auto bad = check_declared_counts(path, MeshFormat::kPly)) return input(*bad);
+  PlyNormals normals;
+  if (auto bad = check_declared_counts(path, MeshFormat::kPly, &normals)) return input(*bad);
   std::ifstream in(path, std::ios::binary);
   if (!in) return input("cannot open the file");
   std::vector<K::Point_3> points;
@@ -242,26 +243,13 @@ Result<PolygonSoup> read_ply(const std::string& path) {
     soup.add_polygon_end();
   }
   // Per-vertex normals, where the vertex element has nx, ny, nz: a second
-  // pass through CGAL's point reader (its polygon-soup reader drops them).
-  // CGAL reads normals of type float or double only (any other it
+  // pass through CGAL's point reader (its polygon-soup reader drops them),
+  // which reads them as float or double only (any other type it
   // dereferences as a null pointer, as for coordinates).
-  std::ifstream head(path, std::ios::binary);
-  bool has_normals = false;
-  std::string other_type;
-  for (std::string line; std::getline(head, line) && line.rfind("end_header", 0) != 0;) {
-    std::istringstream words(line);
-    std::string word, type, name;
-    if (!(words >> word >> type) || word != "property") continue;
-    if (type == "list") words >> name >> name;  // the count and item types
-    words >> name;
-    if (name != "nx" && name != "ny" && name != "nz") continue;
-    has_normals = true;
-    if (type.rfind("float", 0) != 0 && type != "double") other_type = type;
-  }
-  if (has_normals && !other_type.empty()) {
-    soup.warnings.push_back("the vertex normals (nx, ny, nz) include a " + other_type +
+  if (normals.present && !normals.unreadable_type.empty()) {
+    soup.warnings.push_back("the vertex normals (nx, ny, nz) include a " + normals.unreadable_type +
                             ", not float or double; normals are computed");
-  } else if (has_normals) {
+  } else if (normals.present) {
     std::ifstream again(path, std::ios::binary);
     using PointNormal = std::pair<K::Point_3, K::Vector_3>;
     std::vector<PointNormal> pn;

@@ -178,11 +178,12 @@ struct ObjCheck {
   bool continued = false;
 };
 
-// One corner of a face line: v, v/vt, v//vn or v/vt/vn. `positions` is the
-// count of vertices so far (relative indices) and in all (absolute).
+// One corner of a face line: v, v/vt, v//vn or v/vt/vn, with `before`
+// vertices read so far (a relative index counts back from there; an
+// absolute one may refer forward, so the caller checks it at the end).
 // Texture and normal indices need only be readable: OpenMesh range-checks
 // those itself, and a vertex left without a normal gets a computed one.
-std::optional<std::string> check_corner(std::string_view token, long& vertex, std::array<long, 2> positions) {
+std::optional<std::string> check_corner(std::string_view token, long& vertex, long before) {
   std::array<std::string_view, 3> part{};
   for (std::size_t n = 0;; ++n) {
     if (n == 3) return std::string("has more than v/vt/vn");
@@ -193,73 +194,72 @@ std::optional<std::string> check_corner(std::string_view token, long& vertex, st
   }
   const auto v = obj_index(part[0]);
   if (!v) return std::string("has no vertex index (OBJ corners are v, v/vt, v//vn or v/vt/vn; indices count from 1)");
-  vertex = *v > 0 ? *v : positions[0] + *v + 1;
-  if (vertex < 1 || vertex > positions[1]) {
-    return "refers to vertex " + std::to_string(vertex) + "; the file has " + std::to_string(positions[1]) +
-           " vertices (counted from 1)";
+  vertex = *v > 0 ? *v : before + *v + 1;
+  if (vertex < 1) {
+    return "refers to vertex " + std::to_string(vertex) + "; " + std::to_string(before) +
+           " vertices precede it (counted from 1)";
   }
   if (!part[1].empty() && !obj_index(part[1])) return std::string("has an unreadable texture index");
   if (!part[2].empty() && !obj_index(part[2])) return std::string("has an unreadable normal index");
   return std::nullopt;
 }
 
-// Two passes, as OpenMesh reads: the vertex lines (counted, each checked),
-// then the face lines.
+// One pass over the file; the corner with the largest absolute vertex
+// index is checked against the vertex count at the end.
 ObjCheck check_obj(const std::string& path) {
   ObjCheck out;
   std::ifstream in(path, std::ios::binary);
-  std::array<long, 2> positions{0, 0};  // so far, in all
-  for (int pass = 0; pass < 2 && !out.error; ++pass) {
-    in.clear();
-    in.seekg(0);
-    positions[0] = 0;
-    const auto fail = [&](std::size_t line_no, const std::string& what) {
-      if (!out.error) out.error = "line " + std::to_string(line_no) + ": " + what;
-    };
-    out.continued = for_each_line(in, [&](std::string_view line, std::size_t line_no) {
-      // OpenMesh trims " \t\r\n" and skips comments and lines that still
-      // start with white space.
-      line.remove_prefix(std::min(line.size(), line.find_first_not_of(" \t\r\n")));
-      line = line.substr(0, line.find_last_not_of(" \t\r\n") + 1);
-      if (out.error || line.empty() || line[0] == '#' || std::isspace(static_cast<unsigned char>(line[0]))) return;
-      const std::string_view key = next_token(line);
-      if (key == "v") {
-        for (int axis = 0; pass == 0 && axis < 3; ++axis) {
-          // As OpenMesh's stream extraction reads a float: an optional
-          // sign, no hex; a magnitude above FLT_MAX fails it, an underflow
-          // does not (from_chars on a double to tell the two apart).
-          const std::string_view t = next_token(line);
-          if (t.empty()) {
-            return fail(line_no, "vertex " + std::to_string(positions[0] + 1) + " has fewer than 3 coordinates");
-          }
-          const std::string_view number = t.substr(t[0] == '+' ? 1 : 0);
-          double value = 0;
-          const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
-          if (ec != std::errc() || end != number.data() + number.size() || !std::isfinite(value) ||
-              std::fabs(value) > std::numeric_limits<float>::max()) {
-            return fail(line_no, "vertex " + std::to_string(positions[0] + 1) + ": '" + std::string(t) +
-                                     "' is not a coordinate (a vertex is 'v x y z', finite single-precision numbers)");
-          }
+  long positions = 0;
+  long largest = 0;
+  std::string largest_at;  // "line L: corner C 'token'"
+  const auto fail = [&](std::size_t line_no, const std::string& what) {
+    if (!out.error) out.error = "line " + std::to_string(line_no) + ": " + what;
+  };
+  out.continued = for_each_line(in, [&](std::string_view line, std::size_t line_no) {
+    // OpenMesh trims " \t\r\n" and skips comments and lines that still
+    // start with white space.
+    line.remove_prefix(std::min(line.size(), line.find_first_not_of(" \t\r\n")));
+    line = line.substr(0, line.find_last_not_of(" \t\r\n") + 1);
+    if (out.error || line.empty() || line[0] == '#' || std::isspace(static_cast<unsigned char>(line[0]))) return;
+    const std::string_view key = next_token(line);
+    if (key == "v") {
+      for (int axis = 0; axis < 3; ++axis) {
+        // As OpenMesh's stream extraction reads a float: an optional sign,
+        // no hex; a magnitude above FLT_MAX fails it, an underflow does
+        // not (from_chars on a double to tell the two apart).
+        const std::string_view t = next_token(line);
+        if (t.empty()) return fail(line_no, "vertex " + std::to_string(positions + 1) + " has fewer than 3 coordinates");
+        const std::string_view number = t.substr(t[0] == '+' ? 1 : 0);
+        double value = 0;
+        const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
+        if (ec != std::errc() || end != number.data() + number.size() || !std::isfinite(value) ||
+            std::fabs(value) > std::numeric_limits<float>::max()) {
+          return fail(line_no, "vertex " + std::to_string(positions + 1) + ": '" + std::string(t) +
+                                   "' is not a coordinate (a vertex is 'v x y z', finite single-precision numbers)");
         }
-        ++positions[0];
-      } else if (key == "f" && pass == 1) {
-        std::vector<long> vertices;
-        std::size_t corner = 0;
-        for (std::string_view token = next_token(line); !token.empty(); token = next_token(line)) {
-          long vertex = 0;
-          if (auto bad = check_corner(token, vertex, positions)) {
-            return fail(line_no, "corner " + std::to_string(corner + 1) + " '" + std::string(token) + "' " + *bad);
-          }
-          ++corner;
-          vertices.push_back(vertex);
-        }
-        std::sort(vertices.begin(), vertices.end());
-        const auto distinct = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
-        if (distinct < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
       }
-    });
-    if (in.bad()) out.error = "cannot read the file";
-    positions[1] = positions[0];
+      ++positions;
+    } else if (key == "f") {
+      std::vector<long> vertices;
+      for (std::string_view token = next_token(line); !token.empty(); token = next_token(line)) {
+        const auto at = [&] { return "corner " + std::to_string(vertices.size() + 1) + " '" + std::string(token) + "'"; };
+        long vertex = 0;
+        if (auto bad = check_corner(token, vertex, positions)) return fail(line_no, at() + " " + *bad);
+        if (vertex > largest) {
+          largest = vertex;
+          if (largest > positions) largest_at = "line " + std::to_string(line_no) + ": " + at();
+        }
+        vertices.push_back(vertex);
+      }
+      std::sort(vertices.begin(), vertices.end());
+      const auto distinct = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+      if (distinct < 3 && out.short_faces++ == 0) out.first_short_line = line_no;
+    }
+  });
+  if (in.bad()) out.error = "cannot read the file";
+  if (!out.error && largest > positions) {
+    out.error = largest_at + " refers to vertex " + std::to_string(largest) + "; the file has " +
+                std::to_string(positions) + " vertices (counted from 1)";
   }
   return out;
 }

@@ -67,13 +67,23 @@ Result<PolygonSoup> read_ply(const std::string& path);
 Result<PolygonSoup> read_stl(const std::string& path);
 Result<PolygonSoup> read_obj(const std::string& path);
 
+// What a PLY header says of per-vertex normals: whether the vertex element
+// has nx, ny or nz, and the first of their types CGAL cannot read (empty
+// when it can read them all: float or double).
+struct PlyNormals {
+  bool present = false;
+  std::string unreadable_type;
+};
+
 // Refuses a header whose element counts the data that follows cannot hold
 // (OFF, PLY, binary STL), before any library allocates for them: every
 // count is bounded by the bytes each element needs at the least, and a
 // binary PLY's elements (list lengths included) are walked to the end of
-// the file. Never refuses a file whose data matches its header. The
-// message starts "the header declares".
-std::optional<std::string> check_declared_counts(const std::string& path, MeshFormat format);
+// the file. Never refuses a file whose data matches its header, unless (a
+// PLY) its coordinates or corners are of a type CGAL's reader cannot take.
+// For a PLY, `normals` (when given) gets what the header says of normals.
+std::optional<std::string> check_declared_counts(const std::string& path, MeshFormat format,
+                                                 PlyNormals* normals = nullptr);
 
 // Triangles of one polygon (corner positions in order, >= 4 of them), as
 // indices into `corners`, wound like the polygon (mesh_triangulate_cgal.cpp).
