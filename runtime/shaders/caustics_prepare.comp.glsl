@@ -1,4 +1,4 @@
-// Per light, per frame (seed 000 §4.3; prefixed with #version and optics.glsl): mode 0 refracts the light at every
+// Per light, per frame (seed 000 §4.3; prefixed with #version and caustix.glsl's optics): mode 0 refracts the light at every
 // water vertex with its normal (eq. 2-8, GLSL refract); mode 1 computes the
 // flux each water triangle transmits, E_in T(theta_i) A_w cos(theta_i)
 // (the numerator of eq. 4-18), with the exact unpolarised Fresnel
@@ -50,5 +50,5 @@ void main() {
   float cos_i = max(0.0, -dot(l, nf));
   float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(centre - u_light_position, centre - u_light_position), 1e-12);
   float beam = 0.5 * twice_area * cos_i;
-  flux[i] = vec2(e_in * fresnel_transmittance(cos_i, u_ior) * beam, beam);
+  flux[i] = vec2(e_in * caustix_fresnel_transmittance(cos_i, u_ior) * beam, beam);
 }

@@ -1,5 +1,5 @@
 // Outgoing rays of a transparent object for one light (seed 002 §4.1; prefixed
-// with #version, optics.glsl, lighting.glsl and transport.glsl): per vertex,
+// with #version, caustix.glsl (the light's block and shadow maps) and transport.glsl): per vertex,
 // the light's direction in object space, the table look-up, and the exit
 // ray in world space with its colour, T * e^(-K path). The weighted sum of
 // exit directions (for the virtual planes, §4.2) is accumulated in fixed
@@ -22,11 +22,11 @@ void main() {
   vec3 p = vec3(vertices[6u * v], vertices[6u * v + 1u], vertices[6u * v + 2u]);
   vec3 n = normalize(vec3(vertices[6u * v + 3u], vertices[6u * v + 4u], vertices[6u * v + 5u]));
   vec3 pw = (u_model * vec4(p, 1.0)).xyz;
-  vec3 to_light_w = u_light_type == 1 ? -u_light_direction : normalize(u_light_position - pw);
+  vec3 to_light_w = caustix_light.mode.y == 1 ? -caustix_light.light_direction.xyz : normalize(caustix_light.light_position.xyz - pw);
   vec3 to_light = transpose(u_rotation) * to_light_w;
   Transport t = ltt_lookup(v, n, to_light);
   // Light the object itself shadows from elsewhere does not enter here.
-  float visible = t.leaves ? shadow_visibility(pw, u_rotation * n, to_light_w) : 0.0;
+  float visible = t.leaves ? caustix_shadow_visibility(pw, u_rotation * n, to_light_w) : 0.0;
   vec3 exit_w = (u_model * vec4(t.exit, 1.0)).xyz;
   vec3 dir_w = u_rotation * t.dir;
   vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale);

@@ -1,4 +1,4 @@
-// The glass's colour (prefixed with #version and optics.glsl): Fresnel
+// The glass's colour (prefixed with #version and caustix.glsl's optics): Fresnel
 // reflection of the sky plus the transmitted view ray's scene colour. The
 // exit ray from the table is marched through the opaque scene's depth
 // buffer in screen space (the first sample behind the stored depth is the
@@ -39,7 +39,7 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 view = normalize(v_world - u_eye);
   if (dot(n, view) > 0.0) n = -n;
-  float r = 1.0 - fresnel_transmittance(max(dot(-view, n), 0.0), u_ior);
+  float r = 1.0 - caustix_fresnel_transmittance(max(dot(-view, n), 0.0), u_ior);
   vec3 reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
   o_color = vec4(r * reflected + v_transmitted * scene_along(v_exit, normalize(v_exit_dir)), 1.0);
 }

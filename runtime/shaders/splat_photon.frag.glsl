@@ -1,5 +1,5 @@
 // Seed 001 ch. 8 (GPU variant) / §9.2: the water surface rasterised along
-// the frame's V (prefixed with #version and optics.glsl); each fragment is a
+// the frame's V (prefixed with #version and caustix.glsl's optics); each fragment is a
 // photon. It stores where the refracted photon meets the receiver's first
 // surface (the caustics map's uv, RG) and the irradiance it adds to that
 // texel (B): E_in cos(theta_i) T(theta_i) times the surface patch the
@@ -54,6 +54,6 @@ void main() {
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return;
   float v = texture(u_position_map, uv).r;
   if (v < -u_half.y * 2.0 - 1.0 || abs(v - hit.y) > u_tolerance) return;  // no surface there, or not converged
-  float flux = e_in * cos_i * fresnel_transmittance(cos_i, u_ior) * u_pixel_area / max(abs(dot(n, u_V)), 1e-3);
+  float flux = e_in * cos_i * caustix_fresnel_transmittance(cos_i, u_ior) * u_pixel_area / max(abs(dot(n, u_V)), 1e-3);
   o_photon = vec4(uv, flux / u_texel_area, 1.0);
 }

@@ -1,5 +1,5 @@
 // The water surface seen by the camera (seed 001, Mihálik, ch. 6-7 and §9.1;
-// prefixed with #version and optics.glsl). Drawn opaque over the scene.
+// prefixed with #version and caustix.glsl's optics). Drawn opaque over the scene.
 //
 // From above (§7.1-7.4): the refracted view ray is followed into the
 // refraction texture (the underwater part seen from the refraction camera,
@@ -126,7 +126,7 @@ void main() {
   // Fresnel (eq. 7-8; f is the same from either side).
   float f = (u_ior - 1.0) / (u_ior + 1.0);
   f *= f;
-  float fresnel = u_fresnel_exact != 0 ? fresnel_reflectance(cos_e, u_under != 0 ? u_ior : 1.0 / u_ior)
+  float fresnel = u_fresnel_exact != 0 ? caustix_fresnel_reflectance(cos_e, u_under != 0 ? u_ior : 1.0 / u_ior)
                                        : f + (1.0 - f) * pow(1.0 - cos_e, u_q);
   if (u_reflection == 0) fresnel = 0.0;
 

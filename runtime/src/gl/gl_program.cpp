@@ -1,4 +1,4 @@
-#include "gl_program.h"
+#include "caustix/runtime/gl_objects.h"
 
 #include <initializer_list>
 #include <vector>

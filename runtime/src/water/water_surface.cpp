@@ -24,9 +24,8 @@ struct WaveBlock {  // std140 layout of the Waves block
 Result<WaterSurface> WaterSurface::create(const Water& w) {
   WaterSurface s;
   s.water_ = w;
-  auto prog = gl::Program::build_compute("water_update", shaders::k_water_update_comp_glsl);
-  if (!prog) return prog.error();
-  s.update_ = std::move(*prog);
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.update_, "water_update", shaders::k_water_update_comp_glsl},
+                                              {&s.from_heights_, "water_heights", shaders::k_water_heights_comp_glsl}}));
 
   const std::uint32_t nx = w.cells[0], nz = w.cells[1];
   s.vertices_ = (nx + 1) * (nz + 1);
@@ -60,9 +59,13 @@ Result<WaterSurface> WaterSurface::create(const Water& w) {
   block->count = glm::ivec4(static_cast<int>(n), 0, 0, 0);
   s.waves_ = gl::make_buffer();
   glNamedBufferStorage(s.waves_.get(), sizeof(WaveBlock), block.get(), 0);
-  glProgramUniform2ui(s.update_.id(), s.update_.loc("u_cells"), nx, nz);
-  s.update_.set("u_extent", glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]));
-  s.update_.set("u_level", w.level);
+  s.heights_ = gl::make_buffer();
+  glNamedBufferStorage(s.heights_.get(), GLsizeiptr{4} * s.vertices_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  for (const gl::Program* p : {&s.update_, &s.from_heights_}) {
+    glProgramUniform2ui(p->id(), p->loc("u_cells"), nx, nz);
+    p->set("u_extent", glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]));
+    p->set("u_level", w.level);
+  }
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("water set-up"));
   return s;
 }
@@ -73,7 +76,36 @@ void WaterSurface::bind_buffers() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, indices_.get());
 }
 
+void WaterSurface::set_heights(const float* heights) {
+  glNamedBufferSubData(heights_.get(), 0, GLsizeiptr{4} * vertices_, heights);
+  use_heights_ = true;
+}
+
+void WaterSurface::copy_heights_from_buffer(GLuint buffer, GLintptr offset) {
+  glCopyNamedBufferSubData(buffer, heights_.get(), offset, 0, GLsizeiptr{4} * vertices_);
+  use_heights_ = true;
+}
+
+void WaterSurface::copy_heights_from_texture(GLuint texture) {
+  // Into the buffer through the pixel-pack binding: no CPU round trip.
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, heights_.get());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(texture, 0, GL_RED, GL_FLOAT, GLsizei{4} * static_cast<GLsizei>(vertices_), nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
+  use_heights_ = true;
+}
+
 void WaterSurface::update(float time) {
+  if (use_heights_) {
+    from_heights_.use();
+    bind_buffers();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, heights_.get());
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    glDispatchCompute((vertices_ + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    return;
+  }
   update_.use();
   update_.set("u_time", time);
   update_.set("u_amplitude_scale", amplitude_scale_);

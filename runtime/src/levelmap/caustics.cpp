@@ -5,7 +5,7 @@
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/slicing.h"
-#include "caustix_shaders.h"
+#include "shader_text.h"
 
 namespace caustix::runtime {
 namespace {
@@ -429,17 +429,17 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.draw_object = std::move(draw_object);
   s.model_of = std::move(model_of);
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
-  const std::string splat_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_splat_photon_frag_glsl;
+  const std::string splat_fs = with_optics(shaders::k_splat_photon_frag_glsl);
   const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
-  const std::string prepare_src = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_caustics_prepare_comp_glsl;
+  const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
        {&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
        {&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
        {&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
-       {&s.combine, "volumetric_combine", shaders::k_present_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
+       {&s.combine, "volumetric_combine", shaders::k_fullscreen_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
        {&s.prepare, "caustics_prepare", prepare_src.c_str()},
        {&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},

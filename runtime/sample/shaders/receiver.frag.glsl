@@ -1,4 +1,4 @@
-// Diffuse receivers (prefixed with #version and lighting.glsl). Pass 0
+// Diffuse receivers (prefixed with #version and caustix.glsl). Pass 0
 // writes ambient and depth; each later pass adds one light with additive
 // blending: I_o = sum_lights I_c I_d + I_a (seed 000 eq. 4-19, 4-20), with
 // I_c I_d = albedo * irradiance. Seen through water (u_fog = 1: the camera
@@ -27,5 +27,5 @@ void main() {
     o_color = vec4(a * u_albedo * u_ambient + (1.0 - a) * u_water_color, 1.0);
     return;
   }
-  o_color = vec4(a * u_albedo * irradiance_from_light(v_world, n), 0.0);
+  o_color = vec4(a * u_albedo * caustix_irradiance(v_world, n), 0.0);
 }

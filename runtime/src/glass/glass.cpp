@@ -7,7 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix/formats/frame.h"
-#include "caustix_shaders.h"
+#include "shader_text.h"
 
 namespace caustix::runtime {
 namespace {
@@ -41,7 +41,7 @@ struct GlassEngine::Impl {
     gl::Buffer table, rays;
   };
   struct Target {
-    std::uint32_t object = 0;
+    std::uint32_t object = 0, light = 0;
     int size = 0;
     std::uint32_t planes = 0;
     gl::Texture target, depth, illumination;
@@ -120,16 +120,16 @@ GlassEngine::~GlassEngine() = default;
 Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
                                                          const std::vector<LightTransportTable>& tables,
                                                          const std::vector<GpuMesh>& meshes,
-                                                         std::function<void(std::uint32_t)> draw_object) {
+                                                         std::function<void(std::uint32_t)> draw_object,
+                                                         const std::string& lighting_prefix) {
   std::unique_ptr<GlassEngine> e(new GlassEngine());
   e->impl_ = std::make_unique<Impl>();
   Impl& s = *e->impl_;
   s.draw_object = std::move(draw_object);
   const std::string version = "#version 450 core\n";
-  const std::string rays_src = version + shaders::k_optics_glsl + shaders::k_lighting_glsl + shaders::k_transport_glsl +
-                               shaders::k_glass_rays_comp_glsl;
+  const std::string rays_src = lighting_prefix + shaders::k_transport_glsl + shaders::k_glass_rays_comp_glsl;
   const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
-  const std::string surface_fs = version + shaders::k_optics_glsl + shaders::k_glass_surface_frag_glsl;
+  const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
   const std::string stride = "#define PRIM_STRIDE 6\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
@@ -154,11 +154,16 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
     s.glass.push_back(std::move(g));
   }
-  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-    if (is_transparent(scene.objects[i].role)) continue;
-    Impl::Target t;
-    t.object = i;
-    s.targets.push_back(std::move(t));
+  // A target per (opaque object, light): every light's textures stay valid
+  // together, for applications that light several views after one update.
+  for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
+    for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+      if (is_transparent(scene.objects[i].role)) continue;
+      Impl::Target t;
+      t.object = i;
+      t.light = li;
+      s.targets.push_back(std::move(t));
+    }
   }
   s.sum = gl::make_buffer();
   glNamedBufferStorage(s.sum.get(), 16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -202,6 +207,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   const std::uint32_t wanted = std::clamp<std::uint32_t>(co.glass_planes, 1, kMaxGlassPlanes);
   glDisable(GL_CULL_FACE);
   for (Impl::Target& t : s.targets) {
+    if (t.light != li) continue;
     // 2. The virtual camera along the mean transmitted direction, tight
     // around the target, and n planes across its depth (§4.2).
     const Object& o = scene.objects[t.object];
@@ -229,9 +235,9 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     glViewport(0, 0, size, size);
     const float none[4] = {0, 0, 0, -1e30f};
     glClearNamedFramebufferfv(t.fbo.get(), GL_COLOR, 0, none);
+    glDepthMask(GL_TRUE);  // before the clear, which obeys it
     glClear(GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
-    glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
     s.target_program.use();
@@ -303,9 +309,9 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   return gl::check_gl("glass caustics");
 }
 
-std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object) const {
+std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, std::uint32_t light) const {
   for (const Impl::Target& t : impl_->targets) {
-    if (t.object != object || !t.valid) continue;
+    if (t.object != object || t.light != light || !t.valid) continue;
     const float texel = 2.0f * std::max(t.frame.half[0], t.frame.half[2]) / static_cast<float>(t.size);
     return Binding{t.frame, t.plane_v, t.illumination.get(), t.target.get(), 2.0f * texel + 1e-4f * t.frame.half[1]};
   }

@@ -3,7 +3,7 @@
 // indices). Internal to the runtime.
 
 #include "caustix/common/mesh.h"
-#include "gl_program.h"
+#include "caustix/runtime/gl_objects.h"
 
 namespace caustix::runtime {
 

@@ -1,16 +1,19 @@
 #pragma once
-// The runtime's GL renderer. Needs a current OpenGL 4.5 core context
-// (HeadlessContext, or a GLFW window's). Creates only what the loaded scene
-// needs: mesh buffers, a shadow map per light kind present, the water grid if
-// the scene has water.
+// The sample renderer behind caustix-render and caustix-view: a client of
+// the public Engine API (caustix/runtime/engine.h), as any application
+// would be, built as its own library (caustix_sample, not installed). It
+// owns what an application owns: the camera, a linear float HDR target, the
+// receivers' shading (its shaders include caustix.glsl) and tone mapping.
+// Needs a current OpenGL 4.5 core context (HeadlessContext, or a GLFW
+// window's).
 //
-// A frame: the water surface animated on the GPU; per light, its shadow map
-// and (scenes with water) its caustics maps; receivers (ambient, then one
-// additive pass per light: caustics casting, seed 000 §4.6, eq. 4-19/4-20);
-// the water surface on top; into a linear float HDR target. present()
-// tone-maps it to a display framebuffer; read_hdr() and read_display()
-// return its pixels. render_irradiance() writes the irradiance images of
-// shared/DESIGN.md.
+// A frame: Engine::update (water, shadow maps, caustics maps, glass
+// illumination per light); receivers (ambient, then one additive pass per
+// light: caustics casting, seed 000 §4.6, eq. 4-19/4-20); Engine::draw_glass
+// and Engine::draw_water on top (the water's textures drawn by the same
+// receiver passes through its callback). present() tone-maps to a display
+// framebuffer; read_hdr() and read_display() return its pixels.
+// render_irradiance() writes the irradiance images of shared/DESIGN.md.
 
 #include <cstdint>
 #include <memory>
@@ -22,48 +25,11 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/engine.h"
+#include "caustix/runtime/water_look.h"
 #include "caustix/runtime/scene_loader.h"
 
 namespace caustix::runtime {
-
-// How the water surface looks (seed 001, Mihálik, ch. 5-9). Each effect can
-// be switched off on its own, for the viewer's toggles and for measuring
-// what it costs.
-enum class FresnelMode {
-  kApprox,  // eq. 7-8: F = f + (1 - f)(1 - E.N)^q
-  kExact,   // unpolarised Fresnel reflectance, total internal reflection included
-};
-
-// Diagnostic outputs of the water surface instead of its colour (tests and
-// the iteration study of docs/water.md). The water's pixels have alpha 2
-// in read_hdr(); the others keep the scene's colour.
-enum class WaterDebug {
-  kNone,
-  kFresnel,      // r: the reflected fraction F used for the pixel
-  kLookup,       // rg: refraction-texture coordinates the W/A iteration found, b: its |A - W|
-  kExactLookup,  // rg: where the refracted ray meets the same depth texture, by an exact march
-};
-
-struct WaterLook {
-  bool textures = true;    // false: the plain surface (sky reflection, no refraction textures)
-  bool refraction = true;  // §7.1: bend the view ray; off: look straight through
-  bool reflection = true;  // §5.2/§7.3: reflection texture; off: no reflection
-  bool colour = true;      // eq. 4-5 (and eq. 10 under water): attenuation towards the water colour
-  bool glow = true;        // §9.3
-  FresnelMode fresnel = FresnelMode::kApprox;
-  int steps = 3;              // W/A iterations (§7.1; the paper could afford 3)
-  int texture_size = 512;     // refraction and reflection textures, square (table 3: 256..1024)
-  float fov_ext = 1.5f;       // FOV_ext (fig. 5, table 1)
-  float fresnel_q = 5.0f;     // q of eq. 7 (table 1)
-  float reflect_scale = 1.0f; // c of eq. 6 (table 1; metres)
-  float under_scale = 1.5f;   // m of eq. 13/15 (§7.5)
-  // Water colour as a reflectance; its radiance is this times the light
-  // entering the water (docs/water.md). Table 1: (0, 0.2, 0.1).
-  glm::vec3 water_color{0.0f, 0.2f, 0.1f};
-  // k of eq. 4, per metre and channel; unset: the scene's absorption.
-  std::optional<glm::vec3> attenuation;
-  WaterDebug debug = WaterDebug::kNone;
-};
 
 struct FrameParams {
   Camera camera;
@@ -116,6 +82,9 @@ class Renderer {
   const SceneDesc& scene() const;
   // Scales every wave's amplitude (1 = as baked); for interactive tuning.
   void set_wave_scale(float scale);
+
+  // The engine underneath, for what the renderer does not wrap.
+  Engine& engine();
 
   // Waits until the GPU has finished every command (for timing).
   void finish();

@@ -5,7 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "caustix_shaders.h"
+#include "shader_text.h"
 
 namespace caustix::runtime {
 
@@ -70,11 +70,11 @@ WaterView::Target WaterView::make_target(int w, int h) {
 
 Result<WaterView> WaterView::create() {
   WaterView w;
-  const std::string surface_fs = std::string("#version 450 core\n") + shaders::k_optics_glsl + shaders::k_water_frag_glsl;
+  const std::string surface_fs = with_optics(shaders::k_water_frag_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&w.surface_, "water_surface", shaders::k_water_vert_glsl, surface_fs.c_str()},
        {&w.highlight_, "glow_highlight", shaders::k_water_vert_glsl, shaders::k_glow_highlight_frag_glsl},
-       {&w.glow_, "glow", shaders::k_present_vert_glsl, shaders::k_glow_frag_glsl}}));
+       {&w.glow_, "glow", shaders::k_fullscreen_vert_glsl, shaders::k_glow_frag_glsl}}));
   w.empty_vao_ = gl::make_vertex_array();
   return w;
 }
@@ -117,8 +117,9 @@ void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, cons
   draw_water();
 }
 
-void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, int height,
+void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, const int viewport[4],
                           const std::function<void()>& draw_water) {
+  const int width = viewport[2], height = viewport[3];
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
     glow_target_ = make_target(w, h);
@@ -142,7 +143,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, 
   draw_water();
 
   glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
-  glViewport(0, 0, width, height);
+  glViewport(viewport[0], viewport[1], width, height);
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);

@@ -1,5 +1,5 @@
 // Irradiance images (shared/DESIGN.md; prefixed with #version and
-// lighting.glsl): irradiance at the receiver's first surface seen from
+// caustix.glsl): irradiance at the receiver's first surface seen from
 // above, divided by E0; no albedo, no ambient. One additive pass per light.
 in vec3 v_world;
 in vec3 v_normal;
@@ -14,5 +14,5 @@ void main() {
   // depends on the projection's handedness, which this view mirrors).
   vec3 n = normalize(v_normal);
   if (n.y < 0.0) n = -n;
-  o_color = u_pass == 0 ? vec4(0.0) : vec4(irradiance_from_light(v_world, n) * u_inv_e0, 0.0);
+  o_color = u_pass == 0 ? vec4(0.0) : vec4(caustix_irradiance(v_world, n) * u_inv_e0, 0.0);
 }

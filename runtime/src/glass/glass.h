@@ -2,7 +2,7 @@
 // Caustics from transparent objects on the GPU (seed 002 §4): per light,
 // the outgoing rays of every transparent vertex from its light-transport
 // table (glass_rays.comp), the mean transmitted direction, and per target
-// (every opaque receiver) a virtual camera along it with n virtual planes
+// (every opaque receiver, for each light) a virtual camera along it with n virtual planes
 // across the target's depth; the target's normal/depth map from that
 // camera; and per plane an illumination texture, the intersection triangles
 // of the illumination volumes accumulated with eq. 3 (glass_geometry.comp,
@@ -19,7 +19,7 @@
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
-#include "gl_program.h"
+#include "caustix/runtime/gl_objects.h"
 #include "gpu_mesh.h"
 
 namespace caustix::runtime {
@@ -27,17 +27,21 @@ namespace caustix::runtime {
 class GlassEngine {
  public:
   // `meshes` are the scene's GPU meshes (by mesh index) and must outlive the
-  // engine. draw_object(i) issues object i's draw call.
+  // engine. draw_object(i) issues object i's draw call. `lighting_prefix`
+  // is #version plus caustix.glsl with the engine's bindings (the rays read
+  // the light's block and shadow maps).
   static Result<std::unique_ptr<GlassEngine>> create(const SceneDesc& scene,
                                                      const std::vector<LightTransportTable>& tables,
                                                      const std::vector<GpuMesh>& meshes,
-                                                     std::function<void(std::uint32_t)> draw_object);
+                                                     std::function<void(std::uint32_t)> draw_object,
+                                                     const std::string& lighting_prefix);
   ~GlassEngine();
 
   // Illumination textures of `light` for every target, for the current
-  // transforms. The light's shadow map must be bound (units 0, 1) and its
-  // uniforms known: the rays use it for the glass vertices' visibility.
-  // world_vertices[i] are object i's vertices in world space.
+  // transforms. set_light(p) must bind the light's block and shadow maps
+  // and set its u_light_* uniforms on p: the rays use them for the glass
+  // vertices' visibility. world_vertices[i] are object i's vertices in
+  // world space.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
                       const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
                       const std::function<void(const gl::Program&)>& set_light_uniforms);
@@ -49,8 +53,8 @@ class GlassEngine {
     GLuint target;             // RGBA32F: normal + frame V of the first surface
     float tolerance;           // self-shadow tolerance along V
   };
-  // The target's textures from the last update_light(), if it has any.
-  std::optional<Binding> binding(std::uint32_t object) const;
+  // The target's textures of `light` from its last update_light(), if any.
+  std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
 
   // Draws the transparent objects as glass (seed 002 §3: view rays through
   // the table) over the opaque scene's colour and depth.

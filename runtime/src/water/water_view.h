@@ -11,8 +11,8 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
-#include "caustix/runtime/renderer.h"
-#include "gl_program.h"
+#include "caustix/runtime/water_look.h"
+#include "caustix/runtime/gl_objects.h"
 
 namespace caustix::runtime {
 
@@ -62,8 +62,8 @@ class WaterView {
   // the scene). `draw_water` issues the grid's draw call.
   void draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const;
   // §9.3: the highlight at a quarter of the frame's size, spread over the
-  // diagonals and added to `target_fbo` (width x height).
-  void draw_glow(const SurfaceParams& p, GLuint target_fbo, int width, int height,
+  // diagonals and added to `target_fbo` over `viewport` (x, y, w, h).
+  void draw_glow(const SurfaceParams& p, GLuint target_fbo, const int viewport[4],
                  const std::function<void()>& draw_water);
 
   std::uint64_t gpu_bytes() const;

@@ -1,0 +1,216 @@
+// caustix.glsl: caustic irradiance for an application's fragment shaders.
+// Shipped with caustix (installed as include/caustix/runtime/caustix.glsl;
+// Engine::glsl_include() returns it with the engine's bindings). Put it after
+// the shader's #version line (450 core or later). docs/embedding.md.
+//
+// Call, per light, after Engine::bind(receiver, light):
+//   vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
+// the irradiance (W/m^2 times the light's linear colour) that light delivers
+// at the point: through flat water (Fresnel, refraction), as caustics from
+// the water (seed 000 §4.6, eq. 4-19), through glass (seed 002 §4.3), with
+// shadows and the water's absorption. A diffuse surface's outgoing radiance
+// is albedo / pi times it (caustix's own renderer omits the 1/pi, as the
+// thesis's I_c I_d does). Sum over lights (eq. 4-20).
+//
+// Names this file declares: the uniform block CAUSTIX_BLOCK_NAME (instance
+// caustix_light), samplers caustix_*, functions caustix_*. Define any of the
+// macros below before including it to move a binding (and create the Engine
+// with the same caustix::runtime::Bindings); CAUSTIX_OPTICS_ONLY keeps only
+// the Fresnel functions.
+
+// ---- optics ----
+// Exact unpolarised Fresnel reflectance at an interface, eta = n1/n2 (n1 on
+// the incident side); 1 beyond the critical angle (total internal reflection).
+float caustix_fresnel_reflectance(float cos_i, float eta) {
+  float sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+  if (sin2_t >= 1.0) return 1.0;
+  float cos_t = sqrt(1.0 - sin2_t);
+  float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+// Exact Fresnel transmittance, unpolarised, from air (n = 1) into n2.
+float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / n2); }
+
+#ifndef CAUSTIX_OPTICS_ONLY
+
+#ifndef CAUSTIX_BLOCK_NAME
+#define CAUSTIX_BLOCK_NAME CaustixLight
+#endif
+#ifndef CAUSTIX_BINDING_BLOCK
+#define CAUSTIX_BINDING_BLOCK 7
+#endif
+#ifndef CAUSTIX_UNIT_SHADOW_2D
+#define CAUSTIX_UNIT_SHADOW_2D 8
+#endif
+#ifndef CAUSTIX_UNIT_SHADOW_CUBE
+#define CAUSTIX_UNIT_SHADOW_CUBE 9
+#endif
+#ifndef CAUSTIX_UNIT_CAUSTICS
+#define CAUSTIX_UNIT_CAUSTICS 10
+#endif
+#ifndef CAUSTIX_UNIT_POSITION
+#define CAUSTIX_UNIT_POSITION 11
+#endif
+#ifndef CAUSTIX_UNIT_GLASS_ILLUMINATION
+#define CAUSTIX_UNIT_GLASS_ILLUMINATION 12
+#endif
+#ifndef CAUSTIX_UNIT_GLASS_TARGET
+#define CAUSTIX_UNIT_GLASS_TARGET 13
+#endif
+#ifndef CAUSTIX_UNIT_GLASS_SHADOW_2D
+#define CAUSTIX_UNIT_GLASS_SHADOW_2D 14
+#endif
+#ifndef CAUSTIX_UNIT_GLASS_SHADOW_CUBE
+#define CAUSTIX_UNIT_GLASS_SHADOW_CUBE 15
+#endif
+
+// One (receiver, light): caustix::runtime::LightBlock field for field.
+// Light modes (mode.x), chosen per (object, light) by the engine:
+//  0 direct: no water between light and point (no water, object above it,
+//    or light and object both under it): E_in cos(theta) * visibility, plus
+//    light through glass.
+//  1 flat water (method "none"): refraction and Fresnel through the flat
+//    surface, no caustics: E_in T(theta_i) cos(theta_i)/cos(theta_t) * n.(-T)
+//    * e^(-K d) * visibility.
+//  2 caustics casting (seed 000 §4.6): the caustics map holds irradiance on
+//    planes perpendicular to V (eq. 4-18); a point gets it times n.V (the
+//    cos theta_t of eq. 4-18 for this surface), e^(-K d) (eq. 4-17), and its
+//    visibility: not behind its own first surface (position map) and not in
+//    another object's shadow.
+layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
+  ivec4 mode;            // x light mode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
+  vec4 light_direction;  // xyz unit direction of travel (directional)
+  vec4 light_position;   // xyz (point)
+  vec4 light_color;      // rgb linear colour, w E0 (W/m^2) or I (W/sr)
+  vec4 water;            // x rest level, y IOR, z point shadow far, w shadow texel (m)
+  vec4 absorption;       // xyz K per metre
+  vec4 refracted;        // xyz directional travel below flat water
+  mat4 world_to_shadow;
+  vec4 frame_origin;     // w self-shadow tolerance
+  vec4 frame_u;          // w half a position-map texel's diagonal
+  vec4 frame_v;
+  vec4 frame_w;
+  vec4 frame_half;
+  vec4 glass_origin;     // w tolerance
+  vec4 glass_u;          // w plane count
+  vec4 glass_v;
+  vec4 glass_w;
+  vec4 glass_half;
+  vec4 glass_plane_v[4]; // 16 plane coordinates along V, decreasing: plane 0 nearest the light
+} caustix_light;
+
+layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
+layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_shadow_cube;
+layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V
+layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
+// Glass (seed 002 §4.3): the receiver's illumination textures for this
+// light, on planes perpendicular to the mean transmitted direction
+// (glass_v points back along it), and the glass's own shadow maps, which
+// take the direct light away where glass stands in its path.
+layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix_glass_illumination;
+layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2D caustix_glass_target;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_2D) uniform sampler2DShadow caustix_glass_shadow_2d;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_CUBE) uniform samplerCubeShadow caustix_glass_shadow_cube;
+
+float caustix_plane_v(int i) { return caustix_light.glass_plane_v[i >> 2][i & 3]; }
+
+float caustix_shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map_cube, vec3 p, vec3 n, vec3 to_light) {
+  if (caustix_light.mode.y == 2) {
+    vec3 q = p + n * (0.01 * length(p - caustix_light.light_position.xyz));
+    vec3 d = q - caustix_light.light_position.xyz;
+    return texture(map_cube, vec4(d, length(d) / caustix_light.water.z - 0.002));
+  }
+  // Normal offset against acne, 3x3 PCF against aliasing.
+  vec4 s = caustix_light.world_to_shadow * vec4(p + n * (1.5 * caustix_light.water.w), 1.0);
+  s.xyz /= s.w;
+  if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;
+  float bias = 0.002 * (1.0 - max(dot(n, to_light), 0.0)) + 0.0005;
+  vec2 texel = 1.0 / vec2(textureSize(map_2d, 0));
+  float sum = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x)
+      sum += texture(map_2d, vec3(s.xy + vec2(x, y) * texel, s.z - bias));
+  return sum / 9.0;
+}
+
+// Opaque objects' shadow.
+float caustix_shadow_visibility(vec3 p, vec3 n, vec3 to_light) { return caustix_shadow_visibility_in(caustix_shadow_2d, caustix_shadow_cube, p, n, to_light); }
+
+// Seed 002 §4.3: the incident intensity at p from the illumination textures:
+// zero where p lies behind the target's first surface as the virtual camera
+// sees it (shadow), else interpolated between the two planes around p
+// (d_i <= z_p < d_(i+1)), clamped at the outermost planes.
+vec3 caustix_glass_irradiance(vec3 p) {
+  vec3 rel = p - caustix_light.glass_origin.xyz;
+  vec3 c = vec3(dot(rel, caustix_light.glass_u.xyz), dot(rel, caustix_light.glass_v.xyz), dot(rel, caustix_light.glass_w.xyz));
+  vec2 uv = 0.5 * (c.xz / caustix_light.glass_half.xyz.xz + 1.0);
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+  float front = texture(caustix_glass_target, uv).w;
+  if (c.y < front - caustix_light.glass_origin.w) return vec3(0.0);
+  int n = int(caustix_light.glass_u.w);
+  float layer = 0.0;
+  if (n > 1 && c.y < caustix_plane_v(0)) {
+    layer = float(n - 1);
+    for (int i = 0; i + 1 < n; ++i) {
+      if (c.y >= caustix_plane_v(i + 1)) {
+        layer = float(i) + (caustix_plane_v(i) - c.y) / max(caustix_plane_v(i) - caustix_plane_v(i + 1), 1e-12);
+        break;
+      }
+    }
+  }
+  int i0 = int(floor(layer));
+  int i1 = min(i0 + 1, n - 1);
+  float f = layer - float(i0);
+  return mix(texture(caustix_glass_illumination, vec3(uv, float(i0))).rgb, texture(caustix_glass_illumination, vec3(uv, float(i1))).rgb, f);
+}
+
+// Path length in water along the refracted light (eq. 4-17's d).
+float caustix_water_path(vec3 p, vec3 travel) {
+  return p.y < caustix_light.water.x ? (caustix_light.water.x - p.y) / max(-travel.y, 1e-4) : 0.0;
+}
+
+vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
+  if (caustix_light.mode.x == 2) {
+    vec3 rel = p - caustix_light.frame_origin.xyz;
+    vec3 c = vec3(dot(rel, caustix_light.frame_u.xyz), dot(rel, caustix_light.frame_v.xyz), dot(rel, caustix_light.frame_w.xyz));
+    vec2 uv = 0.5 * (c.xz / caustix_light.frame_half.xyz.xz + 1.0);
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+    float front = texture(caustix_position_map, uv).r;
+    float cos_t = max(dot(n, caustix_light.frame_v.xyz), 0.0);
+    // Behind its own first surface? The map holds the depth at its texel's
+    // centre; within the texel a surface tilted against V departs from it by
+    // up to half the texel's diagonal times tan(theta_t): a slope-scaled
+    // tolerance on top of the windows' (coarse maps on slanted floors went
+    // dark, docs/robustness.md).
+    float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
+    if (c.y < front - caustix_light.frame_origin.w - caustix_light.frame_u.w * slope) return vec3(0.0);
+    float e = texture(caustix_caustics_map, uv).r;
+    vec3 travel = -caustix_light.frame_v.xyz;
+    return caustix_light.light_color.rgb * e * cos_t * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);
+  }
+  vec3 l = caustix_light.mode.y == 1 ? caustix_light.light_direction.xyz : normalize(p - caustix_light.light_position.xyz);
+  float e_in = caustix_light.mode.y == 1 ? caustix_light.light_color.w : caustix_light.light_color.w / max(dot(p - caustix_light.light_position.xyz, p - caustix_light.light_position.xyz), 1e-12);
+  if (caustix_light.mode.x == 1) {
+    float cos_i = max(-l.y, 0.0);
+    vec3 travel = caustix_light.mode.y == 1 ? caustix_light.refracted.xyz : refract(l, vec3(0.0, 1.0, 0.0), 1.0 / caustix_light.water.y);
+    float cos_t = max(-travel.y, 1e-4);
+    float beam = e_in * caustix_fresnel_transmittance(cos_i, caustix_light.water.y) * cos_i / cos_t;
+    return caustix_light.light_color.rgb * beam * max(dot(n, -travel), 0.0) * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) *
+           caustix_shadow_visibility(p, n, -travel);
+  }
+  float vis = caustix_shadow_visibility(p, n, -l);
+  float glass_vis = caustix_light.mode.w != 0 ? caustix_shadow_visibility_in(caustix_glass_shadow_2d, caustix_glass_shadow_cube, p, n, -l) : 1.0;
+  vec3 e = vec3(e_in * max(dot(n, -l), 0.0) * vis * glass_vis);
+  // Eq. 2: light through glass, I_Q; other objects' shadows along the
+  // unrefracted light direction (an approximation, docs/glass.md).
+  if (caustix_light.mode.z != 0) e += caustix_glass_irradiance(p) * vis;
+  return caustix_light.light_color.rgb * e;
+}
+
+vec3 caustix_irradiance(vec3 world_position, vec3 world_normal) {
+  return caustix_irradiance_from_light(world_position, normalize(world_normal));
+}
+
+#endif  // CAUSTIX_OPTICS_ONLY

@@ -1,0 +1,276 @@
+#pragma once
+// caustix::runtime::Engine: caustics inside an application's own renderer.
+// docs/embedding.md is the guide; this header is the contract.
+//
+// The context. Every call needs the application's OpenGL 4.5 core context
+// current on the calling thread (the one the engine was created in). The
+// engine never creates a context, never draws into the default framebuffer
+// unless the caller has it bound, and never assumes a viewport, program,
+// VAO or any other state: each call saves the state it touches and restores
+// it before returning (tests/engine_test.cpp compares 120 GL state queries
+// before and after every call). The exceptions are named where they apply:
+// bind() exists to change bindings, and the callback of draw_water() runs
+// with the state the engine set for it.
+//
+// The light side (no camera): update() animates the water (or takes the
+// application's heights), renders every light's shadow maps, its caustics
+// maps (seed 000: level map, uniform, volumetric, splatting) and the glass
+// illumination textures (seed 002). Afterwards, for every (receiver, light)
+// pair, lighting() gives the GL textures, the world -> map matrices and the
+// scalars as a plain struct, and bind() binds them where the GLSL include
+// (glsl_include(), installed as caustix/runtime/caustix.glsl) expects
+// them; the application's fragment shader then calls
+//     vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
+// once per light and adds the results (seed 000 eq. 4-20).
+//
+// The view side, into the caller's framebuffer with the caller's camera:
+// draw_water() (seed 001) and draw_glass() (seed 002 §3), each optional.
+//
+// Errors: every fallible call returns Status/Result; bad input (an index out
+// of range, a non-finite height, a non-rigid transform, a texture of the
+// wrong size) is an Error with code kUsage naming the argument, and leaves
+// the engine as it was. A GL failure is kGraphics. Nothing throws.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/scene_loader.h"
+#include "caustix/runtime/water_look.h"
+
+namespace caustix::runtime {
+
+// Where the GLSL include finds its resources: one uniform-buffer binding
+// point (the block CaustixLight) and eight texture units. Change them when
+// they collide with the application's own; glsl_include() then carries the
+// matching #defines (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
+struct Bindings {
+  unsigned block = 7;
+  unsigned shadow_2d = 8;           // sampler2DShadow: the light's shadow map (directional)
+  unsigned shadow_cube = 9;         // samplerCubeShadow: the light's shadow map (point)
+  unsigned caustics = 10;           // sampler2D R32F: the caustics map
+  unsigned position = 11;           // sampler2D R32F: the receiver's position map
+  unsigned glass_illumination = 12; // sampler2DArray RGBA32F: glass illumination textures
+  unsigned glass_target = 13;       // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
+  unsigned glass_shadow_2d = 14;    // sampler2DShadow: the glass's own shadow map (directional)
+  unsigned glass_shadow_cube = 15;  // samplerCubeShadow: the glass's own shadow map (point)
+};
+
+// How a receiver is lit by one light (the block's mode.x).
+enum class LightMode : int {
+  kDirect = 0,     // no water between light and receiver: E cos * visibility (+ light through glass)
+  kFlatWater = 1,  // method "none": refraction and Fresnel through flat water, no caustics
+  kCaustics = 2,   // seed 000 §4.6: the caustics map, eq. 4-19
+};
+
+// The std140 uniform block CaustixLight of the GLSL include, one per
+// (receiver, light). Applications that bind it themselves (their own
+// buffer, another shading language) find every field here. Vectors carry
+// extra scalars in w where noted.
+struct LightBlock {
+  glm::ivec4 mode{0};           // x LightMode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
+  glm::vec4 light_direction{0}; // xyz: unit direction of travel (directional)
+  glm::vec4 light_position{0};  // xyz: position (point)
+  glm::vec4 light_color{0};     // rgb: linear colour; w: E0 (W/m^2, directional) or I (W/sr, point)
+  glm::vec4 water{0};           // x rest level (-1e30: no water), y IOR, z point shadow far plane, w shadow texel (m)
+  glm::vec4 absorption{0};      // xyz: water's K per metre
+  glm::vec4 refracted{0};       // xyz: directional light's travel below flat water
+  glm::mat4 world_to_shadow{1}; // world -> directional shadow map texture [0,1]^3
+  // Caustics map (mode kCaustics): world -> (U, V, W) frame coordinates; the
+  // map's texture coordinate is (0.5 (u/half.x + 1), 0.5 (w/half.z + 1)).
+  glm::vec4 frame_origin{0};    // w: self-shadow tolerance along V (m)
+  glm::vec4 frame_u{0};         // w: half a position-map texel's diagonal (m)
+  glm::vec4 frame_v{0};
+  glm::vec4 frame_w{0};
+  glm::vec4 frame_half{0};      // xyz: half extents along U, V, W
+  // Glass illumination (mode.z = 1): the virtual camera's frame and planes.
+  glm::vec4 glass_origin{0};    // w: self-shadow tolerance along V (m)
+  glm::vec4 glass_u{0};         // w: number of planes
+  glm::vec4 glass_v{0};
+  glm::vec4 glass_w{0};
+  glm::vec4 glass_half{0};
+  std::array<glm::vec4, 4> glass_plane_v{};  // 16 plane coordinates along V, decreasing
+};
+static_assert(sizeof(LightBlock) == 25 * 16, "LightBlock must match the std140 block of caustix.glsl");
+
+// Everything the GLSL include reads for one (receiver, light), as plain data.
+struct ReceiverLighting {
+  LightBlock block;
+  // GL texture names (never 0: unused ones are valid 1x1 textures).
+  unsigned shadow_2d = 0, shadow_cube = 0, caustics = 0, position = 0;
+  unsigned glass_illumination = 0, glass_target = 0, glass_shadow_2d = 0, glass_shadow_cube = 0;
+  // The block as the engine uploaded it: glBindBufferRange(GL_UNIFORM_BUFFER,
+  // binding, buffer, offset, sizeof(LightBlock)).
+  unsigned buffer = 0;
+  std::size_t offset = 0;
+};
+
+// The water grid an application's heights must cover: columns x rows
+// vertices, vertex (i, j) at x = x0 + i (x1 - x0)/(columns - 1),
+// z = z0 + j (z1 - z0)/(rows - 1), stored at index j * columns + i.
+struct WaterGrid {
+  std::uint32_t columns = 0, rows = 0;
+  float x0 = 0, z0 = 0, x1 = 0, z1 = 0;
+  float level = 0;  // rest level; heights are displacements above it
+};
+
+// A perspective camera of the caller (GL conventions: right-handed view,
+// clip z in [-1, 1]).
+struct View {
+  glm::mat4 view{1.0f};
+  float fov_y_deg = 45.0f;
+  float aspect = 1.0f;
+  float near_plane = 0.1f, far_plane = 100.0f;
+  glm::mat4 projection() const;
+  glm::vec3 eye() const;
+};
+
+// What draw_water() asks the application to draw into one of its textures
+// (seed 001 §5.1-5.2). When the callback runs, the engine has bound the
+// texture's framebuffer, set the viewport, cleared colour and depth,
+// enabled depth testing (GL_LESS, depth writes on), enabled
+// GL_CLIP_DISTANCE0 and set the front face (GL_CW when `mirrored`). The
+// callback draws its opaque scene with `view_proj`, writing
+// gl_ClipDistance[0] = dot(clip_plane, vec4(world, 1)), and where `fog` is
+// set attenuates each colour towards `water_color` by exp(-fog_k d), d the
+// distance from `eye` (seed 001 eq. 10). It may change any state; the
+// engine restores the caller's afterwards.
+struct WaterPass {
+  unsigned framebuffer = 0;  // bound when the callback runs; size x size pixels
+  int size = 0;
+  glm::mat4 view_proj{1.0f};
+  glm::vec4 clip_plane{0.0f};
+  bool mirrored = false;
+  bool fog = false;
+  glm::vec3 eye{0.0f};
+  glm::vec3 fog_k{0.0f};
+  glm::vec3 water_color{0.0f};
+};
+
+// The water seen from a camera: whether the camera is under it, the
+// water's colour (radiance) and attenuation, for an application that fogs
+// its own underwater view the way the surface does.
+struct WaterMedium {
+  bool camera_under = false;
+  glm::vec3 color{0.0f};
+  glm::vec3 k{0.0f};
+};
+
+// Per-frame input of the light side.
+struct FrameUpdate {
+  float time = 0.0f;         // seconds: drives the scene's waves (not the application's heights)
+  CausticsOptions caustics;  // method and its knobs; Engine::default_options() is the scene's preset
+};
+
+class Engine {
+ public:
+  // Uploads the scene and builds what it needs (model only what the scene
+  // requires: no water passes without water, no glass passes without
+  // transparent objects). `scene` need not outlive the engine.
+  static Result<std::unique_ptr<Engine>> create(const RuntimeScene& scene, const Bindings& bindings = {});
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  const SceneDesc& scene() const;
+  const Bindings& bindings() const;
+  // The options the scene's bake preset chose (RNDR chunk), else the defaults.
+  CausticsOptions default_options() const;
+  // World bounds of all objects at their current transforms.
+  glm::vec3 bounds_min() const;
+  glm::vec3 bounds_max() const;
+
+  // ---- light side ----
+  // Moves light `index` (directional: direction of travel; point: its
+  // position; the type cannot change) and re-derives its level maps on the
+  // GPU (frame, position map, depth profile: seed 000 §4.2, §4.7.2).
+  Status set_light(std::uint32_t index, const Light& light);
+  // Moves object `index` (rigid or similarity: its object -> world matrix,
+  // column-major) and re-derives its level maps.
+  Status set_object_transform(std::uint32_t index, const Mat4f& transform);
+  // Scales every wave's amplitude of the scene's wave list (1 = as baked).
+  void set_wave_scale(float scale);
+
+  // The application's water. Without water in the scene these fail
+  // (kUsage). Heights are displacements above the rest level, metres, one
+  // per grid vertex (water_grid()); normals follow from them by central
+  // differences. Once set, update() uses them instead of the wave list
+  // until use_scene_waves(); they stay as set until set again.
+  std::optional<WaterGrid> water_grid() const;
+  // A CPU array of columns * rows finite floats (copied).
+  Status set_water_heights(std::span<const float> heights);
+  // A GL buffer the application filled: columns * rows floats from byte
+  // `offset` (a multiple of 4), copied on the GPU at this call (no read-back).
+  Status set_water_heights_buffer(unsigned buffer, std::size_t offset = 0);
+  // A GL_R32F 2D texture of columns x rows texels (texel (i, j) = vertex
+  // (i, j)), copied on the GPU at this call. Non-finite values read as 0.
+  Status set_water_heights_texture(unsigned texture);
+  void use_scene_waves();
+
+  // Animates the water and renders every light's shadow maps, caustics
+  // maps and glass illumination textures for the current lights,
+  // transforms and water. Afterwards lighting()/bind() of every pair are
+  // valid until the next update().
+  Status update(const FrameUpdate& frame);
+
+  // The resources of (receiver object, light) from the last update(). An
+  // object that is transparent, or an index out of range, is kUsage.
+  Result<ReceiverLighting> lighting(std::uint32_t object, std::uint32_t light) const;
+  // Binds lighting(object, light): the block at bindings().block and the
+  // eight textures at their units. Leaves exactly these nine bindings
+  // changed (and nothing else): the point of the call.
+  Status bind(std::uint32_t object, std::uint32_t light) const;
+
+  // The GLSL include for this engine's bindings (its #defines, then the
+  // text of caustix.glsl). Put it after the #version line of a fragment
+  // shader (it declares the block, the samplers and caustix_irradiance()).
+  std::string glsl_include() const;
+
+  // ---- view side ----
+  // The water surface (seed 001) into the framebuffer bound to
+  // GL_DRAW_FRAMEBUFFER with the current viewport, depth-tested against
+  // its depth buffer (without writing it). `draw_scene` renders the
+  // refraction and reflection textures (see WaterPass); with
+  // look.textures false, or no callback, the plain surface (sky
+  // reflection, Fresnel) is drawn instead. With look.glow the glow of §9.3
+  // is added to the bound framebuffer's colour. kUsage without water in the
+  // scene or with a bad look.
+  Status draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene);
+  WaterMedium water_medium(const View& view, const WaterLook& look) const;
+  // The transparent objects as glass (seed 002 §3: view rays through the
+  // light-transport table) into the bound framebuffer. `scene_color` and
+  // `scene_depth` are 2D textures (RGBA float colour, depth) of the opaque
+  // scene as the caller rendered it, the size of the viewport; they are
+  // copied, so they may be attached to the bound framebuffer. Writes colour
+  // and depth. No-op without transparent objects.
+  Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky);
+
+  // Draws object `index`'s mesh (attribute 0: object-space position, 1:
+  // normal; GL_TRIANGLES, uint32 indices) with whatever program the caller
+  // has bound: for applications that draw the scene's own meshes.
+  Status draw_object(std::uint32_t index) const;
+
+  // What the last update()'s caustics passes did (GPU counters read back
+  // when asked: a pipeline stall).
+  CausticsStats stats(bool read_gpu_counters = true);
+
+ private:
+  Engine();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The text of caustix.glsl as installed (default bindings, no #defines).
+const char* glsl_include_source();
+
+}  // namespace caustix::runtime

@@ -1,0 +1,379 @@
+#include "caustix/runtime/renderer.h"
+
+// The sample renderer behind caustix-render and caustix-view: a client of the
+// public Engine API (include/caustix/runtime/engine.h) like any application.
+// It owns the camera, the HDR target and the receivers' shading (its own
+// shaders, which include caustix.glsl); the engine owns the light side, the
+// water surface and the glass.
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "caustix/common/mesh_topology.h"
+#include "caustix/runtime/gl_objects.h"
+#include "caustix_sample_shaders.h"
+
+namespace caustix::runtime {
+namespace {
+
+glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+
+// A colour + depth render target of a given size.
+struct Target {
+  gl::Framebuffer fbo;
+  gl::Texture color;
+  gl::Texture depth;
+  int width = 0, height = 0;
+  GLenum format = 0;
+
+  void ensure(int w, int h, GLenum color_format, bool with_depth) {
+    if (w == width && h == height && color_format == format && fbo.get()) return;
+    width = w;
+    height = h;
+    format = color_format;
+    fbo = gl::make_framebuffer();
+    color = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(color.get(), 1, color_format, w, h);
+    glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    if (with_depth) {
+      depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+      glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
+    }
+  }
+};
+
+// One camera's receiver passes: where they go and how they are cut (the
+// main view, or seed 001's refraction and reflection textures).
+struct PassView {
+  GLuint fbo = 0;
+  int width = 0, height = 0;
+  glm::mat4 view_proj{1.0f};
+  std::optional<glm::vec4> clip;  // world plane, a.x + b >= 0 kept
+  bool mirrored = false;          // reflection camera: winding flips
+  bool fog = false;               // seed 001 eq. 10, distance from fog_eye
+  glm::vec3 fog_eye{0.0f};
+  glm::vec3 clear{0.0f};
+  bool cleared = false;           // the engine cleared it (water textures)
+};
+
+constexpr float kAmbient = 0.12f;
+
+}  // namespace
+
+struct Renderer::Impl {
+  std::unique_ptr<Engine> engine;
+  std::vector<bool> closed;  // per mesh: closed and consistently wound
+  gl::Program receiver, irradiance, present;
+  gl::VertexArray empty_vao;
+  Target hdr, display, irradiance_target;
+  float exposure = 1.0f;
+
+  const SceneDesc& scene() const { return engine->scene(); }
+
+  void set_model(const gl::Program& p, std::uint32_t i) const {
+    const glm::mat4 model = glm::make_mat4(scene().objects[i].transform.data());
+    p.set("u_model", model);
+    p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+  }
+
+  Status draw_receivers(const gl::Program& p, int pass, std::uint32_t li, std::optional<std::uint32_t> only,
+                        bool cull_closed = false) const {
+    for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
+      if (only && *only != i) continue;
+      if (is_transparent(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)
+      if (cull_closed && closed[scene().objects[i].mesh_index]) {
+        glEnable(GL_CULL_FACE);
+      } else {
+        glDisable(GL_CULL_FACE);
+      }
+      set_model(p, i);
+      p.set("u_albedo", to_glm(scene().objects[i].material.albedo));
+      if (pass != 0) CAUSTIX_RETURN_IF_ERROR(engine->bind(i, li));
+      CAUSTIX_RETURN_IF_ERROR(engine->draw_object(i));
+    }
+    return Status::success();
+  }
+
+  // Receivers into one view: pass 0 clears and lays down ambient and depth,
+  // pass 1 adds light `li` (eq. 4-19, 4-20).
+  Status draw_view(const PassView& v, int pass, std::uint32_t li, const WaterMedium& medium) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
+    glViewport(0, 0, v.width, v.height);
+    glEnable(GL_DEPTH_TEST);
+    if (pass == 0) {
+      if (!v.cleared) {
+        const float clear[4] = {v.clear.r, v.clear.g, v.clear.b, 0.0f};
+        glClearNamedFramebufferfv(v.fbo, GL_COLOR, 0, clear);
+        glDepthMask(GL_TRUE);
+        glClear(GL_DEPTH_BUFFER_BIT);
+      }
+      glDepthMask(GL_TRUE);
+      glDisable(GL_BLEND);
+      glDepthFunc(GL_LESS);
+    } else {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      glDepthMask(GL_FALSE);
+      glDepthFunc(GL_LEQUAL);
+    }
+    if (v.clip) glEnable(GL_CLIP_DISTANCE0);
+    glFrontFace(v.mirrored ? GL_CW : GL_CCW);
+    const gl::Program& p = receiver;
+    p.use();
+    p.set("u_view_proj", v.view_proj);
+    p.set("u_clip_plane", v.clip.value_or(glm::vec4(0.0f)));
+    p.set("u_pass", pass);
+    p.set("u_ambient", kAmbient * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]));
+    p.set("u_fog", v.fog ? 1 : 0);
+    p.set("u_fog_eye", v.fog_eye);
+    p.set("u_fog_k", medium.k);
+    p.set("u_water_color", medium.color);
+    const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value());
+    glDisable(GL_CLIP_DISTANCE0);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+    return st;
+  }
+
+  // Ambient, then one additive pass per light.
+  Status draw_lit_view(const PassView& v, const WaterMedium& medium) const {
+    CAUSTIX_RETURN_IF_ERROR(draw_view(v, 0, 0, medium));
+    for (std::uint32_t li = 0; li < scene().lights.size(); ++li) CAUSTIX_RETURN_IF_ERROR(draw_view(v, 1, li, medium));
+    return Status::success();
+  }
+};
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::~Renderer() = default;
+
+Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
+  std::unique_ptr<Renderer> r(new Renderer());
+  Impl& s = *r->impl_;
+  auto engine = Engine::create(scene);
+  if (!engine) return engine.error();
+  s.engine = std::move(*engine);
+  const std::string lighting = std::string("#version 450 core\n") + s.engine->glsl_include();
+  const std::string receiver_fs = lighting + sample_shaders::k_receiver_frag_glsl;
+  const std::string irradiance_fs = lighting + sample_shaders::k_irradiance_frag_glsl;
+  CAUSTIX_RETURN_IF_ERROR(
+      gl::build_programs({{&s.receiver, "receiver", sample_shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
+                          {&s.irradiance, "irradiance", sample_shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
+                          {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl}}));
+  s.empty_vao = gl::make_vertex_array();
+  for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
+  return r;
+}
+
+Status Renderer::render(const FrameParams& f) {
+  Impl& s = *impl_;
+  if (f.width <= 0 || f.height <= 0 || f.width > 16384 || f.height > 16384) {
+    return make_error(ErrorCode::kUsage, "image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                                             " is outside 1..16384");
+  }
+  const SceneDesc& scene = s.scene();
+  const WaterLook& look = f.water;
+  s.hdr.ensure(f.width, f.height, GL_RGBA32F, true);
+  CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{f.time, f.caustics}));
+
+  View view;
+  view.view = glm::lookAt(to_glm(f.camera.position), to_glm(f.camera.target), to_glm(f.camera.up));
+  view.fov_y_deg = f.camera.fov_y_deg;
+  view.aspect = static_cast<float>(f.width) / static_cast<float>(f.height);
+  view.near_plane = f.camera.near_plane;
+  view.far_plane = f.camera.far_plane;
+  const glm::mat4 view_proj = view.projection() * view.view;
+  const glm::vec3 sky(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
+  const WaterMedium medium = s.engine->water_medium(view, look);
+
+  PassView main{s.hdr.fbo.get(), f.width, f.height, view_proj, std::nullopt, false, false, view.eye(), sky};
+  if (scene.water && look.textures && medium.camera_under) {  // eq. 10 on everything seen directly; the deep background is water
+    main.fog = true;
+    main.clear = medium.color;
+  }
+  glDisable(GL_CULL_FACE);
+  CAUSTIX_RETURN_IF_ERROR(s.draw_lit_view(main, medium));
+
+  glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
+  glViewport(0, 0, f.width, f.height);
+  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky));
+  if (scene.water) {
+    Status inner = Status::success();
+    CAUSTIX_RETURN_IF_ERROR(s.engine->draw_water(view, look, [&](const WaterPass& p) {
+      const PassView v{p.framebuffer, p.size, p.size, p.view_proj, p.clip_plane, p.mirrored, p.fog, p.eye, glm::vec3(0.0f), true};
+      if (inner.ok()) inner = s.draw_lit_view(v, medium);
+    }));
+    CAUSTIX_RETURN_IF_ERROR(inner);
+  }
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(0);
+  return gl::check_gl("frame");
+}
+
+Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) {
+  Impl& s = *impl_;
+  const SceneDesc& scene = s.scene();
+  std::optional<std::uint32_t> receiver;
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    if (scene.objects[i].name == q.receiver) receiver = i;
+  }
+  if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in the scene");
+  if (is_transparent(scene.objects[*receiver].role)) {
+    return make_error(ErrorCode::kUsage, "'" + q.receiver + "' is transparent; irradiance images are of diffuse receivers");
+  }
+  if (q.width <= 0 || q.height <= 0 || q.width > 16384 || q.height > 16384 || !(q.x1 > q.x0) || !(q.z1 > q.z0) ||
+      !std::isfinite(q.x0) || !std::isfinite(q.x1) || !std::isfinite(q.z0) || !std::isfinite(q.z1)) {
+    return make_error(ErrorCode::kUsage, "irradiance region must have x1 > x0, z1 > z0 and a size in 1..16384");
+  }
+  IrradianceImage img;
+  img.width = q.width;
+  img.height = q.height;
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kDirectional) {
+      img.e0 = l.irradiance;
+      break;
+    }
+  }
+  if (!(img.e0 > 0)) img.e0 = 1.0f;
+  s.irradiance_target.ensure(q.width, q.height, GL_RGBA32F, true);
+  CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{q.time, q.caustics}));
+
+  // Straight down: clip x from world x, clip y from world z (GL row 0 at z0),
+  // clip z from height (higher is nearer).
+  const float ylo = s.engine->bounds_min().y - 1.0f, yhi = s.engine->bounds_max().y + 1.0f;
+  glm::mat4 m(0.0f);
+  m[0][0] = 2.0f / (q.x1 - q.x0);
+  m[3][0] = -(q.x1 + q.x0) / (q.x1 - q.x0);
+  m[2][1] = 2.0f / (q.z1 - q.z0);
+  m[3][1] = -(q.z1 + q.z0) / (q.z1 - q.z0);
+  m[1][2] = -2.0f / (yhi - ylo);
+  m[3][2] = (yhi + ylo) / (yhi - ylo);
+  m[3][3] = 1.0f;
+
+  auto begin_pass = [&]() {
+    glBindFramebuffer(GL_FRAMEBUFFER, s.irradiance_target.fbo.get());
+    glViewport(0, 0, q.width, q.height);
+    s.irradiance.use();
+    s.irradiance.set("u_view_proj", m);
+    s.irradiance.set("u_inv_e0", 1.0f / img.e0);
+  };
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  begin_pass();
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(s.irradiance_target.fbo.get(), GL_COLOR, 0, zero);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  s.irradiance.set("u_pass", 0);
+  CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 0, 0, receiver));
+  for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
+    begin_pass();
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    s.irradiance.set("u_pass", 1);
+    CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 1, li, receiver));
+  }
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("irradiance"));
+
+  std::vector<float> rgba(static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(s.irradiance_target.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * 4), rgba.data());
+  img.rgb.reserve(rgba.size() / 4 * 3);
+  for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return img;
+}
+
+void Renderer::finish() { glFinish(); }
+
+const SceneDesc& Renderer::scene() const { return impl_->scene(); }
+Engine& Renderer::engine() { return *impl_->engine; }
+
+Status Renderer::set_light(std::uint32_t index, const Light& light) { return impl_->engine->set_light(index, light); }
+
+Status Renderer::set_object_transform(std::uint32_t index, const Mat4f& t) { return impl_->engine->set_object_transform(index, t); }
+
+void Renderer::set_wave_scale(float scale) { impl_->engine->set_wave_scale(scale); }
+
+CausticsStats Renderer::caustics_stats(bool read_gpu_counters) { return impl_->engine->stats(read_gpu_counters); }
+
+void Renderer::present(unsigned framebuffer, int width, int height) {
+  Impl& s = *impl_;
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  s.present.use();
+  s.present.set("u_exposure", s.exposure);
+  glBindTextureUnit(0, s.hdr.color.get());
+  glBindVertexArray(s.empty_vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glEnable(GL_DEPTH_TEST);
+}
+
+namespace {
+
+template <typename T>
+void flip_rows(std::vector<T>& px, int width, int height, int channels) {
+  const std::size_t row = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
+  for (int y = 0; y < height / 2; ++y) {
+    std::swap_ranges(px.begin() + static_cast<std::ptrdiff_t>(y * row), px.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
+                     px.begin() + static_cast<std::ptrdiff_t>((height - 1 - y) * row));
+  }
+}
+
+}  // namespace
+
+std::vector<float> Renderer::read_hdr() {
+  Impl& s = *impl_;
+  std::vector<float> px(static_cast<std::size_t>(s.hdr.width) * static_cast<std::size_t>(s.hdr.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(s.hdr.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
+  flip_rows(px, s.hdr.width, s.hdr.height, 4);
+  return px;
+}
+
+std::vector<std::uint8_t> Renderer::read_display() {
+  Impl& s = *impl_;
+  s.display.ensure(s.hdr.width, s.hdr.height, GL_RGBA8, false);
+  present(s.display.fbo.get(), s.hdr.width, s.hdr.height);
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(s.hdr.width) * static_cast<std::size_t>(s.hdr.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(s.display.color.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(px.size()), px.data());
+  flip_rows(px, s.hdr.width, s.hdr.height, 4);
+  return px;
+}
+
+Camera Renderer::default_camera() const {
+  if (impl_->scene().camera) return *impl_->scene().camera;
+  Camera c;
+  const glm::vec3 lo = impl_->engine->bounds_min(), hi = impl_->engine->bounds_max();
+  const glm::vec3 center = 0.5f * (lo + hi);
+  const float r = 0.5f * glm::length(hi - lo) + 1e-3f;
+  const glm::vec3 eye = center + glm::normalize(glm::vec3(0.6f, 0.7f, 1.0f)) * (2.8f * r);
+  c.position = {eye.x, eye.y, eye.z};
+  c.target = {center.x, center.y, center.z};
+  c.near_plane = 0.01f * r;
+  c.far_plane = 10.0f * r;
+  return c;
+}
+
+glm::vec3 Renderer::bounds_min() const { return impl_->engine->bounds_min(); }
+glm::vec3 Renderer::bounds_max() const { return impl_->engine->bounds_max(); }
+
+}  // namespace caustix::runtime

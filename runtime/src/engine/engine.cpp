@@ -1,0 +1,620 @@
+#include "caustix/runtime/engine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "caustics.h"
+#include "caustix/formats/frame.h"
+#include "caustix/runtime/gl_objects.h"
+#include "gl_state.h"
+#include "glass.h"
+#include "gpu_mesh.h"
+#include "shader_text.h"
+#include "shadow_maps.h"
+#include "water_surface.h"
+#include "water_view.h"
+
+namespace caustix::runtime {
+namespace {
+
+glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+glm::vec3 to_glm(const Vec3d& v) { return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])}; }
+glm::vec4 vec4_of(const Vec3d& v, float w) { return glm::vec4(to_glm(v), w); }
+glm::vec4 vec4_of(const Vec3f& v, float w) { return glm::vec4(to_glm(v), w); }
+
+Error usage(const std::string& what) { return make_error(ErrorCode::kUsage, what); }
+
+}  // namespace
+
+glm::mat4 View::projection() const {
+  return glm::perspective(glm::radians(fov_y_deg), aspect, near_plane, far_plane);
+}
+
+glm::vec3 View::eye() const { return glm::vec3(glm::inverse(view)[3]); }
+
+const char* glsl_include_source() { return shaders::k_caustix_glsl; }
+
+struct Engine::Impl {
+  SceneDesc scene;
+  Bindings bindings;
+  std::vector<GLuint> units;  // texture units any call may bind (StateGuard)
+  std::vector<LevelMap> level_maps;  // owned: the caustics engine points into it
+  std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
+  std::vector<TriangleMesh> cpu_meshes;                             // object space, for moving objects
+  std::vector<GpuMesh> meshes;
+  std::vector<float> object_min_y;  // world
+  glm::vec3 lo{0}, hi{0};
+
+  std::optional<ShadowMaps> shadows;
+  std::optional<WaterSurface> water;
+  std::optional<WaterView> water_view;
+  gl::Program water_plain;
+  std::unique_ptr<CausticsEngine> caustics;
+  std::unique_ptr<GlassEngine> glass;
+  gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
+
+  // One LightBlock per (object, light), at object * lights + light.
+  std::vector<ReceiverLighting> lighting;
+  gl::Buffer blocks;
+  std::size_t stride = 0;
+  bool updated = false;
+
+  void draw_object(std::uint32_t i) const { meshes[scene.objects[i].mesh_index].draw(); }
+  glm::mat4 model_of(std::uint32_t i) const { return glm::make_mat4(scene.objects[i].transform.data()); }
+  float scene_radius() const { return 0.5f * glm::length(hi - lo) + 1e-3f; }
+  glm::vec3 scene_center() const { return 0.5f * (lo + hi); }
+
+  // World bounds from each mesh's box at its object's transform.
+  void compute_bounds() {
+    bool first = true;
+    object_min_y.assign(scene.objects.size(), 0.0f);
+    for (std::size_t oi = 0; oi < scene.objects.size(); ++oi) {
+      const Object& o = scene.objects[oi];
+      const MeshInfo& mi = scene.meshes[o.mesh_index];
+      const glm::mat4 model = glm::make_mat4(o.transform.data());
+      float min_y = 1e30f;
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
+                               (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2]);
+        const glm::vec3 w = glm::vec3(model * glm::vec4(corner, 1.0f));
+        lo = first ? w : glm::min(lo, w);
+        hi = first ? w : glm::max(hi, w);
+        min_y = std::min(min_y, w.y);
+        first = false;
+      }
+      object_min_y[oi] = min_y;
+    }
+  }
+
+  bool light_above_water(const Light& l) const {
+    return scene.water && (l.type == LightType::kDirectional || l.position[1] > scene.water->level);
+  }
+
+  // The light's part of the block (the same for every receiver).
+  void fill_light(LightBlock& b, std::uint32_t li) const {
+    const Light& light = scene.lights[li];
+    const bool dir = light.type == LightType::kDirectional;
+    const ShadowMaps::Maps m = shadows->maps(li);
+    b.mode.y = dir ? 1 : 2;
+    b.mode.w = glass ? 1 : 0;
+    b.light_direction = glm::vec4(glm::normalize(to_glm(light.direction)), 0.0f);
+    b.light_position = vec4_of(light.position, 1.0f);
+    b.light_color = vec4_of(light.color, dir ? light.irradiance : light.intensity);
+    b.world_to_shadow = m.world_to_shadow;
+    b.water = glm::vec4(-1e30f, 1.0f, m.far, m.texel);
+    b.absorption = glm::vec4(0.0f);
+    b.refracted = glm::vec4(0.0f);
+    if (scene.water) {
+      b.water.x = scene.water->level;
+      b.water.y = scene.water->ior;
+      b.absorption = vec4_of(scene.water->absorption, 0.0f);
+      b.refracted = glm::vec4(glm::refract(glm::vec3(b.light_direction), glm::vec3(0, 1, 0), 1.0f / scene.water->ior), 0.0f);
+    }
+  }
+
+  // Per (object, light): caustics casting, flat-water transmission, or
+  // direct light (the include's light modes), and light through glass.
+  void fill_receiver(ReceiverLighting& r, std::uint32_t oi, std::uint32_t li, const CausticsOptions& co) const {
+    const ShadowMaps::Maps m = shadows->maps(li);
+    r.block = LightBlock{};
+    fill_light(r.block, li);
+    r.shadow_2d = m.opaque_2d;
+    r.shadow_cube = m.opaque_cube;
+    r.glass_shadow_2d = m.glass_2d;
+    r.glass_shadow_cube = m.glass_cube;
+    r.caustics = r.position = dummy_2d.get();
+    r.glass_illumination = dummy_array.get();
+    r.glass_target = dummy_2d.get();
+    LightBlock& b = r.block;
+    std::optional<CausticsEngine::Binding> cb;
+    if (caustics && co.method != CausticsMethod::kNone) cb = caustics->binding(oi, li);
+    if (cb) {
+      const BoundingFrame& f = cb->map->frame;
+      const float n = static_cast<float>(cb->map->map_size);
+      b.mode.x = static_cast<int>(LightMode::kCaustics);
+      b.frame_origin = vec4_of(f.origin, cb->self_tolerance);
+      b.frame_u = vec4_of(f.u, 0.5f * std::hypot(2.0f * f.half[0] / n, 2.0f * f.half[2] / n));
+      b.frame_v = vec4_of(f.v, 0.0f);
+      b.frame_w = vec4_of(f.w, 0.0f);
+      b.frame_half = vec4_of(f.half, 0.0f);
+      r.caustics = cb->caustics;
+      r.position = cb->position_map;
+      return;
+    }
+    const Light& light = scene.lights[li];
+    const bool under = scene.water && object_min_y[oi] < scene.water->level && light_above_water(light);
+    b.mode.x = static_cast<int>(under ? LightMode::kFlatWater : LightMode::kDirect);
+    std::optional<GlassEngine::Binding> g;
+    if (glass && !under && co.method != CausticsMethod::kNone) g = glass->binding(oi, li);
+    if (!g) return;
+    const BoundingFrame& f = g->frame;
+    b.mode.z = 1;
+    b.glass_origin = vec4_of(f.origin, g->tolerance);
+    b.glass_u = vec4_of(f.u, static_cast<float>(g->plane_v.size()));
+    b.glass_v = vec4_of(f.v, 0.0f);
+    b.glass_w = vec4_of(f.w, 0.0f);
+    b.glass_half = vec4_of(f.half, 0.0f);
+    for (std::size_t k = 0; k < g->plane_v.size() && k < 16; ++k) b.glass_plane_v[k / 4][static_cast<int>(k % 4)] = g->plane_v[k];
+    r.glass_illumination = g->illumination;
+    r.glass_target = g->target;
+  }
+
+  std::size_t slot(std::uint32_t oi, std::uint32_t li) const { return std::size_t{oi} * scene.lights.size() + li; }
+
+  void upload_light(std::uint32_t li, const CausticsOptions& co) {
+    for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
+      ReceiverLighting& r = lighting[slot(oi, li)];
+      fill_receiver(r, oi, li, co);
+      glNamedBufferSubData(blocks.get(), static_cast<GLintptr>(r.offset), sizeof(LightBlock), &r.block);
+    }
+  }
+
+  void bind_slot(const ReceiverLighting& r) const {
+    glBindBufferRange(GL_UNIFORM_BUFFER, bindings.block, blocks.get(), static_cast<GLintptr>(r.offset), sizeof(LightBlock));
+    glBindTextureUnit(bindings.shadow_2d, r.shadow_2d);
+    glBindTextureUnit(bindings.shadow_cube, r.shadow_cube);
+    glBindTextureUnit(bindings.caustics, r.caustics);
+    glBindTextureUnit(bindings.position, r.position);
+    glBindTextureUnit(bindings.glass_illumination, r.glass_illumination);
+    glBindTextureUnit(bindings.glass_target, r.glass_target);
+    glBindTextureUnit(bindings.glass_shadow_2d, r.glass_shadow_2d);
+    glBindTextureUnit(bindings.glass_shadow_cube, r.glass_shadow_cube);
+  }
+
+  std::string lighting_prefix() const {
+    const Bindings& b = bindings;
+    std::string s;
+    auto def = [&](const char* name, unsigned v) { s += std::string("#define ") + name + " " + std::to_string(v) + "\n"; };
+    def("CAUSTIX_BINDING_BLOCK", b.block);
+    def("CAUSTIX_UNIT_SHADOW_2D", b.shadow_2d);
+    def("CAUSTIX_UNIT_SHADOW_CUBE", b.shadow_cube);
+    def("CAUSTIX_UNIT_CAUSTICS", b.caustics);
+    def("CAUSTIX_UNIT_POSITION", b.position);
+    def("CAUSTIX_UNIT_GLASS_ILLUMINATION", b.glass_illumination);
+    def("CAUSTIX_UNIT_GLASS_TARGET", b.glass_target);
+    def("CAUSTIX_UNIT_GLASS_SHADOW_2D", b.glass_shadow_2d);
+    def("CAUSTIX_UNIT_GLASS_SHADOW_CUBE", b.glass_shadow_cube);
+    return s + shaders::k_caustix_glsl;
+  }
+
+  gl::StateGuard guard() const { return gl::StateGuard(units); }
+
+  // The light entering the water (ambient sky plus every directional light
+  // through flat water), the water's colour and attenuation.
+  WaterMedium medium(const glm::vec3& eye, const WaterLook& look) const {
+    WaterMedium m;
+    if (!scene.water) return m;
+    glm::vec3 light_in_water = look.ambient * look.sky;
+    for (const Light& l : scene.lights) {
+      if (l.type != LightType::kDirectional) continue;
+      const glm::vec3 d = glm::normalize(to_glm(l.direction));
+      if (d.y < 0.0f) {
+        const double t = fresnel_transmittance(-d.y, 1.0 / scene.water->ior);
+        light_in_water += to_glm(l.color) * (l.irradiance * -d.y * static_cast<float>(t));
+      }
+    }
+    m.color = look.water_color * light_in_water;
+    m.k = look.attenuation ? *look.attenuation : to_glm(scene.water->absorption);
+    m.camera_under = eye.y < scene.water->level;
+    return m;
+  }
+};
+
+Engine::Engine() : impl_(std::make_unique<Impl>()) {}
+Engine::~Engine() = default;
+
+Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const Bindings& bindings) {
+  const unsigned units[8] = {bindings.shadow_2d, bindings.shadow_cube, bindings.caustics, bindings.position,
+                             bindings.glass_illumination, bindings.glass_target, bindings.glass_shadow_2d, bindings.glass_shadow_cube};
+  GLint max_units = 0, max_ubo = 0;
+  glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_units);
+  glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &max_ubo);
+  if (max_units == 0) return make_error(ErrorCode::kGraphics, "no current OpenGL context (the engine needs the application's 4.5 core context)");
+  for (int i = 0; i < 8; ++i) {
+    if (units[i] >= static_cast<unsigned>(max_units)) {
+      return usage("Bindings: texture unit " + std::to_string(units[i]) + " is beyond this context's " + std::to_string(max_units));
+    }
+    for (int j = 0; j < i; ++j) {
+      if (units[i] == units[j]) return usage("Bindings: texture unit " + std::to_string(units[i]) + " is given twice");
+    }
+  }
+  if (bindings.block >= static_cast<unsigned>(max_ubo)) return usage("Bindings: uniform-buffer binding " + std::to_string(bindings.block) + " is beyond this context's " + std::to_string(max_ubo));
+
+  std::unique_ptr<Engine> e(new Engine());
+  Impl& s = *e->impl_;
+  s.scene = scene.desc;
+  s.bindings = bindings;
+  for (GLuint u = 0; u < 8; ++u) s.units.push_back(u);  // the passes' own units
+  for (unsigned u : units) {
+    if (u >= 8) s.units.push_back(u);
+  }
+  const gl::StateGuard guard = s.guard();
+
+  for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
+  s.cpu_meshes = scene.meshes;
+  for (const Object& o : s.scene.objects) s.world_vertices.push_back(world_points(o.transform, scene.meshes[o.mesh_index].positions));
+  s.compute_bounds();
+
+  Impl* impl = &s;
+  auto shadows = ShadowMaps::create(s.scene, [impl](std::uint32_t i) { impl->draw_object(i); });
+  if (!shadows) return shadows.error();
+  s.shadows.emplace(std::move(*shadows));
+  s.dummy_array = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(s.dummy_array.get(), 1, GL_RGBA32F, 1, 1, 1);
+  glClearTexImage(s.dummy_array.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
+  s.dummy_2d = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(s.dummy_2d.get(), 1, GL_RGBA32F, 1, 1);
+  glClearTexImage(s.dummy_2d.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
+
+  bool has_glass = false;
+  for (const Object& o : s.scene.objects) has_glass = has_glass || is_transparent(o.role);
+  if (has_glass) {
+    auto engine = GlassEngine::create(s.scene, scene.transport_tables, s.meshes, [impl](std::uint32_t i) { impl->draw_object(i); },
+                                      kGlslVersion + s.lighting_prefix());
+    if (!engine) return engine.error();
+    s.glass = std::move(*engine);
+  }
+  if (s.scene.water) {
+    auto water = WaterSurface::create(*s.scene.water);
+    if (!water) return water.error();
+    s.water.emplace(std::move(*water));
+    auto wp = gl::Program::build("water_plain", shaders::k_water_vert_glsl, shaders::k_water_plain_frag_glsl);
+    if (!wp) return wp.error();
+    s.water_plain = std::move(*wp);
+    auto view = WaterView::create();
+    if (!view) return view.error();
+    s.water_view.emplace(std::move(*view));
+    if (!scene.level_maps.empty()) {
+      s.level_maps = scene.level_maps;
+      auto engine = CausticsEngine::create(
+          s.level_maps, *s.water, [impl](std::uint32_t i) { impl->draw_object(i); },
+          [impl](std::uint32_t i) { return impl->model_of(i); });
+      if (!engine) return engine.error();
+      s.caustics = std::move(*engine);
+    }
+  }
+
+  // The blocks, one per (object, light), each at a multiple of the
+  // context's uniform-buffer offset alignment.
+  GLint align = 256;
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
+  const auto a = static_cast<std::size_t>(std::max(align, 1));
+  s.stride = (sizeof(LightBlock) + a - 1) / a * a;
+  s.lighting.resize(s.scene.objects.size() * s.scene.lights.size());
+  for (std::size_t i = 0; i < s.lighting.size(); ++i) s.lighting[i].offset = i * s.stride;
+  if (!s.lighting.empty()) {
+    s.blocks = gl::make_buffer();
+    glNamedBufferStorage(s.blocks.get(), static_cast<GLsizeiptr>(s.lighting.size() * s.stride), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    for (ReceiverLighting& r : s.lighting) r.buffer = s.blocks.get();
+  }
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("engine set-up"));
+  return e;
+}
+
+const SceneDesc& Engine::scene() const { return impl_->scene; }
+const Bindings& Engine::bindings() const { return impl_->bindings; }
+CausticsOptions Engine::default_options() const { return default_caustics_options(impl_->scene); }
+glm::vec3 Engine::bounds_min() const { return impl_->lo; }
+glm::vec3 Engine::bounds_max() const { return impl_->hi; }
+
+Status Engine::set_light(std::uint32_t index, const Light& light) {
+  Impl& s = *impl_;
+  if (index >= s.scene.lights.size() || light.type != s.scene.lights[index].type) {
+    return usage("set_light: no light " + std::to_string(index) + " of that type");
+  }
+  SceneDesc probe;
+  probe.lights = {light};
+  normalize_scene(probe);
+  s.scene.lights[index] = probe.lights[0];
+  const gl::StateGuard guard = s.guard();
+  if (s.caustics) return s.caustics->rederive(index, std::nullopt, s.scene.lights, s.scene.water, s.world_vertices);
+  return Status::success();
+}
+
+Status Engine::set_object_transform(std::uint32_t index, const Mat4f& t) {
+  Impl& s = *impl_;
+  if (index >= s.scene.objects.size()) return usage("set_object_transform: no object " + std::to_string(index));
+  SceneDesc probe = s.scene;
+  probe.objects[index].transform = t;
+  if (auto issue = validate_scene(probe, false)) return usage("set_object_transform: " + issue->pointer + ": " + issue->message);
+  s.scene.objects[index].transform = t;
+  s.world_vertices[index] = world_points(t, s.cpu_meshes[s.scene.objects[index].mesh_index].positions);
+  s.compute_bounds();
+  const gl::StateGuard guard = s.guard();
+  if (s.caustics) return s.caustics->rederive(std::nullopt, index, s.scene.lights, s.scene.water, s.world_vertices);
+  return Status::success();
+}
+
+void Engine::set_wave_scale(float scale) {
+  if (impl_->water) impl_->water->set_amplitude_scale(scale);
+}
+
+std::optional<WaterGrid> Engine::water_grid() const {
+  const SceneDesc& sc = impl_->scene;
+  if (!sc.water) return std::nullopt;
+  const Water& w = *sc.water;
+  return WaterGrid{w.cells[0] + 1, w.cells[1] + 1, w.extent[0], w.extent[1], w.extent[2], w.extent[3], w.level};
+}
+
+Status Engine::set_water_heights(std::span<const float> heights) {
+  Impl& s = *impl_;
+  const auto grid = water_grid();
+  if (!grid) return usage("set_water_heights: the scene has no water");
+  const std::size_t n = std::size_t{grid->columns} * grid->rows;
+  if (heights.size() != n) {
+    return usage("set_water_heights: " + std::to_string(heights.size()) + " heights for a grid of " + std::to_string(grid->columns) +
+                 " x " + std::to_string(grid->rows) + " vertices");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(heights[i])) {
+      return usage("set_water_heights: height " + std::to_string(i) + " (column " + std::to_string(i % grid->columns) + ", row " +
+                   std::to_string(i / grid->columns) + ") is not finite");
+    }
+  }
+  const gl::StateGuard guard = s.guard();
+  s.water->set_heights(heights.data());
+  return gl::check_gl("water heights");
+}
+
+Status Engine::set_water_heights_buffer(unsigned buffer, std::size_t offset) {
+  Impl& s = *impl_;
+  const auto grid = water_grid();
+  if (!grid) return usage("set_water_heights_buffer: the scene has no water");
+  if (buffer == 0 || !glIsBuffer(buffer)) return usage("set_water_heights_buffer: " + std::to_string(buffer) + " is not a GL buffer");
+  GLint64 size = 0;
+  glGetNamedBufferParameteri64v(buffer, GL_BUFFER_SIZE, &size);
+  const std::size_t need = std::size_t{4} * grid->columns * grid->rows;
+  if (offset % 4 != 0 || size < 0 || offset > static_cast<std::size_t>(size) || static_cast<std::size_t>(size) - offset < need) {
+    return usage("set_water_heights_buffer: buffer " + std::to_string(buffer) + " holds " + std::to_string(size) + " bytes; " +
+                 std::to_string(need) + " from offset " + std::to_string(offset) + " (a multiple of 4) are needed");
+  }
+  const gl::StateGuard guard = s.guard();
+  s.water->copy_heights_from_buffer(buffer, static_cast<GLintptr>(offset));
+  return gl::check_gl("water heights from a buffer");
+}
+
+Status Engine::set_water_heights_texture(unsigned texture) {
+  Impl& s = *impl_;
+  const auto grid = water_grid();
+  if (!grid) return usage("set_water_heights_texture: the scene has no water");
+  if (texture == 0 || !glIsTexture(texture)) return usage("set_water_heights_texture: " + std::to_string(texture) + " is not a GL texture");
+  GLint target = 0, w = 0, h = 0, format = 0;
+  glGetTextureParameteriv(texture, GL_TEXTURE_TARGET, &target);
+  if (target != GL_TEXTURE_2D) return usage("set_water_heights_texture: texture " + std::to_string(texture) + " is not a 2D texture");
+  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_WIDTH, &w);
+  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_HEIGHT, &h);
+  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  if (format != GL_R32F || w != static_cast<GLint>(grid->columns) || h != static_cast<GLint>(grid->rows)) {
+    return usage("set_water_heights_texture: texture " + std::to_string(texture) + " must be GL_R32F, " + std::to_string(grid->columns) +
+                 " x " + std::to_string(grid->rows) + " (it is " + std::to_string(w) + " x " + std::to_string(h) + ")");
+  }
+  const gl::StateGuard guard = s.guard();
+  s.water->copy_heights_from_texture(texture);
+  return gl::check_gl("water heights from a texture");
+}
+
+void Engine::use_scene_waves() {
+  if (impl_->water) impl_->water->use_waves();
+}
+
+Status Engine::update(const FrameUpdate& f) {
+  Impl& s = *impl_;
+  if (!std::isfinite(f.time)) return usage("update: time is not finite");
+  const gl::StateGuard guard = s.guard();
+  const CausticsOptions& co = f.caustics;
+  if (s.caustics) s.caustics->reset_stats();
+  if (s.water) s.water->update(f.time);
+  for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
+    const Light& light = s.scene.lights[li];
+    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius());
+    if (s.caustics) CAUSTIX_RETURN_IF_ERROR(s.caustics->update_light(li, light, co));
+    if (s.glass && co.method != CausticsMethod::kNone) {
+      s.upload_light(li, co);  // the rays read the light's block and shadow maps
+      const ReceiverLighting& light_slot = s.lighting[s.slot(0, li)];
+      CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(s.scene, li, co, s.world_vertices, [&](const gl::Program& p) {
+        s.bind_slot(light_slot);
+        const LightBlock& b = light_slot.block;
+        p.set("u_light_type", b.mode.y);
+        p.set("u_light_direction", glm::vec3(b.light_direction));
+        p.set("u_light_position", glm::vec3(b.light_position));
+        p.set("u_light_power", b.light_color.w);
+      }));
+    }
+    s.upload_light(li, co);
+  }
+  s.updated = true;
+  return gl::check_gl("engine update");
+}
+
+Result<ReceiverLighting> Engine::lighting(std::uint32_t object, std::uint32_t light) const {
+  const Impl& s = *impl_;
+  if (object >= s.scene.objects.size()) return usage("lighting: no object " + std::to_string(object));
+  if (light >= s.scene.lights.size()) return usage("lighting: no light " + std::to_string(light));
+  if (is_transparent(s.scene.objects[object].role)) {
+    return usage("lighting: object " + std::to_string(object) + " ('" + s.scene.objects[object].name + "') is transparent, not a receiver");
+  }
+  if (!s.updated) return usage("lighting: update() has not run yet");
+  return s.lighting[s.slot(object, light)];
+}
+
+Status Engine::bind(std::uint32_t object, std::uint32_t light) const {
+  auto r = lighting(object, light);
+  if (!r) return r.error();
+  impl_->bind_slot(*r);
+  return Status::success();
+}
+
+std::string Engine::glsl_include() const { return impl_->lighting_prefix(); }
+
+WaterMedium Engine::water_medium(const View& view, const WaterLook& look) const { return impl_->medium(view.eye(), look); }
+
+Status Engine::draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene) {
+  Impl& s = *impl_;
+  if (!s.water) return usage("draw_water: the scene has no water");
+  if (look.steps < 1 || look.steps > 64 || look.texture_size < 1 || look.texture_size > 8192 ||
+      !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
+    return usage("draw_water: water look: steps must be 1..64, texture size 1..8192, FOV_ext 1..4");
+  }
+  if (!(view.aspect > 0.0f) || !(view.near_plane > 0.0f) || !(view.far_plane > view.near_plane) || !(view.fov_y_deg > 0.0f && view.fov_y_deg < 180.0f)) {
+    return usage("draw_water: the view needs aspect > 0, 0 < near < far and a field of view in (0, 180) degrees");
+  }
+  const gl::StateGuard guard = s.guard();
+  GLint target_fbo = 0;
+  int viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
+  glGetIntegerv(GL_VIEWPORT, viewport);
+
+  ViewCamera main;
+  main.view = view.view;
+  main.proj = view.projection();
+  main.eye = view.eye();
+  const glm::mat4 view_proj = main.proj * main.view;
+  const WaterMedium medium = s.medium(main.eye, look);
+  // The sun (first directional light): highlight and glow.
+  glm::vec3 sun_dir(0.0f), sun_color(0.0f);
+  for (const Light& l : s.scene.lights) {
+    if (l.type != LightType::kDirectional) continue;
+    sun_dir = glm::normalize(to_glm(l.direction));
+    sun_color = to_glm(l.color) * l.irradiance;
+    break;
+  }
+
+  const bool textured = look.textures && draw_scene;
+  std::optional<WaterCameras> cams;
+  if (textured) {
+    // Seed 001's two textures (§5.1-5.2), drawn by the application.
+    cams = water_cameras(main, view.fov_y_deg, view.aspect, view.near_plane, view.far_plane, *s.scene.water, look);
+    s.water_view->ensure_targets(look.texture_size);
+    const int n = s.water_view->size();
+    const glm::vec3 refr_clear = cams->under ? look.sky : medium.color;
+    // From below, the mirrored texture shows the water's inside, fogged
+    // along the mirrored camera's rays (§7.5).
+    const glm::vec3 refl_clear = cams->under ? medium.color : look.sky;
+    struct Pass {
+      GLuint fbo;
+      WaterPass p;
+      glm::vec3 clear;
+    };
+    const Pass passes[2] = {
+        {s.water_view->refraction_fbo(),
+         WaterPass{s.water_view->refraction_fbo(), n, cams->refraction.proj * cams->refraction.view, cams->refraction_clip, false, false, cams->refraction.eye, medium.k, medium.color},
+         refr_clear},
+        {s.water_view->reflection_fbo(),
+         WaterPass{s.water_view->reflection_fbo(), n, cams->reflection.proj * cams->reflection.view, cams->reflection_clip, true, cams->under, cams->reflection.eye, medium.k, medium.color},
+         refl_clear}};
+    for (const Pass& p : passes) {
+      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
+      glViewport(0, 0, n, n);
+      glDepthMask(GL_TRUE);  // clears obey the write masks
+      const float clear[4] = {p.clear.r, p.clear.g, p.clear.b, 0.0f};
+      glClearNamedFramebufferfv(p.fbo, GL_COLOR, 0, clear);
+      const float far_depth = 1.0f;
+      glClearNamedFramebufferfv(p.fbo, GL_DEPTH, 0, &far_depth);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDisable(GL_BLEND);
+      glDisable(GL_CULL_FACE);
+      glEnable(GL_CLIP_DISTANCE0);
+      glFrontFace(p.p.mirrored ? GL_CW : GL_CCW);
+      draw_scene(p.p);
+      // The callback may have left anything: back to what the passes below assume.
+      glDisable(GL_CLIP_DISTANCE0);
+      glFrontFace(GL_CCW);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_SCISSOR_TEST);
+      glDisable(GL_STENCIL_TEST);
+      glDisable(GL_CULL_FACE);
+    }
+  }
+
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_LESS);
+  if (textured) {
+    glDisable(GL_BLEND);
+    const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, s.scene.water->ior, medium.color, medium.k, sun_dir, sun_color};
+    s.water_view->draw_surface(sp, look, [&]() { s.water->draw(); });
+    if (look.glow && look.debug == WaterDebug::kNone && !cams->under && sun_color != glm::vec3(0.0f)) {
+      s.water_view->draw_glow(sp, static_cast<GLuint>(target_fbo), viewport, [&]() { s.water->draw(); });
+    }
+  } else {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
+    s.water_plain.use();
+    s.water_plain.set("u_view_proj", view_proj);
+    s.water_plain.set("u_eye", main.eye);
+    s.water_plain.set("u_sky", look.sky);
+    s.water_plain.set("u_ior", s.scene.water->ior);
+    s.water_plain.set("u_sun_direction", sun_dir);
+    s.water_plain.set("u_sun_color", sun_color);
+    s.water->draw();
+  }
+  return gl::check_gl("water surface");
+}
+
+Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky) {
+  Impl& s = *impl_;
+  if (!s.glass) return Status::success();
+  auto check = [](unsigned tex, GLint want, const char* what) -> Status {
+    if (tex == 0 || !glIsTexture(tex)) return usage(std::string("draw_glass: ") + what + " " + std::to_string(tex) + " is not a GL texture");
+    GLint target = 0, format = 0;
+    glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
+    glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    if (target != GL_TEXTURE_2D || format != want) {
+      return usage(std::string("draw_glass: ") + what + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
+    }
+    return Status::success();
+  };
+  CAUSTIX_RETURN_IF_ERROR(check(scene_color, GL_RGBA32F, "scene colour"));
+  CAUSTIX_RETURN_IF_ERROR(check(scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  const gl::StateGuard guard = s.guard();
+  s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius());
+  return gl::check_gl("glass surface");
+}
+
+Status Engine::draw_object(std::uint32_t index) const {
+  const Impl& s = *impl_;
+  if (index >= s.scene.objects.size()) return usage("draw_object: no object " + std::to_string(index));
+  GLint vao = 0;
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
+  s.draw_object(index);
+  glBindVertexArray(static_cast<GLuint>(vao));
+  return Status::success();
+}
+
+CausticsStats Engine::stats(bool read_gpu_counters) {
+  Impl& s = *impl_;
+  CausticsStats st = s.caustics ? s.caustics->stats(read_gpu_counters) : CausticsStats{};
+  if (s.glass) st.gpu_bytes += s.glass->gpu_bytes();            // tables, rays, targets, illumination textures
+  if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
+  return st;
+}
+
+}  // namespace caustix::runtime

@@ -1,0 +1,159 @@
+#include "gl_state.h"
+
+#include <algorithm>
+
+namespace caustix::runtime::gl {
+namespace {
+
+// Capabilities saved; the second list is also switched off for the call
+// (the passes assume them off and never touch them).
+constexpr GLenum kSavedCaps[] = {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_CLIP_DISTANCE0, GL_PROGRAM_POINT_SIZE};
+constexpr GLenum kOffCaps[] = {GL_SCISSOR_TEST,         GL_STENCIL_TEST,          GL_POLYGON_OFFSET_FILL,
+                               GL_DEPTH_CLAMP,          GL_RASTERIZER_DISCARD,    GL_PRIMITIVE_RESTART,
+                               GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_SAMPLE_ALPHA_TO_COVERAGE, GL_FRAMEBUFFER_SRGB,
+                               GL_COLOR_LOGIC_OP,       GL_MULTISAMPLE,           GL_SAMPLE_SHADING};
+
+GLint get(GLenum e) {
+  GLint v = 0;
+  glGetIntegerv(e, &v);
+  return v;
+}
+
+}  // namespace
+
+StateGuard::StateGuard(const std::vector<GLuint>& units) {
+  draw_fbo_ = get(GL_DRAW_FRAMEBUFFER_BINDING);
+  read_fbo_ = get(GL_READ_FRAMEBUFFER_BINDING);
+  program_ = get(GL_CURRENT_PROGRAM);
+  if (program_ != 0) {
+    // A program the application deleted while current stays in use until
+    // another replaces it, and then its name is gone: it cannot be made
+    // current again, so the call leaves none current.
+    GLint deleted = GL_FALSE;
+    glGetProgramiv(static_cast<GLuint>(program_), GL_DELETE_STATUS, &deleted);
+    if (deleted) program_ = 0;
+  }
+  vao_ = get(GL_VERTEX_ARRAY_BINDING);
+  active_texture_ = get(GL_ACTIVE_TEXTURE);
+  glGetIntegerv(GL_VIEWPORT, viewport_.data());
+  glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_.data());
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
+  depth_func_ = get(GL_DEPTH_FUNC);
+  cull_mode_ = get(GL_CULL_FACE_MODE);
+  front_face_ = get(GL_FRONT_FACE);
+  blend_src_rgb_ = get(GL_BLEND_SRC_RGB);
+  blend_dst_rgb_ = get(GL_BLEND_DST_RGB);
+  blend_src_a_ = get(GL_BLEND_SRC_ALPHA);
+  blend_dst_a_ = get(GL_BLEND_DST_ALPHA);
+  blend_eq_rgb_ = get(GL_BLEND_EQUATION_RGB);
+  blend_eq_a_ = get(GL_BLEND_EQUATION_ALPHA);
+  glGetIntegerv(GL_POLYGON_MODE, polygon_mode_.data());
+  pack_alignment_ = get(GL_PACK_ALIGNMENT);
+  unpack_alignment_ = get(GL_UNPACK_ALIGNMENT);
+  array_buffer_ = get(GL_ARRAY_BUFFER_BINDING);
+  pixel_pack_ = get(GL_PIXEL_PACK_BUFFER_BINDING);
+  pixel_unpack_ = get(GL_PIXEL_UNPACK_BUFFER_BINDING);
+  dispatch_indirect_ = get(GL_DISPATCH_INDIRECT_BUFFER_BINDING);
+  draw_indirect_ = get(GL_DRAW_INDIRECT_BUFFER_BINDING);
+  ssbo_generic_ = get(GL_SHADER_STORAGE_BUFFER_BINDING);
+  ubo_generic_ = get(GL_UNIFORM_BUFFER_BINDING);
+  copy_read_ = get(GL_COPY_READ_BUFFER_BINDING);
+  copy_write_ = get(GL_COPY_WRITE_BUFFER_BINDING);
+  const GLint max_ssbo = get(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS), max_ubo = get(GL_MAX_UNIFORM_BUFFER_BINDINGS);
+  points_ = static_cast<GLuint>(std::max(0, std::min({static_cast<GLint>(kBufferPoints), max_ssbo, max_ubo})));
+  for (GLuint i = 0; i < points_; ++i) {
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &ssbo_[i].buffer);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, i, &ssbo_[i].start);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, i, &ssbo_[i].size);
+    glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, i, &ubo_[i].buffer);
+    glGetInteger64i_v(GL_UNIFORM_BUFFER_START, i, &ubo_[i].start);
+    glGetInteger64i_v(GL_UNIFORM_BUFFER_SIZE, i, &ubo_[i].size);
+  }
+  glGetIntegeri_v(GL_IMAGE_BINDING_NAME, 0, &image0_);
+  glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, 0, &image0_level_);
+  glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, 0, &image0_layer_);
+  glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, 0, &image0_access_);
+  glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, 0, &image0_format_);
+  glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, 0, &image0_layered_);
+  units_.reserve(units.size());
+  for (GLuint u : units) {
+    Unit s;
+    s.unit = u;
+    glActiveTexture(GL_TEXTURE0 + u);
+    s.tex_2d = get(GL_TEXTURE_BINDING_2D);
+    s.tex_array = get(GL_TEXTURE_BINDING_2D_ARRAY);
+    s.tex_cube = get(GL_TEXTURE_BINDING_CUBE_MAP);
+    s.sampler = get(GL_SAMPLER_BINDING);
+    if (s.sampler) glBindSampler(u, 0);  // the passes rely on their textures' own parameters
+    units_.push_back(s);
+  }
+  for (GLenum c : kSavedCaps) caps_.emplace_back(c, glIsEnabled(c));
+  for (GLenum c : kOffCaps) {
+    const GLboolean on = glIsEnabled(c);
+    caps_.emplace_back(c, on);
+    if (on) glDisable(c);
+  }
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glCullFace(GL_BACK);
+  glBlendEquation(GL_FUNC_ADD);
+}
+
+StateGuard::~StateGuard() {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(read_fbo_));
+  glUseProgram(static_cast<GLuint>(program_));
+  glBindVertexArray(static_cast<GLuint>(vao_));
+  glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+  glColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+  glDepthMask(depth_mask_);
+  glDepthFunc(static_cast<GLenum>(depth_func_));
+  glCullFace(static_cast<GLenum>(cull_mode_));
+  glFrontFace(static_cast<GLenum>(front_face_));
+  glBlendFuncSeparate(static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_), static_cast<GLenum>(blend_src_a_),
+                      static_cast<GLenum>(blend_dst_a_));
+  glBlendEquationSeparate(static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_a_));
+  glPolygonMode(GL_FRONT_AND_BACK, static_cast<GLenum>(polygon_mode_[0]));
+  glPixelStorei(GL_PACK_ALIGNMENT, pack_alignment_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpack_alignment_);
+  auto rebind_indexed = [](GLenum target, GLuint index, const Indexed& b) {
+    if (b.buffer != 0 && b.size > 0) {
+      glBindBufferRange(target, index, static_cast<GLuint>(b.buffer), static_cast<GLintptr>(b.start), static_cast<GLsizeiptr>(b.size));
+    } else {
+      glBindBufferBase(target, index, static_cast<GLuint>(b.buffer));
+    }
+  };
+  for (GLuint i = 0; i < points_; ++i) {
+    rebind_indexed(GL_SHADER_STORAGE_BUFFER, i, ssbo_[i]);
+    rebind_indexed(GL_UNIFORM_BUFFER, i, ubo_[i]);
+  }
+  // After the indexed ones: binding an indexed point also sets the generic one.
+  glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pixel_pack_));
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(pixel_unpack_));
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, static_cast<GLuint>(dispatch_indirect_));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, static_cast<GLuint>(draw_indirect_));
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(ssbo_generic_));
+  glBindBuffer(GL_UNIFORM_BUFFER, static_cast<GLuint>(ubo_generic_));
+  glBindBuffer(GL_COPY_READ_BUFFER, static_cast<GLuint>(copy_read_));
+  glBindBuffer(GL_COPY_WRITE_BUFFER, static_cast<GLuint>(copy_write_));
+  glBindImageTexture(0, static_cast<GLuint>(image0_), image0_level_, image0_layered_, image0_layer_, static_cast<GLenum>(image0_access_),
+                     static_cast<GLenum>(image0_format_ ? image0_format_ : GL_R8));
+  for (const Unit& s : units_) {
+    glActiveTexture(GL_TEXTURE0 + s.unit);
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(s.tex_2d));
+    glBindTexture(GL_TEXTURE_2D_ARRAY, static_cast<GLuint>(s.tex_array));
+    glBindTexture(GL_TEXTURE_CUBE_MAP, static_cast<GLuint>(s.tex_cube));
+    glBindSampler(s.unit, static_cast<GLuint>(s.sampler));
+  }
+  glActiveTexture(static_cast<GLenum>(active_texture_));
+  for (const auto& [cap, on] : caps_) {
+    if (on) {
+      glEnable(cap);
+    } else {
+      glDisable(cap);
+    }
+  }
+}
+
+}  // namespace caustix::runtime::gl

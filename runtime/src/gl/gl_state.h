@@ -1,0 +1,58 @@
+#pragma once
+// Saves the OpenGL state the engine's passes touch and restores it on
+// destruction, so that every public Engine call leaves the application's
+// state as it found it (include/caustix/runtime/engine.h). It also puts the
+// state the passes assume but never set (scissor, stencil, colour mask,
+// polygon mode, samplers on the units they use...) into its defaults for
+// the duration. Internal to the runtime.
+
+#include <epoxy/gl.h>
+
+#include <array>
+#include <vector>
+
+namespace caustix::runtime::gl {
+
+class StateGuard {
+ public:
+  // `units`: the texture units the call may bind (their 2D, 2D array and
+  // cube-map bindings and sampler objects are saved).
+  explicit StateGuard(const std::vector<GLuint>& units);
+  ~StateGuard();
+  StateGuard(const StateGuard&) = delete;
+  StateGuard& operator=(const StateGuard&) = delete;
+
+  // Indexed buffer bindings saved and restored (SSBO and uniform-buffer
+  // points 0..kBufferPoints-1, or as many as the context has).
+  static constexpr GLuint kBufferPoints = 16;
+
+ private:
+  struct Indexed {
+    GLint buffer = 0;
+    GLint64 start = 0, size = 0;
+  };
+  struct Unit {
+    GLuint unit = 0;
+    GLint tex_2d = 0, tex_array = 0, tex_cube = 0, sampler = 0;
+  };
+  GLint draw_fbo_ = 0, read_fbo_ = 0, program_ = 0, vao_ = 0, active_texture_ = 0;
+  std::array<GLint, 4> viewport_{};
+  std::array<GLboolean, 4> color_mask_{};
+  GLboolean depth_mask_ = GL_TRUE;
+  GLint depth_func_ = 0, cull_mode_ = 0, front_face_ = 0;
+  GLint blend_src_rgb_ = 0, blend_dst_rgb_ = 0, blend_src_a_ = 0, blend_dst_a_ = 0;
+  GLint blend_eq_rgb_ = 0, blend_eq_a_ = 0;
+  std::array<GLint, 2> polygon_mode_{};
+  GLint pack_alignment_ = 0, unpack_alignment_ = 0;
+  // Generic binding points.
+  GLint array_buffer_ = 0, pixel_pack_ = 0, pixel_unpack_ = 0, dispatch_indirect_ = 0, draw_indirect_ = 0;
+  GLint ssbo_generic_ = 0, ubo_generic_ = 0, copy_read_ = 0, copy_write_ = 0;
+  std::array<Indexed, kBufferPoints> ssbo_{}, ubo_{};
+  GLuint points_ = 0;  // those the context has
+  GLint image0_ = 0, image0_level_ = 0, image0_layer_ = 0, image0_access_ = 0, image0_format_ = 0;
+  GLboolean image0_layered_ = GL_FALSE;
+  std::vector<Unit> units_;
+  std::vector<std::pair<GLenum, GLboolean>> caps_;
+};
+
+}  // namespace caustix::runtime::gl
