@@ -1,0 +1,464 @@
+// The public Engine API as an application uses it (runtime/include/caustix/
+// runtime/engine.h): every call leaves the GL state it found (a list of
+// state queries compared before and after, from a deliberately unusual
+// starting state), the application's water heights light the pool as the
+// wave list does, and bad arguments are refused without side effects.
+
+#include <gtest/gtest.h>
+
+#include <epoxy/gl.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "bake_fixture.h"
+#include "caustix/runtime/engine.h"
+#include "caustix/runtime/gl_objects.h"
+#include "caustix/runtime/version.h"
+#include "gl_fixture.h"
+
+namespace caustix {
+namespace {
+
+using runtime::Engine;
+
+ErrorCode code_of(const Status& s) { return s.ok() ? ErrorCode::kInternal : s.error().code; }
+
+std::string scene(const std::string& name) { return std::string(CAUSTIX_SOURCE_DIR) + "/assets/scenes/" + name + ".json"; }
+
+// The GL state an embedding application may rely on, as named values.
+using Snapshot = std::map<std::string, std::int64_t>;
+
+Snapshot snapshot() {
+  Snapshot s;
+  auto geti = [&](const char* name, GLenum e) {
+    GLint v[4] = {0, 0, 0, 0};
+    glGetIntegerv(e, v);
+    s[name] = v[0];
+  };
+  auto get4 = [&](const char* name, GLenum e) {
+    GLint v[4] = {0, 0, 0, 0};
+    glGetIntegerv(e, v);
+    for (int i = 0; i < 4; ++i) s[std::string(name) + "[" + std::to_string(i) + "]"] = v[i];
+  };
+  auto getb4 = [&](const char* name, GLenum e) {
+    GLboolean v[4] = {0, 0, 0, 0};
+    glGetBooleanv(e, v);
+    for (int i = 0; i < 4; ++i) s[std::string(name) + "[" + std::to_string(i) + "]"] = v[i];
+  };
+  geti("draw_fbo", GL_DRAW_FRAMEBUFFER_BINDING);
+  geti("read_fbo", GL_READ_FRAMEBUFFER_BINDING);
+  geti("program", GL_CURRENT_PROGRAM);
+  geti("vao", GL_VERTEX_ARRAY_BINDING);
+  geti("active_texture", GL_ACTIVE_TEXTURE);
+  get4("viewport", GL_VIEWPORT);
+  get4("scissor_box", GL_SCISSOR_BOX);
+  getb4("color_mask", GL_COLOR_WRITEMASK);
+  geti("depth_mask", GL_DEPTH_WRITEMASK);
+  geti("depth_func", GL_DEPTH_FUNC);
+  geti("cull_face_mode", GL_CULL_FACE_MODE);
+  geti("front_face", GL_FRONT_FACE);
+  geti("blend_src_rgb", GL_BLEND_SRC_RGB);
+  geti("blend_dst_rgb", GL_BLEND_DST_RGB);
+  geti("blend_src_alpha", GL_BLEND_SRC_ALPHA);
+  geti("blend_dst_alpha", GL_BLEND_DST_ALPHA);
+  geti("blend_equation_rgb", GL_BLEND_EQUATION_RGB);
+  geti("blend_equation_alpha", GL_BLEND_EQUATION_ALPHA);
+  get4("polygon_mode", GL_POLYGON_MODE);
+  geti("pack_alignment", GL_PACK_ALIGNMENT);
+  geti("unpack_alignment", GL_UNPACK_ALIGNMENT);
+  geti("array_buffer", GL_ARRAY_BUFFER_BINDING);
+  geti("pixel_pack_buffer", GL_PIXEL_PACK_BUFFER_BINDING);
+  geti("pixel_unpack_buffer", GL_PIXEL_UNPACK_BUFFER_BINDING);
+  geti("dispatch_indirect_buffer", GL_DISPATCH_INDIRECT_BUFFER_BINDING);
+  geti("draw_indirect_buffer", GL_DRAW_INDIRECT_BUFFER_BINDING);
+  geti("ssbo_generic", GL_SHADER_STORAGE_BUFFER_BINDING);
+  geti("ubo_generic", GL_UNIFORM_BUFFER_BINDING);
+  geti("copy_read_buffer", GL_COPY_READ_BUFFER_BINDING);
+  geti("copy_write_buffer", GL_COPY_WRITE_BUFFER_BINDING);
+  for (GLenum cap : {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_CLIP_DISTANCE0,
+                     GL_PROGRAM_POINT_SIZE, GL_POLYGON_OFFSET_FILL, GL_DEPTH_CLAMP, GL_RASTERIZER_DISCARD,
+                     GL_FRAMEBUFFER_SRGB, GL_PRIMITIVE_RESTART}) {
+    s["enabled_" + std::to_string(cap)] = glIsEnabled(cap);
+  }
+  GLint ssbo_points = 0, ubo_points = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &ssbo_points);
+  glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &ubo_points);
+  for (GLuint i = 0; i < static_cast<GLuint>(std::min(ssbo_points, 16)); ++i) {
+    GLint b = 0;
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &b);
+    s["ssbo_" + std::to_string(i)] = b;
+  }
+  for (GLuint i = 0; i < static_cast<GLuint>(std::min(ubo_points, 16)); ++i) {
+    GLint b = 0;
+    glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, i, &b);
+    s["ubo_" + std::to_string(i)] = b;
+  }
+  GLint image0 = 0;
+  glGetIntegeri_v(GL_IMAGE_BINDING_NAME, 0, &image0);
+  s["image_0"] = image0;
+  GLint active = 0;
+  glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+  for (GLuint u = 0; u < 16; ++u) {
+    glActiveTexture(GL_TEXTURE0 + u);
+    for (auto [name, e] : {std::pair{"2d", GL_TEXTURE_BINDING_2D}, std::pair{"array", GL_TEXTURE_BINDING_2D_ARRAY},
+                           std::pair{"cube", GL_TEXTURE_BINDING_CUBE_MAP}, std::pair{"sampler", GL_SAMPLER_BINDING}}) {
+      GLint v = 0;
+      glGetIntegerv(e, &v);
+      s["unit" + std::to_string(u) + "_" + name] = v;
+    }
+  }
+  glActiveTexture(static_cast<GLenum>(active));
+  return s;
+}
+
+// The keys whose values differ between two snapshots.
+std::vector<std::string> changed(const Snapshot& a, const Snapshot& b) {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : a) {
+    if (b.at(k) != v) out.push_back(k + ": " + std::to_string(v) + " -> " + std::to_string(b.at(k)));
+  }
+  return out;
+}
+
+class Engine_ : public test::GlTest {
+ protected:
+  // An application's own objects, bound everywhere the engine might touch.
+  void SetUp() override {
+    auto prog = runtime::gl::Program::build_compute("app", "#version 450 core\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
+    ASSERT_TRUE(prog.ok()) << prog.error().message;
+    program_ = std::move(*prog);
+    vao_ = runtime::gl::make_vertex_array();
+    fbo_ = runtime::gl::make_framebuffer();
+    color_ = runtime::gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(color_.get(), 1, GL_RGBA32F, 64, 48);
+    depth_ = runtime::gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, 64, 48);
+    glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, color_.get(), 0);
+    glNamedFramebufferTexture(fbo_.get(), GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+    buffer_ = runtime::gl::make_buffer();
+    glNamedBufferStorage(buffer_.get(), 4096, nullptr, 0);
+    sampler_ = 0;
+    glCreateSamplers(1, &sampler_);
+
+    glUseProgram(program_.id());
+    glBindVertexArray(vao_.get());
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
+    glViewport(3, 5, 50, 40);
+    glScissor(1, 2, 30, 20);
+    glEnable(GL_SCISSOR_TEST);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
+    glBlendEquation(GL_FUNC_REVERSE_SUBTRACT);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_GREATER);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT);
+    glFrontFace(GL_CW);
+    glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
+    glPixelStorei(GL_PACK_ALIGNMENT, 8);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_.get());
+    glBindBuffer(GL_ARRAY_BUFFER, buffer_.get());
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, buffer_.get(), 256, 512);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer_.get());
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    for (GLuint u = 0; u < 16; ++u) glBindTextureUnit(u, color_.get());
+    glBindSampler(10, sampler_);
+    glActiveTexture(GL_TEXTURE5);
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  }
+  void TearDown() override {
+    glUseProgram(0);
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteSamplers(1, &sampler_);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glFrontFace(GL_CCW);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ZERO);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glActiveTexture(GL_TEXTURE0);
+  }
+
+  runtime::gl::Program program_;
+  runtime::gl::VertexArray vao_;
+  runtime::gl::Framebuffer fbo_;
+  runtime::gl::Texture color_, depth_;
+  runtime::gl::Buffer buffer_;
+  GLuint sampler_ = 0;
+};
+
+runtime::View test_view() {
+  runtime::View v;
+  v.view = glm::lookAt(glm::vec3(5, 7, 7), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+  v.aspect = 64.0f / 48.0f;
+  return v;
+}
+
+// Runs `call` and expects the snapshot unchanged; `what` names the call.
+template <typename F>
+void expect_state_kept(const char* what, F&& call) {
+  const Snapshot before = snapshot();
+  call();
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)) << what;
+  const auto diff = changed(before, snapshot());
+  EXPECT_TRUE(diff.empty()) << what << " changed " << diff.size() << " state values, first: " << (diff.empty() ? "" : diff[0]);
+}
+
+TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
+  for (const char* name : {"wavy_pool", "glass_ball"}) {
+    SCOPED_TRACE(name);
+    auto loaded = test::bake_and_load(scene(name));
+    ASSERT_TRUE(loaded);
+    std::unique_ptr<Engine> engine;
+    expect_state_kept("create", [&] {
+      auto e = Engine::create(*loaded);
+      ASSERT_TRUE(e.ok()) << e.error().message;
+      engine = std::move(*e);
+    });
+    const SceneDesc& sc = engine->scene();
+    runtime::FrameUpdate frame{0.25f, engine->default_options()};
+    expect_state_kept("update", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    frame.caustics.method = runtime::CausticsMethod::kVolumetric;
+    expect_state_kept("update (volumetric)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    frame.caustics.method = runtime::CausticsMethod::kSplat;
+    expect_state_kept("update (splat)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    Light light = sc.lights[0];
+    light.direction = {0.3f, -1.0f, 0.1f};
+    expect_state_kept("set_light", [&] { ASSERT_TRUE(engine->set_light(0, light).ok()); });
+    Mat4f t = sc.objects[0].transform;
+    t[12] += 0.1f;
+    expect_state_kept("set_object_transform", [&] { ASSERT_TRUE(engine->set_object_transform(0, t).ok()); });
+    expect_state_kept("draw_object", [&] { ASSERT_TRUE(engine->draw_object(0).ok()); });
+    expect_state_kept("lighting", [&] { ASSERT_TRUE(engine->lighting(0, 0).ok()); });
+    expect_state_kept("draw_glass", [&] { ASSERT_TRUE(engine->draw_glass(test_view(), color_.get(), depth_.get(), glm::vec3(0.5f)).ok()); });
+    if (sc.water) {
+      runtime::WaterLook look;
+      look.texture_size = 32;
+      int calls = 0;
+      expect_state_kept("draw_water", [&] {
+        ASSERT_TRUE(engine
+                        ->draw_water(test_view(), look,
+                                     [&](const runtime::WaterPass&) {
+                                       ++calls;  // an application's pass leaves things as it likes
+                                       glEnable(GL_STENCIL_TEST);
+                                       glUseProgram(0);
+                                       glBindVertexArray(0);
+                                       glViewport(0, 0, 1, 1);
+                                       glBindTextureUnit(2, 0);
+                                     })
+                        .ok());
+      });
+      EXPECT_EQ(calls, 2);  // refraction and reflection textures
+      look.textures = false;
+      expect_state_kept("draw_water (plain)", [&] { ASSERT_TRUE(engine->draw_water(test_view(), look, nullptr).ok()); });
+      const auto grid = engine->water_grid();
+      ASSERT_TRUE(grid);
+      std::vector<float> h(std::size_t{grid->columns} * grid->rows, 0.01f);
+      expect_state_kept("set_water_heights", [&] { ASSERT_TRUE(engine->set_water_heights(h).ok()); });
+      runtime::gl::Texture tex = runtime::gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(tex.get(), 1, GL_R32F, static_cast<GLsizei>(grid->columns), static_cast<GLsizei>(grid->rows));
+      expect_state_kept("set_water_heights_texture", [&] { ASSERT_TRUE(engine->set_water_heights_texture(tex.get()).ok()); });
+      expect_state_kept("update (heights)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    }
+    // bind() changes exactly the block's binding point and its eight units.
+    const Snapshot before = snapshot();
+    ASSERT_TRUE(engine->bind(0, 0).ok());
+    const Snapshot after = snapshot();
+    const runtime::Bindings& b = engine->bindings();
+    const auto r = engine->lighting(0, 0);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(after.at("ubo_" + std::to_string(b.block)), static_cast<std::int64_t>(r->buffer));
+    std::size_t expected_changes = 0;
+    for (const auto& d : changed(before, after)) {
+      const bool allowed = d.rfind("ubo_" + std::to_string(b.block) + ":", 0) == 0 || d.rfind("ubo_generic", 0) == 0 || d.rfind("unit", 0) == 0;
+      EXPECT_TRUE(allowed) << "bind() changed " << d;
+      ++expected_changes;
+    }
+    EXPECT_GT(expected_changes, 0u);
+    EXPECT_EQ(after.at("unit" + std::to_string(b.caustics) + "_2d"), static_cast<std::int64_t>(r->caustics));
+  }
+}
+
+// Irradiance of the floor seen from above with the application's program:
+// the GLSL include's caustix_irradiance through an orthographic top view.
+std::vector<float> floor_irradiance(Engine& engine, int n, float half) {
+  const std::string fs = std::string("#version 450 core\n") + engine.glsl_include() +
+                         "in vec3 v_world;\nin vec3 v_normal;\nout vec4 o;\n"
+                         "void main() { o = vec4(caustix_irradiance(v_world, vec3(0.0, 1.0, 0.0)), 1.0); }\n";
+  const char* vs =
+      "#version 450 core\nlayout(location = 0) in vec3 a_position;\nlayout(location = 1) in vec3 a_normal;\n"
+      "uniform mat4 u_model;\nuniform mat4 u_view_proj;\nout vec3 v_world;\nout vec3 v_normal;\n"
+      "void main() { v_world = (u_model * vec4(a_position, 1.0)).xyz; v_normal = a_normal;"
+      " gl_Position = u_view_proj * vec4(v_world, 1.0); }\n";
+  auto prog = runtime::gl::Program::build("app_floor", vs, fs.c_str());
+  EXPECT_TRUE(prog.ok()) << (prog.ok() ? "" : prog.error().message);
+  if (!prog.ok()) return {};
+  runtime::gl::Texture color = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(color.get(), 1, GL_RGBA32F, n, n);
+  runtime::gl::Framebuffer fbo = runtime::gl::make_framebuffer();
+  glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+  glViewport(0, 0, n, n);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(fbo.get(), GL_COLOR, 0, zero);
+  prog->use();
+  // Straight down over [-half, half]^2: clip x from x, clip y from z.
+  const glm::mat4 m = glm::ortho(-half, half, -half, half, -10.0f, 10.0f) *
+                      glm::lookAt(glm::vec3(0, 5, 0), glm::vec3(0, 0, 0), glm::vec3(0, 0, 1));
+  prog->set("u_view_proj", m);
+  prog->set("u_model", glm::make_mat4(engine.scene().objects[0].transform.data()));
+  EXPECT_TRUE(engine.bind(0, 0).ok());
+  EXPECT_TRUE(engine.draw_object(0).ok());
+  std::vector<float> px(static_cast<std::size_t>(n) * n * 4);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);  // the fixture's application left one bound
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * 4), px.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glUseProgram(0);
+  std::vector<float> r(static_cast<std::size_t>(n) * n);
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = px[4 * i];
+  return r;
+}
+
+// wavy_pool's sine, handed to the engine as heights instead of the wave
+// list, lights the floor the same way. The heights path takes normals from
+// central differences: on this grid (768 cells over 12 m, h = 1.56 cm,
+// k h = 0.098) the slope is low by (k h)^2/6 = 0.16 %, which moves the fold
+// lines by well under a pixel here (2 m / 128 px = 1.6 cm); the mean must
+// agree to 0.2 % (energy is conserved either way) and the images to 2 %
+// relative L1 (the folds are singular: a sub-pixel shift of a bright line
+// shows in the pixels it straddles).
+TEST_F(Engine_, ApplicationHeightsLightThePoolAsTheWaveListDoes) {
+  auto loaded = test::bake_and_load(scene("wavy_pool"));
+  ASSERT_TRUE(loaded);
+  auto e = Engine::create(*loaded);
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  Engine& engine = **e;
+  const runtime::FrameUpdate frame{0.0f, engine.default_options()};
+  ASSERT_TRUE(engine.update(frame).ok());
+  const int n = 128;
+  const auto waves = floor_irradiance(engine, n, 1.0f);
+
+  const auto grid = engine.water_grid();
+  ASSERT_TRUE(grid);
+  const Wave& w = engine.scene().water->waves.at(0);
+  std::vector<float> h(std::size_t{grid->columns} * grid->rows);
+  for (std::uint32_t j = 0; j < grid->rows; ++j) {
+    for (std::uint32_t i = 0; i < grid->columns; ++i) {
+      const double x = grid->x0 + (grid->x1 - grid->x0) * i / (grid->columns - 1);
+      const double z = grid->z0 + (grid->z1 - grid->z0) * j / (grid->rows - 1);
+      const double k = 2 * 3.14159265358979 / w.wavelength;
+      h[std::size_t{j} * grid->columns + i] = static_cast<float>(w.amplitude * std::sin(k * (w.direction[0] * x + w.direction[1] * z) + w.phase));
+    }
+  }
+  const Status set = engine.set_water_heights(h);
+  ASSERT_TRUE(set.ok()) << set.error().message;
+  ASSERT_TRUE(engine.update(frame).ok());
+  const auto cpu = floor_irradiance(engine, n, 1.0f);
+
+  double sum_w = 0, sum_h = 0, l1 = 0;
+  for (std::size_t i = 0; i < waves.size(); ++i) {
+    sum_w += waves[i];
+    sum_h += cpu[i];
+    l1 += std::fabs(waves[i] - cpu[i]);
+  }
+  ASSERT_GT(sum_w, 0.5 * waves.size());  // lit: flat water would give T(0) = 0.98
+  EXPECT_NEAR(sum_h / sum_w, 1.0, 0.002);
+  EXPECT_LT(l1 / sum_w, 0.02);
+  ::testing::Test::RecordProperty("heights_vs_waves_rel_l1", std::to_string(l1 / sum_w));
+
+  // The same heights from a GL buffer and from a texture: the same image.
+  runtime::gl::Buffer buf = runtime::gl::make_buffer();
+  glNamedBufferStorage(buf.get(), static_cast<GLsizeiptr>(16 + h.size() * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferSubData(buf.get(), 16, static_cast<GLsizeiptr>(h.size() * 4), h.data());
+  ASSERT_TRUE(engine.set_water_heights_buffer(buf.get(), 16).ok());
+  ASSERT_TRUE(engine.update(frame).ok());
+  EXPECT_EQ(floor_irradiance(engine, n, 1.0f), cpu);
+  runtime::gl::Texture tex = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(tex.get(), 1, GL_R32F, static_cast<GLsizei>(grid->columns), static_cast<GLsizei>(grid->rows));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(tex.get(), 0, 0, 0, static_cast<GLsizei>(grid->columns), static_cast<GLsizei>(grid->rows), GL_RED, GL_FLOAT, h.data());
+  ASSERT_TRUE(engine.set_water_heights_texture(tex.get()).ok());
+  ASSERT_TRUE(engine.update(frame).ok());
+  EXPECT_EQ(floor_irradiance(engine, n, 1.0f), cpu);
+  // Back to the wave list: the first image again.
+  engine.use_scene_waves();
+  ASSERT_TRUE(engine.update(frame).ok());
+  EXPECT_EQ(floor_irradiance(engine, n, 1.0f), waves);
+}
+
+TEST_F(Engine_, BadArgumentsAreRefusedByName) {
+  auto loaded = test::bake_and_load(scene("wavy_pool"));
+  ASSERT_TRUE(loaded);
+  runtime::Bindings clash;
+  clash.caustics = clash.position;
+  auto bad = Engine::create(*loaded, clash);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().code, ErrorCode::kUsage);
+  EXPECT_NE(bad.error().message.find("given twice"), std::string::npos) << bad.error().message;
+
+  auto e = Engine::create(*loaded);
+  ASSERT_TRUE(e.ok());
+  Engine& engine = **e;
+  EXPECT_EQ(engine.lighting(0, 0).error().code, ErrorCode::kUsage);  // before update()
+  ASSERT_TRUE(engine.update(runtime::FrameUpdate{0.0f, engine.default_options()}).ok());
+  EXPECT_EQ(engine.lighting(1, 0).error().code, ErrorCode::kUsage);
+  EXPECT_EQ(engine.lighting(0, 7).error().code, ErrorCode::kUsage);
+  EXPECT_EQ(code_of(engine.bind(9, 0)), ErrorCode::kUsage);
+  EXPECT_EQ(code_of(engine.draw_object(3)), ErrorCode::kUsage);
+  EXPECT_EQ(code_of(engine.update(runtime::FrameUpdate{NAN, {}})), ErrorCode::kUsage);
+  std::vector<float> h(10, 0.0f);
+  const Status short_heights = engine.set_water_heights(h);
+  EXPECT_EQ(code_of(short_heights), ErrorCode::kUsage);
+  const auto grid = engine.water_grid();
+  h.assign(std::size_t{grid->columns} * grid->rows, 0.0f);
+  h[grid->columns + 2] = NAN;
+  const Status nan_height = engine.set_water_heights(h);
+  ASSERT_FALSE(nan_height.ok());
+  EXPECT_NE(nan_height.error().message.find("column 2, row 1"), std::string::npos) << nan_height.error().message;
+  EXPECT_EQ(code_of(engine.set_water_heights_buffer(123456)), ErrorCode::kUsage);
+  runtime::gl::Buffer small = runtime::gl::make_buffer();
+  glNamedBufferStorage(small.get(), 64, nullptr, 0);
+  EXPECT_EQ(code_of(engine.set_water_heights_buffer(small.get())), ErrorCode::kUsage);
+  runtime::gl::Texture wrong = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(wrong.get(), 1, GL_RGBA8, 4, 4);
+  EXPECT_EQ(code_of(engine.set_water_heights_texture(wrong.get())), ErrorCode::kUsage);
+  EXPECT_TRUE(engine.draw_glass(test_view(), wrong.get(), wrong.get(), glm::vec3(0)).ok());  // no glass: a no-op
+  runtime::WaterLook look;
+  look.steps = 0;
+  EXPECT_EQ(code_of(engine.draw_water(test_view(), look, nullptr)), ErrorCode::kUsage);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(Version, LibraryMatchesHeaders) {
+  const Version v = version_numbers();
+  EXPECT_EQ(v.major, CAUSTIX_VERSION_MAJOR);
+  EXPECT_EQ(v.minor, CAUSTIX_VERSION_MINOR);
+  EXPECT_EQ(v.patch, CAUSTIX_VERSION_PATCH);
+  EXPECT_EQ(std::string(version()),
+            std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch));
+  EXPECT_NE(std::string(runtime::glsl_include_source()).find("vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace caustix
