@@ -20,6 +20,8 @@ PACKAGES=(
   libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots
   libgtest-dev clang-14 libclang-rt-14-dev python3
+  # scripts/plot_runtime.py and the other plots of docs/results/
+  python3-matplotlib
 )
 
 SUDO=""

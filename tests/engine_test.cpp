@@ -219,6 +219,7 @@ void expect_state_kept(const char* what, F&& call) {
 }
 
 TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
+  ::testing::Test::RecordProperty("gl_state_values", static_cast<int>(snapshot().size()));
   for (const char* name : {"wavy_pool", "glass_ball"}) {
     SCOPED_TRACE(name);
     auto loaded = test::bake_and_load(scene(name));

@@ -130,9 +130,9 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, const int v
   glViewport(0, 0, w, h);
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(glow_target_.fbo.get(), GL_COLOR, 0, zero);
+  glDepthMask(GL_TRUE);  // before the clear, which obeys it: the caller's mask is off here
   glClear(GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
-  glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glDisable(GL_BLEND);
   highlight_.use();

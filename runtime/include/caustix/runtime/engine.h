@@ -7,7 +7,7 @@
 // engine never creates a context, never draws into the default framebuffer
 // unless the caller has it bound, and never assumes a viewport, program,
 // VAO or any other state: each call saves the state it touches and restores
-// it before returning (tests/engine_test.cpp compares 120 GL state queries
+// it before returning (tests/engine_test.cpp compares 151 GL state values
 // before and after every call). The exceptions are named where they apply:
 // bind() exists to change bindings, and the callback of draw_water() runs
 // with the state the engine set for it.
