@@ -291,6 +291,25 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     }
     EXPECT_GT(expected_changes, 0u);
     EXPECT_EQ(after.at("unit" + std::to_string(b.caustics) + "_2d"), static_cast<std::int64_t>(r->caustics));
+
+    // The matrices are the block's frames: a point at the frame's origin
+    // plus half extents along U and W maps to the map's corner (1, 1).
+    const runtime::LightBlock& k = r->block;
+    const bool caustics = k.mode.x == static_cast<int>(runtime::LightMode::kCaustics);
+    const bool glass = k.mode.z == 1;
+    EXPECT_TRUE(caustics || glass) << "the floor should be lit through a map in " << name;
+    const glm::mat4& m = caustics ? r->world_to_caustics : r->world_to_glass;
+    const glm::vec4 o = caustics ? k.frame_origin : k.glass_origin;
+    const glm::vec4 u = caustics ? k.frame_u : k.glass_u, v = caustics ? k.frame_v : k.glass_v;
+    const glm::vec4 w = caustics ? k.frame_w : k.glass_w, half = caustics ? k.frame_half : k.glass_half;
+    const glm::vec3 p = glm::vec3(o) + glm::vec3(u) * half.x + glm::vec3(w) * half.z + glm::vec3(v) * 0.25f;
+    const glm::vec4 q = m * glm::vec4(p, 1.0f);
+    EXPECT_NEAR(q.x, 1.0f, 1e-4f);
+    EXPECT_NEAR(q.y, 1.0f, 1e-4f);
+    EXPECT_NEAR(q.z, 0.25f, 1e-4f);
+    const glm::vec4 c = m * glm::vec4(glm::vec3(o), 1.0f);
+    EXPECT_NEAR(c.x, 0.5f, 1e-4f);
+    EXPECT_NEAR(c.y, 0.5f, 1e-4f);
   }
 }
 

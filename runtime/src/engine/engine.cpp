@@ -27,6 +27,21 @@ glm::vec3 to_glm(const Vec3d& v) { return {static_cast<float>(v[0]), static_cast
 glm::vec4 vec4_of(const Vec3d& v, float w) { return glm::vec4(to_glm(v), w); }
 glm::vec4 vec4_of(const Vec3f& v, float w) { return glm::vec4(to_glm(v), w); }
 
+// World -> (s, t, v, 1) of a frame's maps: s = 0.5 (u / half_u + 1),
+// t = 0.5 (w / half_w + 1), v along V (caustix.glsl's uv and c.y).
+glm::mat4 frame_matrix(const BoundingFrame& f) {
+  const glm::vec3 origin = to_glm(f.origin);
+  const glm::vec3 rows[3] = {to_glm(f.u) * (0.5f / f.half[0]), to_glm(f.w) * (0.5f / f.half[2]), to_glm(f.v)};
+  const float offsets[3] = {0.5f, 0.5f, 0.0f};
+  glm::mat4 m(0.0f);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[c][r] = rows[r][c];
+    m[3][r] = offsets[r] - glm::dot(rows[r], origin);
+  }
+  m[3][3] = 1.0f;
+  return m;
+}
+
 Error usage(const std::string& what) { return make_error(ErrorCode::kUsage, what); }
 
 }  // namespace
@@ -130,6 +145,7 @@ struct Engine::Impl {
     r.caustics = r.position = dummy_2d.get();
     r.glass_illumination = dummy_array.get();
     r.glass_target = dummy_2d.get();
+    r.world_to_caustics = r.world_to_glass = glm::mat4(1.0f);
     LightBlock& b = r.block;
     std::optional<CausticsEngine::Binding> cb;
     if (caustics && co.method != CausticsMethod::kNone) cb = caustics->binding(oi, li);
@@ -144,6 +160,7 @@ struct Engine::Impl {
       b.frame_half = vec4_of(f.half, 0.0f);
       r.caustics = cb->caustics;
       r.position = cb->position_map;
+      r.world_to_caustics = frame_matrix(f);
       return;
     }
     const Light& light = scene.lights[li];
@@ -162,6 +179,7 @@ struct Engine::Impl {
     for (std::size_t k = 0; k < g->plane_v.size() && k < 16; ++k) b.glass_plane_v[k / 4][static_cast<int>(k % 4)] = g->plane_v[k];
     r.glass_illumination = g->illumination;
     r.glass_target = g->target;
+    r.world_to_glass = frame_matrix(f);
   }
 
   std::size_t slot(std::uint32_t oi, std::uint32_t li) const { return std::size_t{oi} * scene.lights.size() + li; }

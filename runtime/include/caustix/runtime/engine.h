@@ -109,6 +109,13 @@ struct ReceiverLighting {
   // GL texture names (never 0: unused ones are valid 1x1 textures).
   unsigned shadow_2d = 0, shadow_cube = 0, caustics = 0, position = 0;
   unsigned glass_illumination = 0, glass_target = 0, glass_shadow_2d = 0, glass_shadow_cube = 0;
+  // The block's frames as matrices: world (x, y, z, 1) -> (s, t, v, 1), with
+  // (s, t) the texture coordinate of the caustics and position maps (of the
+  // glass textures), in [0, 1] over the region they cover, and v the
+  // coordinate along V in metres (what the position map and the glass
+  // planes hold). Identity where the mode does not use them.
+  glm::mat4 world_to_caustics{1.0f};
+  glm::mat4 world_to_glass{1.0f};
   // The block as the engine uploaded it: glBindBufferRange(GL_UNIFORM_BUFFER,
   // binding, buffer, offset, sizeof(LightBlock)).
   unsigned buffer = 0;
