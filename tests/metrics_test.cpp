@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "caustix/metrics/error_split.h"
 #include "caustix/metrics/image_metrics.h"
 
 namespace caustix::metrics {
@@ -72,6 +73,35 @@ TEST(Metrics, LuvOfColours) {
   const Luv red = to_luv(1, 0, 0);
   EXPECT_GT(red.u, 100.0);  // sRGB red: u* about 175
   EXPECT_NEAR(to_luv(0, 0, 0).L, 0.0, 1e-9);
+}
+
+// Each pixel lands in the class its auxiliary values and the reference put
+// it in, and the classes' errors add up to the image's.
+TEST(ErrorSplit, ClassesFollowCoverageCosineFoldsAndSlope) {
+  // One row: facing away, grazing, in a cast shadow, unseen, partly
+  // covered, a lit pixel of slope 0.3, then two lit pixels 4x apart (a
+  // fold on both).
+  const std::vector<float> ref_y = {0, 0.1f, 0.01f, 0, 0.6f, 1, 1, 4};
+  const std::vector<float> a_y = {0, 0.1f, 0.02f, 0, 0.5f, 1.1f, 1, 4};
+  const std::vector<float> cov = {1, 1, 1, 0, 0.5f, 1, 1, 1}, ny = {0.5f, 0.5f, 1, 0, 0.1f, 0.3f, 1, 1};
+  const std::vector<float> cosine = {-0.5f, 0.1f, 1, 0, 0.5f, 1, 1, 1};
+  Image a{8, 1, {}}, b{8, 1, {}}, aux{8, 1, {}};
+  for (std::size_t i = 0; i < 8; ++i) {
+    a.rgb.insert(a.rgb.end(), {a_y[i], a_y[i], a_y[i]});
+    b.rgb.insert(b.rgb.end(), {ref_y[i], ref_y[i], ref_y[i]});
+    aux.rgb.insert(aux.rgb.end(), {cov[i], ny[i], cosine[i]});
+  }
+  const ErrorSplit s = split_error(a, b, aux);
+  const std::vector<std::string> expected = {"self-shadow", "terminator", "cast-shadow", "outside",
+                                             "silhouette", "n_y 0.2-0.5", "fold", "fold"};
+  double abs_sum = 0;
+  for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(s.classes[s.class_of[i]].name, expected[i]) << "pixel " << i;
+  for (const auto& c : s.classes) abs_sum += c.abs_error;
+  EXPECT_NEAR(abs_sum, s.total_abs_error, 1e-12);
+  EXPECT_NEAR(s.total_abs_error, 0.01 + 0.1 + 0.1, 1e-6);
+  const auto& slope = s.classes[s.class_of[5]];
+  EXPECT_NEAR(slope.rel_l1(), 0.1, 1e-6);
+  EXPECT_NEAR(slope.bias(), 0.1, 1e-6);
 }
 
 }  // namespace

@@ -4,6 +4,10 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
 
   plane.obj   unit square in y = 0, centred on the origin, 8 x 8 quads, normal +y
   sphere.obj  UV sphere, radius 1, 48 segments x 24 rings
+  sphere_fine.obj  UV sphere, radius 1, 128 segments x 64 rings (curved
+              receivers' accuracy: the facets' sag is 3e-4 of the radius)
+  cylinder.obj  closed cylinder, radius 1, axis along x from -1 to 1,
+              96 segments, smooth side, flat caps
   box.obj     unit cube centred on the origin (flat-shaded faces)
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
   teapot.obj  the Utah teapot from teapot_patches.txt, 12 x 12 quads per patch,
@@ -71,6 +75,32 @@ def sphere(seg=48, rings=24):
             faces.append((ring(r, s), ring(r, s + 1), ring(r + 1, s + 1), ring(r + 1, s)))
     for s in range(seg):
         faces.append((bottom, ring(rings - 1, s), ring(rings - 1, s + 1)))
+    return verts, faces, normals
+
+
+def cylinder(seg=96):
+    verts, normals, faces = [], [], []
+    for s in range(seg):  # side: rings at x = -1 and x = +1, outward radial normals
+        ph = 2 * math.pi * s / seg
+        y, z = math.cos(ph), math.sin(ph)
+        for x in (-1.0, 1.0):
+            verts.append((x, y, z))
+            normals.append((0.0, y, z))
+    for s in range(seg):
+        a, b = 2 * s, 2 * ((s + 1) % seg)
+        # CCW from outside: (x-, s) (x-, s+1) (x+, s+1) (x+, s)
+        faces.append((a, b, b + 1, a + 1))
+    for x in (-1.0, 1.0):  # caps: a centre and their own rim with the axis normal
+        centre = len(verts)
+        verts.append((x, 0.0, 0.0))
+        normals.append((x, 0.0, 0.0))
+        for s in range(seg):
+            ph = 2 * math.pi * s / seg
+            verts.append((x, math.cos(ph), math.sin(ph)))
+            normals.append((x, 0.0, 0.0))
+        for s in range(seg):
+            i, j = centre + 1 + s, centre + 1 + (s + 1) % seg
+            faces.append((centre, i, j) if x > 0 else (centre, j, i))
     return verts, faces, normals
 
 
@@ -236,6 +266,10 @@ if __name__ == "__main__":
     write_obj("plane.obj", v, f, comment="Unit square in y = 0, 8 x 8 quads.")
     v, f, n = sphere()
     write_obj("sphere.obj", v, f, n, comment="UV sphere, radius 1.")
+    v, f, n = sphere(128, 64)
+    write_obj("sphere_fine.obj", v, f, n, comment="UV sphere, radius 1, 128 x 64.")
+    v, f, n = cylinder()
+    write_obj("cylinder.obj", v, f, n, comment="Closed cylinder, radius 1, axis x in [-1, 1].")
     v, f, n = box()
     write_obj("box.obj", v, f, n, comment="Unit cube centred on the origin.")
     v, f, n = walls()

@@ -22,30 +22,32 @@ namespace {
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 
-// A colour + depth render target of a given size.
+// A colour (+ auxiliary colour) + depth render target of a given size.
 struct Target {
   gl::Framebuffer fbo;
-  gl::Texture color;
+  gl::Texture color, aux;
   gl::Texture depth;
   int width = 0, height = 0;
   GLenum format = 0;
 
-  void ensure(int w, int h, GLenum color_format, bool with_depth) {
-    if (w == width && h == height && color_format == format && fbo.get()) return;
+  void ensure(int w, int h, GLenum color_format, bool with_depth, bool with_aux = false) {
+    if (w == width && h == height && color_format == format && fbo.get() && with_aux == (aux.get() != 0)) return;
     width = w;
     height = h;
     format = color_format;
     fbo = gl::make_framebuffer();
-    color = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(color.get(), 1, color_format, w, h);
-    glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-    if (with_depth) {
-      depth = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-      glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
-    }
+    auto attach = [&](gl::Texture& t, GLenum internal, GLenum attachment) {
+      t = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(t.get(), 1, internal, w, h);
+      glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glNamedFramebufferTexture(fbo.get(), attachment, t.get(), 0);
+    };
+    attach(color, color_format, GL_COLOR_ATTACHMENT0);
+    aux = gl::Texture();
+    if (with_aux) attach(aux, GL_RGBA32F, GL_COLOR_ATTACHMENT1);
+    depth = gl::Texture();
+    if (with_depth) attach(depth, GL_DEPTH_COMPONENT32F, GL_DEPTH_ATTACHMENT);
   }
 };
 
@@ -233,6 +235,9 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
       !std::isfinite(q.x0) || !std::isfinite(q.x1) || !std::isfinite(q.z0) || !std::isfinite(q.z1)) {
     return make_error(ErrorCode::kUsage, "irradiance region must have x1 > x0, z1 > z0 and a size in 1..16384");
   }
+  if (q.pixel_samples < 1 || q.pixel_samples > 16) {
+    return make_error(ErrorCode::kUsage, "pixel samples per axis " + std::to_string(q.pixel_samples) + " is outside 1..16");
+  }
   IrradianceImage img;
   img.width = q.width;
   img.height = q.height;
@@ -243,58 +248,113 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
     }
   }
   if (!(img.e0 > 0)) img.e0 = 1.0f;
-  s.irradiance_target.ensure(q.width, q.height, GL_RGBA32F, true);
   CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{q.time, q.caustics}));
 
-  // Straight down: clip x from world x, clip y from world z (GL row 0 at z0),
-  // clip z from height (higher is nearer).
-  const float ylo = s.engine->bounds_min().y - 1.0f, yhi = s.engine->bounds_max().y + 1.0f;
-  glm::mat4 m(0.0f);
-  m[0][0] = 2.0f / (q.x1 - q.x0);
-  m[3][0] = -(q.x1 + q.x0) / (q.x1 - q.x0);
-  m[2][1] = 2.0f / (q.z1 - q.z0);
-  m[3][1] = -(q.z1 + q.z0) / (q.z1 - q.z0);
-  m[1][2] = -2.0f / (yhi - ylo);
-  m[3][2] = (yhi + ylo) / (yhi - ylo);
-  m[3][3] = 1.0f;
-
-  auto begin_pass = [&]() {
-    glBindFramebuffer(GL_FRAMEBUFFER, s.irradiance_target.fbo.get());
-    glViewport(0, 0, q.width, q.height);
-    s.irradiance.use();
-    s.irradiance.set("u_view_proj", m);
-    s.irradiance.set("u_inv_e0", 1.0f / img.e0);
-  };
-  glEnable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-  glDepthFunc(GL_LESS);
-  begin_pass();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(s.irradiance_target.fbo.get(), GL_COLOR, 0, zero);
-  glClear(GL_DEPTH_BUFFER_BIT);
-  s.irradiance.set("u_pass", 0);
-  CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 0, 0, receiver));
-  for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
-    begin_pass();
-    glEnable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glDepthMask(GL_FALSE);
-    glDepthFunc(GL_LEQUAL);
-    s.irradiance.set("u_pass", 1);
-    CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 1, li, receiver));
+  // The direction towards the first light as the receiver's shading sees it
+  // (for the auxiliary channels only).
+  glm::vec3 to_light(0.0f);
+  if (!scene.lights.empty()) {
+    auto lit = s.engine->lighting(*receiver, 0);
+    if (!lit) return lit.error();
+    const LightBlock& b = lit->block;
+    if (b.mode.x == static_cast<int>(LightMode::kCaustics)) to_light = glm::vec3(b.frame_v);
+    else if (b.mode.y == 1) to_light = -glm::vec3(b.mode.x == static_cast<int>(LightMode::kFlatWater) ? b.refracted : b.light_direction);
   }
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("irradiance"));
 
-  std::vector<float> rgba(static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height) * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(s.irradiance_target.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * 4), rgba.data());
-  img.rgb.reserve(rgba.size() / 4 * 3);
-  for (std::size_t i = 0; i < rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  // Tiles of at most 2048^2 samples: each pixel's S x S samples are the
+  // fragment centres of a render at S times the resolution.
+  const int S = q.pixel_samples;
+  const int tile = std::max(1, 2048 / S);
+  const float ylo = s.engine->bounds_min().y - 1.0f, yhi = s.engine->bounds_max().y + 1.0f;
+  const float px = (q.x1 - q.x0) / static_cast<float>(q.width), pz = (q.z1 - q.z0) / static_cast<float>(q.height);
+  const std::size_t pixels = static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height);
+  img.rgb.assign(pixels * 3, 0.0f);
+  img.aux.assign(pixels * 3, 0.0f);
+  std::vector<float> color, aux;
+  for (int ty = 0; ty < q.height; ty += tile) {
+    for (int tx = 0; tx < q.width; tx += tile) {
+      const int tw = std::min(tile, q.width - tx), th = std::min(tile, q.height - ty);
+      const int sw = tw * S, sh = th * S;
+      s.irradiance_target.ensure(sw, sh, GL_RGBA32F, true, true);
+      // Straight down: clip x from world x, clip y from world z (GL row 0
+      // at the tile's z0), clip z from height (higher is nearer).
+      const float x0 = q.x0 + px * static_cast<float>(tx), x1 = q.x0 + px * static_cast<float>(tx + tw);
+      const float z0 = q.z0 + pz * static_cast<float>(ty), z1 = q.z0 + pz * static_cast<float>(ty + th);
+      glm::mat4 m(0.0f);
+      m[0][0] = 2.0f / (x1 - x0);
+      m[3][0] = -(x1 + x0) / (x1 - x0);
+      m[2][1] = 2.0f / (z1 - z0);
+      m[3][1] = -(z1 + z0) / (z1 - z0);
+      m[1][2] = -2.0f / (yhi - ylo);
+      m[3][2] = (yhi + ylo) / (yhi - ylo);
+      m[3][3] = 1.0f;
+      const GLuint fbo = s.irradiance_target.fbo.get();
+      auto begin_pass = [&](int pass) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1}, colour_only[2] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+        glNamedFramebufferDrawBuffers(fbo, 2, pass == 0 ? both : colour_only);
+        glViewport(0, 0, sw, sh);
+        s.irradiance.use();
+        s.irradiance.set("u_view_proj", m);
+        s.irradiance.set("u_inv_e0", 1.0f / img.e0);
+        s.irradiance.set("u_to_light", to_light);
+        s.irradiance.set("u_pass", pass);
+      };
+      glEnable(GL_DEPTH_TEST);
+      glDisable(GL_CULL_FACE);
+      glDisable(GL_BLEND);
+      glDepthMask(GL_TRUE);
+      glDepthFunc(GL_LESS);
+      begin_pass(0);
+      const float zero[4] = {0, 0, 0, 0};
+      glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
+      glClearNamedFramebufferfv(fbo, GL_COLOR, 1, zero);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 0, 0, receiver));
+      for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
+        begin_pass(1);
+        glEnable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_LEQUAL);
+        CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(s.irradiance, 1, li, receiver));
+      }
+      glDisable(GL_BLEND);
+      glDepthMask(GL_TRUE);
+      CAUSTIX_RETURN_IF_ERROR(gl::check_gl("irradiance"));
+
+      const std::size_t samples = static_cast<std::size_t>(sw) * static_cast<std::size_t>(sh);
+      color.resize(samples * 4);
+      aux.resize(samples * 4);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glGetTextureImage(s.irradiance_target.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(color.size() * 4), color.data());
+      glGetTextureImage(s.irradiance_target.aux.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(aux.size() * 4), aux.data());
+      // Box average: irradiance over all S^2 samples (0 where unseen), the
+      // auxiliary means over the samples that see the receiver.
+      for (int y = 0; y < th; ++y) {
+        for (int x = 0; x < tw; ++x) {
+          double e[3] = {0, 0, 0}, seen = 0, ny = 0, cosl = 0;
+          for (int sy = 0; sy < S; ++sy) {
+            for (int sx = 0; sx < S; ++sx) {
+              const std::size_t k = 4 * (static_cast<std::size_t>(y * S + sy) * static_cast<std::size_t>(sw) +
+                                         static_cast<std::size_t>(x * S + sx));
+              for (int c = 0; c < 3; ++c) e[c] += color[k + c];
+              seen += aux[k];
+              ny += aux[k + 1];
+              cosl += aux[k + 2];
+            }
+          }
+          const std::size_t o = 3 * (static_cast<std::size_t>(ty + y) * static_cast<std::size_t>(q.width) + static_cast<std::size_t>(tx + x));
+          const double n = static_cast<double>(S) * S;
+          for (int c = 0; c < 3; ++c) img.rgb[o + c] = static_cast<float>(e[c] / n);
+          img.aux[o] = static_cast<float>(seen / n);
+          img.aux[o + 1] = seen > 0 ? static_cast<float>(ny / seen) : 0.0f;
+          img.aux[o + 2] = seen > 0 ? static_cast<float>(cosl / seen) : 0.0f;
+        }
+      }
+    }
+  }
   return img;
 }
 

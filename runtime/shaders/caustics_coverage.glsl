@@ -10,7 +10,7 @@ flat in int v_prim;
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 // This fragment's primitive (caustics_geometry.comp).
-vec2 v_q0, v_q1, v_q2, v_plane;
+vec2 v_q0, v_q1, v_q2, v_plane, v_slopes;
 float v_irradiance;
 void load_primitive() {
   vec4 a = prims[PRIM_STRIDE * v_prim], b = prims[PRIM_STRIDE * v_prim + 1], c = prims[PRIM_STRIDE * v_prim + 2];
@@ -19,6 +19,7 @@ void load_primitive() {
   v_q2 = b.xy;
   v_irradiance = b.z;
   v_plane = c.xy;
+  v_slopes = c.zw;  // water caustics: the beam's direction (caustics_geometry.comp)
 }
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
@@ -70,8 +71,9 @@ float sliver_coverage(vec2 a, vec2 b, vec2 c) {
 // ~10^7 (4096^2 maps) to ~10^8 (8192^2) down to an area below 1, and the
 // rounding, with max(twice, 0) dropping the negative half, lit texels along
 // triangle edges up to +30 % (docs/robustness.md).
-float texel_coverage() {
-  vec2 lo = floor(gl_FragCoord.xy);
+// `shift` moves the triangle by that many texels first.
+float texel_coverage_shifted(vec2 shift) {
+  vec2 lo = floor(gl_FragCoord.xy) - shift;
   vec2 q0 = v_q0 - lo, q1 = v_q1 - lo, q2 = v_q2 - lo;
   {
     vec2 a = q0, b = q1, c = q2;
@@ -116,3 +118,5 @@ float texel_coverage() {
   for (int i = 0; i < n; ++i) twice += cross2(poly[i], poly[(i + 1) % n]);
   return 0.5 * max(twice, 0.0);
 }
+
+float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }

@@ -17,7 +17,11 @@ layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
 layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };
-// Per primitive: (q0, q1), (q2, irradiance per texel-unit area, reached), (plane offset, eps, -, -).
+// Per primitive: (q0, q1), (q2, irradiance, reached), (plane offset, eps, s_u, s_w).
+// s_u, s_w: the beam's mean direction of travel d as (d.U / d.V, d.W / d.V),
+// so that a receiver with normal n gets I_c (n.V + s_u n.U + s_w n.W) = I_c
+// n.d / V.d (beyond the thesis, whose casting takes n.V: under waves the
+// light does not arrive along V, docs/caustics.md "Local light direction").
 layout(std430, binding = 8) writeonly buffer Primitives { vec4 prims[]; };
 
 uniform vec3 u_origin;
@@ -37,6 +41,7 @@ void main() {
   vec2 plane = planes[u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane)];
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);
   vec2 q[3];
+  vec2 slopes = vec2(0.0);
   bool reached = true;
   for (int k = 0; k < 3; ++k) {
     uint i = indices[3u * t + uint(k)];
@@ -44,6 +49,7 @@ void main() {
     vec3 dir = refracted[i].xyz;
     float s = (dot(rel, u_V) - plane.x) / -dot(dir, u_V);
     reached = reached && s >= 0.0;  // a plane above the water point is not lit through it
+    slopes += vec2(dot(dir, u_U), dot(dir, u_W)) / min(dot(dir, u_V), -1e-6) / 3.0;
     vec3 pt = rel + s * dir;
     q[k] = (vec2(dot(pt, u_U), dot(pt, u_W)) + u_half.xz) * to_texels;  // texel coordinates
   }
@@ -54,5 +60,5 @@ void main() {
   float irradiance = f.x / max(area * texel_area, f.y / u_max_magnification);
   prims[3u * p] = vec4(q[0], q[1]);
   prims[3u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
-  prims[3u * p + 2u] = vec4(plane, 0.0, 0.0);
+  prims[3u * p + 2u] = vec4(plane, slopes);
 }

@@ -14,6 +14,9 @@
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 uniform float u_map_size;
+#ifdef DEPTH_SHIFT
+uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each beam by up to eps (s_u, s_w)
+#endif
 
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
@@ -23,7 +26,11 @@ void main() {
   vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
   v_prim = prim;
-  const float delta = 0.7072;  // half a texel diagonal, rounded up
+  float delta = 0.7072;  // half a texel diagonal, rounded up
+#ifdef DEPTH_SHIFT
+  vec4 p2 = prims[PRIM_STRIDE * prim + 2];
+  delta += p2.y * length(p2.zw * u_texels_per_metre);
+#endif
   int k = gl_VertexID % 4;  // quad (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2
   vec2 p;
   // A well-shaped triangle (every angle >= 15 degrees) is dilated itself:

@@ -6,7 +6,9 @@
 // without gap or overlap and each receiver point is lit through exactly one
 // plane, even a surface lying exactly on a boundary. The texel gets the
 // triangle's irradiance times the fraction of the texel it covers;
-// additive blending sums the beams.
+// additive blending sums the beams, as the vector (1, s_u, s_w) I_c of
+// caustics_geometry.comp (the map's R is eq. 4-18's irradiance on the plane,
+// G and B what casting needs for the local light direction).
 //
 // Beyond the thesis: a caustics texel larger than a position-map texel
 // covers surface at several depths, possibly in several planes' windows.
@@ -15,26 +17,41 @@
 // samples up to 4 x 4 position texels inside the caustics texel and keeps
 // the fraction of the surface there that lies in this window; over the
 // planes the fractions sum to 1 and the texel's flux is kept.
+//
+// Also beyond the thesis: the beam is followed from the plane to the
+// surface's own depth. The thesis deposits the beam's cross-section on
+// plane D for every surface point within D +- eps, so converging beams land
+// where they were at D, not where they meet the surface: fold lines on a
+// curved receiver moved by up to eps tan(theta) (a sphere under waves: 23 %
+// error at fold pixels with 8 planes, 8.5 % with 32, docs/caustics.md). Here
+// the triangle is moved by (v - D) (s_u, s_w), v the mean depth of the
+// surface samples in the window: each beam's own direction carries it to
+// the surface (first order: the beam's own spread over eps is neglected).
+// The plane stays what buckets the beams and culls them.
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis: 1, or up to 4 when u_map_scale > 1
+uniform vec2 u_texels_per_metre;                        // caustics map, along U and W
 
-out float o_irradiance;
+out vec4 o_irradiance;
 
 void main() {
   load_primitive();
-  float inside = 0.0, surface = 0.0;
+  float inside = 0.0, surface = 0.0, depth = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
       float v = texelFetch(u_position_map, ivec2(at * u_map_scale), 0).r;
       float d = v - v_plane.x;
       if (v > -1e29) surface += 1.0;
-      if (d <= v_plane.y && d > -v_plane.y) inside += 1.0;
+      if (d <= v_plane.y && d > -v_plane.y) {
+        inside += 1.0;
+        depth += d;
+      }
     }
   }
   if (inside == 0.0) discard;
-  float covered = texel_coverage();
+  float covered = texel_coverage_shifted(depth / inside * v_slopes * u_texels_per_metre);
   if (covered <= 0.0) discard;
-  o_irradiance = v_irradiance * covered * (inside / surface);
+  o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * covered * (inside / surface));
 }

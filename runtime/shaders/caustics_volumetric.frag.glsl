@@ -6,12 +6,12 @@
 layout(binding = 0) uniform sampler2DArray u_slices;  // receiver mask per slice
 uniform int u_slice;
 
-out float o_irradiance;
+out vec4 o_irradiance;  // as caustics_levelmap.frag
 
 void main() {
   load_primitive();
   if (texelFetch(u_slices, ivec3(ivec2(gl_FragCoord.xy), u_slice), 0).r < 0.5) discard;
   float covered = texel_coverage();
   if (covered <= 0.0) discard;
-  o_irradiance = v_irradiance * covered;
+  o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * covered);
 }

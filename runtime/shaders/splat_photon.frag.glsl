@@ -1,10 +1,13 @@
 // Seed 001 ch. 8 (GPU variant) / §9.2: the water surface rasterised along
 // the frame's V (prefixed with #version and caustix.glsl's optics); each fragment is a
 // photon. It stores where the refracted photon meets the receiver's first
-// surface (the caustics map's uv, RG) and the irradiance it adds to that
+// surface (the caustics map's uv, R and G) and the irradiance it adds to that
 // texel (B): E_in cos(theta_i) T(theta_i) times the surface patch the
-// fragment covers (pixel area / |n.V|), over the texel's area. Photons that
-// miss the receiver store alpha 0.
+// fragment covers (pixel area / |n.V|), over the texel's area; A holds its
+// direction of travel t as two halves, (t.U / t.V, t.W / t.V), for casting
+// with the local light direction (caustics_geometry.comp). Bit patterns of
+// floats in an integer texture, so they reach the vertex buffer exactly.
+// Photons that miss the receiver store 0.
 in vec3 v_world;
 in vec3 v_normal;
 
@@ -23,12 +26,12 @@ uniform float u_texel_area;  // of a caustics-map texel (m^2)
 uniform float u_tolerance;   // how far a landing may lie off the position map's surface (m)
 layout(binding = 0) uniform sampler2D u_position_map;
 
-out vec4 o_photon;
+out uvec4 o_photon;
 
 vec2 uv_of(vec3 c) { return 0.5 * (c.xz / u_half.xz + 1.0); }
 
 void main() {
-  o_photon = vec4(0.0);
+  o_photon = uvec4(0u);
   vec3 n = normalize(v_normal);
   vec3 d = v_world - u_light_position;
   vec3 l = u_light_type == 1 ? normalize(u_light_direction) : normalize(d);
@@ -55,5 +58,5 @@ void main() {
   float v = texture(u_position_map, uv).r;
   if (v < -u_half.y * 2.0 - 1.0 || abs(v - hit.y) > u_tolerance) return;  // no surface there, or not converged
   float flux = e_in * cos_i * caustix_fresnel_transmittance(cos_i, u_ior) * u_pixel_area / max(abs(dot(n, u_V)), 1e-3);
-  o_photon = vec4(uv, flux / u_texel_area, 1.0);
+  o_photon = uvec4(floatBitsToUint(uv), floatBitsToUint(flux / u_texel_area), packHalf2x16(ct.xz / ct.y));
 }

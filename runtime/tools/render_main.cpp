@@ -32,10 +32,19 @@ int main(int argc, char** argv) {
   cli::add_size_option(app, "--size", size, "image size");
   app.add_option("--time", time, "animation time in seconds (waves)")->capture_default_str()
       ->check(CLI::Range(-1e6f, 1e6f));
-  app.add_option("--irradiance", receiver,
+  auto* irradiance_option = app.add_option("--irradiance", receiver,
                  "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
                  "no albedo or ambient) instead of the beauty image");
   app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
+  int pixel_samples = IrradianceRequest{}.pixel_samples;
+  app.add_option("--pixel-samples", pixel_samples,
+                 "irradiance: S x S point samples per pixel, averaged (the pixel-box average; 1: the pixel centre)")
+      ->check(CLI::Range(1, 16))->capture_default_str();
+  std::string aux_path;
+  app.add_option("--aux", aux_path,
+                 "irradiance: also write the per-pixel receiver coverage, mean |n_y| and mean cosine towards the "
+                 "first light (R, G, B; .exr) for caustix-compare --split")
+      ->needs(irradiance_option);
   app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric, splat (photon splatting, seed 001 ch. 8) for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
       ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "splat", "none"}))->capture_default_str();
   std::uint32_t photons = 0;
@@ -135,6 +144,7 @@ int main(int argc, char** argv) {
     q.height = height;
     q.time = time;
     q.caustics = caustics;
+    q.pixel_samples = pixel_samples;
     auto img = (*renderer)->render_irradiance(q);
     if (!img) return fail(img.error());
     for (float v : img->rgb) {
@@ -144,10 +154,12 @@ int main(int argc, char** argv) {
     // caustix-compare can state positions in metres.
     char rect[160];
     std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.z0, q.x1, q.z1);
-    written = write_float_image(out_path, width, height, 3, img->rgb,
-                                {{"caustix:region", rect}, {"caustix:receiver", receiver},
-                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", method},
-                                 {"caustix:time", std::to_string(q.time)}});
+    const std::vector<std::pair<std::string, std::string>> attributes{
+        {"caustix:region", rect}, {"caustix:receiver", receiver}, {"caustix:e0", std::to_string(img->e0)},
+        {"caustix:method", method}, {"caustix:time", std::to_string(q.time)},
+        {"caustix:pixel_samples", std::to_string(q.pixel_samples)}};
+    written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
+    if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {
     const FrameParams frame{camera, time, width, height, caustics, look};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "caustix/common/cli.h"
+#include "caustix/metrics/error_split.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/image_output.h"
 
@@ -25,17 +26,23 @@ Result<std::pair<metrics::Image, std::optional<std::array<double, 4>>>> load(con
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string a_path, b_path;
+  std::string a_path, b_path, aux_path, map_path;
   bool as_json = false;
   CLI::App app{"caustix-compare: error metrics of image A against reference B"};
   app.footer(
       "Metrics: eq29 = seed 000 eq. 2-9, the mean CIE L*u*v* difference (white Y = 1, i.e. E/E0 = 1);\n"
       "rel_l1 = sum|A-B|/sum|B| and rms of luminance; flux_ratio = sum A / sum B; peak = distance between\n"
       "the brightest pixels (pixels, and metres when the images carry caustix:region).\n"
+      "--split: the error split by cause, each pixel in one class (silhouette, self-shadow, terminator,\n"
+      "cast-shadow, fold, slope bins of |n_y|; metrics/include/caustix/metrics/error_split.h): per class\n"
+      "pixels, rel_l1 and bias within it, and its share of the image's whole L1 error.\n"
       "Exit codes: 0 ok, 2 usage, 3 an image cannot be read, 4 the images differ in size.");
   app.add_option("a", a_path, "image to judge")->required();
   app.add_option("b", b_path, "reference image")->required();
   app.add_flag("--json", as_json, "machine-readable output");
+  auto* split_option = app.add_option("--split", aux_path, "A's auxiliary image (caustix-render --aux): split the error by cause");
+  app.add_option("--error-map", map_path, "with --split: write an EXR of A - B (R), |A - B| (G) and the class index (B)")
+      ->needs(split_option);
   if (auto rc = cli::parse(app, "caustix-compare", argc, argv)) return *rc;
   auto a = load(a_path);
   if (!a) return cli::fail("caustix-compare", a.error());
@@ -46,11 +53,41 @@ int main(int argc, char** argv) {
                  a->first.height, b_path.c_str(), b->first.width, b->first.height);
     return kExitContainer;
   }
+  std::optional<metrics::ErrorSplit> split;
+  if (!aux_path.empty()) {
+    auto aux = load(aux_path);
+    if (!aux) return cli::fail("caustix-compare", aux.error());
+    if (aux->first.width != a->first.width || aux->first.height != a->first.height) {
+      std::fprintf(stderr, "caustix-compare: error: %s is %dx%d but %s is %dx%d\n", aux_path.c_str(), aux->first.width,
+                   aux->first.height, a_path.c_str(), a->first.width, a->first.height);
+      return kExitContainer;
+    }
+    split = metrics::split_error(a->first, b->first, aux->first);
+    if (!map_path.empty()) {
+      const std::size_t n = split->class_of.size();
+      std::vector<float> map(3 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d = metrics::luminance(a->first, i) - metrics::luminance(b->first, i);
+        map[3 * i] = static_cast<float>(d);
+        map[3 * i + 1] = static_cast<float>(std::fabs(d));
+        map[3 * i + 2] = split->class_of[i];
+      }
+      if (Status st = runtime::write_float_image(map_path, a->first.width, a->first.height, 3, map); !st) {
+        return cli::fail("caustix-compare", st.error());
+      }
+    }
+  }
   const metrics::Comparison c = metrics::compare(a->first, b->first, b->second);
   if (as_json) {
     nlohmann::ordered_json j{{"a", a_path}, {"b", b_path}, {"eq29", c.eq29}, {"rel_l1", c.rel_l1}, {"rms", c.rms},
                              {"flux_ratio", c.flux_ratio}, {"peak_error_px", c.peak_error_px}};
     if (c.peak_error_m) j["peak_error_m"] = *c.peak_error_m;
+    if (split) {
+      for (const auto& e : split->classes) {
+        j["split"].push_back({{"class", e.name}, {"pixels", e.pixels}, {"rel_l1", e.rel_l1()}, {"bias", e.bias()},
+                              {"share", split->share(e)}});
+      }
+    }
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("eq. 2-9 (mean CIE Luv difference): %.6g\nrelative L1: %.6g\nRMS: %.6g\nflux ratio: %.6g\n", c.eq29,
@@ -58,6 +95,13 @@ int main(int argc, char** argv) {
     std::printf("peak position error: %.3g px", c.peak_error_px);
     if (c.peak_error_m) std::printf(" (%.4g m)", *c.peak_error_m);
     std::printf("\n");
+    if (split) {
+      std::printf("\n%-13s %8s %9s %9s %9s\n", "class", "pixels", "rel_l1", "bias", "share");
+      for (const auto& e : split->classes) {
+        if (e.pixels == 0) continue;
+        std::printf("%-13s %8zu %9.4f %+9.4f %9.4f\n", e.name.c_str(), e.pixels, e.rel_l1(), e.bias(), split->share(e));
+      }
+    }
   }
   return kExitOk;
 }

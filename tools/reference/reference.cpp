@@ -246,11 +246,41 @@ Result<Image> trace(const Request& q) {
     const auto t0 = refract(l, {0, 1, 0}, 1.0 / water->ior);
     if (!t0 || l[1] >= 0) return win;
     const double depth = std::max(0.0, y_top - min_y);
-    const double sx = (*t0)[0] / -(*t0)[1] * depth, sz = (*t0)[2] / -(*t0)[1] * depth;
-    const double theta0 = std::acos(std::min(1.0, -(*t0)[1]));
-    const double pad = depth * (std::tan(std::min(theta0 + std::atan(slope), 1.45)) + std::tan(theta0)) + 1e-6;
-    return {std::max(win[0], q.x0 - std::max(0.0, sx) - pad), std::max(win[1], q.z0 - std::max(0.0, sz) - pad),
-            std::min(win[2], q.x1 - std::min(0.0, sx) + pad), std::min(win[3], q.z1 - std::min(0.0, sz) + pad)};
+    // The horizontal run per unit depth of every refracted direction the
+    // surface's normals allow (tilted up to atan(slope) from vertical, any
+    // azimuth), over a fine grid of tilts and azimuths, widened by 2 % and
+    // half a degree's worth against what falls between the samples. Light
+    // that left the water window is never refracted, so no photon from
+    // outside can reach the region.
+    const double tilt_max = std::atan(slope);
+    // The incident direction's run too: above the surface a photon drops
+    // by up to the waves' height along l.
+    double run_lo[2] = {l[0] / -l[1], l[2] / -l[1]}, run_hi[2] = {run_lo[0], run_lo[1]};
+    constexpr int kTilts = 48, kAzimuths = 96;
+    for (int it = 0; it <= kTilts; ++it) {
+      const double tilt = tilt_max * it / kTilts;
+      for (int ia = 0; ia < (it == 0 ? 1 : kAzimuths); ++ia) {
+        const double az = 2 * kPi * ia / kAzimuths;
+        const Vec3d nrm{std::sin(tilt) * std::cos(az), std::cos(tilt), std::sin(tilt) * std::sin(az)};
+        const auto t = dot(l, nrm) < 0 ? refract(l, nrm, 1.0 / water->ior) : std::nullopt;
+        if (!t || (*t)[1] > -0.05) {  // grazing or upward: no bound this way, take the whole water
+          run_lo[0] = run_lo[1] = -1e300;
+          run_hi[0] = run_hi[1] = 1e300;
+          continue;
+        }
+        for (int k = 0; k < 2; ++k) {
+          const double run = (*t)[2 * k] / -(*t)[1];
+          run_lo[k] = std::min(run_lo[k], run);
+          run_hi[k] = std::max(run_hi[k], run);
+        }
+      }
+    }
+    const double widen = 0.02 * (run_hi[0] - run_lo[0] + run_hi[1] - run_lo[1]) + std::tan(0.5 * kPi / 180);
+    auto clamp_run = [](double r) { return std::clamp(r, -1e6, 1e6); };
+    const double pad_lo[2] = {depth * std::max(0.0, clamp_run(run_hi[0]) + widen), depth * std::max(0.0, clamp_run(run_hi[1]) + widen)};
+    const double pad_hi[2] = {depth * std::max(0.0, -clamp_run(run_lo[0]) + widen), depth * std::max(0.0, -clamp_run(run_lo[1]) + widen)};
+    return {std::max(win[0], q.x0 - pad_lo[0] - 1e-6), std::max(win[1], q.z0 - pad_lo[1] - 1e-6),
+            std::min(win[2], q.x1 + pad_hi[0] + 1e-6), std::min(win[3], q.z1 + pad_hi[1] + 1e-6)};
   };
   for (const Light& light : scene.lights) {
     if (light.type == LightType::kPoint && !(light.position[1] > y_top)) {

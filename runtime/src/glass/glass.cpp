@@ -24,12 +24,6 @@ void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
   rotation = m / scale;
 }
 
-std::string insert_after_version(const char* src, const std::string& text) {
-  std::string s(src);
-  const auto eol = s.find('\n');
-  return s.substr(0, eol + 1) + text + s.substr(eol + 1);
-}
-
 }  // namespace
 
 struct GlassEngine::Impl {

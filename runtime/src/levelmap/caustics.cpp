@@ -20,7 +20,7 @@ constexpr GLsizeiptr kPrimitiveBytes = 48;  // three vec4, caustics_geometry.com
 struct MapGpu {
   LevelMap* lm = nullptr;
   gl::Texture position_map;  // R32F at lm->map_size
-  gl::Texture caustics;      // R32F at caustics_size
+  gl::Texture caustics;      // RGBA32F at caustics_size: irradiance on the plane and its direction (caustics_geometry.comp)
   gl::Framebuffer fbo;
   std::uint32_t caustics_size = 0;
   // Planes in use, and the options they were derived with.
@@ -122,7 +122,7 @@ struct CausticsEngine::Impl {
     GLsizei levels = 1;
     while ((size >> levels) > 0) ++levels;
     m.caustics = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(m.caustics.get(), levels, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    glTextureStorage2D(m.caustics.get(), levels, GL_RGBA32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -137,7 +137,7 @@ struct CausticsEngine::Impl {
     m.slices = gl::make_texture(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(m.slices.get(), 1, GL_R8, static_cast<GLsizei>(size), static_cast<GLsizei>(size), static_cast<GLsizei>(count));
     m.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(m.illumination.get(), 1, GL_R32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size), static_cast<GLsizei>(count));
+    glTextureStorage3D(m.illumination.get(), 1, GL_RGBA32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size), static_cast<GLsizei>(count));
     m.slice_count = count;
     m.slice_size = size;
   }
@@ -162,8 +162,8 @@ struct CausticsEngine::Impl {
 
   std::uint64_t bytes_of(const MapGpu& m) const {
     const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
-    const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 4;
-    const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 4);
+    const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 16 * 4 / 3;  // RGBA32F and its mips
+    const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
     return pm + cm + sl + tiles + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
   }
@@ -186,7 +186,7 @@ struct CausticsEngine::Impl {
     const std::uint32_t p = o.photons;
     if (photon_size != p) {
       photon_texture = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(photon_texture.get(), 1, GL_RGBA32F, static_cast<GLsizei>(p), static_cast<GLsizei>(p));
+      glTextureStorage2D(photon_texture.get(), 1, GL_RGBA32UI, static_cast<GLsizei>(p), static_cast<GLsizei>(p));
       photon_fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(photon_fbo.get(), GL_COLOR_ATTACHMENT0, photon_texture.get(), 0);
       photon_vbo = gl::make_buffer();
@@ -194,7 +194,7 @@ struct CausticsEngine::Impl {
       photon_vao = gl::make_vertex_array();
       glVertexArrayVertexBuffer(photon_vao.get(), 0, photon_vbo.get(), 0, 16);
       glEnableVertexArrayAttrib(photon_vao.get(), 0);
-      glVertexArrayAttribFormat(photon_vao.get(), 0, 4, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribIFormat(photon_vao.get(), 0, 4, GL_UNSIGNED_INT, 0);
       glVertexArrayAttribBinding(photon_vao.get(), 0, 0);
       photon_size = p;
     }
@@ -214,7 +214,8 @@ struct CausticsEngine::Impl {
     const float zero[4] = {0, 0, 0, 0};
     glBindFramebuffer(GL_FRAMEBUFFER, photon_fbo.get());
     glViewport(0, 0, static_cast<GLsizei>(p), static_cast<GLsizei>(p));
-    glClearNamedFramebufferfv(photon_fbo.get(), GL_COLOR, 0, zero);
+    const GLuint zero_bits[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferuiv(photon_fbo.get(), GL_COLOR, 0, zero_bits);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
@@ -232,7 +233,7 @@ struct CausticsEngine::Impl {
 
     glBindBuffer(GL_PIXEL_PACK_BUFFER, photon_vbo.get());
     glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT);
-    glGetTextureImage(photon_texture.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(GLsizeiptr{16} * p * p), nullptr);
+    glGetTextureImage(photon_texture.get(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(GLsizeiptr{16} * p * p), nullptr);
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
 
@@ -265,7 +266,7 @@ struct CausticsEngine::Impl {
     const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
     if (nplanes == 0) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
       const float none[4] = {0, 0, 0, 0};
-      glClearTexImage(m.caustics.get(), 0, GL_RED, GL_FLOAT, none);
+      glClearTexImage(m.caustics.get(), 0, GL_RGBA, GL_FLOAT, none);
       glGenerateTextureMipmap(m.caustics.get());
       m.gpu_bytes = bytes_of(m);
       return;
@@ -369,6 +370,8 @@ struct CausticsEngine::Impl {
       const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
       levelmap.set("u_map_scale", glm::vec2(scale));
       levelmap.set("u_samples", static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f)));
+      levelmap.set("u_texels_per_metre", glm::vec2(static_cast<float>(m.caustics_size) / (2 * f.half[0]),
+                                                   static_cast<float>(m.caustics_size) / (2 * f.half[2])));
       glBindTextureUnit(0, m.position_map.get());
       geometry_then_draw(levelmap, 0);
     } else {
@@ -430,11 +433,12 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.model_of = std::move(model_of);
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
   const std::string splat_fs = with_optics(shaders::k_splat_photon_frag_glsl);
+  const std::string levelmap_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, "#define DEPTH_SHIFT\n");
   const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
-      {{&s.levelmap, "caustics_levelmap", shaders::k_caustics_intersect_vert_glsl, levelmap_fs.c_str()},
+      {{&s.levelmap, "caustics_levelmap", levelmap_vs.c_str(), levelmap_fs.c_str()},
        {&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
        {&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},

@@ -75,10 +75,12 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 //    surface, no caustics: E_in T(theta_i) cos(theta_i)/cos(theta_t) * n.(-T)
 //    * e^(-K d) * visibility.
 //  2 caustics casting (seed 000 §4.6): the caustics map holds irradiance on
-//    planes perpendicular to V (eq. 4-18); a point gets it times n.V (the
-//    cos theta_t of eq. 4-18 for this surface), e^(-K d) (eq. 4-17), and its
-//    visibility: not behind its own first surface (position map) and not in
-//    another object's shadow.
+//    planes perpendicular to V (eq. 4-18, R) and the light's mean direction
+//    of travel d there (G, B: R times d.U / d.V and d.W / d.V); a point gets
+//    R n.d / V.d (the cos theta_t of eq. 4-18 for this surface and the light
+//    that actually arrives, where the thesis takes n.V), e^(-K d) (eq.
+//    4-17), and its visibility: not behind its own first surface (position
+//    map) and not in another object's shadow.
 layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   ivec4 mode;            // x light mode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
   vec4 light_direction;  // xyz unit direction of travel (directional)
@@ -103,7 +105,7 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
 
 layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
 layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_shadow_cube;
-layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V
+layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V, and its direction
 layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
 // Glass (seed 002 §4.3): the receiver's illumination textures for this
 // light, on planes perpendicular to the mean transmitted direction
@@ -186,9 +188,12 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     // dark, docs/robustness.md).
     float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
     if (c.y < front - caustix_light.frame_origin.w - caustix_light.frame_u.w * slope) return vec3(0.0);
-    float e = texture(caustix_caustics_map, uv).r;
+    // Sum over the beams in the texel of I_c,i n.d_i / V.d_i, from the
+    // map's (sum I_c,i, sum I_c,i d_i.U / d_i.V, sum I_c,i d_i.W / d_i.V).
+    vec3 m = texture(caustix_caustics_map, uv).rgb;
+    float e = max(m.r * dot(n, caustix_light.frame_v.xyz) + m.g * dot(n, caustix_light.frame_u.xyz) + m.b * dot(n, caustix_light.frame_w.xyz), 0.0);
     vec3 travel = -caustix_light.frame_v.xyz;
-    return caustix_light.light_color.rgb * e * cos_t * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);
+    return caustix_light.light_color.rgb * e * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);
   }
   vec3 l = caustix_light.mode.y == 1 ? caustix_light.light_direction.xyz : normalize(p - caustix_light.light_position.xyz);
   float e_in = caustix_light.mode.y == 1 ? caustix_light.light_color.w : caustix_light.light_color.w / max(dot(p - caustix_light.light_position.xyz, p - caustix_light.light_position.xyz), 1e-12);

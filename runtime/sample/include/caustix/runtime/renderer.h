@@ -43,20 +43,31 @@ struct FrameParams {
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
 // each pixel is the irradiance at the first surface of `receiver` seen from
 // above, divided by E0 (the first directional light's irradiance, or 1 if
-// the scene has none). Row i is z = z0 + (i + 1/2)(z1 - z0)/H, column j is
-// x = x0 + (j + 1/2)(x1 - x0)/W.
+// the scene has none), averaged over the pixel's square (a pixel-box
+// average; where the receiver is not seen the square counts 0). Row i spans
+// z0 + [i, i + 1)(z1 - z0)/H, column j spans x0 + [j, j + 1)(x1 - x0)/W.
+// The average is the mean of pixel_samples^2 point samples on a regular
+// grid inside the pixel (1: the centre only).
 struct IrradianceRequest {
   std::string receiver;
   float x0 = -1, z0 = -1, x1 = 1, z1 = 1;
   int width = 256, height = 256;
   float time = 0.0f;
   CausticsOptions caustics;
+  int pixel_samples = 4;  // per axis, 1..16
 };
 
 struct IrradianceImage {
   int width = 0, height = 0;
   std::vector<float> rgb;  // row-major, row 0 at z0
   float e0 = 1.0f;
+  // Per pixel, from the same samples (row-major, 3 floats): the fraction of
+  // the pixel where the receiver is seen; the mean normal's |n_y| and the
+  // mean cosine between the normal and the direction towards the first
+  // light (below flat water: against its refracted direction; 0 for a point
+  // light) over the samples that see it. What caustix-compare --split
+  // classifies errors by.
+  std::vector<float> aux;
 };
 
 // The sky's linear colour: the beauty image's background.
