@@ -48,20 +48,19 @@ int main(int argc, char** argv) {
   if (!a) return cli::fail("caustix-compare", a.error());
   auto b = load(b_path);
   if (!b) return cli::fail("caustix-compare", b.error());
-  if (a->first.width != b->first.width || a->first.height != b->first.height) {
-    std::fprintf(stderr, "caustix-compare: error: %s is %dx%d but %s is %dx%d\n", a_path.c_str(), a->first.width,
-                 a->first.height, b_path.c_str(), b->first.width, b->first.height);
-    return kExitContainer;
-  }
+  // Whether x and y differ in size (said on stderr).
+  auto differ = [](const std::string& x_path, const metrics::Image& x, const std::string& y_path, const metrics::Image& y) {
+    if (x.width == y.width && x.height == y.height) return false;
+    std::fprintf(stderr, "caustix-compare: error: %s is %dx%d but %s is %dx%d\n", x_path.c_str(), x.width, x.height,
+                 y_path.c_str(), y.width, y.height);
+    return true;
+  };
+  if (differ(a_path, a->first, b_path, b->first)) return kExitContainer;
   std::optional<metrics::ErrorSplit> split;
   if (!aux_path.empty()) {
     auto aux = load(aux_path);
     if (!aux) return cli::fail("caustix-compare", aux.error());
-    if (aux->first.width != a->first.width || aux->first.height != a->first.height) {
-      std::fprintf(stderr, "caustix-compare: error: %s is %dx%d but %s is %dx%d\n", aux_path.c_str(), aux->first.width,
-                   aux->first.height, a_path.c_str(), a->first.width, a->first.height);
-      return kExitContainer;
-    }
+    if (differ(aux_path, aux->first, a_path, a->first)) return kExitContainer;
     split = metrics::split_error(a->first, b->first, aux->first);
     if (!map_path.empty()) {
       const std::size_t n = split->class_of.size();
