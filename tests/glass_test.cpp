@@ -1,7 +1,9 @@
 // Glass caustics (seed 002) with physics as the oracle: the glass ball's
 // transmitted flux and focal spot against an exact 2-D trace of a sphere;
 // table look-ups against direct traces; an IOR-1 object leaves the light
-// unchanged; rotating glass and light together rotates the image.
+// unchanged; rotating glass and light together rotates the image; glass
+// modelled low-poly (a 6-vertex prism, an 8-vertex cube, a pane of two
+// triangles per face) casts the light Snell and Fresnel put on the floor.
 
 #include <gtest/gtest.h>
 
@@ -16,7 +18,10 @@
 #include <tbb/global_control.h>
 
 #include "caustix/bake/bake.h"
+#include "caustix/bake/glass_refine.h"
 #include "caustix/bake/light_transport.h"
+#include "caustix/bake/mesh_import.h"
+#include "caustix/common/mesh_topology.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 #include "bake_fixture.h"
@@ -196,6 +201,188 @@ TEST_F(Glass, IorOneIsTransparent) {
   }
   EXPECT_LT(ripple[0], 0.15);
   EXPECT_LT(ripple[1], 0.6 * ripple[0]);
+}
+
+// A wedge prism as people model it: 6 vertices, flat faces, no normals in
+// the file. Cross-section in x-y: bottom y = 0.3 from x = -0.5 to 0.5,
+// back face x = -0.5 up to y = 0.8, the slope between; z from -0.5 to 0.5.
+std::string wedge_prism_obj() {
+  return "v -0.5 0.3 -0.5\nv 0.5 0.3 -0.5\nv -0.5 0.8 -0.5\nv -0.5 0.3 0.5\nv 0.5 0.3 0.5\nv -0.5 0.8 0.5\n"
+         "f 1 2 5 4\nf 1 4 6 3\nf 2 3 6 5\nf 1 3 2\nf 4 5 6\n";
+}
+
+std::filesystem::path write_temp(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Row profile of the floor (n x n over -2..2 m): the mean over rows with
+// |z| < half_z.
+std::vector<double> profile(const std::vector<float>& e, int n, double half_z) {
+  std::vector<double> p(static_cast<std::size_t>(n), 0.0);
+  int rows = 0;
+  for (int i = 0; i < n; ++i) {
+    if (std::fabs(-2 + (i + 0.5) * 4.0 / n) >= half_z) continue;
+    ++rows;
+    for (int k = 0; k < n; ++k) p[static_cast<std::size_t>(k)] += e[static_cast<std::size_t>(i) * n + k];
+  }
+  for (double& v : p) v /= rows;
+  return p;
+}
+
+// Mean of the floor's irradiance over |x - cx| < h, |z| < h.
+double mean_over(const std::vector<float>& e, int n, double cx, double h) {
+  double sum = 0;
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < n; ++k) {
+      const double x = -2 + (k + 0.5) * 4.0 / n, z = -2 + (i + 0.5) * 4.0 / n;
+      if (std::fabs(x - cx) >= h || std::fabs(z) >= h) continue;
+      sum += e[static_cast<std::size_t>(i) * n + k];
+      ++count;
+    }
+  }
+  return sum / count;
+}
+
+TEST_F(Glass, LowPolyGlassCastsItsLight) {
+  const int n = 400;
+  const double pix = 4.0 / n;  // 1 cm
+  nlohmann::json j = scene("glass_ball");
+
+  // Prism, light straight down: refraction into the slope (normal
+  // (1, 2, 0)/sqrt 5) and out of the bottom. Rays from x0 in [-0.425, 0.5]
+  // leave through the bottom and land shifted by 0.3 d2.x / -d2.y in a band
+  // of irradiance T1 T2 / (dx_floor / dx0); those nearer the back face
+  // reflect totally there first. The band's right edge is the ray entering
+  // at the slope's lower edge (x0 = 0.5), which leaves at once.
+  j["objects"][1]["mesh"] = write_temp("caustix_wedge_prism.obj", wedge_prism_obj()).string();
+  j["objects"][1].erase("transform");
+  const double eta = 1 / 1.5, s5 = std::sqrt(5.0);
+  const double n1[2] = {1 / s5, 2 / s5};
+  const double cos1 = n1[1], cos1t = std::sqrt(1 - eta * eta * (1 - cos1 * cos1));
+  const double d1[2] = {eta * 0 + (eta * cos1 - cos1t) * n1[0], -eta + (eta * cos1 - cos1t) * n1[1]};
+  const double cos2 = -d1[1], sin2t = d1[0] / eta;  // out of the bottom: tangential part scaled by n
+  const double d2[2] = {sin2t, -std::sqrt(1 - sin2t * sin2t)};
+  const double shift = 0.3 * d2[0] / -d2[1];
+  const double band = fresnel_t(cos1, 1.5) * fresnel_t(cos2, 1 / 1.5) / (1 - 0.5 * d1[0] / -d1[1]);
+  const double right_edge = 0.5 + shift;
+  const auto e = floor_irradiance(j, n);
+  const auto p = profile(e, n, 0.3);
+  double level = 0;
+  int count = 0;
+  for (int k = 0; k < n; ++k) {
+    const double x = -2 + (k + 0.5) * pix;
+    if (x > -0.25 && x < right_edge - 0.05) {
+      level += p[static_cast<std::size_t>(k)];
+      ++count;
+    }
+  }
+  level /= count;
+  // Where the band falls to half its level, between pixel centres.
+  double measured_edge = 0;
+  for (int k = n / 2; k + 1 < n; ++k) {
+    const double a = p[static_cast<std::size_t>(k)], b = p[static_cast<std::size_t>(k + 1)];
+    if (a >= band / 2 && b < band / 2) {
+      measured_edge = -2 + (k + 0.5 + (a - band / 2) / (a - b)) * pix;
+      break;
+    }
+  }
+  std::printf("[prism, 6 vertices] band E/E0 %.4f (Snell + Fresnel %.4f); right edge %.4f m (Snell %.4f m)\n", level, band,
+              measured_edge, right_edge);
+  EXPECT_NEAR(level, band, 0.015 * band);
+  EXPECT_NEAR(measured_edge, right_edge, pix);
+
+  // Cube of 8 vertices and 12 triangles, 0.5 m, straight down: T^2 under it.
+  auto cube = test::unit_cube();
+  j["objects"][1]["mesh"] = write_temp("caustix_cube8.obj", test::to_obj(cube)).string();
+  j["objects"][1]["transform"] = {{"translate", {-0.25, 0.5, -0.25}}, {"scale", 0.5}};
+  const double t0 = fresnel_t(1.0, 1.5);
+  const double under_cube = mean_over(floor_irradiance(j, n), n, 0.0, 0.2);
+  std::printf("[cube, 8 vertices] E/E0 under it %.4f, T^2 = %.4f\n", under_cube, t0 * t0);
+  EXPECT_NEAR(under_cube, t0 * t0, 0.01 * t0 * t0);
+
+  // A pane 1 x 0.02 x 1 m of two triangles per face, tilted 30 degrees: a
+  // parallel plate passes the light unbent, T(30 deg)^2 of it. Judged on
+  // the upper half of its footprint (x 0.05..0.35 m): near its lower edge,
+  // light entering within 7 mm of the edge leaves through the end face,
+  // and the triangles whose corners leave through different faces smear
+  // that strip's light over the floor beyond (+1 % over the whole footprint
+  // with the rim refinement of glass_refine.h; docs/glass.md).
+  for (auto& pos : cube.positions) pos = {pos[0] - 0.5f, 0.02f * pos[1] - 0.01f, pos[2] - 0.5f};
+  j["objects"][1]["mesh"] = write_temp("caustix_pane.obj", test::to_obj(cube)).string();
+  j["objects"][1]["transform"] = {{"translate", {0, 0.6, 0}}, {"rotate_deg", {0, 0, 30}}};
+  const double t30 = fresnel_t(std::cos(30 * kPi / 180), 1.5);
+  const auto pane = floor_irradiance(j, n);
+  const double upper = mean_over(pane, n, 0.2, 0.15), whole = mean_over(pane, n, 0.0, 0.4);
+  std::printf("[pane, 12 triangles, 30 degrees] E/E0 upper half %.4f, whole footprint %.4f, T(30)^2 = %.4f\n", upper, whole,
+              t30 * t30);
+  EXPECT_NEAR(upper, t30 * t30, 0.01 * t30 * t30);
+}
+
+TEST(GlassRefine, CreasesSplitAndFlatFacesRefinedClosed) {
+  const TriangleMesh cube = test::unit_cube();  // 8 shared corners, every normal (0, 1, 0)
+  bake::GlassRefineOptions opt;
+  bake::GlassRefineReport rep;
+  const TriangleMesh r = bake::refine_transparent_mesh(cube, opt, &rep);
+  std::printf("[refine, cube] %u -> %u vertices, %u -> %u triangles, %u crease edges, %u rounds\n", rep.vertices_in,
+              rep.vertices_out, rep.triangles_in, rep.triangles_out, rep.crease_edges, rep.rounds);
+  EXPECT_EQ(rep.crease_edges, 12u);
+  EXPECT_EQ(rep.crease_vertices, 16u);  // each corner: one copy per face
+  const EdgeCensus c = census_edges(r);
+  EXPECT_TRUE(c.closed());
+  EXPECT_NEAR(c.signed_volume, 1.0, 1e-5);
+  const double h = opt.max_edge * std::sqrt(3.0);
+  EXPECT_NEAR(rep.max_edge_m, h, 1e-12);
+  for (const auto& t : r.triangles) {
+    std::array<double, 3> a{}, b{};
+    for (int k = 0; k < 3; ++k) {
+      a[k] = double{r.positions[t[1]][k]} - r.positions[t[0]][k];
+      b[k] = double{r.positions[t[2]][k]} - r.positions[t[0]][k];
+    }
+    const std::array<double, 3> fn{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    const double len = std::sqrt(fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]);
+    for (std::uint32_t v : t) {  // flat faces: every vertex normal is its face's
+      const auto& nv = r.normals[v];
+      EXPECT_GT((nv[0] * fn[0] + nv[1] * fn[1] + nv[2] * fn[2]) / len, 1 - 1e-6);
+      const auto& pv = r.positions[v];  // on the cube's surface
+      EXPECT_FLOAT_EQ(std::max({std::fabs(pv[0] - 0.5f), std::fabs(pv[1] - 0.5f), std::fabs(pv[2] - 0.5f)}), 0.5f);
+    }
+    for (int k = 0; k < 3; ++k) {
+      double l2 = 0;
+      for (int i = 0; i < 3; ++i) l2 += std::pow(double{r.positions[t[(k + 1) % 3]][i]} - r.positions[t[k]][i], 2);
+      EXPECT_LE(std::sqrt(l2), h * (1 + 1e-6));
+    }
+  }
+  // Deterministic.
+  const TriangleMesh again = bake::refine_transparent_mesh(cube, opt, nullptr);
+  EXPECT_EQ(again.positions, r.positions);
+  EXPECT_EQ(again.normals, r.normals);
+  EXPECT_EQ(again.triangles, r.triangles);
+}
+
+TEST(GlassRefine, SmoothMeshesAreLeftAlone) {
+  // glass_ball's UV sphere: no crease, no flat triangle.
+  auto sphere = bake::import_mesh(std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/sphere.obj");
+  ASSERT_TRUE(sphere.ok());
+  bake::GlassRefineReport rep;
+  const TriangleMesh r = bake::refine_transparent_mesh(sphere->mesh, {}, &rep);
+  EXPECT_FALSE(rep.changed());
+  EXPECT_EQ(rep.flat_triangles, 0u);
+  EXPECT_EQ(r.positions, sphere->mesh.positions);
+  EXPECT_EQ(r.normals, sphere->mesh.normals);
+  EXPECT_EQ(r.triangles, sphere->mesh.triangles);
+  // The prism with splitting off: only its creases.
+  const auto path = write_temp("caustix_wedge_prism.obj", wedge_prism_obj());
+  auto prism = bake::import_mesh(path.string());
+  ASSERT_TRUE(prism.ok());
+  bake::GlassRefineOptions creases_only;
+  creases_only.max_edge = 0;
+  const TriangleMesh pr = bake::refine_transparent_mesh(prism->mesh, creases_only, &rep);
+  EXPECT_EQ(rep.crease_edges, 9u);
+  EXPECT_EQ(pr.positions.size(), 18u);  // 3 faces meet at each of the 6 corners
+  EXPECT_EQ(pr.triangles.size(), 8u);
 }
 
 TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {

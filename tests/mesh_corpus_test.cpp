@@ -81,6 +81,9 @@ bake::BakeOptions small_bake() {
   bake::BakeOptions o;
   o.level_maps.map_size = 64;
   o.transport.resolution = 6;
+  // Creases are still split; splitting flat faces (tested in glass_test)
+  // would turn each corpus cube into thousands of vertices to trace.
+  o.glass_refine.max_edge = 0;
   return o;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "caustix/bake/glass_refine.h"
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/scene_json.h"
@@ -102,10 +103,26 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     auto imported = import_mesh(path);
     if (!imported) return imported.error();
     for (const auto& w : imported->warnings) out.warnings.push_back(path + ": " + w);
-    const TriangleMesh& mesh = imported->mesh;
+    TriangleMesh& mesh = imported->mesh;
     if (mesh.positions.size() > kMaxMeshVertices) {
       return make_error(ErrorCode::kInput, path + ": " + std::to_string(mesh.positions.size()) +
                                                " vertices exceeds the limit of " + std::to_string(kMaxMeshVertices));
+    }
+    // Light transport runs inside transparent objects (seed 002 §3): their
+    // meshes must bound a solid, and are refined to what the table needs.
+    std::optional<GlassRefineReport> refined;
+    const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                    [&](const Object& o) { return o.mesh_index == i && is_transparent(o.role); });
+    if (glass != scene.objects.end()) {
+      if (auto issue = closed_solid_issue(mesh)) {
+        return make_error(ErrorCode::kInput, path + ": transparent object '" + glass->name + "' " + *issue);
+      }
+      GlassRefineOptions ro = options.glass_refine;
+      const std::uint64_t r = options.transport.resolution;
+      ro.max_vertices = static_cast<std::uint32_t>(std::min<std::uint64_t>(kMaxTransportEntries / (r * r), kMaxMeshVertices));
+      refined.emplace();
+      mesh = refine_transparent_mesh(mesh, ro, &*refined);
+      if (refined->changed()) out.notes.push_back(path + ": " + describe_refinement(*refined, ro));
     }
     out.seconds_import += seconds_since(t0);
 
@@ -127,6 +144,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     st.draco_bytes = stream->size();
     st.max_position_error = position_error_bound(info.bounds_min, info.bounds_max, options.draco.position_bits);
     st.normals_from_file = imported->normals_from_file;
+    st.glass_refine = refined;
     out.meshes.push_back(st);
     draco_streams.push_back(std::move(*stream));
     meshes.push_back(std::move(imported->mesh));
@@ -158,9 +176,6 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
     const std::string& path = doc->mesh_paths[o.mesh_index];
-    if (auto issue = closed_solid_issue(meshes[o.mesh_index])) {
-      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "' " + *issue);
-    }
     auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
     if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
     const std::uint64_t r = options.transport.resolution, entries = decoded->positions.size() * r * r;
@@ -168,7 +183,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
       return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its light-transport table would hold " +
                                                std::to_string(decoded->positions.size()) + " vertices x " + std::to_string(r) +
                                                "^2 directions = " + std::to_string(entries) + " entries, above the limit of " +
-                                               std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution or simplify the mesh");
+                                               std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution, raise --glass-edge or simplify the mesh");
     }
     TransportReport rep;
     tables.push_back(trace_transport_table(oi, o.material, *decoded, options.transport, &rep));

@@ -80,6 +80,18 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
     }
     j["level_maps"].push_back(e);
   }
+  j["glass_refine"] = {{"crease_deg", opt.glass_refine.crease_deg}, {"flat_deg", opt.glass_refine.flat_deg},
+                       {"max_edge_fraction", opt.glass_refine.max_edge}, {"meshes", nlohmann::ordered_json::array()}};
+  for (const MeshStats& m : r.meshes) {
+    if (!m.glass_refine) continue;
+    const GlassRefineReport& g = *m.glass_refine;
+    j["glass_refine"]["meshes"].push_back(
+        {{"path", m.path}, {"vertices_in", g.vertices_in}, {"vertices_out", g.vertices_out},
+         {"triangles_in", g.triangles_in}, {"triangles_out", g.triangles_out}, {"crease_edges", g.crease_edges},
+         {"crease_vertices", g.crease_vertices}, {"flat_triangles_in", g.flat_triangles}, {"edges_split", g.edges_split},
+         {"rounds", g.rounds}, {"max_edge", g.max_edge_m}, {"longest_flat_edge_in", g.longest_flat_edge_in},
+         {"longest_flat_edge_out", g.longest_flat_edge_out}, {"stopped_at_vertex_limit", g.stopped_at_vertex_limit}});
+  }
   j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"tables", nlohmann::ordered_json::array()}};
   for (const TransportReport& t : r.transport) {
     j["transport"]["tables"].push_back(

@@ -89,6 +89,14 @@ int main(int argc, char** argv) {
   app.add_option("--ltt-bits", opt.transport.bits,
                  "light-transport table: significant bits kept per stored field (fewer: smaller file, coarser values)")
       ->check(CLI::Range(caustix::kMinTransportBits, caustix::kMaxTransportBits))->capture_default_str();
+  app.add_option("--glass-crease", opt.glass_refine.crease_deg,
+                 "transparent meshes: edges whose faces meet at more than this angle (degrees) are sharp; their vertices "
+                 "are split so that each face refracts with its own normal (bake/glass_refine.h)")
+      ->check(CLI::Range(0.0, 180.0))->capture_default_str();
+  app.add_option("--glass-edge", opt.glass_refine.max_edge,
+                 "transparent meshes: split edges of flat triangles longer than this fraction of the mesh's bounding-box "
+                 "diagonal (the table samples light transport at vertices; 0: no splitting)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");
@@ -130,6 +138,7 @@ int main(int argc, char** argv) {
   }
   if (!quiet) {
     for (const auto& w : result->warnings) std::cerr << "caustix-bake: warning: " << w << "\n";
+    for (const auto& n : result->notes) std::cout << "caustix-bake: " << n << "\n";
   }
   if (Status st = write_file_atomically(out_path, result->cxb); !st) {
     return cli::fail("caustix-bake", st.error());

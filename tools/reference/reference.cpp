@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "caustix/bake/glass_refine.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/ray_cast.h"
 #include "caustix/bake/scene_json.h"
@@ -173,6 +174,12 @@ Result<Image> trace(const Request& q) {
     const Object& o = scene.objects[i];
     auto mesh = bake::import_mesh(doc->mesh_paths[o.mesh_index]);
     if (!mesh) return mesh.error();
+    if (is_transparent(o.role)) {
+      bake::GlassRefineOptions creases_only;
+      creases_only.crease_deg = q.glass_crease_deg;
+      creases_only.max_edge = 0;
+      mesh->mesh = bake::refine_transparent_mesh(mesh->mesh, creases_only, nullptr);
+    }
     const auto base = static_cast<std::uint32_t>(world.pos.size());
     const auto rbase = static_cast<std::uint32_t>(rpos.size());
     const auto& m = o.transform;  // column-major

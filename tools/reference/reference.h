@@ -20,7 +20,9 @@
 // their mean, and the batches' spread gives the noise estimate. Identical
 // inputs give identical images whatever the thread count.
 // Glass: Fresnel by Russian roulette at every interface, total internal
-// reflection, absorption inside (docs/reference.md).
+// reflection, absorption inside (docs/reference.md). A transparent mesh's
+// surface is the one the baker tables: its normals smoothed only within
+// creases (bake/glass_refine.h step 1; a prism's faces stay flat).
 
 #include <cstdint>
 #include <string>
@@ -39,6 +41,7 @@ struct Request {
   std::uint64_t photons = 4'000'000;
   std::uint32_t batches = 8;
   std::uint64_t seed = 1;
+  double glass_crease_deg = 30.0;  // as caustix-bake --glass-crease
 };
 
 struct Image {

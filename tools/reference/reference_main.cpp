@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
   app.add_option("--photons", q.photons, "photons per light")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40))->capture_default_str();
   app.add_option("--batches", q.batches, "independent batches (noise estimate; parallel)")->check(CLI::Range(1, 1024))->capture_default_str();
   app.add_option("--seed", q.seed, "random seed")->capture_default_str();
+  app.add_option("--glass-crease", q.glass_crease_deg,
+                 "transparent meshes: edges sharper than this (degrees) keep each face's own normal (as caustix-bake --glass-crease)")
+      ->check(CLI::Range(0.0, 180.0))->capture_default_str();
   if (auto rc = cli::parse(app, "caustix-reference", argc, argv)) return *rc;
   if (std::sscanf(region.c_str(), "%lf,%lf,%lf,%lf", &q.x0, &q.z0, &q.x1, &q.z1) != 4) {
     return cli::fail("caustix-reference", make_error(ErrorCode::kUsage, "--region '" + region + "' is not x0,z0,x1,z1"));

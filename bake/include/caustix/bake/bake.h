@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "caustix/bake/glass_refine.h"
 #include "caustix/bake/level_maps.h"
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_compress.h"
@@ -19,6 +20,9 @@ struct BakeOptions {
   DracoOptions draco;
   LevelMapOptions level_maps;
   TransportOptions transport;
+  // Meshes of transparent objects are refined for the transport table
+  // (bake/glass_refine.h) before compression.
+  GlassRefineOptions glass_refine;
   // Multiplies scene.json's water grid cells on each axis (rounded, kept in
   // 1..kMaxWaterCells): the runtime's caustics cost is linear in the grid's
   // triangles (docs/tradeoff.md).
@@ -35,6 +39,7 @@ struct MeshStats {
   std::uint64_t draco_bytes = 0;
   double max_position_error = 0;  // bound in metres (object space)
   bool normals_from_file = false;
+  std::optional<GlassRefineReport> glass_refine;  // meshes of transparent objects
 };
 
 struct BakeResult {
@@ -42,6 +47,7 @@ struct BakeResult {
   SceneDesc scene;                  // as baked (for reports)
   std::vector<MeshStats> meshes;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;   // what the bake did to the input, said unless --quiet
   std::vector<std::string> inputs;  // every file read (for --depfile)
   LevelMapStage level_maps;         // maps moved into the .cxb; reports kept
   std::vector<TransportReport> transport;  // one per transparent object

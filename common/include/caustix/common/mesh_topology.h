@@ -42,15 +42,20 @@ struct EdgeCensus {
   bool closed() const { return open.empty() && inconsistent.empty() && non_manifold.empty(); }
 };
 
-inline EdgeCensus census_edges(const TriangleMesh& m) {
-  EdgeCensus out;
-  // Weld: one id per distinct position, the smallest vertex index holding it.
+// Weld: one id per distinct position, the smallest vertex index holding it.
+inline std::vector<std::uint32_t> weld_positions(const TriangleMesh& m) {
   std::vector<std::uint32_t> order(m.positions.size()), id(m.positions.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return m.positions[a] < m.positions[b]; });
   for (std::size_t i = 0; i < order.size(); ++i) {
     id[order[i]] = i > 0 && m.positions[order[i]] == m.positions[order[i - 1]] ? id[order[i - 1]] : order[i];
   }
+  return id;
+}
+
+inline EdgeCensus census_edges(const TriangleMesh& m) {
+  EdgeCensus out;
+  const std::vector<std::uint32_t> id = weld_positions(m);
   struct Use {
     std::uint32_t lo, hi;  // welded ids, lo < hi
     bool forward;          // wound lo -> hi
