@@ -222,7 +222,7 @@ TEST(TransportLookup, BicubicFallsBackToBilinearAtADiscontinuity) {
     return e;
   });
   // Inside the cell that straddles the jump both modes give the same
-  // bilinear blend; one cell away the cubic does not ring across it (the
+  // bilinear fall-back; one cell away the cubic does not ring across it (the
   // outer column is extrapolated instead): the value stays 0.
   const double s_jump = -1.0 + 2.0 * 4.5 / (r - 1);  // the middle of cell 4..5
   for (double tt : {-0.5, 0.1, 0.6}) {
@@ -234,6 +234,15 @@ TEST(TransportLookup, BicubicFallsBackToBilinearAtADiscontinuity) {
     // (0 is stored as the nearest 16-bit step; a cubic through the jump
     // would undershoot by 0.0625 here.)
     EXPECT_NEAR(near.exit[0], 0.0, 2.0 / 65535) << "cubic rang across the jump";
+  }
+  // In the straddling cell the exit lies on one side of the jump (the
+  // nearer grid direction's), never blended between the two paths.
+  for (double frac : {0.3, 0.45, 0.55, 0.7}) {
+    const double s = -1.0 + 2.0 * (4 + frac) / (r - 1);
+    const TransportEntry c = lookup(t, 0, {0, 0, 1}, query(s, 0.1), Interpolation::kBicubic);
+    EXPECT_NEAR(c.exit[0], frac < 0.5 ? 0.0 : 1.0, 2.0 / 65535) << "blended across the jump at " << frac;
+    EXPECT_EQ(c.bounces, frac < 0.5 ? 0 : 1);
+    EXPECT_NEAR(c.transmittance, 0.8, 1e-4);
   }
   // A stencil whose inner entry is trapped still interpolates the others.
   LightTransportTable holes = t;

@@ -221,9 +221,9 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   Dir3 dir{0, 0, 0};
   if (mode == Interpolation::kBicubic) {
     // Stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)). The
-    // inner 2 x 2 must leave after the same number of reflections b; an
-    // outer column or row with a sample outside the grid or not leaving
-    // after b reflections is replaced by linear extrapolation.
+    // inner 2 x 2 must leave alike with entry 5 (b reflections, exit
+    // within 30 degrees); an outer column or row with a sample outside the
+    // grid or not leaving alike is replaced by linear extrapolation.
     std::array<TransportEntry, 16> e;
     std::array<bool, 16> ok{};
     for (std::uint32_t k = 0; k < 16; ++k) {
@@ -233,7 +233,9 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
       ok[k] = e[k].status == TransportStatus::kLeaves;
     }
     const std::uint8_t b = e[5].bounces;
-    for (std::uint32_t k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == b;
+    for (std::uint32_t k = 0; k < 16; ++k) {
+      ok[k] = ok[k] && e[k].bounces == b && dot3(e[k].direction, e[5].direction) >= kSameExitCos;
+    }
     if (ok[5] && ok[6] && ok[9] && ok[10]) {
       // An outer row is used where its two inner entries are; an outer
       // column where its inner entries and the corners of used rows are.
@@ -260,24 +262,41 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
       return out;
     }
   }
-  double wsum = 0;
+  // Bilinear over the inner 2 x 2. Where they do not all leave alike (a
+  // discontinuity: another number of reflections, or another face, whose
+  // exit direction differs by more than 30 degrees) only the class of the
+  // heaviest leaving corner is interpolated, its weights renormalised: the
+  // exit lies on one side of the jump, not between two paths where no
+  // light goes. The transmittance is scaled by the leaving corners' share
+  // of the weight, so a trapped or occluded corner still passes nothing.
+  std::array<TransportEntry, 4> c;
+  std::array<double, 4> w{};
+  int best = -1;
   for (int k = 0; k < 4; ++k) {
     const std::uint32_t dx = k & 1, dy = k >> 1;
-    const double w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay);
-    const TransportEntry e = t.load(t.entry_index(vertex, y0 + dy, x0 + dx));
-    if (e.status != TransportStatus::kLeaves || w <= 0) continue;
-    wsum += w;
-    out.transmittance += w * e.transmittance;
-    out.path += w * e.path;
-    out.bounces = std::max(out.bounces, e.bounces);
-    for (std::size_t c = 0; c < 3; ++c) {
-      out.exit[c] += w * e.exit[c];
-      dir[c] += w * e.direction[c];
+    w[k] = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay);
+    c[k] = t.load(t.entry_index(vertex, y0 + dy, x0 + dx));
+    if (c[k].status != TransportStatus::kLeaves || w[k] <= 0) w[k] = 0;
+    if (w[k] > 0 && (best < 0 || w[k] > w[best])) best = k;
+  }
+  if (best < 0) return TransportEntry{};
+  double leaving = 0, same = 0, transmittance = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (w[k] <= 0) continue;
+    leaving += w[k];
+    if (c[k].bounces != c[best].bounces || dot3(c[k].direction, c[best].direction) < kSameExitCos) continue;
+    same += w[k];
+    transmittance += w[k] * c[k].transmittance;
+    out.path += w[k] * c[k].path;
+    for (std::size_t i = 0; i < 3; ++i) {
+      out.exit[i] += w[k] * c[k].exit[i];
+      dir[i] += w[k] * c[k].direction[i];
     }
   }
-  if (wsum <= 0) return TransportEntry{};
-  for (std::size_t c = 0; c < 3; ++c) out.exit[c] /= wsum;
-  out.path /= wsum;
+  for (std::size_t i = 0; i < 3; ++i) out.exit[i] /= same;
+  out.path /= same;
+  out.transmittance = transmittance / same * leaving;
+  out.bounces = c[best].bounces;
   out.direction = normalized(dir);
   out.status = TransportStatus::kLeaves;
   return out;

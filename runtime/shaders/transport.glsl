@@ -2,12 +2,14 @@
 // the renderer). Mirrors caustix::lookup() in formats/src/light_transport.cpp
 // with Interpolation::kBicubic: the hemi-octahedral grid around the vertex
 // normal, Catmull-Rom over the 4 x 4 neighbouring grid directions where the
-// inner 2 x 2 leave after the same number of internal reflections (an outer
-// row or column that does not, or lies outside the grid, replaced by linear
-// extrapolation); otherwise bilinear between the four neighbours, where
-// entries that do not leave count with transmittance 0 and are left out of
-// the averaged exit point and direction.
+// inner 2 x 2 leave alike (the same number of internal reflections, exits
+// within 30 degrees; an outer row or column that does not, or lies outside
+// the grid, replaced by linear extrapolation); otherwise bilinear over the neighbours leaving alike with
+// the heaviest leaving one (same reflections, exits within 30 degrees),
+// with the transmittance scaled by the share of the weight that leaves.
 layout(std430, binding = 1) readonly buffer Table { uint table[]; };
+
+const float LTT_SAME_EXIT_COS = 0.8660254;  // kSameExitCos: 30 degrees
 
 uniform int u_ltt_resolution;
 uniform vec3 u_ltt_exit_min;
@@ -98,7 +100,7 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
     }
   }
   uint bounces = e[5].bounces;
-  for (int k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == bounces;
+  for (int k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == bounces && dot(e[k].dir, e[5].dir) >= LTT_SAME_EXIT_COS;
   if (ok[5] && ok[6] && ok[9] && ok[10]) {
     bool row0 = ok[1] && ok[2], row3 = ok[13] && ok[14];
     bool col0 = ok[4] && ok[8] && (!row0 || ok[0]) && (!row3 || ok[12]);
@@ -120,24 +122,35 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
     return o;
   }
 
-  // Bilinear fallback over the inner 2 x 2 (stencil 5, 6, 9, 10).
-  float wsum = 0.0;
+  // Bilinear fallback over the inner 2 x 2 (stencil 5, 6, 9, 10): only the
+  // corners leaving alike with the heaviest leaving one, renormalised; the
+  // transmittance scaled by the leaving share of the weight.
+  float w[4];
+  int best = -1;
   for (int k = 0; k < 4; ++k) {
     int dx = k & 1, dy = k >> 1;
-    float w = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y);
-    LttEntry c = e[5 + dx + 4 * dy];
-    if (!c.leaves || w <= 0.0) continue;
-    wsum += w;
-    o.exit += w * c.exit;
-    o.transmittance += w * c.transmittance;
-    o.dir += w * c.dir;
-    o.path += w * c.path;
+    w[k] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y);
+    if (!e[5 + dx + 4 * dy].leaves) w[k] = 0.0;
+    if (w[k] > 0.0 && (best < 0 || w[k] > w[best])) best = k;
   }
-  o.leaves = wsum > 0.0;
-  if (o.leaves) {
-    o.exit /= wsum;
-    o.path /= wsum;
-    o.dir = normalize(o.dir);
+  o.leaves = best >= 0;
+  if (!o.leaves) return o;
+  LttEntry heavy = e[5 + (best & 1) + 4 * (best >> 1)];
+  float leaving = 0.0, same = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    if (w[k] <= 0.0) continue;
+    LttEntry c = e[5 + (k & 1) + 4 * (k >> 1)];
+    leaving += w[k];
+    if (c.bounces != heavy.bounces || dot(c.dir, heavy.dir) < LTT_SAME_EXIT_COS) continue;
+    same += w[k];
+    o.exit += w[k] * c.exit;
+    o.transmittance += w[k] * c.transmittance;
+    o.dir += w[k] * c.dir;
+    o.path += w[k] * c.path;
   }
+  o.exit /= same;
+  o.path /= same;
+  o.transmittance *= leaving / same;
+  o.dir = normalize(o.dir);
   return o;
 }

@@ -118,23 +118,30 @@ Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, 
 // How lookup() blends the grid directions around the query direction.
 //  kBilinear: the four neighbours, bilinear weights.
 //  kBicubic:  the 4 x 4 neighbours, Catmull-Rom weights per axis (exact for
-//             quadratics). The inner 2 x 2 must leave after the same number
-//             of internal reflections b, else it falls back to kBilinear (a
+//             quadratics). The inner 2 x 2 must leave alike (after the same
+//             number of internal reflections b, exit directions within 30
+//             degrees of each other), else it falls back to kBilinear (a
 //             discontinuity of the transport, which a cubic would ring
 //             across). An outer row or column that leaves the grid or holds
-//             an entry not leaving after b reflections (the horizon row of a
-//             sphere is trapped at the critical angle) is replaced by the
-//             linear extrapolation of the two inner ones.
+//             an entry not leaving alike (the horizon row of a sphere is
+//             trapped at the critical angle) is replaced by the linear
+//             extrapolation of the two inner ones.
 enum class Interpolation : std::uint8_t { kBilinear, kBicubic };
+// Two entries leave alike when their exit directions are closer than this
+// cosine (30 degrees) and their reflection counts equal; otherwise the
+// paths leave through different faces or after different reflections.
+inline constexpr double kSameExitCos = 0.8660254037844387;
 inline constexpr Interpolation kDefaultInterpolation = Interpolation::kBicubic;
 const char* to_string(Interpolation mode);
 
 // Look-up between the grid directions around `to_light` (unit, object
 // space, towards the light) at vertex `vertex` with unit normal `n`. In
 // bilinear mode exit points, directions (renormalised) and path lengths are
-// averaged over the neighbours that leave, weighted by their bilinear
-// weight; the transmittance over all four (trapped and occluded count as 0),
-// so light fades out where the table says it cannot pass. A direction below
+// averaged over the neighbours that leave alike with the heaviest leaving
+// one (a jump is not blended: the exit lies on one side of it), weighted by
+// their bilinear weight; the transmittance is their mean scaled by the
+// share of the weight that leaves (trapped and occluded count as 0), so
+// light fades out where the table says it cannot pass. A direction below
 // the vertex's horizon is clamped onto it. Returns status kTrapped if no
 // neighbour leaves. runtime/shaders/transport.glsl mirrors this function.
 TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
