@@ -69,9 +69,9 @@ void main() {
   // object (or after different reflections), and two exit rays differ by
   // more than 30 degrees, more than a smooth surface turns them across one
   // triangle (glass_ball: nothing dropped above 20, 1.2 % of its flux
-  // above 12). Its volume would smear
-  // the light between the corners' landings (a tilted pane: +2.6 % over
-  // its footprint); it is dropped instead (docs/glass.md).
+  // above 12). Its volume would smear the light between the corners'
+  // landings (a tilted pane: +2.6 % over its footprint); it is dropped
+  // instead (docs/glass.md).
   float spread = min(min(dot(d[0], d[1]), dot(d[1], d[2])), dot(d[2], d[0]));
   reached = reached && spread >= 0.8660254;
   float texel_area = 1.0 / (to_texels.x * to_texels.y);
