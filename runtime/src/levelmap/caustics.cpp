@@ -71,7 +71,7 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
-  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, profile;
+  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile;
   gl::Program splat_photon, splat_points;
   // Photon splatting (one set, reused map after map): the photon texture,
   // the vertex buffer it is copied into, and the points' vertex array.
@@ -250,9 +250,24 @@ struct CausticsEngine::Impl {
     glDisable(GL_PROGRAM_POINT_SIZE);
     glBindVertexArray(0);
     glDisable(GL_BLEND);
-    glGenerateTextureMipmap(m.caustics.get());
+    finish_map(m);
     m.gpu_bytes = bytes_of(m) + std::uint64_t{32} * p * p;  // photon texture and its vertex buffer
     stats.volumes_total += std::uint64_t{p} * p;
+  }
+
+  // Alpha = the receiver's presence (caustics_presence.frag), then the mip
+  // chain; m.fbo draws into the map's level 0.
+  void finish_map(MapGpu& m) {
+    glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+    glViewport(0, 0, static_cast<GLsizei>(m.caustics_size), static_cast<GLsizei>(m.caustics_size));
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+    presence.use();
+    glBindTextureUnit(0, m.position_map.get());
+    glBindVertexArray(empty_vao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glGenerateTextureMipmap(m.caustics.get());
   }
 
   void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light) {
@@ -410,8 +425,8 @@ struct CausticsEngine::Impl {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    glGenerateTextureMipmap(m.caustics.get());
     glDisable(GL_BLEND);
+    finish_map(m);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
     m.gpu_bytes = bytes_of(m);
@@ -444,6 +459,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
        {&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
        {&s.combine, "volumetric_combine", shaders::k_fullscreen_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
+       {&s.presence, "caustics_presence", shaders::k_fullscreen_vert_glsl, shaders::k_caustics_presence_frag_glsl},
        {&s.prepare, "caustics_prepare", prepare_src.c_str()},
        {&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},

@@ -190,7 +190,11 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     if (c.y < front - caustix_light.frame_origin.w - caustix_light.frame_u.w * slope) return vec3(0.0);
     // Sum over the beams in the texel of I_c,i n.d_i / V.d_i, from the
     // map's (sum I_c,i, sum I_c,i d_i.U / d_i.V, sum I_c,i d_i.W / d_i.V).
-    vec3 m = texture(caustix_caustics_map, uv).rgb;
+    // Alpha is the receiver's presence (its filtered coverage where the map
+    // is filtered): dividing by it keeps the empty texels beyond the
+    // receiver's outline seen from the light from darkening its edge.
+    vec4 m4 = texture(caustix_caustics_map, uv);
+    vec3 m = m4.a > 1e-3 ? m4.rgb / m4.a : m4.rgb;
     float e = max(m.r * dot(n, caustix_light.frame_v.xyz) + m.g * dot(n, caustix_light.frame_u.xyz) + m.b * dot(n, caustix_light.frame_w.xyz), 0.0);
     vec3 travel = -caustix_light.frame_v.xyz;
     return caustix_light.light_color.rgb * e * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);

@@ -58,7 +58,7 @@ struct Bindings {
   unsigned block = 7;
   unsigned shadow_2d = 8;           // sampler2DShadow: the light's shadow map (directional)
   unsigned shadow_cube = 9;         // samplerCubeShadow: the light's shadow map (point)
-  unsigned caustics = 10;           // sampler2D RGBA32F: the caustics map (irradiance, direction; caustix.glsl)
+  unsigned caustics = 10;           // sampler2D RGBA32F: the caustics map (irradiance, direction; A: the receiver's presence, divided out; caustix.glsl)
   unsigned position = 11;           // sampler2D R32F: the receiver's position map
   unsigned glass_illumination = 12; // sampler2DArray RGBA32F: glass illumination textures
   unsigned glass_target = 13;       // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
