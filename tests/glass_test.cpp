@@ -37,6 +37,7 @@ using test::fresnel_t;
 using test::kPi;
 using test::Landing;
 using test::ball_lens;
+using test::encircled;
 using test::radius_enclosing;
 
 using test::kScenes;
@@ -48,15 +49,18 @@ runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOpt
 
 class Glass : public test::GlTest {
  protected:
-  // Irradiance / E0 of the floor over the whole 4 x 4 m floor.
-  static std::vector<float> floor_irradiance(const nlohmann::json& j, int n, const bake::BakeOptions& opt = {}) {
+  // Irradiance / E0 of the floor over |x|, |z| < half (default: the whole 4 x 4 m floor).
+  static std::vector<float> floor_irradiance(const nlohmann::json& j, int n, const bake::BakeOptions& opt = {},
+                                             std::uint32_t glass_map_size = runtime::CausticsOptions{}.glass_map_size,
+                                             double half = 2) {
     auto r = runtime::Renderer::create(bake_and_load(j, opt));
     EXPECT_TRUE(r.ok()) << r.error().message;
     runtime::IrradianceRequest q;
     q.receiver = "floor";
-    q.x0 = q.z0 = -2;
-    q.x1 = q.z1 = 2;
+    q.x0 = q.z0 = -half;
+    q.x1 = q.z1 = half;
     q.width = q.height = n;
+    q.caustics.glass_map_size = glass_map_size;
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
     std::vector<float> e;
@@ -108,6 +112,49 @@ TEST_F(Glass, BallLensFluxAndFocalSpot) {
   std::printf("[glass_ball] transmitted %.4f / expected %.4f; R50 %.4f m measured vs %.4f m exact; peak E/E0 %.1f\n",
               transmitted, expected, m50, r50, e[peak]);
   EXPECT_NEAR(m50, r50, std::max(2 * pix, 0.1 * r50));
+
+  // Encircled power at the defaults (issue 18 measured 8 % low at 2 cm
+  // against caustix-reference in 4 mm pixels; these are 7.8 mm).
+  for (double r : {0.02, 0.03, 0.05, 0.1, 0.2}) {
+    const double got = encircled(measured, r), want = encircled(on_floor, r);
+    std::printf("[glass_ball] encircled power within %.2f m: %.4f vs %.4f exact (%+.1f %%)\n", r, got, want,
+                100 * (got / want - 1));
+  }
+}
+
+// The focal spot with curved glass refined (--glass-turn 5, the accurate
+// preset's) and 1024^2 illumination textures: the power within r of the
+// axis against the exact trace of a true sphere, in 3.75 mm pixels. Bound
+// at r >= 2 cm: issue 18's 5 % plus 1 % for what the 48 x 24 UV sphere
+// itself gives up against a true sphere (caustix-reference tracing the
+// mesh, 32 M photons: -0.6 % at 2 cm, -2.4 % at 3 cm). Measured -4.9,
+// -3.5, -3.0, -2.0, -1.6 %; unrefined, the same textures give -7.7 % at
+// 2 cm (printed, not asserted).
+TEST_F(Glass, RefinedBallLensHoldsItsFocalSpot) {
+  const int n = 160;
+  const double half = 0.3, pix = 2 * half / n;  // 3.75 mm pixels
+  std::vector<Landing> exact;
+  for (const auto& l : ball_lens(0.5, 0.75, 1.5, 20000)) {
+    if (l.rho < half) exact.push_back(l);
+  }
+  for (double turn : {0.0, 5.0}) {
+    bake::BakeOptions opt;
+    opt.glass_refine.max_turn_deg = turn;
+    const auto e = floor_irradiance(scene("glass_ball"), n, opt, 1024, half);
+    std::vector<Landing> measured;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const double rho = std::hypot(-half + (j + 0.5) * pix, -half + (i + 0.5) * pix);
+        measured.push_back({rho, e[static_cast<std::size_t>(i) * n + j] * pix * pix});  // all inside the shadow
+      }
+    }
+    for (double r : {0.02, 0.03, 0.05, 0.1, 0.2}) {
+      const double got = encircled(measured, r), want = encircled(exact, r);
+      std::printf("[glass_ball, --glass-turn %g, 1024^2] encircled power within %.2f m: %.4f vs %.4f exact (%+.1f %%)\n",
+                  turn, r, got, want, 100 * (got / want - 1));
+      if (turn > 0) EXPECT_NEAR(got / want, 1.0, 0.06) << "within " << r << " m";
+    }
+  }
 }
 
 // Extremes of the IOR and total internal reflection (issue 8), on a glass
@@ -383,6 +430,39 @@ TEST(GlassRefine, SmoothMeshesAreLeftAlone) {
   EXPECT_EQ(rep.crease_edges, 9u);
   EXPECT_EQ(pr.positions.size(), 18u);  // 3 faces meet at each of the 6 corners
   EXPECT_EQ(pr.triangles.size(), 8u);
+}
+
+TEST(GlassRefine, CurvedGlassIsSplitUntilItsNormalsTurnLittle) {
+  // glass_ball's UV sphere (edges turning up to 10.6 degrees at the poles,
+  // 7.5 along the equator) with --glass-turn 5.
+  auto sphere = bake::import_mesh(std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/sphere.obj");
+  ASSERT_TRUE(sphere.ok());
+  bake::GlassRefineOptions opt;
+  opt.max_turn_deg = 5;
+  bake::GlassRefineReport rep;
+  const TriangleMesh r = bake::refine_transparent_mesh(sphere->mesh, opt, &rep);
+  std::printf("[refine, sphere, 5 degrees] %u -> %u vertices, turn %.2f -> %.2f degrees, %u rounds\n", rep.vertices_in,
+              rep.vertices_out, rep.max_turn_in, rep.max_turn_out, rep.rounds);
+  EXPECT_GT(rep.max_turn_in, 5.0);
+  EXPECT_LE(rep.max_turn_out, 5.0);
+  EXPECT_GT(rep.curved_edges_split, 0u);
+  const EdgeCensus c = census_edges(r);
+  EXPECT_TRUE(c.closed());
+  EXPECT_NEAR(c.signed_volume, census_edges(sphere->mesh).signed_volume, 1e-6);  // new vertices lie on old edges
+  for (std::size_t v = 0; v < r.positions.size(); ++v) {
+    const auto& p = r.positions[v];
+    const auto& n = r.normals[v];
+    const double pr = std::sqrt(double{p[0]} * p[0] + double{p[1]} * p[1] + double{p[2]} * p[2]);
+    EXPECT_NEAR(std::sqrt(double{n[0]} * n[0] + double{n[1]} * n[1] + double{n[2]} * n[2]), 1.0, 1e-6);
+    // Inside the unit sphere by at most the chord's sagitta (1 - cos 5.3 deg); the Phong normal is radial there.
+    EXPECT_LE(pr, 1.0 + 1e-6);
+    EXPECT_GE(pr, std::cos(5.3 * kPi / 180));
+    EXPECT_GT((n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / pr, std::cos(0.5 * kPi / 180));
+  }
+  // Off, or without a length bound (it keeps the rounds finite), nothing changes.
+  opt.max_edge = 0;
+  bake::refine_transparent_mesh(sphere->mesh, opt, &rep);
+  EXPECT_FALSE(rep.changed());
 }
 
 TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {

@@ -62,4 +62,11 @@ inline double radius_enclosing(std::vector<Landing> l, double fraction) {
   return l.back().rho;
 }
 
+// Flux landing within radius r.
+inline double encircled(const std::vector<Landing>& l, double r) {
+  double sum = 0;
+  for (const auto& x : l) sum += x.rho < r ? x.weight : 0;
+  return sum;
+}
+
 }  // namespace caustix::test

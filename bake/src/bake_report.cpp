@@ -81,7 +81,7 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
     j["level_maps"].push_back(e);
   }
   j["glass_refine"] = {{"crease_deg", opt.glass_refine.crease_deg}, {"flat_deg", opt.glass_refine.flat_deg},
-                       {"max_edge_fraction", opt.glass_refine.max_edge}, {"meshes", nlohmann::ordered_json::array()}};
+                       {"max_edge_fraction", opt.glass_refine.max_edge}, {"max_turn_deg", opt.glass_refine.max_turn_deg}, {"meshes", nlohmann::ordered_json::array()}};
   for (const MeshStats& m : r.meshes) {
     if (!m.glass_refine) continue;
     const GlassRefineReport& g = *m.glass_refine;
@@ -89,6 +89,7 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
         {{"path", m.path}, {"vertices_in", g.vertices_in}, {"vertices_out", g.vertices_out},
          {"triangles_in", g.triangles_in}, {"triangles_out", g.triangles_out}, {"crease_edges", g.crease_edges},
          {"crease_vertices", g.crease_vertices}, {"flat_triangles_in", g.flat_triangles}, {"edges_split", g.edges_split},
+         {"curved_edges_split", g.curved_edges_split}, {"max_turn_in", g.max_turn_in}, {"max_turn_out", g.max_turn_out},
          {"rounds", g.rounds}, {"max_edge", g.max_edge_m}, {"longest_flat_edge_in", g.longest_flat_edge_in},
          {"longest_flat_edge_out", g.longest_flat_edge_out}, {"stopped_at_vertex_limit", g.stopped_at_vertex_limit}});
   }

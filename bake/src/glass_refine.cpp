@@ -160,9 +160,28 @@ std::array<float, 3> midpoint_position(const std::array<float, 3>& a, const std:
 // The rim's bound against the interior's (header).
 constexpr double kRimFactor = 0.25;
 
-// Step 2 (header): one halving round over the flat triangles' long edges.
-// Returns false when no edge needed splitting.
-bool split_long_flat_edges(TriangleMesh& m, std::vector<char>& flat, double h, GlassRefineReport& rep) {
+// The angle between the normals at the ends of triangle t's edge k, degrees.
+double edge_turn_deg(const TriangleMesh& m, std::uint32_t t, std::uint32_t k) {
+  const auto& tri = m.triangles[t];
+  return angle_deg(unit(d3(m.normals[tri[k]])), unit(d3(m.normals[tri[(k + 1) % 3]])));
+}
+
+// Largest normal turn along an edge longer than `min_length` (step 3's
+// measure, for the report).
+double largest_turn(const TriangleMesh& m, double min_length) {
+  double turn = 0;
+  for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (edge_length(m, m.triangles[t][k], m.triangles[t][(k + 1) % 3]) > min_length) turn = std::max(turn, edge_turn_deg(m, t, k));
+    }
+  }
+  return turn;
+}
+
+// Steps 2 and 3 (header): one halving round over the flat triangles' long
+// edges and the curved ones' turning edges. Returns false when no edge
+// needed splitting.
+bool split_edges(TriangleMesh& m, std::vector<char>& flat, double h, double turn_deg, GlassRefineReport& rep) {
   const std::vector<std::uint32_t> weld = weld_positions(m);
   const std::vector<EdgeUse> uses = edge_uses(m, weld);
   // Vertices on a crease: their position is held by another vertex too.
@@ -172,16 +191,20 @@ bool split_long_flat_edges(TriangleMesh& m, std::vector<char>& flat, double h, G
   std::vector<char> split(m.triangles.size() * 3, 0);
   bool any = false;
   for_each_edge(uses, [&](std::size_t i, std::size_t j) {
-    bool flat_side = false, rim = false;
+    const double length = edge_length(m, uses[i].lo, uses[i].hi);
+    bool flat_side = false, rim = false, turns = false;
     for (std::size_t u = i; u < j; ++u) {
       flat_side = flat_side || flat[uses[u].tri];
       for (std::uint32_t v : m.triangles[uses[u].tri]) rim = rim || on_crease(v);
+      turns = turns || (turn_deg > 0 && length > h * kRimFactor && edge_turn_deg(m, uses[u].tri, uses[u].k) > turn_deg);
     }
-    if (!flat_side || !(edge_length(m, uses[i].lo, uses[i].hi) > (rim ? h * kRimFactor : h))) return;
+    const bool long_flat = flat_side && length > (rim ? h * kRimFactor : h);
+    if (!long_flat && !turns) return;
     // Far from the origin floats may not hold a point between the two ends.
     const auto mid = midpoint_position(m.positions[uses[i].lo], m.positions[uses[i].hi]);
     if (mid == m.positions[uses[i].lo] || mid == m.positions[uses[i].hi]) return;
     for (std::size_t u = i; u < j; ++u) split[3 * uses[u].tri + uses[u].k] = 1;
+    rep.curved_edges_split += long_flat ? 0u : 1u;
     any = true;
   });
   if (!any) return false;
@@ -283,9 +306,12 @@ TriangleMesh refine_transparent_mesh(const TriangleMesh& mesh, const GlassRefine
     }
   }
   rep.max_edge_m = options.max_edge * length(sub(hi, lo));
-  // Each round halves the longest flat edge; 40 rounds reach 2^-40 of it.
+  // Each round halves the longest flat edge and the largest turn; 40
+  // rounds reach 2^-40 of them.
+  rep.max_turn_in = largest_turn(m, rep.max_edge_m * kRimFactor);
+  const double turn_deg = rep.max_edge_m > 0 ? options.max_turn_deg : 0;  // step 3 needs the length bound
   if (rep.max_edge_m > 0) {
-    while (rep.rounds < 40 && split_long_flat_edges(m, flat, rep.max_edge_m, rep)) {
+    while (rep.rounds < 40 && split_edges(m, flat, rep.max_edge_m, turn_deg, rep)) {
       ++rep.rounds;
       if (m.positions.size() > options.max_vertices) {
         rep.stopped_at_vertex_limit = true;
@@ -294,6 +320,7 @@ TriangleMesh refine_transparent_mesh(const TriangleMesh& mesh, const GlassRefine
     }
   }
   rep.longest_flat_edge_out = longest_flat_edge(m, flat);
+  rep.max_turn_out = largest_turn(m, rep.max_edge_m * kRimFactor);
   rep.vertices_out = static_cast<std::uint32_t>(m.positions.size());
   rep.triangles_out = static_cast<std::uint32_t>(m.triangles.size());
   if (report) *report = rep;
@@ -303,11 +330,13 @@ TriangleMesh refine_transparent_mesh(const TriangleMesh& mesh, const GlassRefine
 std::string describe_refinement(const GlassRefineReport& r, const GlassRefineOptions& o) {
   char line[512];
   std::snprintf(line, sizeof line,
-                "refined for the light-transport table (--glass-crease %g, --glass-edge %g): %u -> %u vertices, "
-                "%u -> %u triangles; %u crease edge(s) gave %u vertex copies with their faces' normals; "
-                "edges of flat triangles %.4g -> %.4g (bound %.4g) after %u halving round(s)%s",
-                o.crease_deg, o.max_edge, r.vertices_in, r.vertices_out, r.triangles_in, r.triangles_out, r.crease_edges,
-                r.crease_vertices, r.longest_flat_edge_in, r.longest_flat_edge_out, r.max_edge_m, r.rounds,
+                "refined for the light-transport table (--glass-crease %g, --glass-edge %g, --glass-turn %g): %u -> %u "
+                "vertices, %u -> %u triangles; %u crease edge(s) gave %u vertex copies with their faces' normals; "
+                "edges of flat triangles %.4g -> %.4g (bound %.4g); largest normal turn along an edge %.3g -> %.3g "
+                "degrees (%u curved edge(s) split); %u halving round(s)%s",
+                o.crease_deg, o.max_edge, o.max_turn_deg, r.vertices_in, r.vertices_out, r.triangles_in, r.triangles_out,
+                r.crease_edges, r.crease_vertices, r.longest_flat_edge_in, r.longest_flat_edge_out, r.max_edge_m,
+                r.max_turn_in, r.max_turn_out, r.curved_edges_split, r.rounds,
                 r.stopped_at_vertex_limit ? "; stopped at the table's vertex limit" : "");
   return line;
 }

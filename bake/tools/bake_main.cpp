@@ -97,6 +97,10 @@ int main(int argc, char** argv) {
                  "transparent meshes: split edges of flat triangles longer than this fraction of the mesh's bounding-box "
                  "diagonal (the table samples light transport at vertices; 0: no splitting)")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app.add_option("--glass-turn", opt.glass_refine.max_turn_deg,
+                 "transparent meshes: also split edges whose end normals turn by more than this (degrees) while longer "
+                 "than --glass-edge / 4 of the diagonal: finer sampling of curved glass, a sharper focal spot (0: off)")
+      ->check(CLI::Range(0.0, 180.0))->capture_default_str();
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");
@@ -121,6 +125,9 @@ int main(int argc, char** argv) {
     unless_given("--ltt-resolution", opt.transport.resolution, p.transport.resolution);
     unless_given("--ltt-bounces", opt.transport.max_bounces, p.transport.max_bounces);
     unless_given("--ltt-bits", opt.transport.bits, p.transport.bits);
+    unless_given("--glass-crease", opt.glass_refine.crease_deg, p.glass_refine.crease_deg);
+    unless_given("--glass-edge", opt.glass_refine.max_edge, p.glass_refine.max_edge);
+    unless_given("--glass-turn", opt.glass_refine.max_turn_deg, p.glass_refine.max_turn_deg);
     if (app.count("--epsilon") == 0) lm.slicing.epsilon = p.level_maps.slicing.epsilon;
     opt.render = p.render;
   }

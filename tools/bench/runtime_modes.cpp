@@ -27,8 +27,8 @@ namespace caustix::bench {
 namespace {
 
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
-int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width, int height, int warmup, int count,
-           const std::string& label, bool move_light) {
+int frames(const std::string& cxb, const runtime::CausticsOptions& co, std::uint32_t glass_size, int width, int height,
+           int warmup, int count, const std::string& label, bool move_light) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -37,6 +37,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, int width
     with_defaults.map_size = runtime::CausticsOptions{}.map_size;
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
+  if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
   auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light);
   if (!times) return cli::fail("caustix-bench", times.error());
   const runtime::CausticsStats cs = r->caustics_stats();
@@ -79,7 +80,7 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
 
 struct RuntimeModes final : Modes {
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
-  std::uint32_t planes = 0, csize = 0;
+  std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5;
   bool no_cull = false, header = false, move_light = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr;
@@ -94,6 +95,8 @@ struct RuntimeModes final : Modes {
     fr->add_option("--warmup", warmup, "frames not measured")->capture_default_str();
     fr->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
     fr->add_option("--caustics-size", csize, "caustics map size (default: the file's preset, else 512)")
+        ->check(CLI::Range(1, 8192));
+    fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
     fr->add_option("--label", label, "first CSV column");
@@ -132,7 +135,7 @@ struct RuntimeModes final : Modes {
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
     co.map_size = csize;
-    return frames(cxb, co, w, h, warmup, count, label, move_light);
+    return frames(cxb, co, gsize, w, h, warmup, count, label, move_light);
   }
 };
 

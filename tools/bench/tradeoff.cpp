@@ -51,6 +51,8 @@ const std::vector<Knob>& knobs() {
        }},
       {"ltt-resolution", {8, 12, 16, 20, 24, 32}, true, false,
        [](Setting& s, double v) { s.bake.transport.resolution = static_cast<std::uint32_t>(v); }},
+      {"glass-turn", {0, 10, 5, 2.5}, true, false,
+       [](Setting& s, double v) { s.bake.glass_refine.max_turn_deg = v; }},
       {"glass-size", {128, 256, 512, 1024, 2048}, true, false,
        [](Setting& s, double v) { s.caustics.glass_map_size = static_cast<std::uint32_t>(v); }},
       {"position-bits", {8, 10, 12, 14, 16}, false, false,
