@@ -24,12 +24,11 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 // The water grid is the lever with the largest effect on both cost and
 // error; planes beyond 4-8 buy nothing measurable on the canonical scenes
 // and cost time; the caustics map must keep a floor 16 m wide (wavy_pool)
-// at 512^2 or finer; the position map is cheapest at 512^2 or more; glass
-// illumination textures finer than 512^2 resolve the mesh's vertex
-// sampling as speckle (glass_ball: error 0.031 at 512^2, 0.051 at 1024^2)
-// unless curved glass is refined (--glass-turn): with edges turning <= 5
-// degrees, 1024^2 textures bring glass_ball's power within 2 cm of the
-// focus from 8 % to 3.5 % of the reference, at twice the vertices' cost.
+// at 512^2 or finer (1024^2 halves its error but costs 1.7x on the teapot
+// for nothing there); the position map is cheapest at 512^2 or more; glass
+// textures above 512^2 and curved-glass refinement (--glass-turn 5) buy
+// glass_ball's focal spot (error 0.0301 -> 0.0217 together) at 4x the
+// frame time, so only accurate has them.
 const std::array<Preset, 3> kPresets{{
     {"fast", "half the water grid per axis, 4 planes, 512^2 maps, R = 12 transport tables, 256^2 glass textures",
      make(4, 64, 512, 0.5, 12, 0, 512, 256, "fast")},
