@@ -71,34 +71,6 @@ Judged judge(const runtime::IrradianceImage& a, const metrics::Image& ref) {
 
 nlohmann::json sphere_scene() { return test::canonical_scene("sphere_waves"); }
 
-// A UV sphere of radius 1 with exact normals, `seg` segments x `rings`
-// rings, wound outward (as assets/meshes/generate.py's sphere()).
-TriangleMesh uv_sphere(int seg, int rings) {
-  TriangleMesh m;
-  m.positions.push_back({0, 1, 0});
-  for (int r = 1; r < rings; ++r) {
-    const double th = kPi * r / rings;
-    for (int s = 0; s < seg; ++s) {
-      const double ph = 2 * kPi * s / seg;
-      m.positions.push_back({static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
-                             static_cast<float>(std::sin(th) * std::sin(ph))});
-    }
-  }
-  m.positions.push_back({0, -1, 0});
-  m.normals = m.positions;
-  const auto ring = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * seg + s % seg); };
-  const auto top = 0u, bottom = static_cast<std::uint32_t>(m.positions.size() - 1);
-  for (int s = 0; s < seg; ++s) m.triangles.push_back({top, ring(1, s + 1), ring(1, s)});
-  for (int r = 1; r < rings - 1; ++r) {
-    for (int s = 0; s < seg; ++s) {
-      m.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)});
-      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)});
-    }
-  }
-  for (int s = 0; s < seg; ++s) m.triangles.push_back({bottom, ring(rings - 1, s), ring(rings - 1, s + 1)});
-  return m;
-}
-
 TEST_F(CurvedReceivers, SphereUnderFlatWaterGetsFresnelTimesCosineUpToTheTerminator) {
   nlohmann::json j = sphere_scene();
   j["water"]["waves"] = nlohmann::json::array();
@@ -106,7 +78,7 @@ TEST_F(CurvedReceivers, SphereUnderFlatWaterGetsFresnelTimesCosineUpToTheTermina
   // reads -0.84 % at the terminator: its facets against the exact sphere,
   // where the cosine goes to 0).
   const auto mesh = std::filesystem::temp_directory_path() / "caustix_sphere_256x128.obj";
-  std::ofstream(mesh) << test::to_obj(uv_sphere(256, 128));
+  std::ofstream(mesh) << test::to_obj(test::uv_sphere(256, 128));
   j["objects"][1]["mesh"] = mesh.string();
   const double theta = 30 * kPi / 180, n_water = 1.33;
   j["lights"][0]["direction"] = {std::sin(theta), -std::cos(theta), 0.0};

@@ -56,27 +56,10 @@ TEST(GeometryKernel, OrientedBoxOfCylinderRulingsNeedsExactPredicates) {
 // <double>, 4380 of these 154 600 rays miss every triangle (light leaks
 // out of a closed glass object).
 TEST(GeometryKernel, RaysThroughSharedEdgesAndVerticesHit) {
+  const TriangleMesh sphere = test::uv_sphere(48, 24);
   std::vector<Vec3d> v;
-  std::vector<std::array<std::uint32_t, 3>> f;
-  const int seg = 48, rings = 24;
-  v.push_back({0, 1, 0});
-  for (int r = 1; r < rings; ++r) {
-    for (int s = 0; s < seg; ++s) {
-      const double th = M_PI * r / rings, ph = 2 * M_PI * s / seg;
-      v.push_back({std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)});
-    }
-  }
-  v.push_back({0, -1, 0});
-  const auto at = [&](int r, int s) { return static_cast<std::uint32_t>(1 + r * seg + (s % seg)); };
-  for (int s = 0; s < seg; ++s) f.push_back({0, at(0, s + 1), at(0, s)});
-  for (int r = 0; r + 2 < rings; ++r) {
-    for (int s = 0; s < seg; ++s) {
-      f.push_back({at(r, s), at(r, s + 1), at(r + 1, s + 1)});
-      f.push_back({at(r, s), at(r + 1, s + 1), at(r + 1, s)});
-    }
-  }
-  const auto last = static_cast<std::uint32_t>(v.size() - 1);
-  for (int s = 0; s < seg; ++s) f.push_back({last, at(rings - 2, s), at(rings - 2, s + 1)});
+  for (const auto& p : sphere.positions) v.push_back({p[0], p[1], p[2]});
+  const auto& f = sphere.triangles;
   const RayCaster caster(v, f, std::vector<std::uint32_t>(f.size(), 0));
 
   std::size_t rays = 0, missed = 0;

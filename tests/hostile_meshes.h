@@ -1,9 +1,10 @@
 #pragma once
 // Small hostile meshes for the import, topology and bake tests (issue 8):
 // a unit cube [0, 1]^3 with shared vertices, wound counter-clockwise seen
-// from outside, and ways to break it.
+// from outside, and ways to break it; and a UV sphere.
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,35 @@ inline std::string to_obj(const TriangleMesh& m) {
     s += "\n";
   }
   return s;
+}
+
+// A UV sphere of radius 1 with exact normals, `seg` segments x `rings`
+// rings, wound outward (as assets/meshes/generate.py's sphere()).
+inline TriangleMesh uv_sphere(int seg, int rings) {
+  constexpr double kSpherePi = 3.14159265358979323846;
+  TriangleMesh m;
+  m.positions.push_back({0, 1, 0});
+  for (int r = 1; r < rings; ++r) {
+    const double th = kSpherePi * r / rings;
+    for (int s = 0; s < seg; ++s) {
+      const double ph = 2 * kSpherePi * s / seg;
+      m.positions.push_back({static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
+                             static_cast<float>(std::sin(th) * std::sin(ph))});
+    }
+  }
+  m.positions.push_back({0, -1, 0});
+  m.normals = m.positions;
+  const auto ring = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * seg + s % seg); };
+  const auto top = 0u, bottom = static_cast<std::uint32_t>(m.positions.size() - 1);
+  for (int s = 0; s < seg; ++s) m.triangles.push_back({top, ring(1, s + 1), ring(1, s)});
+  for (int r = 1; r < rings - 1; ++r) {
+    for (int s = 0; s < seg; ++s) {
+      m.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)});
+      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)});
+    }
+  }
+  for (int s = 0; s < seg; ++s) m.triangles.push_back({bottom, ring(rings - 1, s), ring(rings - 1, s + 1)});
+  return m;
 }
 
 }  // namespace caustix::test

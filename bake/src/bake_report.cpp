@@ -80,8 +80,11 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
     }
     j["level_maps"].push_back(e);
   }
-  j["glass_refine"] = {{"crease_deg", opt.glass_refine.crease_deg}, {"flat_deg", opt.glass_refine.flat_deg},
-                       {"max_edge_fraction", opt.glass_refine.max_edge}, {"max_turn_deg", opt.glass_refine.max_turn_deg}, {"meshes", nlohmann::ordered_json::array()}};
+  j["glass_refine"] = {{"crease_deg", opt.glass_refine.crease_deg},
+                       {"flat_deg", opt.glass_refine.flat_deg},
+                       {"max_edge_fraction", opt.glass_refine.max_edge},
+                       {"max_turn_deg", opt.glass_refine.max_turn_deg},
+                       {"meshes", nlohmann::ordered_json::array()}};
   for (const MeshStats& m : r.meshes) {
     if (!m.glass_refine) continue;
     const GlassRefineReport& g = *m.glass_refine;

@@ -70,7 +70,7 @@ struct GlassRefineReport {
   std::uint32_t edges_split = 0;       // midpoints added by steps 2 and 3 (shared by position: counted once per side)
   std::uint32_t curved_edges_split = 0;  // of those, edges split for their normals' turn alone (step 3)
   double max_turn_in = 0, max_turn_out = 0;  // largest normal turn along an edge above the rim's bound, degrees
-  std::uint32_t rounds = 0;            // halvings of step 2
+  std::uint32_t rounds = 0;            // halving rounds of steps 2 and 3
   double max_edge_m = 0;               // the bound in object units (max_edge x diagonal)
   double longest_flat_edge_in = 0, longest_flat_edge_out = 0;  // object units
   bool stopped_at_vertex_limit = false;
