@@ -163,7 +163,7 @@ std::string report_text(const BakeResult& r) {
   for (const TransportReport& t : r.transport) {
     std::snprintf(line, sizeof line,
                   "  light-transport table '%s': %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
-                  "%llu after internal reflection; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
+                  "%llu after internal reflection or re-entry; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
                   r.scene.objects[t.object].name.c_str(), t.vertices,
                   static_cast<unsigned long long>(t.vertices ? t.entries / t.vertices : 0),
                   static_cast<unsigned long long>(t.leaving), static_cast<unsigned long long>(t.trapped),

@@ -135,29 +135,64 @@ TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::u
   double transmittance = fresnel_transmittance(cos_i, m.eta_in);
   double path = 0;
   Vec3d o = p;
+  // The light is followed until it leaves the object for good, the way
+  // caustix-reference follows a photon: `depth` counts the shells of this
+  // object the light is inside (a teapot's lid, spout and handle overlap
+  // its body: one glass, so crossing into a second shell is no interface),
+  // and light that leaves and meets the object again enters it again.
+  // `events` counts what bends the path inside (total internal reflections
+  // and re-entries; at most max_bounces), which keeps every entry's path
+  // below table.max_path: each straight piece inside is at most the box
+  // diagonal. The entry's `bounces` is that count, the path's class for the
+  // look-up's interpolation.
+  std::uint32_t depth = 1, events = 0;
   e.status = TransportStatus::kTrapped;
-  for (std::uint32_t bounce = 0; bounce <= m.max_bounces; ++bounce) {
+  for (std::uint32_t step = 0; step < 8 * (m.max_bounces + 2); ++step) {
     ++casts;
     const auto hit = m.caster.first_hit_triangle(add(o, mul(d, eps)), d);
-    if (!hit) break;  // numerically leaked through a seam: counted as trapped
-    const double len = hit->distance + eps;
-    const Vec3d q = add(o, mul(d, len));
-    path += len;
-    Vec3d nn = s.normal_at(hit->triangle, q);
-    if (dot(nn, d) <= 0) nn = s.geo_normal[hit->triangle];
-    if (dot(nn, d) <= 0) break;  // hit from outside: not a closed surface here
-    if (auto out = refract(d, mul(nn, -1.0), m.eta_out)) {
+    if (!hit) {
+      if (depth > 0) break;  // numerically leaked through a seam: counted as trapped
       e.status = TransportStatus::kLeaves;
-      e.exit = q;
-      e.direction = *out;
-      e.transmittance = transmittance * fresnel_transmittance(dot(d, nn), m.eta_out);
+      e.exit = o;
+      e.direction = d;
+      e.transmittance = transmittance;
       e.path = path;
-      e.bounces = static_cast<std::uint8_t>(bounce);
+      e.bounces = static_cast<std::uint8_t>(events);
       break;
     }
-    // Total internal reflection (reflectance 1): follow it inside.
-    d = unit(sub(d, mul(nn, 2.0 * dot(d, nn))));
+    const double len = hit->distance + eps;
+    const Vec3d q = add(o, mul(d, len));
+    if (depth > 0) path += len;
     o = q;
+    const bool entering = dot(d, s.geo_normal[hit->triangle]) < 0;
+    if (entering && depth > 0) {  // into an overlapping shell: same glass on both sides
+      ++depth;
+      continue;
+    }
+    if (!entering && depth != 1) {  // out of an overlapping shell, or of one it is not in
+      depth = depth > 0 ? depth - 1 : 0;
+      continue;
+    }
+    // A real interface: air -> glass (re-entry) or glass -> air. The smooth
+    // normal where it agrees with the side the light comes from.
+    Vec3d nn = s.normal_at(hit->triangle, q);
+    if ((dot(nn, d) < 0) != entering) nn = s.geo_normal[hit->triangle];
+    if (entering) {
+      if (++events > m.max_bounces) break;
+      transmittance *= fresnel_transmittance(-dot(d, nn), m.eta_in);
+      d = *refract(d, nn, m.eta_in);
+      depth = 1;
+      continue;
+    }
+    if (auto out = refract(d, mul(nn, -1.0), m.eta_out)) {
+      transmittance *= fresnel_transmittance(dot(d, nn), m.eta_out);
+      d = *out;
+      depth = 0;
+      continue;
+    }
+    // Total internal reflection (reflectance 1): follow it inside.
+    if (++events > m.max_bounces) break;
+    d = unit(sub(d, mul(nn, 2.0 * dot(d, nn))));
   }
   if (rays) *rays += casts;
   return e;

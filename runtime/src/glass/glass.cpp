@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -22,6 +23,40 @@ void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
   const glm::mat3 m(to_glm(t));
   scale = glm::length(m[0]);
   rotation = m / scale;
+}
+
+// The unit normal of the plane holding every point, if they lie in one
+// (within 1e-6 of their extent): a floor, a wall, a table top. Three points
+// far apart span it: the first, the farthest from it, the farthest from
+// the line through both.
+std::optional<Vec3d> plane_normal(const std::vector<Vec3d>& p) {
+  if (p.size() < 3) return std::nullopt;
+  const auto sub = [](const Vec3d& a, const Vec3d& b) { return Vec3d{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto dot = [](const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const auto cross = [](const Vec3d& a, const Vec3d& b) {
+    return Vec3d{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto farthest = [&](auto&& measure) {
+    std::size_t best = 0;
+    double most = -1;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double m = measure(p[i]);
+      if (m > most) most = m, best = i;
+    }
+    return best;
+  };
+  const Vec3d a = p[0];
+  const Vec3d b = p[farthest([&](const Vec3d& x) { return dot(sub(x, a), sub(x, a)); })];
+  const Vec3d ab = sub(b, a);
+  const Vec3d c = p[farthest([&](const Vec3d& x) { const Vec3d n = cross(ab, sub(x, a)); return dot(n, n); })];
+  Vec3d n = cross(ab, sub(c, a));
+  const double len = std::sqrt(dot(n, n)), extent = std::sqrt(dot(ab, ab));
+  if (extent <= 0 || len <= 1e-12 * extent * extent) return std::nullopt;
+  for (double& x : n) x /= len;
+  for (const Vec3d& x : p) {
+    if (std::fabs(dot(sub(x, a), n)) > 1e-6 * extent) return std::nullopt;
+  }
+  return n;
 }
 
 }  // namespace
@@ -203,9 +238,20 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   for (Impl::Target& t : s.targets) {
     if (t.light != li) continue;
     // 2. The virtual camera along the mean transmitted direction, tight
-    // around the target, and n planes across its depth (§4.2).
+    // around the target, and n planes across its depth (§4.2). A flat
+    // target (a floor) is looked at along its normal instead, from its lit
+    // side: it then lies in one plane, which the transmitted rays are cut
+    // with exactly. Across the mean direction a floor spans the whole depth
+    // range, and interpolating between planes that cut the glass object
+    // (rays leave below some of them) lost 46 % of glass_teapot's light
+    // and placed the rest up to 0.5 m off (docs/glass.md).
     const Object& o = scene.objects[t.object];
-    t.frame = make_frame(travel, world_vertices[t.object], {o.transform[12], o.transform[13], o.transform[14]});
+    Vec3d view = travel;
+    if (const auto n = plane_normal(world_vertices[t.object])) {
+      const double side = n->at(0) * travel[0] + n->at(1) * travel[1] + n->at(2) * travel[2] < 0 ? -1.0 : 1.0;
+      view = {side * n->at(0), side * n->at(1), side * n->at(2)};
+    }
+    t.frame = make_frame(view, world_vertices[t.object], {o.transform[12], o.transform[13], o.transform[14]});
     const float hv = t.frame.half[1];
     const std::uint32_t planes = hv > 1e-5f * std::max(t.frame.half[0], t.frame.half[2]) ? wanted : 1;
     t.plane_v.resize(planes);

@@ -2,8 +2,10 @@
 // The light-transport stage of the baker (seed 002 §3; formats/light_transport.h
 // describes the table): for every vertex of every transparent object and every
 // direction of the hemi-octahedral grid, the refracted ray is traced through
-// the object with exact ray-mesh intersection (CGAL AABB tree), following up
-// to `max_bounces` total internal reflections. Parallel over vertices with
+// the object with exact ray-mesh intersection (CGAL AABB tree) until it
+// leaves the object for good: through overlapping shells of the mesh (one
+// glass), out and into the object again, and up to `max_bounces` total
+// internal reflections and re-entries. Parallel over vertices with
 // oneTBB; every entry has its own slot, so the table does not depend on the
 // thread count.
 
@@ -21,7 +23,7 @@ namespace caustix::bake {
 
 struct TransportOptions {
   std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
-  std::uint32_t max_bounces = 4;  // internal reflections followed (the paper: 0)
+  std::uint32_t max_bounces = 4;  // internal reflections and re-entries followed (the paper: 0)
   std::uint32_t bits = kDefaultTransportBits;  // significant bits kept per field (8..16)
 };
 

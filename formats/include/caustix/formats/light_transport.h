@@ -31,9 +31,12 @@
 // writer may keep fewer significant bits b (precision_bits): it rounds
 // every field to a multiple of 2^(16 - b), which readers need not know
 // and which the compressor turns into a smaller chunk (docs/glass.md has
-// the measured sizes). status 0 = the ray leaves, 1 = trapped
-// (still inside after max_bounces internal reflections), 2 = the object
-// itself blocks the light from this direction before it reaches the vertex.
+// the measured sizes). status 0 = the ray leaves the object for good, 1 =
+// trapped (still inside after max_bounces internal reflections and
+// re-entries), 2 = the object itself blocks the light from this direction
+// before it reaches the vertex (that light is in the entries of the
+// vertices it enters first). bounces = the internal reflections and
+// re-entries before it leaves, the path's class for the look-up.
 // Entries with status != 0 have every other field zero.
 
 #include <array>
@@ -69,16 +72,16 @@ enum class TransportStatus : std::uint8_t { kLeaves = 0, kTrapped = 1, kOccluded
 struct TransportEntry {
   std::array<double, 3> exit{};       // exit point
   std::array<double, 3> direction{};  // unit exit direction (travel)
-  double transmittance = 0;           // T_in * T_out (internal reflections count 1 each)
+  double transmittance = 0;           // Fresnel T of every interface crossed (internal reflections count 1 each)
   double path = 0;                    // metres inside the object (object space)
   TransportStatus status = TransportStatus::kTrapped;
-  std::uint8_t bounces = 0;           // internal reflections before leaving
+  std::uint8_t bounces = 0;           // internal reflections and re-entries before leaving
 };
 
 struct LightTransportTable {
   std::uint32_t object = 0;        // index into SceneDesc::objects (transparent)
   std::uint32_t resolution = 0;    // R: R x R directions per vertex
-  std::uint32_t max_bounces = 0;   // internal reflections followed
+  std::uint32_t max_bounces = 0;   // internal reflections and re-entries followed
   float ior = 1.5f;                // as baked; equals the object's material IOR
   Vec3f absorption{0, 0, 0};       // 1/m per RGB channel (the material's)
   Vec3f exit_min{}, exit_max{};    // quantisation box of exit points (object space)
@@ -119,7 +122,7 @@ Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, 
 //  kBilinear: the four neighbours, bilinear weights.
 //  kBicubic:  the 4 x 4 neighbours, Catmull-Rom weights per axis (exact for
 //             quadratics). The inner 2 x 2 must leave alike (after the same
-//             number of internal reflections b, exit directions within 30
+//             count b of internal reflections and re-entries, exit directions within 30
 //             degrees of each other), else it falls back to kBilinear (a
 //             discontinuity of the transport, which a cubic would ring
 //             across). An outer row or column that leaves the grid or holds
@@ -128,8 +131,8 @@ Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, 
 //             extrapolation of the two inner ones.
 enum class Interpolation : std::uint8_t { kBilinear, kBicubic };
 // Two entries leave alike when their exit directions are closer than this
-// cosine (30 degrees) and their reflection counts equal; otherwise the
-// paths leave through different faces or after different reflections.
+// cosine (30 degrees) and their counts b equal; otherwise the paths leave
+// through different faces or after different reflections or re-entries.
 inline constexpr double kSameExitCos = 0.8660254037844387;
 inline constexpr Interpolation kDefaultInterpolation = Interpolation::kBicubic;
 const char* to_string(Interpolation mode);
