@@ -616,6 +616,17 @@ TEST(LightTransport, LightCrossesOverlappingShellsAndReEntersTheObject) {
     EXPECT_NEAR(e.path, glass_length / cos_t, 1e-5);
     EXPECT_EQ(e.bounces, events);
   }
+  // A convex object cannot meet light that left it: two casts (towards the
+  // light, then inside), none after the exit.
+  const TriangleMesh cube = test::subdivided_cube(2);
+  std::uint32_t top = 0;
+  for (std::uint32_t v = 0; v < cube.positions.size(); ++v) {
+    if (cube.positions[v] == std::array<float, 3>{0, 0.5f, 0}) top = v;
+  }
+  std::uint64_t casts = 0;
+  const TransportEntry e = bake::TransportTracer(glass, cube, 4).trace(top, to_light, &casts);
+  EXPECT_EQ(e.status, TransportStatus::kLeaves);
+  EXPECT_EQ(casts, 2u);
 }
 
 TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
