@@ -108,8 +108,9 @@ layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_sha
 layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V, and its direction
 layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
 // Glass (seed 002 §4.3): the receiver's illumination textures for this
-// light, on planes perpendicular to the mean transmitted direction
-// (glass_v points back along it), and the glass's own shadow maps, which
+// light, on planes perpendicular to glass_v: the mean transmitted direction
+// reversed, or a flat receiver's normal on its lit side (one plane, the
+// receiver's own), and the glass's own shadow maps, which
 // take the direct light away where glass stands in its path.
 layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix_glass_illumination;
 layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2D caustix_glass_target;
