@@ -309,13 +309,14 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     t.primitive_capacity.resize(s.glass.size(), 0);
     for (std::size_t gi = 0; gi < s.glass.size(); ++gi) {
       Impl::Glass& g = s.glass[gi];
-      const std::uint64_t prims = std::uint64_t{g.triangles} * planes;
+      const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
+      const std::uint64_t prims = per_plane * planes;
       if (prims > t.primitive_capacity[gi]) {
         t.primitives[gi] = gl::make_buffer();
         glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
         t.primitive_capacity[gi] = prims;
       }
-      s.ensure_rect_indices(g.triangles);
+      s.ensure_rect_indices(per_plane);
       s.geometry.use();
       set_frame(s.geometry);
       set_light_uniforms(s.geometry);
@@ -338,8 +339,8 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
       glVertexArrayElementBuffer(s.empty_vao.get(), s.rect_indices.get());
       for (std::uint32_t k = 0; k < planes; ++k) {
         glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
-        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(g.triangles * 6), GL_UNSIGNED_INT, nullptr,
-                                 static_cast<GLint>(k * g.triangles * 4));
+        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(per_plane * 6), GL_UNSIGNED_INT, nullptr,
+                                 static_cast<GLint>(k * per_plane * 4));
       }
     }
     glDisable(GL_BLEND);
