@@ -48,6 +48,16 @@ runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOpt
   return test::bake_and_load(test::write_scene(j, "glass_test"), opt).value();
 }
 
+// The floor's irradiance image over |x|, |z| < half, n x n pixels.
+runtime::IrradianceRequest floor_request(int n, double half) {
+  runtime::IrradianceRequest q;
+  q.receiver = "floor";
+  q.x0 = q.z0 = static_cast<float>(-half);
+  q.x1 = q.z1 = static_cast<float>(half);
+  q.width = q.height = n;
+  return q;
+}
+
 class Glass : public test::GlTest {
  protected:
   // Irradiance / E0 of the floor over |x|, |z| < half (default: the whole 4 x 4 m floor).
@@ -56,11 +66,7 @@ class Glass : public test::GlTest {
                                              double half = 2) {
     auto r = runtime::Renderer::create(bake_and_load(j, opt));
     EXPECT_TRUE(r.ok()) << r.error().message;
-    runtime::IrradianceRequest q;
-    q.receiver = "floor";
-    q.x0 = q.z0 = -half;
-    q.x1 = q.z1 = half;
-    q.width = q.height = n;
+    runtime::IrradianceRequest q = floor_request(n, half);
     q.caustics.glass_map_size = glass_map_size;
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
@@ -420,11 +426,7 @@ TEST_F(Glass, HalfShadedPaneSendsTheLightOfItsLitHalf) {
   ASSERT_TRUE(r.ok()) << r.error().message;
   double transmitted = 0;
   for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kNone}) {
-    runtime::IrradianceRequest q;
-    q.receiver = "floor";
-    q.x0 = q.z0 = -half;
-    q.x1 = q.z1 = half;
-    q.width = q.height = n;
+    runtime::IrradianceRequest q = floor_request(n, half);
     q.caustics.method = method;
     auto img = (*r)->render_irradiance(q);
     ASSERT_TRUE(img.ok()) << img.error().message;
