@@ -23,6 +23,7 @@
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/common/mesh_topology.h"
+#include "caustix/formats/frame.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
 #include "bake_fixture.h"
@@ -437,6 +438,23 @@ TEST_F(Glass, HalfShadedPaneSendsTheLightOfItsLitHalf) {
   const double t = fresnel_t(1.0, 1.5), expected = t * t * 0.5;
   std::printf("[pane half in a board's shadow] light through it %.4f m^2 E0, T^2 x 0.5 m^2 = %.4f\n", transmitted, expected);
   EXPECT_NEAR(transmitted, expected, 0.02 * expected);
+}
+
+// Which receivers count as flat (cut along their normal, above).
+TEST(PlaneNormal, FindsTheFlatAndOnlyTheFlat) {
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  std::vector<Vec3d> tilted;  // a 3 x 3 grid in a plane tilted 0.3 rad about x, 10 km out
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) tilted.push_back({1e4 + i, 2 + k * s, -3 + k * c});
+  }
+  const auto n = plane_normal(tilted);
+  ASSERT_TRUE(n.has_value());
+  EXPECT_NEAR(std::fabs((*n)[1] * c - (*n)[2] * s), 1.0, 1e-9);
+  std::vector<Vec3d> bent = tilted;
+  bent[4][1] += 1e-3;  // the middle point 1 mm off the plane: not flat
+  EXPECT_FALSE(plane_normal(bent).has_value());
+  EXPECT_FALSE(plane_normal({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}).has_value());  // a line
+  EXPECT_FALSE(plane_normal({{0, 0, 0}, {1, 0, 0}}).has_value());
 }
 
 TEST(GlassRefine, CreasesSplitAndFlatFacesRefinedClosed) {

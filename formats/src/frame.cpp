@@ -127,4 +127,28 @@ BoundingFrame make_frame(const Vec3d& travel, const std::vector<Vec3d>& pts, con
   return f;
 }
 
+std::optional<Vec3d> plane_normal(const std::vector<Vec3d>& p) {
+  if (p.size() < 3) return std::nullopt;
+  const auto farthest = [&](auto&& measure) {
+    std::size_t best = 0;
+    double most = -1;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double m = measure(p[i]);
+      if (m > most) most = m, best = i;
+    }
+    return best;
+  };
+  const Vec3d a = p[0];
+  const Vec3d ab = sub(p[farthest([&](const Vec3d& x) { return dot(sub(x, a), sub(x, a)); })], a);
+  const Vec3d c = p[farthest([&](const Vec3d& x) { const Vec3d n = cross(ab, sub(x, a)); return dot(n, n); })];
+  const Vec3d n = cross(ab, sub(c, a));
+  const double len = std::sqrt(dot(n, n)), extent = std::sqrt(dot(ab, ab));
+  if (extent <= 0 || len <= 1e-12 * extent * extent) return std::nullopt;
+  const Vec3d u = normalize(n);
+  for (const Vec3d& x : p) {
+    if (std::fabs(dot(sub(x, a), u)) > 1e-6 * extent) return std::nullopt;
+  }
+  return u;
+}
+
 }  // namespace caustix

@@ -93,6 +93,10 @@ void main() {
   bool whole = leaves && spread >= 0.8660254;
   int corner = whole ? -1 : int(slot);
   bool reached = cos_theta > 0.0 && (whole ? slot == 0u : !leaves && o[corner].w > 0.0);
+  if (!reached) {  // an empty slot (most of them): the draw skips it
+    prims[6u * p + 1u] = vec4(0.0);
+    return;
+  }
   vec3 colour, dir[3], start[3];
   float flux;
   if (corner < 0) {
@@ -128,13 +132,12 @@ void main() {
   float s0 = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y)) * texel_area;
   float cos_delta = max(-dot(normalize(mean_dir), u_V), 1e-3);
   vec3 intensity = e_in * flux * colour / (max(s0, flux / u_max_magnification) * cos_delta);
-  reached = reached && flux > 0.0;
-  if (!reached) {
-    intensity = vec3(0.0);
-    q = vec2[3](vec2(0.0), vec2(0.0), vec2(0.0));
+  if (!reached || flux <= 0.0) {
+    prims[6u * p + 1u] = vec4(0.0);
+    return;
   }
   prims[6u * p] = vec4(q[0], q[1]);
-  prims[6u * p + 1u] = vec4(q[2], 0.0, reached ? 1.0 : 0.0);
+  prims[6u * p + 1u] = vec4(q[2], 0.0, 1.0);
   prims[6u * p + 2u] = vec4(intensity, 0.0);
   prims[6u * p + 3u] = vec4(dir[0], 0.0);
   prims[6u * p + 4u] = vec4(dir[1], 0.0);

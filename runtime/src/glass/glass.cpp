@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -25,40 +24,6 @@ void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
   rotation = m / scale;
 }
 
-// The unit normal of the plane holding every point, if they lie in one
-// (within 1e-6 of their extent): a floor, a wall, a table top. Three points
-// far apart span it: the first, the farthest from it, the farthest from
-// the line through both.
-std::optional<Vec3d> plane_normal(const std::vector<Vec3d>& p) {
-  if (p.size() < 3) return std::nullopt;
-  const auto sub = [](const Vec3d& a, const Vec3d& b) { return Vec3d{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-  const auto dot = [](const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  const auto cross = [](const Vec3d& a, const Vec3d& b) {
-    return Vec3d{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  const auto farthest = [&](auto&& measure) {
-    std::size_t best = 0;
-    double most = -1;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double m = measure(p[i]);
-      if (m > most) most = m, best = i;
-    }
-    return best;
-  };
-  const Vec3d a = p[0];
-  const Vec3d b = p[farthest([&](const Vec3d& x) { return dot(sub(x, a), sub(x, a)); })];
-  const Vec3d ab = sub(b, a);
-  const Vec3d c = p[farthest([&](const Vec3d& x) { const Vec3d n = cross(ab, sub(x, a)); return dot(n, n); })];
-  Vec3d n = cross(ab, sub(c, a));
-  const double len = std::sqrt(dot(n, n)), extent = std::sqrt(dot(ab, ab));
-  if (extent <= 0 || len <= 1e-12 * extent * extent) return std::nullopt;
-  for (double& x : n) x /= len;
-  for (const Vec3d& x : p) {
-    if (std::fabs(dot(sub(x, a), n)) > 1e-6 * extent) return std::nullopt;
-  }
-  return n;
-}
-
 }  // namespace
 
 struct GlassEngine::Impl {
@@ -77,6 +42,11 @@ struct GlassEngine::Impl {
     gl::Framebuffer fbo;
     BoundingFrame frame;
     std::vector<float> plane_v;
+    // The target's plane normal if it is flat (world), for the transform it
+    // was found at: flatness does not change as an object moves rigidly,
+    // so the O(vertices) test runs again only when the transform does.
+    std::optional<Vec3d> flat_normal;
+    std::optional<Mat4f> flat_checked_at;
     bool valid = false;
     // One primitive buffer per glass object: a buffer reused by the next
     // target could be overwritten by its compute pass before a deferred
@@ -246,8 +216,12 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     // (rays leave below some of them) lost 46 % of glass_teapot's light
     // and placed the rest up to 0.5 m off (docs/glass.md).
     const Object& o = scene.objects[t.object];
+    if (t.flat_checked_at != o.transform) {
+      t.flat_normal = plane_normal(world_vertices[t.object]);
+      t.flat_checked_at = o.transform;
+    }
     Vec3d view = travel;
-    if (const auto n = plane_normal(world_vertices[t.object])) {
+    if (const auto& n = t.flat_normal) {
       const double side = n->at(0) * travel[0] + n->at(1) * travel[1] + n->at(2) * travel[2] < 0 ? -1.0 : 1.0;
       view = {side * n->at(0), side * n->at(1), side * n->at(2)};
     }

@@ -54,4 +54,10 @@ std::optional<LightDirection> light_direction(const Light& light, const std::opt
 // widened to that, so a flat object still has a usable depth range.
 BoundingFrame make_frame(const Vec3d& travel, const std::vector<Vec3d>& world_points, const Vec3d& object_origin);
 
+// The unit normal of the plane holding every point, if they lie in one
+// (within 1e-6 of their extent): a floor, a wall, a table top. Three points
+// far apart span it: the first, the farthest from it, the farthest from the
+// line through both. O(points).
+std::optional<Vec3d> plane_normal(const std::vector<Vec3d>& points);
+
 }  // namespace caustix
