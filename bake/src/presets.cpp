@@ -27,8 +27,8 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 // at 512^2 or finer (1024^2 halves its error but costs 1.7x on the teapot
 // for nothing there); the position map is cheapest at 512^2 or more; glass
 // textures above 512^2 and curved-glass refinement (--glass-turn 5) buy
-// glass_ball's focal spot (error 0.0301 -> 0.0217 together) at 4x the
-// frame time, so only accurate has them.
+// glass_ball's focal spot (error 0.0301 -> 0.0217 together) at about 3x
+// the frame time on llvmpipe (docs/tradeoff.md), so only accurate has them.
 const std::array<Preset, 3> kPresets{{
     {"fast", "half the water grid per axis, 4 planes, 512^2 maps, R = 12 transport tables, 256^2 glass textures",
      make(4, 64, 512, 0.5, 12, 0, 512, 256, "fast")},
