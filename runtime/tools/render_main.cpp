@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
   int pixel_samples = IrradianceRequest{}.pixel_samples;
   app.add_option("--pixel-samples", pixel_samples,
-                 "irradiance: S x S point samples per pixel, averaged (the pixel-box average; 1: the pixel centre)")
+                 "irradiance: S x S point samples per pixel, averaged (the pixel-box average; 1: the pixel centre; "
+                 "16 for fold lines on curved receivers, docs/caustics.md)")
       ->check(CLI::Range(1, 16))->capture_default_str();
   std::string aux_path;
   app.add_option("--aux", aux_path,

@@ -135,6 +135,7 @@ int tradeoff(const TradeoffRequest& q) {
     ir.height = ref->image.height;
     ir.time = ref->time;
     ir.caustics = s.caustics;
+    ir.pixel_samples = q.pixel_samples;
     auto img = (*renderer)->render_irradiance(ir);
     if (!img) return img.error();
     const metrics::Comparison c =
