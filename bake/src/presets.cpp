@@ -23,9 +23,9 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 
 // The water grid is the lever with the largest effect on both cost and
 // error (accurate sits at its knee: thesis_teapot 0.0183 / 0.0173 / 0.0171
-// at 2x / 3x / 4x per axis, for 1.0 / 1.5 / 2.3 times the frame time of
-// 2x on llvmpipe); planes beyond 4-8 buy nothing measurable on the canonical scenes
-// and cost time; the caustics map must keep a floor 16 m wide (wavy_pool)
+// at 2x / 3x / 4x per axis, for 1.0 / 1.5 / 2.3 times the frame time of 2x
+// on llvmpipe); planes beyond 4-8 buy nothing measurable on the canonical
+// scenes and cost time; the caustics map must keep a floor 16 m wide (wavy_pool)
 // at 512^2 or finer (1024^2 halves its error but costs 1.7x on the teapot
 // for nothing there); the position map is cheapest at 512^2 or more; glass
 // textures above 512^2 and curved-glass refinement (--glass-turn 5) buy
@@ -37,8 +37,8 @@ const std::array<Preset, 3> kPresets{{
     {"balanced", "scene.json's water grid, 8 planes, 512^2 maps, R = 20 transport tables, 512^2 glass textures",
      make(8, 64, 512, 1.0, 20, 0, 512, 512, "balanced")},
     {"accurate",
-     "three times the water grid per axis, 16 planes, 1024^2 maps, R = 32 transport tables, curved glass refined to 5 degrees "
-     "per edge, 1024^2 glass textures",
+     "three times the water grid per axis, 16 planes, 1024^2 maps, R = 32 transport tables, curved glass refined to 5 "
+     "degrees per edge, 1024^2 glass textures",
      make(16, 256, 1024, 3.0, 32, 5, 1024, 1024, "accurate")},
 }};
 

@@ -399,7 +399,8 @@ struct BakeModes final : Modes {
     tr->add_option("--warmup", tq.warmup, "frames not measured")->check(CLI::Range(0, 1000))->capture_default_str();
     tr->add_option("--frames", tq.frames, "frames measured (median)")->check(CLI::Range(1, 1000))->capture_default_str();
     tr->add_option("--pixel-samples", tq.pixel_samples,
-                   "point samples per pixel and axis of the judged irradiance image (the reference's pixels are box averages)")
+                   "point samples per pixel and axis of the judged irradiance image (the reference's pixels are box "
+                   "averages)")
         ->check(CLI::Range(1, 16))->capture_default_str();
     tr->add_option("--csv", tq.csv, "also write the rows as CSV");
   }
