@@ -184,6 +184,9 @@ TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::u
   // look-up's interpolation.
   std::uint32_t depth = 1, events = 0;
   e.status = TransportStatus::kTrapped;
+  // Shell crossings count no event; the step cap (8 casts per event, the
+  // entry and the exit included) only stops a ray that a broken mesh keeps
+  // between shells, which then counts as trapped.
   for (std::uint32_t step = 0; step < 8 * (m.max_bounces + 2); ++step) {
     const bool gone = depth == 0 && m.convex;  // left a convex object: it cannot meet it again
     casts += gone ? 0 : 1;

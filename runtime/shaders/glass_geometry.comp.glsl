@@ -128,14 +128,14 @@ void main() {
     vec3 x = rel + s * dir[k];
     q[k] = (vec2(dot(x, u_U), dot(x, u_W)) + u_half.xz) * to_texels;
   }
-  float texel_area = 1.0 / (to_texels.x * to_texels.y);
-  float s0 = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y)) * texel_area;
-  float cos_delta = max(-dot(normalize(mean_dir), u_V), 1e-3);
-  vec3 intensity = e_in * flux * colour / (max(s0, flux / u_max_magnification) * cos_delta);
   if (!reached || flux <= 0.0) {
     prims[6u * p + 1u] = vec4(0.0);
     return;
   }
+  float texel_area = 1.0 / (to_texels.x * to_texels.y);
+  float s0 = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y)) * texel_area;
+  float cos_delta = max(-dot(normalize(mean_dir), u_V), 1e-3);
+  vec3 intensity = e_in * flux * colour / (max(s0, flux / u_max_magnification) * cos_delta);
   prims[6u * p] = vec4(q[0], q[1]);
   prims[6u * p + 1u] = vec4(q[2], 0.0, 1.0);
   prims[6u * p + 2u] = vec4(intensity, 0.0);
