@@ -50,6 +50,26 @@ inline std::vector<Landing> ball_lens(double r, double yc, double n, int samples
   return out;
 }
 
+// Height at which the ray entering the ball lens (radius r, centre height
+// yc, index n) at distance b from the axis, travelling straight down,
+// crosses the axis after leaving the ball: the paraxial focus for b -> 0
+// (yc - n r / (2 (n - 1))), moving up toward the ball as b grows
+// (spherical aberration).
+inline double axis_crossing(double r, double yc, double n, double b) {
+  const double py = yc + std::sqrt(r * r - b * b);
+  const double nx = b / r, ny = (py - yc) / r;
+  const double cos_i = ny, eta = 1 / n;
+  const double cos_t = std::sqrt(1 - (1 - cos_i * cos_i) / (n * n));
+  const double dx = (eta * cos_i - cos_t) * nx, dy = -eta + (eta * cos_i - cos_t) * ny;
+  const double t = -2 * (b * dx + (py - yc) * dy) / (dx * dx + dy * dy);
+  const double qx = b + t * dx, qy = py + t * dy;
+  const double mx = qx / r, my = (qy - yc) / r;
+  const double c1 = dx * mx + dy * my;
+  const double k = 1 - n * n * (1 - c1 * c1);
+  const double ox = n * dx + (std::sqrt(k) - n * c1) * mx, oy = n * dy + (std::sqrt(k) - n * c1) * my;
+  return qy + (-qx / ox) * oy;
+}
+
 // Radius of the disc that holds `fraction` of the landed flux.
 inline double radius_enclosing(std::vector<Landing> l, double fraction) {
   std::sort(l.begin(), l.end(), [](const Landing& a, const Landing& b) { return a.rho < b.rho; });

@@ -165,5 +165,151 @@ TEST(Reference, GlassBallFocusesWhereTheBallLensFormulaDoes) {
   EXPECT_LT(std::hypot(px, pz), 1.5 * pix);
 }
 
+// --- media (issue 19) ---------------------------------------------------------
+
+// A fog box [-1, 1] x [0, 2] x [-1, 1] over a bare floor, sun straight
+// down: the in-scatter image along -z is, per pixel, the pixel-box average
+// over y of sigma_s p E0 e^(-sigma_t (2 - y)) (1 - e^(-2 sigma_t)) / sigma_t
+// (the light's path down to y, the view's path out of the box's front).
+nlohmann::json fog_box(double scattering, double absorption) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  j["objects"].erase(1);
+  j["lights"][0]["irradiance"] = 2.0;
+  j["medium"] = {{"extent", {-1, 0, -1, 1, 2, 1}}, {"scattering", scattering}, {"absorption", absorption}};
+  return j;
+}
+
+double fog_pixel(double ss, double st, double phase, double ya, double yb) {
+  const double height = yb - ya;
+  ya = std::clamp(ya, 0.0, 2.0);
+  yb = std::clamp(yb, 0.0, 2.0);
+  if (yb <= ya) return 0;
+  const double light = (std::exp(-st * (2 - yb)) - std::exp(-st * (2 - ya))) / st;  // integral over y
+  return ss * phase * light / height * (1 - std::exp(-2 * st)) / st;
+}
+
+TEST(ReferenceMedia, FogWithoutObjectsIsTheAnalyticIntegral) {
+  const double ss = 0.5, sa = 0.25, st = ss + sa;
+  const std::string path = test::write_scene(fog_box(ss, sa), "reference_fog");
+  InscatterRequest q;
+  q.scene_path = path;
+  q.x0 = -1.5, q.y0 = -0.5, q.x1 = 1.5, q.y1 = 2.5;
+  q.width = 24, q.height = 24;
+  q.photons = 400'000;
+  InscatterStats stats;
+  auto img = trace_inscatter(q, &stats);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  const double dx = 3.0 / 24, dy = 3.0 / 24;
+  double worst = 0;
+  for (int row = 0; row < 24; ++row) {
+    const double yb = 2.5 - row * dy, ya = yb - dy;
+    for (int col = 0; col < 24; ++col) {
+      const double xa = -1.5 + col * dx, xb = xa + dx;
+      const double cover = std::max(0.0, std::min(xb, 1.0) - std::max(xa, -1.0)) / dx;
+      const double expected = cover * fog_pixel(ss, st, 1 / (4 * kPi), ya, yb);
+      const std::size_t i = std::size_t(row) * 24 + std::size_t(col);
+      const double got = img->rgb[3 * i + 1];
+      // Within four standard errors, plus float rounding.
+      EXPECT_NEAR(got, expected, 4 * img->sigma[i] + 1e-6 * expected) << "row " << row << " col " << col;
+      if (expected > 0) worst = std::max(worst, std::fabs(got / expected - 1));
+    }
+  }
+  EXPECT_LT(img->relative_noise, 0.02);
+  ::testing::Test::RecordProperty("fog_worst_relative_error", std::to_string(worst));
+  // Energy: every photon enters the box's top (4 m^2 at E0) and goes
+  // straight down, so the split is exact: sigma_s / sigma_t of what the
+  // box takes scattered, the rest absorbed, e^(-2 sigma_t) leaving.
+  const double taken = 4 * (1 - std::exp(-2 * st));
+  EXPECT_NEAR(stats.power_in, 4.0, 1e-9);
+  EXPECT_NEAR(stats.scattered, taken * ss / st, 1e-9);
+  EXPECT_NEAR(stats.absorbed, taken * sa / st, 1e-9);
+  EXPECT_NEAR(stats.leaving, 4 * std::exp(-2 * st), 1e-9);
+  EXPECT_NEAR(stats.power_in, stats.scattered + stats.absorbed + stats.leaving, 1e-9);
+}
+
+// Schlick with k = 0 is the isotropic image; with k the image scales by
+// p_k(cos a) / p_0 = 1 - k^2 (cos a = 0: light down, camera along z). The
+// same seed traces the same photons, so the ratio is exact.
+TEST(ReferenceMedia, SchlickPhaseScalesAsThePhaseFunction) {
+  auto image = [](const nlohmann::json& j) {
+    InscatterRequest q;
+    q.scene_path = test::write_scene(j, "reference_phase");
+    q.width = q.height = 12;
+    q.x0 = -1, q.y0 = 0, q.x1 = 1, q.y1 = 2;
+    q.photons = 20'000;
+    q.batches = 2;
+    auto img = trace_inscatter(q);
+    EXPECT_TRUE(img.ok()) << img.error().message;
+    return img.ok() ? img->rgb : std::vector<float>{};
+  };
+  nlohmann::json j = fog_box(0.5, 0.0);
+  const auto iso = image(j);
+  j["medium"]["phase"] = "schlick";
+  j["medium"]["anisotropy"] = 0.0;
+  const auto k0 = image(j);
+  j["medium"]["anisotropy"] = 0.6;
+  const auto k6 = image(j);
+  j["medium"]["anisotropy"] = -0.6;
+  const auto km6 = image(j);
+  ASSERT_EQ(iso.size(), k0.size());
+  ASSERT_EQ(iso.size(), k6.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < iso.size(); ++i) {
+    EXPECT_FLOAT_EQ(k0[i], iso[i]);
+    EXPECT_NEAR(k6[i], 0.64 * iso[i], 1e-5 * iso[i]);
+    EXPECT_NEAR(km6[i], 0.64 * iso[i], 1e-5 * iso[i]);
+    sum += iso[i];
+  }
+  EXPECT_GT(sum, 0);
+
+  // Nothing scatters: refused, with the reason.
+  j["medium"]["scattering"] = 0.0;
+  j["medium"].erase("phase");
+  j["medium"].erase("anisotropy");
+  InscatterRequest q;
+  q.scene_path = test::write_scene(j, "reference_phase");
+  auto none = trace_inscatter(q);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("nothing in the scene scatters"), std::string::npos) << none.error().message;
+}
+
+// fog_ball: the bright cone below the ball peaks on the axis between the
+// paraxial focus (the ball-lens formula) and where rays entering at 0.95 of
+// the radius cross it (spherical aberration; past 0.95 r the Fresnel
+// transmittance falls steeply), far above the plain fog.
+TEST(ReferenceMedia, FogBallConeConvergesToTheBallLensFocus) {
+  InscatterRequest q;
+  q.scene_path = kScenes + "fog_ball.json";
+  q.x0 = -0.5, q.y0 = 0, q.x1 = 0.5, q.y1 = 1.0;
+  q.width = 20, q.height = 100;
+  q.photons = 400'000;
+  q.batches = 4;
+  auto img = trace_inscatter(q);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  // Brightest pixel of the two middle columns below the ball.
+  int best = -1;
+  double best_value = 0;
+  for (int row = 0; row < 100; ++row) {
+    for (int col = 9; col <= 10; ++col) {
+      const double v = img->rgb[3 * (std::size_t(row) * 20 + std::size_t(col)) + 1];
+      if (v > best_value) {
+        best_value = v;
+        best = row;
+      }
+    }
+  }
+  const double y_peak = 1.0 - (best + 0.5) * 0.01;
+  const double paraxial = 1.25 - 1.5 * 0.5 / (2 * 0.5);
+  const double marginal = test::axis_crossing(0.5, 1.25, 1.5, 0.475);
+  EXPECT_GT(y_peak, paraxial - 0.01) << "peak at y " << y_peak;
+  EXPECT_LT(y_peak, marginal) << "peak at y " << y_peak << ", 0.95-radius rays cross at " << marginal;
+  // Plain fog, unshadowed, at y = 1 (its view path is 1.5 m of fog): the
+  // cone's peak is several times brighter.
+  const double st = 0.3;
+  const double fog = 0.3 / (4 * kPi) * std::exp(-st * 1.5) * (1 - std::exp(-3 * st)) / st;
+  EXPECT_GT(best_value, 2 * fog);  // 3.4x with 5 cm wide pixels
+  ::testing::Test::RecordProperty("fog_ball_peak_y", std::to_string(y_peak));
+}
+
 }  // namespace
 }  // namespace caustix::reference

@@ -46,7 +46,14 @@ SceneDesc full_scene() {
   w.cells = {64, 32};
   w.extent = {-1, -2, 3, 4};
   w.waves = {Wave{0.1f, 1.0f, {1, 0}, 0.5f, 0.25f}, Wave{0.05f, 0.3f, {0, 1}, 0.2f, 1.0f}};
+  w.scattering = {{0.1f, 0.2f, 0.3f}, Phase::kSchlick, 0.5f};
   s.water = w;
+  Medium fog;
+  fog.extent = {-1, 0, -2, 1, 3, 2};
+  fog.absorption = {0.01f, 0.02f, 0.03f};
+  fog.scattering = {{0.4f, 0.5f, 0.6f}, Phase::kIsotropic, 0.0f};
+  s.medium = fog;
+  s.objects[0].material.scattering = {{2, 2, 2}, Phase::kSchlick, -0.25f};
   Camera c;
   c.position = {1, 2, 3};
   c.fov_y_deg = 60;
@@ -95,6 +102,15 @@ TEST(SceneCodec, EveryFieldSurvives) {
   ASSERT_EQ(r.water->waves.size(), 2u);
   EXPECT_EQ(r.water->waves[1].wavelength, 0.3f);
   EXPECT_EQ(r.water->waves[1].phase, 1.0f);
+  EXPECT_EQ(r.water->scattering.coefficient, s.water->scattering.coefficient);
+  EXPECT_EQ(r.water->scattering.phase, Phase::kSchlick);
+  EXPECT_EQ(r.water->scattering.anisotropy, 0.5f);
+  ASSERT_TRUE(r.medium.has_value());
+  EXPECT_EQ(r.medium->extent, s.medium->extent);
+  EXPECT_EQ(r.medium->absorption, s.medium->absorption);
+  EXPECT_EQ(r.medium->scattering.coefficient, s.medium->scattering.coefficient);
+  EXPECT_EQ(r.objects[0].material.scattering.coefficient, s.objects[0].material.scattering.coefficient);
+  EXPECT_EQ(r.objects[0].material.scattering.anisotropy, -0.25f);
   ASSERT_TRUE(r.camera.has_value());
   EXPECT_EQ(r.camera->fov_y_deg, 60.0f);
   ASSERT_TRUE(r.render.has_value());
@@ -111,9 +127,15 @@ TEST(SceneCodec, OptionalPartsAbsent) {
   s.water.reset();
   s.camera.reset();
   s.render.reset();
+  s.medium.reset();
+  s.objects[0].material.scattering = {};
   const auto b = encode_scene(s, {{0}});
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  EXPECT_TRUE(c->find(cxb::kTagMedia).empty()) << "a scene without media pays nothing for them";
   auto d = decode(b);
   ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_FALSE(d->scene.medium.has_value());
   EXPECT_FALSE(d->scene.water.has_value());
   EXPECT_FALSE(d->scene.camera.has_value());
   EXPECT_FALSE(d->scene.render.has_value());
@@ -221,6 +243,37 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
   auto d = decode(encode_scene(s, {{0}}));
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("/render/glass_map_size"), std::string::npos) << d.error().message;
+}
+
+// A hostile MDIA payload: a phase that is not 1..2 and an anisotropy of 1
+// are refused by name; an object index out of order is refused.
+TEST(SceneCodec, MediaAreValidated) {
+  SceneDesc s = full_scene();
+  s.medium->scattering.phase = static_cast<Phase>(7);
+  auto d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/medium/phase"), std::string::npos) << d.error().message;
+  s = full_scene();
+  s.objects[0].material.scattering.anisotropy = 1.0f;
+  d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/0/material/anisotropy"), std::string::npos) << d.error().message;
+
+  // The object record's index (after flags, box record and water record)
+  // pointed past the objects.
+  auto b = encode_scene(full_scene(), {{0}});
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t mdia = c->find(cxb::kTagMedia).at(0);
+  EXPECT_TRUE(c->chunks()[mdia].flags & cxb::kChunkRequired);
+  const std::size_t index_at = c->chunks()[mdia].offset + 4 + (24 + 12 + 20) + 20 + 4;
+  std::uint32_t one = 1;
+  std::memcpy(b.data() + index_at, &one, 4);
+  test::reseal_payload(b, mdia);
+  d = decode(b);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'MDIA'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("scattering object index 1"), std::string::npos) << d.error().message;
 }
 
 }  // namespace

@@ -135,5 +135,58 @@ TEST(SceneJson, HugeNumbersAndLightTypes) {
             std::string::npos);
 }
 
+// Media (issue 19): the medium box, scattering water and milky glass, with
+// their phase functions; bad values are located.
+TEST(SceneJson, MediaAndScattering) {
+  auto r = parse_scene_json(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "transparent",
+      "material": {"transparent": true, "scattering": 0.5, "phase": "schlick", "anisotropy": 0.3}}],
+      "lights": [{"type": "directional", "direction": [0, -1, 0]}],
+      "water": {"level": 1, "scattering": [0.1, 0.2, 0.3]},
+      "medium": {"extent": [-1, 0, -1, 1, 2, 1], "scattering": 0.4, "absorption": 0.1}})",
+                            "s.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const SceneDesc& s = r->scene;
+  ASSERT_TRUE(s.medium.has_value());
+  EXPECT_EQ(s.medium->extent[4], 2.0f);
+  EXPECT_EQ(s.medium->scattering.coefficient, (Vec3f{0.4f, 0.4f, 0.4f}));
+  EXPECT_EQ(s.medium->absorption, (Vec3f{0.1f, 0.1f, 0.1f}));
+  EXPECT_EQ(s.medium->scattering.phase, Phase::kIsotropic);
+  EXPECT_EQ(s.water->scattering.coefficient, (Vec3f{0.1f, 0.2f, 0.3f}));
+  EXPECT_EQ(s.objects[0].material.scattering.phase, Phase::kSchlick);
+  EXPECT_EQ(s.objects[0].material.scattering.anisotropy, 0.3f);
+  EXPECT_TRUE(scene_scatters(s));
+  EXPECT_TRUE(r->warnings.empty());
+
+  auto plain = parse_scene_json(kMinimal, "s.json");
+  ASSERT_TRUE(plain.ok());
+  EXPECT_FALSE(scene_scatters(plain->scene));
+
+  const std::string obj = R"({"objects": [{"name": "a", "mesh": "m.obj"}], )";
+  EXPECT_NE(error_of(obj + R"("medium": {"scattering": 1}})").find("/medium: missing required field \"extent\""),
+            std::string::npos);
+  EXPECT_NE(error_of(obj + R"("medium": {"extent": [0, 0, 0, 1, 0, 1]}})").find("/medium/extent: must be finite"),
+            std::string::npos);
+  EXPECT_NE(error_of(obj + R"("medium": {"extent": [0, 0, 0, 1, 1, 1], "scattering": -1}})")
+                .find("/medium/scattering: each component must be in [0, 10^6]"),
+            std::string::npos);
+  EXPECT_NE(error_of(obj + R"("medium": {"extent": [0, 0, 0, 1, 1, 1], "scattering": 1, "phase": "mie"}})")
+                .find("/medium/phase: expected \"isotropic\" or \"schlick\""),
+            std::string::npos);
+  EXPECT_NE(error_of(obj + R"("medium": {"extent": [0, 0, 0, 1, 1, 1], "scattering": 1, "phase": "schlick", "anisotropy": 1}})")
+                .find("/medium/anisotropy: must be in (-1, 1)"),
+            std::string::npos);
+  EXPECT_NE(error_of(obj + R"("medium": {"extent": [0, 0, 0, 1, 1, 1], "scattering": 1, "anisotropy": 0.5}})")
+                .find("/medium/anisotropy: needs \"phase\": \"schlick\""),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj", "material": {"scattering": 1}}]})")
+                .find("/objects/0/material/scattering: only a transparent material scatters inside"),
+            std::string::npos);
+  auto warn = parse_scene_json(obj + R"("medium": {"extent": [0, 0, 0, 1, 1, 1], "phase": "schlick"}})", "s.json");
+  ASSERT_TRUE(warn.ok()) << warn.error().message;
+  ASSERT_EQ(warn->warnings.size(), 2u);  // and "no lights"
+  EXPECT_NE(warn->warnings[0].find("/medium: \"phase\" and \"anisotropy\" have no effect without \"scattering\""),
+            std::string::npos) << warn->warnings[0];
+}
+
 }  // namespace
 }  // namespace caustix::bake

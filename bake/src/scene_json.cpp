@@ -184,9 +184,31 @@ bool parse_transform(Walker& w, const json& v, const std::string& ptr, Mat4f& ou
   return true;
 }
 
+// "scattering", "phase" and "anisotropy" of a material, the water or the
+// medium (seed 004's phase functions; docs/scene-format.md).
+bool parse_scattering(Walker& w, const json& v, const std::string& ptr, Scattering& out) {
+  if (const json* j = Walker::optional_member(v, "scattering"); j && !w.scalar_or_vec3(*j, ptr + "/scattering", out.coefficient)) {
+    return false;
+  }
+  if (const json* j = Walker::optional_member(v, "phase")) {
+    std::string phase;
+    if (!w.string(*j, ptr + "/phase", phase)) return false;
+    if (phase == "isotropic") out.phase = Phase::kIsotropic;
+    else if (phase == "schlick") out.phase = Phase::kSchlick;
+    else return w.fail(ptr + "/phase", "expected \"isotropic\" or \"schlick\", got \"" + phase + "\"");
+  }
+  if (const json* j = Walker::optional_member(v, "anisotropy"); j && !w.number(*j, ptr + "/anisotropy", out.anisotropy)) {
+    return false;
+  }
+  if (!out.scatters() && (v.contains("phase") || v.contains("anisotropy"))) {
+    w.warn(ptr, "\"phase\" and \"anisotropy\" have no effect without \"scattering\"");
+  }
+  return true;
+}
+
 bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "absorption"});
+  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "absorption", "scattering", "phase", "anisotropy"});
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
   if (const json* j = Walker::optional_member(v, "ior")) {
@@ -197,7 +219,7 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
     if (!w.scalar_or_vec3(*j, ptr + "/absorption", out.absorption)) return false;
     if (!out.transparent) w.warn(ptr + "/absorption", "\"absorption\" has no effect on an opaque material");
   }
-  return true;
+  return parse_scattering(w, v, ptr, out.scattering);
 }
 
 bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::filesystem::path& base) {
@@ -317,12 +339,13 @@ bool parse_water(Walker& w, const json& root, SceneDesc& scene) {
   if (!wj) return true;
   const std::string ptr = "/water";
   if (!w.object(*wj, ptr)) return false;
-  w.check_fields(*wj, ptr, {"level", "ior", "absorption", "grid", "waves"});
+  w.check_fields(*wj, ptr, {"level", "ior", "absorption", "scattering", "phase", "anisotropy", "grid", "waves"});
   Water water;
   const json* level = w.member(*wj, ptr, "level");
   if (!level || !w.number(*level, ptr + "/level", water.level)) return false;
   if (const json* j = Walker::optional_member(*wj, "ior"); j && !w.number(*j, ptr + "/ior", water.ior)) return false;
   if (const json* j = Walker::optional_member(*wj, "absorption"); j && !w.scalar_or_vec3(*j, ptr + "/absorption", water.absorption)) return false;
+  if (!parse_scattering(w, *wj, ptr, water.scattering)) return false;
   if (const json* g = Walker::optional_member(*wj, "grid")) {
     if (!w.object(*g, ptr + "/grid")) return false;
     w.check_fields(*g, ptr + "/grid", {"cells", "extent"});
@@ -353,6 +376,21 @@ bool parse_water(Walker& w, const json& root, SceneDesc& scene) {
     }
   }
   scene.water = water;
+  return true;
+}
+
+bool parse_medium(Walker& w, const json& root, SceneDesc& scene) {
+  const json* mj = Walker::optional_member(root, "medium");
+  if (!mj) return true;
+  const std::string ptr = "/medium";
+  if (!w.object(*mj, ptr)) return false;
+  w.check_fields(*mj, ptr, {"extent", "scattering", "absorption", "phase", "anisotropy"});
+  Medium medium;
+  const json* e = w.member(*mj, ptr, "extent");
+  if (!e || !w.numbers(*e, ptr + "/extent", medium.extent)) return false;
+  if (const json* j = Walker::optional_member(*mj, "absorption"); j && !w.scalar_or_vec3(*j, ptr + "/absorption", medium.absorption)) return false;
+  if (!parse_scattering(w, *mj, ptr, medium.scattering)) return false;
+  scene.medium = medium;
   return true;
 }
 
@@ -396,11 +434,11 @@ Result<SceneDocument> parse_scene_json(const std::string& text, const std::strin
   SceneDocument out;
   const json& root = doc.root;
   if (!w.object(root, "")) return *w.error();
-  w.check_fields(root, "", {"name", "objects", "lights", "water", "camera", "$schema", "comment"});
+  w.check_fields(root, "", {"name", "objects", "lights", "water", "medium", "camera", "$schema", "comment"});
   if (const json* j = Walker::optional_member(root, "name"); j && !w.string(*j, "/name", out.scene.name)) return *w.error();
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   if (!parse_objects(w, root, out, base) || !parse_lights(w, root, out.scene) ||
-      !parse_water(w, root, out.scene) || !parse_camera(w, root, out.scene)) {
+      !parse_water(w, root, out.scene) || !parse_medium(w, root, out.scene) || !parse_camera(w, root, out.scene)) {
     return *w.error();
   }
   if (out.scene.lights.empty()) w.warn("/lights", "the scene has no lights; everything will be dark");

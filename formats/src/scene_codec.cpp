@@ -1,4 +1,4 @@
-// Payload layouts of the scene chunks (SCNE, OBJS, LGHT, WATR, CAMR, RNDR, MESH);
+// Payload layouts of the scene chunks (SCNE, OBJS, LGHT, WATR, MDIA, CAMR, RNDR, MESH);
 // formats/SPEC.md documents them field by field.
 
 #include <algorithm>
@@ -105,6 +105,41 @@ std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
   return w.take();
 }
 
+void encode_scattering(ByteWriter& w, const Scattering& s) {
+  w.vec3(s.coefficient);
+  w.u8(static_cast<std::uint8_t>(s.phase));
+  w.u8(0);
+  w.u16(0);
+  w.f32(s.anisotropy);
+}
+
+constexpr std::uint8_t kMediaBox = 1u << 0;
+constexpr std::uint8_t kMediaWater = 1u << 1;
+
+std::vector<std::uint8_t> encode_media(const SceneDesc& s) {
+  ByteWriter w;
+  const bool water = s.water && s.water->scattering.scatters();
+  w.u8(static_cast<std::uint8_t>((s.medium ? kMediaBox : 0) | (water ? kMediaWater : 0)));
+  w.u8(0);
+  w.u16(0);
+  if (s.medium) {
+    for (float f : s.medium->extent) w.f32(f);
+    w.vec3(s.medium->absorption);
+    encode_scattering(w, s.medium->scattering);
+  }
+  if (water) encode_scattering(w, s.water->scattering);
+  std::vector<std::uint32_t> scattering_objects;
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    if (s.objects[i].material.scattering.scatters()) scattering_objects.push_back(i);
+  }
+  w.u32(static_cast<std::uint32_t>(scattering_objects.size()));
+  for (std::uint32_t i : scattering_objects) {
+    w.u32(i);
+    encode_scattering(w, s.objects[i].material.scattering);
+  }
+  return w.take();
+}
+
 // --- decoding ----------------------------------------------------------------
 
 // Smallest encodings, used to bound counts by the payload size.
@@ -204,6 +239,51 @@ bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
          d.u32(r.glass_map_size, "render defaults") && d.u32(r.glass_planes, "render defaults") && d.finish();
 }
 
+constexpr std::size_t kScatteringRecord = 12 + 4 + 4;
+
+bool decode_scattering(ChunkDecoder& d, Scattering& s, const char* what) {
+  std::uint8_t phase = 0, pad = 0;
+  if (!d.vec3(s.coefficient, what) || !d.u8(phase, what) || !d.u8(pad, what) || !d.zero16(what) ||
+      !d.f32(s.anisotropy, what)) {
+    return false;
+  }
+  if (pad != 0) return d.fail(std::string(what) + ": reserved byte must be zero");
+  // validate_scene() names the field of any other value.
+  s.phase = static_cast<Phase>(phase);
+  return true;
+}
+
+bool decode_media(ChunkDecoder& d, SceneDesc& s) {
+  std::uint8_t flags = 0, pad = 0;
+  if (!d.u8(flags, "media flags") || !d.u8(pad, "media reserved") || !d.zero16("media reserved")) return false;
+  if (pad != 0 || (flags & ~(kMediaBox | kMediaWater)) != 0) return d.fail("media flags: unknown bits set");
+  if (flags & kMediaBox) {
+    Medium& m = s.medium.emplace();
+    for (float& f : m.extent) {
+      if (!d.f32(f, "medium extent")) return false;
+    }
+    if (!d.vec3(m.absorption, "medium absorption") || !decode_scattering(d, m.scattering, "medium scattering")) {
+      return false;
+    }
+  }
+  if (flags & kMediaWater) {
+    if (!s.water) return d.fail("water scattering given but the scene has no 'WATR' chunk");
+    if (!decode_scattering(d, s.water->scattering, "water scattering")) return false;
+  }
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 4 + kScatteringRecord, "scattering object")) return false;
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t obj = 0;
+    if (!d.u32(obj, "scattering object index")) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev)) {
+      return d.fail("scattering object index " + std::to_string(obj) + " is out of range or out of order");
+    }
+    prev = obj;
+    if (!decode_scattering(d, s.objects[obj].material.scattering, "object scattering")) return false;
+  }
+  return d.finish();
+}
+
 Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }
 
 }  // namespace
@@ -218,6 +298,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   w.add_chunk(cxb::kTagObjects, cxb::kChunkRequired, encode_objects(scene));
   w.add_chunk(cxb::kTagLights, cxb::kChunkRequired, encode_lights(scene));
   if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
+  if (scene.medium || scene_scatters(scene)) w.add_chunk(cxb::kTagMedia, cxb::kChunkRequired, encode_media(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -264,6 +345,12 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (*watr) {
     s.water.emplace();
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagWater, **watr, [&](ChunkDecoder& d) { return decode_water(d, *s.water); }));
+  }
+  // After WATR and OBJS: it refers to both.
+  auto mdia = single(cxb::kTagMedia, false);
+  if (!mdia) return mdia.error();
+  if (*mdia) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagMedia, **mdia, [&](ChunkDecoder& d) { return decode_media(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

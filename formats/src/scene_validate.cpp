@@ -24,6 +24,20 @@ struct Checker {
   void range(float v, float lo, float hi, const std::string& p, const std::string& what) {
     expect(finite(v) && v >= lo && v <= hi, p, what);
   }
+  void coefficients(const Vec3f& v, const std::string& p) {
+    for (float k : v) range(k, 0.0f, kMaxCoefficient, p, "each component must be in [0, 10^6] per metre");
+  }
+  // `p` is the object holding "scattering", "phase" and "anisotropy".
+  void scattering(const Scattering& s, const std::string& p) {
+    coefficients(s.coefficient, p + "/scattering");
+    expect(s.phase == Phase::kIsotropic || s.phase == Phase::kSchlick, p + "/phase",
+           "must be \"isotropic\" or \"schlick\"");
+    // |k| = 1 makes the Schlick lobe a delta (p(0) = (1 + k) / (4 pi (1 - k))).
+    expect(finite(s.anisotropy) && s.anisotropy > -1.0f && s.anisotropy < 1.0f, p + "/anisotropy",
+           "must be in (-1, 1)");
+    expect(s.phase == Phase::kSchlick || s.anisotropy == 0.0f, p + "/anisotropy",
+           "needs \"phase\": \"schlick\"");
+  }
 };
 
 float determinant3(const Mat4f& m) {
@@ -87,9 +101,8 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");
       c.expect(o.material.transparent, p + "/material",
                "an object with role transparent or both needs a transparent material");
-      for (float a : o.material.absorption) {
-        c.range(a, 0.0f, 1e6f, p + "/material/absorption", "each component must be in [0, 10^6] per metre");
-      }
+      c.coefficients(o.material.absorption, p + "/material/absorption");
+      c.scattering(o.material.scattering, p + "/material");
       // Light-transport tables are baked in object space: refraction angles
       // survive rotation, translation and uniform scale, not shear or
       // non-uniform scale.
@@ -128,7 +141,8 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     const Water& w = *s.water;
     c.expect(finite(w.level), "/water/level", "must be finite");
     c.range(w.ior, 1.0f, kMaxIor, "/water/ior", "must be in [1, 10]");
-    for (float k : w.absorption) c.range(k, 0.0f, 1e6f, "/water/absorption", "must be in [0, 1e6] per metre");
+    c.coefficients(w.absorption, "/water/absorption");
+    c.scattering(w.scattering, "/water");
     for (std::uint32_t n : w.cells) {
       c.expect(n >= 1 && n <= kMaxWaterCells, "/water/grid/cells",
                "each must be 1.." + std::to_string(kMaxWaterCells));
@@ -149,6 +163,21 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.expect(finite(wave.speed), p + "/speed", "must be finite");
       c.expect(finite(wave.phase), p + "/phase", "must be finite");
     }
+  }
+
+  if (s.medium) {
+    const Medium& m = *s.medium;
+    bool extent_ok = true;
+    for (float f : m.extent) extent_ok = extent_ok && finite(f) && std::fabs(f) <= 1e6f;
+    c.expect(extent_ok && m.extent[3] > m.extent[0] && m.extent[4] > m.extent[1] && m.extent[5] > m.extent[2],
+             "/medium/extent", "must be finite [x0, y0, z0, x1, y1, z1] within 10^6 m with x1 > x0, y1 > y0, z1 > z0");
+    c.coefficients(m.absorption, "/medium/absorption");
+    c.scattering(m.scattering, "/medium");
+  }
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const Material& m = s.objects[i].material;
+    c.expect(!m.scattering.scatters() || m.transparent, "/objects/" + std::to_string(i) + "/material/scattering",
+             "only a transparent material scatters inside");
   }
 
   if (s.camera) {
@@ -175,6 +204,15 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(r.glass_planes >= 1 && r.glass_planes <= kMaxGlassPlanes, "/render/glass_planes", "must be in [1, 16]");
   }
   return c.issue;
+}
+
+bool scene_scatters(const SceneDesc& s) {
+  if (s.medium && s.medium->scattering.scatters()) return true;
+  if (s.water && s.water->scattering.scatters()) return true;
+  for (const Object& o : s.objects) {
+    if (is_transparent(o.role) && o.material.scattering.scatters()) return true;
+  }
+  return false;
 }
 
 void normalize_scene(SceneDesc& s) {

@@ -84,6 +84,8 @@ int main(int argc, char** argv) {
     j["scene"]["water"] = s.water.has_value();
     j["scene"]["water_waves"] = s.water ? s.water->waves.size() : 0;
     j["scene"]["camera"] = s.camera.has_value();
+    j["scene"]["medium"] = s.medium.has_value();
+    j["scene"]["scatters"] = scene_scatters(s);
     if (s.render) {
       j["scene"]["render_defaults"] = {{"preset", s.render->preset},
                                        {"caustics_map_size", s.render->caustics_map_size},
@@ -127,6 +129,14 @@ int main(int argc, char** argv) {
         std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes\n", o.name.c_str(),
                     role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
                     scene->draco_meshes[o.mesh_index].size());
+      }
+      if (s.medium) {
+        const auto& e = s.medium->extent;
+        const auto& ss = s.medium->scattering.coefficient;
+        std::printf("medium [%g, %g, %g]-[%g, %g, %g]: scattering %g %g %g /m, absorption %g %g %g /m, %s phase\n",
+                    e[0], e[1], e[2], e[3], e[4], e[5], ss[0], ss[1], ss[2], s.medium->absorption[0],
+                    s.medium->absorption[1], s.medium->absorption[2],
+                    s.medium->scattering.phase == Phase::kSchlick ? "Schlick" : "isotropic");
       }
       if (s.render) {
         std::printf("render defaults (preset '%s'): caustics map %u^2, glass textures %u^2, %u glass planes\n",

@@ -6,23 +6,10 @@
 #include <cmath>
 #include <random>
 
-#include "caustix/bake/glass_refine.h"
-#include "caustix/bake/mesh_import.h"
-#include "caustix/bake/ray_cast.h"
-#include "caustix/bake/scene_json.h"
-#include "caustix/formats/frame.h"
+#include "world.h"
 
 namespace caustix::reference {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-Vec3d add(const Vec3d& a, const Vec3d& b, double s = 1) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
-double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3d normalize(const Vec3d& v) {
-  const double n = std::sqrt(dot(v, v));
-  return {v[0] / n, v[1] / n, v[2] / n};
-}
 
 // The water surface, evaluated exactly (formats/scene.h's wave sum).
 struct Surface {
@@ -83,59 +70,6 @@ struct Surface {
 
 namespace {
 
-Vec3d cross(const Vec3d& a, const Vec3d& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-// The scene's triangles in world space, with what a photon needs at a hit.
-struct World {
-  std::vector<Vec3d> pos;
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  std::vector<std::uint32_t> owner;
-  std::vector<Vec3d> geo_normal;     // per triangle, outward (sign of det(M) applied)
-  std::vector<Vec3d> vertex_normal;  // per vertex, world (cofactor matrix), outward
-  // Smooth normal at p on triangle t (barycentric blend of the vertex
-  // normals): the surface the mesh's normals describe, as a renderer
-  // shades it. The flat normal where the blend degenerates.
-  Vec3d normal_at(std::uint32_t t, const Vec3d& p) const {
-    const auto& v = tris[t];
-    const Vec3d e1 = add(pos[v[1]], pos[v[0]], -1), e2 = add(pos[v[2]], pos[v[0]], -1), ep = add(p, pos[v[0]], -1);
-    const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dp1 = dot(ep, e1), dp2 = dot(ep, e2);
-    const double den = d11 * d22 - d12 * d12;
-    if (!(den > 0)) return geo_normal[t];
-    const double wb = (d22 * dp1 - d12 * dp2) / den, wc = (d11 * dp2 - d12 * dp1) / den, wa = 1 - wb - wc;
-    Vec3d n{0, 0, 0};
-    n = add(n, vertex_normal[v[0]], wa);
-    n = add(n, vertex_normal[v[1]], wb);
-    n = add(n, vertex_normal[v[2]], wc);
-    const double l = std::sqrt(dot(n, n));
-    return l > 1e-12 ? Vec3d{n[0] / l, n[1] / l, n[2] / l} : geo_normal[t];
-  }
-};
-
-// Bounding rectangle on the plane y = y_top of the points that reach the
-// boxes [lo, hi] along the light: parallel projection for a directional
-// light, central projection from a point light above the plane.
-using Rect = std::array<double, 4>;  // x0, z0, x1, z1
-Rect project_boxes(const std::vector<std::pair<Vec3d, Vec3d>>& boxes, const Light& light, double y_top) {
-  Rect r{1e300, 1e300, -1e300, -1e300};
-  for (const auto& [lo, hi] : boxes) {
-    for (int c = 0; c < 8; ++c) {
-      const Vec3d p{c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
-      Vec3d q;
-      if (light.type == LightType::kDirectional) {
-        const Vec3d d = normalize({light.direction[0], light.direction[1], light.direction[2]});
-        q = add(p, d, (y_top - p[1]) / d[1]);  // back up the ray to the plane (d[1] < 0)
-      } else {
-        const Vec3d l{light.position[0], light.position[1], light.position[2]};
-        q = add(l, add(p, l, -1), (l[1] - y_top) / (l[1] - p[1]));
-      }
-      r = {std::min(r[0], q[0]), std::min(r[1], q[2]), std::max(r[2], q[0]), std::max(r[3], q[2])};
-    }
-  }
-  return r;
-}
-
 constexpr int kMaxInteractions = 64;  // glass interfaces followed per photon
 
 }  // namespace
@@ -165,59 +99,22 @@ Result<Image> trace(const Request& q) {
 
   // All objects in world space: one tree for first hits, one of the receiver
   // alone for the "first surface seen from above" test.
-  World world;
-  std::vector<Vec3d> rpos;
+  auto loaded = load_world(*doc, q.glass_crease_deg);
+  if (!loaded) return loaded.error();
+  const World& world = *loaded;
   std::vector<std::array<std::uint32_t, 3>> rtris;
   std::vector<std::pair<Vec3d, Vec3d>> glass_boxes;
   double y_objects = -1e300;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& o = scene.objects[i];
-    auto mesh = bake::import_mesh(doc->mesh_paths[o.mesh_index]);
-    if (!mesh) return mesh.error();
-    if (is_transparent(o.role)) {
-      bake::GlassRefineOptions creases_only;
-      creases_only.crease_deg = q.glass_crease_deg;
-      creases_only.max_edge = 0;
-      mesh->mesh = bake::refine_transparent_mesh(mesh->mesh, creases_only, nullptr);
-    }
-    const auto base = static_cast<std::uint32_t>(world.pos.size());
-    const auto rbase = static_cast<std::uint32_t>(rpos.size());
-    const auto& m = o.transform;  // column-major
-    const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
-    const double det_sign = dot(c0, cross(c1, c2)) < 0 ? -1.0 : 1.0;
-    const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);  // cofactor columns
-    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const Vec3d& w : world_points(o.transform, mesh->mesh.positions)) {
-      world.pos.push_back(w);
-      if (i == *receiver) rpos.push_back(w);
-      for (std::size_t k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], w[k]);
-        hi[k] = std::max(hi[k], w[k]);
-      }
-    }
-    y_objects = std::max(y_objects, hi[1]);
-    if (is_transparent(o.role)) glass_boxes.push_back({lo, hi});
-    for (const auto& n : mesh->mesh.normals) {
-      world.vertex_normal.push_back(normalize(add(add(Vec3d{k0[0] * n[0] * det_sign, k0[1] * n[0] * det_sign, k0[2] * n[0] * det_sign},
-                                                      k1, n[1] * det_sign),
-                                                  k2, n[2] * det_sign)));
-    }
-    for (const auto& tri : mesh->mesh.triangles) {
-      world.tris.push_back({base + tri[0], base + tri[1], base + tri[2]});
-      world.owner.push_back(i);
-      const Vec3d& a = world.pos[base + tri[0]];
-      const Vec3d n = cross(add(world.pos[base + tri[1]], a, -1), add(world.pos[base + tri[2]], a, -1));
-      world.geo_normal.push_back(normalize({n[0] * det_sign, n[1] * det_sign, n[2] * det_sign}));
-      if (i == *receiver) rtris.push_back({rbase + tri[0], rbase + tri[1], rbase + tri[2]});
-    }
+    y_objects = std::max(y_objects, world.object_box[i].second[1]);
+    if (is_transparent(scene.objects[i].role)) glass_boxes.push_back(world.object_box[i]);
+  }
+  for (std::size_t t = 0; t < world.tris.size(); ++t) {
+    if (world.owner[t] == *receiver) rtris.push_back(world.tris[t]);
   }
   const bake::RayCaster caster(world.pos, world.tris, world.owner);
-  const bake::RayCaster receiver_only(rpos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
-  double top = -1e30, min_y = 1e30;
-  for (const auto& p : rpos) {
-    top = std::max(top, p[1]);
-    min_y = std::min(min_y, p[1]);
-  }
+  const bake::RayCaster receiver_only(world.pos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
+  const double top = world.object_box[*receiver].second[1], min_y = world.object_box[*receiver].first[1];
   double scene_size = 1;
   for (const auto& p : world.pos) scene_size = std::max({scene_size, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
   const double eps = 1e-7 * scene_size;
@@ -393,63 +290,15 @@ Result<Image> trace(const Request& q) {
             ++landed[batch];
             break;
           }
-          // A glass interface: entering or leaving object `obj`. Indices on
-          // both sides from the glass the photon is in (overlapping shells
-          // of one material are one solid: no interface between them).
-          const bool entering = dot(dir, world.geo_normal[h->triangle]) < 0;
-          const double n_outside = in_water ? double{water->ior} : 1.0;
-          const auto ior = [&](std::uint32_t k) { return double{scene.objects[k].material.ior}; };
-          const auto pos_in = std::find(inside.begin(), inside.end(), obj);
-          const double n1 = inside.empty() ? n_outside : ior(inside.back());
-          // The medium beyond: the entered glass; on leaving, the one entered
-          // before it, unless `obj` is not the innermost (then nothing changes).
-          const double n2 = entering                                            ? ior(obj)
-                            : pos_in == inside.end() || pos_in + 1 != inside.end() ? n1
-                            : inside.size() > 1                                  ? ior(inside[inside.size() - 2])
-                                                                                 : n_outside;
-          Vec3d nrm = world.normal_at(h->triangle, p);  // outward
-          if (entering == (dot(dir, nrm) >= 0)) nrm = world.geo_normal[h->triangle];
-          if (!entering) nrm = {-nrm[0], -nrm[1], -nrm[2]};  // facing the photon
-          const double cos_i = -dot(dir, nrm);
-          // Fresnel at every interface, by Russian roulette: reflect with
-          // probability R, else refract (total internal reflection: R = 1);
-          // the photon keeps its flux, so the estimate is unbiased.
-          const double tr = n1 == n2 ? 1.0 : fresnel_transmittance(cos_i, n1 / n2);
+          // A glass interface.
           origin = p;
-          const auto refracted = n1 == n2 ? std::optional<Vec3d>(dir) : refract(dir, nrm, n1 / n2);
-          if (refracted && u01(rng) < tr) {
-            dir = normalize(*refracted);
-            if (entering) inside.push_back(obj);
-            else if (pos_in != inside.end()) inside.erase(pos_in);
-          } else {
-            dir = normalize(add(dir, nrm, 2 * cos_i));
-          }
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? double{water->ior} : 1.0, inside, u01(rng));
         }
       }
     }
   });
 
-  // Mean over batches (in batch order: deterministic) and its standard error.
-  out.rgb.assign(pixels * 3, 0.0f);
-  out.sigma.assign(pixels, 0.0f);
-  double noise_sum = 0, value_sum = 0;
-  for (std::size_t i = 0; i < pixels; ++i) {
-    double mean[3] = {0, 0, 0}, lum_sum = 0, lum_sq = 0;
-    for (std::uint32_t b = 0; b < q.batches; ++b) {
-      const auto& img = batch_images[b];
-      for (std::size_t c = 0; c < 3; ++c) mean[c] += img[3 * i + c] / q.batches;
-      const double lum = 0.2126 * img[3 * i] + 0.7152 * img[3 * i + 1] + 0.0722 * img[3 * i + 2];
-      lum_sum += lum;
-      lum_sq += lum * lum;
-    }
-    for (std::size_t c = 0; c < 3; ++c) out.rgb[3 * i + c] = static_cast<float>(mean[c]);
-    const double m = lum_sum / q.batches;
-    const double var = q.batches > 1 ? std::max(0.0, (lum_sq - q.batches * m * m) / (q.batches - 1)) : 0.0;
-    out.sigma[i] = static_cast<float>(std::sqrt(var / q.batches));
-    noise_sum += out.sigma[i];
-    value_sum += m;
-  }
-  out.relative_noise = value_sum > 0 ? noise_sum / value_sum : 0;
+  reduce_batches(batch_images, out);
   out.photons = per_batch * q.batches * scene.lights.size();
   for (std::uint64_t l : landed) out.photons_landed += l;
   return out;

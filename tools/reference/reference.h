@@ -56,4 +56,40 @@ struct Image {
 
 Result<Image> trace(const Request& request);
 
+// In-scatter images (shared/DESIGN.md; issue 19): orthographic along -z,
+// columns along +x over [x0, x1], row 0 at y1; each pixel the pixel-box
+// average of the single-scattered radiance reaching the camera, / E0.
+// Estimator (docs/reference.md): photons traced exactly as above, their
+// power decaying by e^(-sigma_t s) in every medium. Along each photon
+// segment in a scattering medium, stratified jittered points x (a few per
+// pixel crossed) deposit sigma_s p(cos a) Phi(x) ds e^(-tau_view) / pixel
+// area into the pixel of x when the straight view ray from x toward +z
+// meets no surface (tau_view then the exact optical depth to the medium's
+// front); a view ray that meets glass first is traced from the camera
+// instead, exactly through the glass (Fresnel by Russian roulette), and
+// gathers along its bent path from a track-length grid of the photons'
+// power over the medium (phase from the grid's mean photon direction: exact
+// for isotropic media). Opaque surfaces stop view rays.
+struct InscatterRequest {
+  std::string scene_path;
+  double x0 = -1, y0 = -1, x1 = 1, y1 = 1;
+  int width = 128, height = 128;
+  std::uint64_t photons = 4'000'000;
+  std::uint32_t batches = 8;
+  std::uint64_t seed = 1;
+  double glass_crease_deg = 30.0;
+  int grid = 96;               // voxels along the medium's longest side, for views through glass
+  int view_samples = 4;        // per pixel axis, for views through glass
+  double samples_per_pixel = 2;  // deposit points per pixel a photon segment crosses
+};
+
+struct InscatterStats {
+  double power_in = 0;    // photon power entering media (luminance-weighted, / E0)
+  double scattered = 0;   // of which scattered (the single-scattering source)
+  double absorbed = 0;
+  double leaving = 0;     // left the media (to surfaces, out of the box, past glass)
+};
+
+Result<Image> trace_inscatter(const InscatterRequest& request, InscatterStats* stats = nullptr);
+
 }  // namespace caustix::reference

@@ -28,15 +28,30 @@ namespace caustix {
 // On-disk enums: never renumber.
 enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3 };
 enum class LightType : std::uint8_t { kDirectional = 1, kPoint = 2 };
+enum class Phase : std::uint8_t { kIsotropic = 1, kSchlick = 2 };
 
 inline bool is_receiver(Role r) { return r == Role::kReceiver || r == Role::kBoth; }
 inline bool is_transparent(Role r) { return r == Role::kTransparent || r == Role::kBoth; }
+
+// Single scattering in a participating medium (seed 004, "Viewing Pass"):
+// scattering coefficient sigma_s and the phase function, isotropic 1/(4 pi)
+// or Schlick's (1/(4 pi)) (1 - k^2) / (1 - k cos a)^2 with a the angle
+// between the light's direction of travel and the scattered direction
+// (k > 0 scatters forward). The extinction is sigma_t = sigma_s + sigma_a,
+// sigma_a being the absorption of whatever holds the scattering.
+struct Scattering {
+  Vec3f coefficient{0, 0, 0};      // sigma_s, 1/m per RGB channel, >= 0
+  Phase phase = Phase::kIsotropic;
+  float anisotropy = 0.0f;         // Schlick's k, in (-1, 1); 0 for isotropic
+  bool scatters() const { return coefficient[0] > 0 || coefficient[1] > 0 || coefficient[2] > 0; }
+};
 
 struct Material {
   Vec3f albedo{0.8f, 0.8f, 0.8f};  // diffuse reflectance, each in [0, 1]
   bool transparent = false;
   float ior = 1.5f;                // used when transparent; >= 1
   Vec3f absorption{0, 0, 0};       // transparent: 1/m per RGB channel, >= 0 (stored in the LTTB chunk)
+  Scattering scattering;           // transparent: milky or dusty glass (stored in the MDIA chunk)
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
@@ -86,6 +101,14 @@ struct Water {
   std::array<std::uint32_t, 2> cells{128, 128};  // grid quads along x and z
   std::array<float, 4> extent{-2, -2, 2, 2};     // x0, z0, x1, z1
   std::vector<Wave> waves;
+  Scattering scattering;           // water that scatters shows light shafts (stored in the MDIA chunk)
+};
+
+// A homogeneous participating medium filling an axis-aligned box (fog, dust).
+struct Medium {
+  std::array<float, 6> extent{-1, -1, -1, 1, 1, 1};  // x0, y0, z0, x1, y1, z1
+  Vec3f absorption{0, 0, 0};       // sigma_a, 1/m per RGB channel, >= 0
+  Scattering scattering;
 };
 
 struct Camera {
@@ -115,6 +138,7 @@ struct SceneDesc {
   std::vector<Object> objects;
   std::vector<Light> lights;
   std::optional<Water> water;
+  std::optional<Medium> medium;
   std::optional<Camera> camera;
   std::optional<RenderDefaults> render;
 };
@@ -128,6 +152,12 @@ inline constexpr std::size_t kMaxNameLength = 4096;
 inline constexpr std::uint32_t kMaxWaterCells = 4096;  // per axis
 inline constexpr std::uint32_t kMaxMeshVertices = 1u << 26;
 inline constexpr float kMaxIor = 10.0f;
+inline constexpr float kMaxCoefficient = 1e6f;  // scattering and absorption, 1/m
+
+// Whether anything in the scene scatters light (a medium box, water or glass
+// with a scattering coefficient): such scenes get the MDIA chunk and the
+// volume effect; others pay nothing for media.
+bool scene_scatters(const SceneDesc& scene);
 
 // A value rule broken: `pointer` is a JSON pointer into the scene
 // ("/objects/2/material/ior") so the JSON front end can turn it into a line

@@ -1,0 +1,74 @@
+#pragma once
+// The reference tracer's scene in world space: every object's triangles with
+// the normals a photon needs at a hit, and the exact glass interface (Snell,
+// Fresnel by Russian roulette, total internal reflection). Shared by the
+// irradiance estimator (reference.cpp) and the in-scatter estimator
+// (inscatter.cpp).
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "caustix/bake/ray_cast.h"
+#include "caustix/bake/scene_json.h"
+#include "caustix/common/status.h"
+#include "caustix/formats/frame.h"
+#include "reference.h"
+
+namespace caustix::reference {
+
+constexpr double kPi = 3.14159265358979323846;
+
+inline Vec3d add(const Vec3d& a, const Vec3d& b, double s = 1) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
+inline double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline Vec3d normalize(const Vec3d& v) {
+  const double n = std::sqrt(dot(v, v));
+  return {v[0] / n, v[1] / n, v[2] / n};
+}
+
+using Box = std::pair<Vec3d, Vec3d>;  // lo, hi
+
+struct World {
+  std::vector<Vec3d> pos;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  std::vector<std::uint32_t> owner;
+  std::vector<Vec3d> geo_normal;     // per triangle, outward (sign of det(M) applied)
+  std::vector<Vec3d> vertex_normal;  // per vertex, world (cofactor matrix), outward
+  std::vector<Box> object_box;       // per object, world axis-aligned bounds
+  // Smooth normal at p on triangle t (barycentric blend of the vertex
+  // normals): the surface the mesh's normals describe, as a renderer
+  // shades it. The flat normal where the blend degenerates.
+  Vec3d normal_at(std::uint32_t t, const Vec3d& p) const;
+};
+
+// Imports every object's mesh and places it in the world. A transparent
+// mesh's surface is the one the baker tables: its normals smoothed only
+// within creases (bake/glass_refine.h step 1; a prism's faces stay flat).
+Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg);
+
+// A photon (or view ray) at point p, travelling along dir, meets the glass
+// triangle h.triangle: refracts or reflects by Russian roulette on the exact
+// unpolarised Fresnel transmittance (total internal reflection: reflects),
+// keeping its flux, so estimates stay unbiased. `inside` lists the glass
+// objects it is in (overlapping shells of one material are one solid);
+// n_outside is the index around the glass. Returns the new direction.
+Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
+                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01);
+
+// Bounding rectangle on the plane y = y_top of the points that reach the
+// boxes along the light: parallel projection for a directional light,
+// central projection from a point light above the plane.
+using Rect = std::array<double, 4>;  // x0, z0, x1, z1
+Rect project_boxes(const std::vector<Box>& boxes, const Light& light, double y_top);
+
+// The image as the mean of independent batch images (RGB, in batch order:
+// deterministic), with each pixel's standard error of the mean luminance
+// and the relative noise over the pixels holding light.
+void reduce_batches(const std::vector<std::vector<double>>& batch_images, Image& out);
+
+}  // namespace caustix::reference
