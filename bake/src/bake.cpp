@@ -191,8 +191,52 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   }
   out.seconds_transport = seconds_since(t0);
 
+  // Index grids for media (seed 004), one per transparent object, only when
+  // something scatters: a scene without media pays nothing for them.
   t0 = Clock::now();
-  out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes, tables);
+  std::vector<IndexGrid> grids;
+  for (std::uint32_t oi = 0; oi < scene.objects.size() && scene_scatters(scene); ++oi) {
+    const Object& o = scene.objects[oi];
+    if (!is_transparent(o.role)) continue;
+    const std::string& path = doc->mesh_paths[o.mesh_index];
+    auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
+    if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
+    const std::uint64_t voxels = index_grid_voxels(*decoded, options.index_grid);
+    if (voxels > kMaxIndexGridVoxels) {
+      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its index grid would hold " +
+                                               std::to_string(voxels) + " voxels at --volume-res " +
+                                               std::to_string(options.index_grid.resolution) + ", above the limit of " +
+                                               std::to_string(kMaxIndexGridVoxels) + " (384 MiB); lower --volume-res");
+    }
+    // The index around the object: the water's when the object lies below
+    // the water at rest, else air's.
+    double top = -1e300;
+    for (const Vec3d& w : world_points(o.transform, decoded->positions)) top = std::max(top, w[1]);
+    const float outside = scene.water && top < scene.water->level ? scene.water->ior : 1.0f;
+    grids.push_back(voxelize_index(oi, *decoded, o.material.ior, outside, options.index_grid));
+    IndexGridReport rep;
+    rep.object = oi;
+    rep.size = grids.back().size;
+    rep.voxel = grids.back().voxel;
+    double wide = 0, width = 0;
+    for (std::uint8_t lv : grids.back().level) {
+      wide += lv > 0 ? 1 : 0;
+      width += double(1u << lv);
+    }
+    rep.uniform_fraction = wide / double(grids.back().voxels());
+    rep.mean_step = width / double(grids.back().voxels());
+    out.index_grids.push_back(rep);
+  }
+  out.seconds_index_grids = seconds_since(t0);
+
+  t0 = Clock::now();
+  out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes, tables, grids);
+  if (!grids.empty()) {
+    auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
+    if (!c) return Error{ErrorCode::kInternal, "re-reading the baked file: " + c.error().message};
+    const auto idx = c->find(cxb::kTagIndexGrid);
+    for (std::size_t k = 0; k < idx.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(idx[k]).size();
+  }
   if (!tables.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
     auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
     if (!c) return Error{ErrorCode::kInternal, "re-reading the baked file: " + c.error().message};

@@ -105,10 +105,18 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
          {"max_exit_position_error_m", t.position_error_m}, {"max_exit_direction_error_deg", t.direction_error_rad * 180.0 / 3.14159265358979}});
   }
+  j["index_grids"] = {{"resolution", opt.index_grid.resolution}, {"blur", opt.index_grid.blur},
+                      {"octree_epsilon", opt.index_grid.epsilon}, {"grids", nlohmann::ordered_json::array()}};
+  for (const IndexGridReport& g : r.index_grids) {
+    j["index_grids"]["grids"].push_back({{"object", r.scene.objects[g.object].name}, {"size", g.size}, {"voxel_m", g.voxel},
+                                         {"stored_bytes", g.stored_bytes}, {"uniform_fraction", g.uniform_fraction},
+                                         {"mean_step_voxels", g.mean_step}});
+  }
   j["seconds"] = {{"import", r.seconds_import},
                   {"compress", r.seconds_compress},
                   {"level_maps", r.seconds_level_maps},
                   {"transport_tables", r.seconds_transport},
+                  {"index_grids", r.seconds_index_grids},
                   {"oriented_boxes", r.level_maps.seconds_boxes},
                   {"reach_tests", r.level_maps.seconds_shadow_tests},
                   {"write", r.seconds_write}};
@@ -172,11 +180,19 @@ std::string report_text(const BakeResult& r) {
                   static_cast<unsigned long long>(t.raw_bytes), static_cast<unsigned long long>(t.stored_bytes));
     s << line;
   }
+  for (const IndexGridReport& g : r.index_grids) {
+    std::snprintf(line, sizeof line,
+                  "  index grid '%s': %u x %u x %u voxels of %.4g m, %llu B stored; octree: %.1f %% of voxels in wider "
+                  "nodes, mean step %.2f voxels\n",
+                  r.scene.objects[g.object].name.c_str(), g.size[0], g.size[1], g.size[2], g.voxel,
+                  static_cast<unsigned long long>(g.stored_bytes), 100.0 * g.uniform_fraction, g.mean_step);
+    s << line;
+  }
   std::snprintf(line, sizeof line,
                 "  time: import %.3f s, compress %.3f s, level maps %.3f s (oriented boxes %.3f s, reach tests %.3f s), "
-                "transport tables %.3f s, write %.3f s\n",
+                "transport tables %.3f s, index grids %.3f s, write %.3f s\n",
                 r.seconds_import, r.seconds_compress, r.seconds_level_maps, r.level_maps.seconds_boxes,
-                r.level_maps.seconds_shadow_tests, r.seconds_transport, r.seconds_write);
+                r.level_maps.seconds_shadow_tests, r.seconds_transport, r.seconds_index_grids, r.seconds_write);
   s << line;
   return s.str();
 }

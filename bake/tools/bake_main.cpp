@@ -89,6 +89,14 @@ int main(int argc, char** argv) {
   app.add_option("--ltt-bits", opt.transport.bits,
                  "light-transport table: significant bits kept per stored field (fewer: smaller file, coarser values)")
       ->check(CLI::Range(caustix::kMinTransportBits, caustix::kMaxTransportBits))->capture_default_str();
+  app.add_option("--volume-res", opt.index_grid.resolution,
+                 "scenes that scatter: index-grid voxels along each transparent mesh's longest side (seed 004)")
+      ->check(CLI::Range(4u, 1024u))->capture_default_str();
+  app.add_option("--volume-blur", opt.index_grid.blur, "scenes that scatter: Gaussian filter of the index grid, sigma in voxels")
+      ->check(CLI::Range(0.0f, 8.0f))->capture_default_str();
+  app.add_option("--octree-eps", opt.index_grid.epsilon,
+                 "scenes that scatter: octree threshold on the index; regions varying less take one photon step")
+      ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
   app.add_option("--glass-crease", opt.glass_refine.crease_deg,
                  "transparent meshes: edges whose faces meet at more than this angle (degrees) are sharp; their vertices "
                  "are split so that each face refracts with its own normal (bake/glass_refine.h)")

@@ -292,7 +292,8 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
                                        const std::vector<LevelMap>& level_maps,
                                        const std::vector<ObjectBox>& boxes,
-                                       const std::vector<LightTransportTable>& tables) {
+                                       const std::vector<LightTransportTable>& tables,
+                                       const std::vector<IndexGrid>& index_grids) {
   cxb::ContainerWriter w;
   w.add_chunk(cxb::kTagScene, cxb::kChunkRequired, encode_scene_chunk(scene));
   w.add_chunk(cxb::kTagObjects, cxb::kChunkRequired, encode_objects(scene));
@@ -305,6 +306,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (!boxes.empty()) w.add_chunk(cxb::kTagObjectBoxes, 0, encode_object_boxes(boxes));
   for (const auto& lm : level_maps) w.add_chunk(cxb::kTagLevelMap, cxb::kChunkRequired, encode_level_map(lm));
   for (const auto& t : tables) w.add_chunk(cxb::kTagTransport, cxb::kChunkRequired, encode_transport_table(t));
+  for (const auto& g : index_grids) w.add_chunk(cxb::kTagIndexGrid, cxb::kChunkRequired, encode_index_grid(g));
   return w.finish();
 }
 
@@ -412,6 +414,25 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     if (is_transparent(s.objects[i].role) && !has_table[i]) {
       return container_error("transparent object '" + s.objects[i].name + "' has no 'LTTB' light-transport table");
     }
+  }
+  // Index grids: in a scene that scatters, exactly one per transparent
+  // object, in object order; none otherwise.
+  const bool scatters = scene_scatters(s);
+  std::size_t next = 0;
+  for (std::size_t i : c.find(cxb::kTagIndexGrid)) {
+    auto g = decode_index_grid(c.payload(i), s);
+    if (!g) return Error{g.error().code, "chunk " + std::to_string(i) + ": " + g.error().message};
+    while (next < s.objects.size() && !is_transparent(s.objects[next].role)) ++next;
+    if (!scatters || g->object != next) {
+      return container_error("chunk " + std::to_string(i) + " 'IGRD': index grids must be one per transparent object, in object order, "
+                             "and only in a scene that scatters");
+    }
+    ++next;
+    out.index_grids.push_back(std::move(*g));
+  }
+  while (next < s.objects.size() && !is_transparent(s.objects[next].role)) ++next;
+  if (scatters && next < s.objects.size()) {
+    return container_error("transparent object '" + s.objects[next].name + "' of a scene that scatters has no 'IGRD' index grid");
   }
   return out;
 }

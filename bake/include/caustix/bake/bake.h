@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "caustix/bake/glass_refine.h"
+#include "caustix/bake/index_grid.h"
 #include "caustix/bake/level_maps.h"
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_compress.h"
@@ -20,6 +21,8 @@ struct BakeOptions {
   DracoOptions draco;
   LevelMapOptions level_maps;
   TransportOptions transport;
+  // Index grids of transparent objects, baked only for scenes that scatter.
+  IndexGridOptions index_grid;
   // Meshes of transparent objects are refined for the transport table
   // (bake/glass_refine.h) before compression.
   GlassRefineOptions glass_refine;
@@ -42,6 +45,15 @@ struct MeshStats {
   std::optional<GlassRefineReport> glass_refine;  // meshes of transparent objects
 };
 
+struct IndexGridReport {
+  std::uint32_t object = 0;
+  std::array<std::uint32_t, 3> size{};
+  double voxel = 0;             // metres, object space
+  std::uint64_t stored_bytes = 0;
+  double uniform_fraction = 0;  // voxels in octree nodes wider than one voxel
+  double mean_step = 0;         // mean node width over the voxels, in voxels
+};
+
 struct BakeResult {
   std::vector<std::uint8_t> cxb;
   SceneDesc scene;                  // as baked (for reports)
@@ -51,7 +63,9 @@ struct BakeResult {
   std::vector<std::string> inputs;  // every file read (for --depfile)
   LevelMapStage level_maps;         // maps moved into the .cxb; reports kept
   std::vector<TransportReport> transport;  // one per transparent object
-  double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_transport = 0, seconds_write = 0;
+  std::vector<IndexGridReport> index_grids;  // scenes that scatter: one per transparent object
+  double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_transport = 0, seconds_index_grids = 0,
+         seconds_write = 0;
 };
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);

@@ -19,6 +19,7 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/container.h"
+#include "caustix/formats/index_grid.h"
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/light_transport.h"
 #include "caustix/formats/types.h"
@@ -177,12 +178,14 @@ void normalize_scene(SceneDesc& scene);
 
 // Serialises the scene, one Draco stream per mesh (meshes[i] <->
 // scene.meshes[i]), the level maps, the object boxes and the light-transport
-// tables (one per transparent object) into .cxb bytes. Deterministic.
+// tables (one per transparent object) and, for scenes that scatter, the
+// index grids (one per transparent object) into .cxb bytes. Deterministic.
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
                                        const std::vector<LevelMap>& level_maps = {},
                                        const std::vector<ObjectBox>& boxes = {},
-                                       const std::vector<LightTransportTable>& tables = {});
+                                       const std::vector<LightTransportTable>& tables = {},
+                                       const std::vector<IndexGrid>& index_grids = {});
 
 struct DecodedScene {
   SceneDesc scene;
@@ -191,6 +194,7 @@ struct DecodedScene {
   std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
   std::vector<ObjectBox> boxes;
   std::vector<LightTransportTable> transport_tables;  // one per transparent object, in object order
+  std::vector<IndexGrid> index_grids;  // scenes that scatter: one per transparent object, in object order
 };
 
 // Decodes and validates the scene chunks of a validated container.

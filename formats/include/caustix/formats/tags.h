@@ -32,6 +32,8 @@ inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once
 // Light-transport tables (formats/light_transport.h).
 inline constexpr Tag kTagTransport = make_tag("LTTB");  // required, one per transparent object
+// Index grids for media (formats/index_grid.h).
+inline constexpr Tag kTagIndexGrid = make_tag("IGRD");  // required, one per transparent object of a scattering scene
 
 // Whether this build knows a tag. Unknown optional chunks are skipped;
 // unknown required chunks make the reader refuse the file.
