@@ -311,5 +311,40 @@ TEST(ReferenceMedia, FogBallConeConvergesToTheBallLensFocus) {
   ::testing::Test::RecordProperty("fog_ball_peak_y", std::to_string(y_peak));
 }
 
+// Flat scattering water (flat_pool with the sun straight down): the shafts
+// are uniform across x and, at depth d, read sigma_s p E0 T(0) e^(-sigma_t d)
+// (1 - e^(-4 sigma_t)) / sigma_t averaged over the pixel: T(0) the Fresnel
+// transmittance at normal incidence, 4 m of water between the point's
+// z and the camera side of the water's extent.
+TEST(ReferenceMedia, FlatScatteringWaterIsUniformAndAnalytic) {
+  nlohmann::json j = test::canonical_scene("flat_pool");
+  j["lights"][0]["direction"] = {0, -1, 0};
+  j["water"]["scattering"] = 0.4;
+  j["water"]["absorption"] = 0.1;
+  j["water"]["grid"]["extent"] = {-2, -2, 2, 2};
+  InscatterRequest q;
+  q.scene_path = test::write_scene(j, "reference_water");
+  q.x0 = -1.5, q.y0 = 0, q.x1 = 1.5, q.y1 = 2.5;
+  q.width = 12, q.height = 20;
+  q.photons = 400'000;
+  InscatterStats stats;
+  auto img = trace_inscatter(q, &stats);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  const double ss = 0.4, st = 0.5, level = 2.0, t0 = fresnel_t(1.0, 1.33);
+  const double dy = 2.5 / 20;
+  for (int row = 0; row < 20; ++row) {
+    const double yb = std::min(2.5 - row * dy, level), ya = 2.5 - (row + 1) * dy;
+    const double light = yb > ya ? (std::exp(-st * (level - yb)) - std::exp(-st * (level - ya))) / st / dy : 0.0;
+    const double expected = ss / (4 * kPi) * t0 * light * (1 - std::exp(-4 * st)) / st;
+    for (int col = 0; col < 12; ++col) {
+      const std::size_t i = std::size_t(row) * 12 + std::size_t(col);
+      EXPECT_NEAR(img->rgb[3 * i + 1], expected, 4 * img->sigma[i] + 1e-6) << "row " << row << " col " << col;
+    }
+  }
+  // The water's top (16 m^2 under the sun) takes T(0) of E0; no glass.
+  EXPECT_NEAR(stats.power_in, 16 * t0, 1e-6);
+  EXPECT_NEAR(stats.scattered, 16 * t0 * (1 - std::exp(-2 * st)) * ss / st, 1e-6);
+}
+
 }  // namespace
 }  // namespace caustix::reference

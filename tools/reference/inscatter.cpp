@@ -186,8 +186,8 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
   if (!scene_scatters(scene)) {
     return make_error(ErrorCode::kInput, q.scene_path + ": nothing in the scene scatters light (no medium, water or glass with \"scattering\")");
   }
-  if (scene.water) {
-    return make_error(ErrorCode::kInput, q.scene_path + ": the in-scatter reference does not trace water yet (issue 19, light shafts)");
+  if (scene.water && scene.medium) {
+    return make_error(ErrorCode::kInput, q.scene_path + ": the in-scatter reference traces water or a medium box, not both in one scene yet");
   }
   for (const Object& o : scene.objects) {
     if (o.role == Role::kBoth) {
@@ -211,6 +211,23 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
     targets.push_back(*medium_box);
     medium = coeff_of(scene.medium->absorption, scene.medium->scattering);
   }
+  // Water (light shafts): the medium under the surface within the water
+  // grid's extent. Photons enter it through the exact wave surface; in-scatter
+  // view rays are not bent by the surface (docs/volume.md).
+  const Water* water = scene.water ? &*scene.water : nullptr;
+  const Water flat{};
+  const Surface surface{water ? *water : flat, q.time};
+  std::optional<Box> water_box;
+  Coeff water_coeff;
+  if (water) {
+    double floor_y = 1e300;
+    for (const Box& b : world.object_box) floor_y = std::min(floor_y, b.first[1]);
+    floor_y = std::min(floor_y, double{water->level}) - 1.0;
+    water_box = Box{{water->extent[0], floor_y, water->extent[1]},
+                    {water->extent[2], water->level + surface.amplitude_sum() + 1e-3, water->extent[3]}};
+    water_coeff = coeff_of(water->absorption, water->scattering);
+    if (water_coeff.scatters()) targets.push_back(*water_box);
+  }
   std::vector<Coeff> glass(scene.objects.size());
   bool has_glass = false;
   double y_top = medium_box ? medium_box->second[1] : -1e300;
@@ -226,6 +243,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
     glass[i] = coeff_of(o.material.absorption, o.material.scattering);
     targets.push_back(world.object_box[i]);
   }
+  if (water_box) y_top = std::max(y_top, water_box->second[1]);
   y_top += 1e-3;
   const double eps = 1e-7 * scene_size;
   for (const Light& light : scene.lights) {
@@ -248,8 +266,9 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
   std::optional<Box> grid_box;
   if (has_glass) {
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-      if (!glass[i].scatters() && !(medium_box && medium.scatters())) continue;
-      Box b = glass[i].scatters() ? world.object_box[i] : *medium_box;
+      const bool around = (medium_box && medium.scatters()) || (water_box && water_coeff.scatters());
+      if (!glass[i].scatters() && !around) continue;
+      Box b = glass[i].scatters() ? world.object_box[i] : medium_box ? *medium_box : *water_box;
       if (!grid_box) grid_box = b;
       for (std::size_t k = 0; k < 3; ++k) {
         grid_box->first[k] = std::min(grid_box->first[k], b.first[k]);
@@ -271,10 +290,16 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
     const Coeff* m = nullptr;
     double a = 0, b = 0;
   };
-  auto piece_of = [&](const std::vector<std::uint32_t>& inside, const Vec3d& o, const Vec3d& d, double len) {
+  // in_water: a photon that crossed the surface; view rays are in water
+  // below the rest level (the surface does not bend them).
+  auto piece_of = [&](const std::vector<std::uint32_t>& inside, const Vec3d& o, const Vec3d& d, double len,
+                      bool in_water) {
     Piece piece;
     if (!inside.empty()) {
       piece = {&glass[inside.back()], 0, len};
+    } else if (water_box && in_water) {
+      double t0 = 0, t1 = 0;
+      if (slab(*water_box, o, d, t0, t1)) piece = {&water_coeff, std::max(0.0, t0), std::min(len, t1)};
     } else if (medium_box) {
       double t0 = 0, t1 = 0;
       if (slab(*medium_box, o, d, t0, t1)) piece = {&medium, std::max(0.0, t0), std::min(len, t1)};
@@ -323,12 +348,35 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
         }
         Rgb power{flux * light.color[0] / e0, flux * light.color[1] / e0, flux * light.color[2] / e0};
-        bool in_medium = false;
+        bool in_medium = false, in_water = false;
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
           const auto h = caster.first_hit_triangle(add(origin, dir, eps), dir);
+          // Above the water, the surface may come first: refract into it
+          // (Snell, exact Fresnel transmittance at the true normal; the
+          // reflected part leaves for the sky), as the irradiance estimator.
+          if (water && !in_water && inside.empty() && dir[1] < 0) {
+            const auto sh = surface.intersect(origin, dir);
+            const Vec3d hit = sh ? add(origin, dir, *sh) : origin;
+            const bool in_extent = hit[0] >= water_box->first[0] && hit[0] <= water_box->second[0] &&
+                                   hit[2] >= water_box->first[2] && hit[2] <= water_box->second[2];
+            if (sh && in_extent && (!h || *sh < h->distance + eps)) {
+              double gx = 0, gz = 0;
+              surface.height(hit[0], hit[2], &gx, &gz);
+              const Vec3d nrm = normalize({-gx, 1, -gz});
+              const double cos_i = -dot(dir, nrm);
+              const auto t = refract(dir, nrm, 1.0 / water->ior);
+              if (cos_i <= 0 || !t) break;
+              const double tr = fresnel_transmittance(cos_i, 1.0 / water->ior);
+              for (double& c : power) c *= tr;
+              origin = hit;
+              dir = normalize(*t);
+              in_water = true;
+              continue;
+            }
+          }
           const double len = h ? h->distance + eps : 1e30;
-          const Piece piece = piece_of(inside, origin, dir, len);
+          const Piece piece = piece_of(inside, origin, dir, len, in_water);
           if (piece.m) {
             const Coeff& m = *piece.m;
             if (!in_medium) st.power_in += luminance(power);
@@ -349,8 +397,11 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
                 const double col = (x[0] - q.x0) / dx, row = (q.y1 - x[1]) / dy;
                 if (col < 0 || row < 0 || col >= q.width || row >= q.height) continue;
                 if (!seen_directly(x)) continue;
-                // Only the medium box lies between x and the camera.
-                const double view = medium_box && piece.m == &medium ? std::max(0.0, medium_box->second[2] - x[2]) : 0.0;
+                // Only the medium box, or the water, lies between x and the
+                // camera.
+                const double view = piece.m == &medium      ? std::max(0.0, medium_box->second[2] - x[2])
+                                    : piece.m == &water_coeff ? std::max(0.0, water_box->second[2] - x[2])
+                                                              : 0.0;
                 const std::size_t pix = std::size_t(row) * std::size_t(q.width) + std::size_t(col);
                 for (std::size_t c = 0; c < 3; ++c) {
                   img[3 * pix + c] += power[c] * std::exp(-m.st[c] * (s + view)) * m.ss[c] * phase * ds;
@@ -379,7 +430,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           if (!h) break;
           const Vec3d p = add(origin, dir, len);
           if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-          dir = cross_interface(world, scene, h->triangle, p, dir, 1.0, inside, u01(rng));
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? double{water->ior} : 1.0, inside, u01(rng));
           origin = p;
         }
         if (in_medium) st.leaving += luminance(power);  // absorbed by a surface, or out of the loop
@@ -388,7 +439,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
 
     // View rays that meet glass before the media (the camera side).
     if (!grid) return;
-    double z_front = medium_box ? medium_box->second[2] : -1e300;
+    double z_front = medium_box ? medium_box->second[2] : water_box ? water_box->second[2] : -1e300;
     for (const Box& b : world.object_box) z_front = std::max(z_front, b.second[2]);
     z_front += 1.0;
     const double step_len = 0.5 * std::min({grid->h[0], grid->h[1], grid->h[2]});
@@ -406,15 +457,16 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
             // Extinction in front of the glass.
             Rgb tau{0, 0, 0};
             inside.clear();
-            if (const Piece front = piece_of(inside, origin, dir, h->distance); front.m) {
+            const auto wet = [&](const Vec3d& x) { return water && x[1] < water->level; };
+            if (const Piece front = piece_of(inside, origin, dir, h->distance, wet(add(origin, dir, h->distance))); front.m) {
               for (std::size_t c = 0; c < 3; ++c) tau[c] += front.m->st[c] * (front.b - front.a);
             }
             origin = add(origin, dir, h->distance);
-            dir = cross_interface(world, scene, h->triangle, origin, dir, 1.0, inside, u01(rng));
+            dir = cross_interface(world, scene, h->triangle, origin, dir, wet(origin) ? double{water->ior} : 1.0, inside, u01(rng));
             for (int k = 0; k < kMaxInteractions; ++k) {
               h = caster.first_hit_triangle(add(origin, dir, eps), dir);
               const double len = h ? h->distance + eps : 1e30;
-              const Piece piece = piece_of(inside, origin, dir, len);
+              const Piece piece = piece_of(inside, origin, dir, len, wet(origin));
               if (piece.m) {
                 const Coeff& m = *piece.m;
                 if (m.scatters()) {
@@ -437,7 +489,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               if (!h) break;
               const Vec3d p = add(origin, dir, len);
               if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-              dir = cross_interface(world, scene, h->triangle, p, dir, 1.0, inside, u01(rng));
+              dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? double{water->ior} : 1.0, inside, u01(rng));
               origin = p;
             }
           }

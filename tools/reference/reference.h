@@ -78,6 +78,7 @@ struct InscatterRequest {
   std::uint32_t batches = 8;
   std::uint64_t seed = 1;
   double glass_crease_deg = 30.0;
+  double time = 0;             // animation time (the water's waves)
   int grid = 64;               // voxels along the medium's longest side, for views through glass
   int view_samples = 4;        // per pixel axis, for views through glass
   double samples_per_pixel = 2;  // deposit points per pixel a photon segment crosses

@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     iq.batches = q.batches;
     iq.seed = q.seed;
     iq.glass_crease_deg = q.glass_crease_deg;
+    iq.time = q.time;
     reference::InscatterStats stats;
     auto img = reference::trace_inscatter(iq, &stats);
     if (!img) return cli::fail("caustix-reference", img.error());

@@ -5,9 +5,11 @@
 // irradiance estimator (reference.cpp) and the in-scatter estimator
 // (inscatter.cpp).
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -32,6 +34,62 @@ inline Vec3d normalize(const Vec3d& v) {
 }
 
 using Box = std::pair<Vec3d, Vec3d>;  // lo, hi
+
+// The water surface, evaluated exactly (formats/scene.h's wave sum).
+struct Surface {
+  const Water& w;
+  double time;
+  double height(double x, double z, double* dhdx = nullptr, double* dhdz = nullptr) const {
+    double h = w.level, gx = 0, gz = 0;
+    for (const Wave& wave : w.waves) {
+      const double k = 2 * kPi / wave.wavelength;
+      const double arg = k * (wave.direction[0] * x + wave.direction[1] * z) - k * wave.speed * time + wave.phase;
+      h += wave.amplitude * std::sin(arg);
+      gx += wave.amplitude * k * std::cos(arg) * wave.direction[0];
+      gz += wave.amplitude * k * std::cos(arg) * wave.direction[1];
+    }
+    if (dhdx) *dhdx = gx;
+    if (dhdz) *dhdz = gz;
+    return h;
+  }
+  double amplitude_sum() const {
+    double a = 0;
+    for (const Wave& wave : w.waves) a += wave.amplitude;
+    return a;
+  }
+  double shortest_wavelength() const {
+    double l = 1e30;
+    for (const Wave& wave : w.waves) l = std::min(l, double{wave.wavelength});
+    return l;
+  }
+  // First crossing of the ray o + s d (going down) with the surface:
+  // bracketed by steps short against the shortest wavelength, then bisected.
+  std::optional<double> intersect(const Vec3d& o, const Vec3d& d) const {
+    const double amp = amplitude_sum();
+    if (amp == 0) return (o[1] - w.level) / -d[1];  // flat water: the plane
+    const double s_max = (o[1] - (w.level - amp - 1e-6)) / -d[1];
+    const double horizontal = std::hypot(d[0], d[2]);
+    const double step = std::min(w.waves.empty() ? 1e30 : shortest_wavelength() / 32 / std::max(horizontal, 1e-9),
+                                 std::max(2 * amp, 1e-6) / 16 / -d[1]);
+    auto f = [&](double s) { return o[1] + s * d[1] - height(o[0] + s * d[0], o[2] + s * d[2]); };
+    double a = 0, fa = f(0);
+    for (double b = std::min(step, s_max);; b = std::min(b + step, s_max)) {
+      const double fb = f(b);
+      if ((fa > 0) != (fb > 0)) {
+        for (int it = 0; it < 60; ++it) {
+          const double m = 0.5 * (a + b), fm = f(m);
+          ((fa > 0) == (fm > 0) ? a : b) = m;
+          if ((fa > 0) == (fm > 0)) fa = fm;
+        }
+        return 0.5 * (a + b);
+      }
+      if (b >= s_max) return std::nullopt;
+      a = b;
+      fa = fb;
+    }
+  }
+};
+
 
 struct World {
   std::vector<Vec3d> pos;
