@@ -352,25 +352,19 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
           const auto h = caster.first_hit_triangle(add(origin, dir, eps), dir);
-          // Above the water, the surface may come first: refract into it
-          // (Snell, exact Fresnel transmittance at the true normal; the
-          // reflected part leaves for the sky), as the irradiance estimator.
+          // Above the water, the surface may come first: refract into it,
+          // as the irradiance estimator does.
           if (water && !in_water && inside.empty() && dir[1] < 0) {
             const auto sh = surface.intersect(origin, dir);
             const Vec3d hit = sh ? add(origin, dir, *sh) : origin;
             const bool in_extent = hit[0] >= water_box->first[0] && hit[0] <= water_box->second[0] &&
                                    hit[2] >= water_box->first[2] && hit[2] <= water_box->second[2];
             if (sh && in_extent && (!h || *sh < h->distance + eps)) {
-              double gx = 0, gz = 0;
-              surface.height(hit[0], hit[2], &gx, &gz);
-              const Vec3d nrm = normalize({-gx, 1, -gz});
-              const double cos_i = -dot(dir, nrm);
-              const auto t = refract(dir, nrm, 1.0 / water->ior);
-              if (cos_i <= 0 || !t) break;
-              const double tr = fresnel_transmittance(cos_i, 1.0 / water->ior);
-              for (double& c : power) c *= tr;
+              const auto entry = surface.enter(hit, dir);
+              if (!entry) break;
+              for (double& c : power) c *= entry->transmittance;
               origin = hit;
-              dir = normalize(*t);
+              dir = entry->dir;
               in_water = true;
               continue;
             }

@@ -184,23 +184,15 @@ Result<Image> trace(const Request& q) {
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
           const auto h = caster.first_hit_triangle(add(origin, dir, eps), dir);
-          // Above the water, the surface may come first: refract into it
-          // with Snell (eq. 2-8) and the exact Fresnel transmittance at the
-          // true normal (the reflected part leaves for the sky).
+          // Above the water, the surface may come first: refract into it.
           if (water && !in_water && inside.empty() && dir[1] < 0) {
             const auto s = surface.intersect(origin, dir);
             if (s && (!h || *s < h->distance + eps)) {
-              const Vec3d hit = add(origin, dir, *s);
-              double gx = 0, gz = 0;
-              surface.height(hit[0], hit[2], &gx, &gz);
-              const Vec3d nrm = normalize({-gx, 1, -gz});
-              const double cos_i = -dot(dir, nrm);
-              const auto t = refract(dir, nrm, 1.0 / water->ior);
-              if (cos_i <= 0 || !t) break;
-              const double tr = fresnel_transmittance(cos_i, 1.0 / water->ior);
-              for (double& c : rgb) c *= tr;
-              origin = hit;
-              dir = normalize(*t);
+              origin = add(origin, dir, *s);
+              const auto entry = surface.enter(origin, dir);
+              if (!entry) break;
+              for (double& c : rgb) c *= entry->transmittance;
+              dir = entry->dir;
               in_water = true;
               continue;
             }

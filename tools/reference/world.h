@@ -62,6 +62,23 @@ struct Surface {
     for (const Wave& wave : w.waves) l = std::min(l, double{wave.wavelength});
     return l;
   }
+  // A photon meeting the surface at `hit` along `dir` refracts into the
+  // water with Snell (eq. 2-8) and the exact unpolarised Fresnel
+  // transmittance at the true normal (the reflected part leaves for the
+  // sky); nothing when it cannot enter.
+  struct Entry {
+    Vec3d dir;
+    double transmittance;
+  };
+  std::optional<Entry> enter(const Vec3d& hit, const Vec3d& dir) const {
+    double gx = 0, gz = 0;
+    height(hit[0], hit[2], &gx, &gz);
+    const Vec3d nrm = normalize({-gx, 1, -gz});
+    const double cos_i = -dot(dir, nrm);
+    const auto t = refract(dir, nrm, 1.0 / w.ior);
+    if (cos_i <= 0 || !t) return std::nullopt;
+    return Entry{normalize(*t), fresnel_transmittance(cos_i, 1.0 / w.ior)};
+  }
   // First crossing of the ray o + s d (going down) with the surface:
   // bracketed by steps short against the shortest wavelength, then bisected.
   std::optional<double> intersect(const Vec3d& o, const Vec3d& d) const {
