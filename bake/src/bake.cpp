@@ -172,21 +172,24 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   // draws, which Draco's edgebreaker has reordered.
   t0 = Clock::now();
   std::vector<LightTransportTable> tables;
+  std::vector<TriangleMesh> glass_meshes;  // decoded, one per transparent object (the index grids use them too)
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
     const std::string& path = doc->mesh_paths[o.mesh_index];
     auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
     if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
-    const std::uint64_t r = options.transport.resolution, entries = decoded->positions.size() * r * r;
+    glass_meshes.push_back(std::move(*decoded));
+    const TriangleMesh& mesh = glass_meshes.back();
+    const std::uint64_t r = options.transport.resolution, entries = mesh.positions.size() * r * r;
     if (entries > kMaxTransportEntries) {
       return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its light-transport table would hold " +
-                                               std::to_string(decoded->positions.size()) + " vertices x " + std::to_string(r) +
+                                               std::to_string(mesh.positions.size()) + " vertices x " + std::to_string(r) +
                                                "^2 directions = " + std::to_string(entries) + " entries, above the limit of " +
                                                std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution, raise --glass-edge or simplify the mesh");
     }
     TransportReport rep;
-    tables.push_back(trace_transport_table(oi, o.material, *decoded, options.transport, &rep));
+    tables.push_back(trace_transport_table(oi, o.material, mesh, options.transport, &rep));
     out.transport.push_back(rep);
   }
   out.seconds_transport = seconds_since(t0);
@@ -195,25 +198,25 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   // something scatters: a scene without media pays nothing for them.
   t0 = Clock::now();
   std::vector<IndexGrid> grids;
-  for (std::uint32_t oi = 0; oi < scene.objects.size() && scene_scatters(scene); ++oi) {
+  const bool scatters = scene_scatters(scene);
+  for (std::uint32_t oi = 0, g = 0; oi < scene.objects.size() && scatters; ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
-    const std::string& path = doc->mesh_paths[o.mesh_index];
-    auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
-    if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
-    const std::uint64_t voxels = index_grid_voxels(*decoded, options.index_grid);
+    const TriangleMesh& mesh = glass_meshes[g++];
+    const std::uint64_t voxels = index_grid_voxels(mesh, options.index_grid);
     if (voxels > kMaxIndexGridVoxels) {
-      return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its index grid would hold " +
-                                               std::to_string(voxels) + " voxels at --volume-res " +
-                                               std::to_string(options.index_grid.resolution) + ", above the limit of " +
-                                               std::to_string(kMaxIndexGridVoxels) + " (384 MiB); lower --volume-res");
+      return make_error(ErrorCode::kInput, doc->mesh_paths[o.mesh_index] + ": transparent object '" + o.name +
+                                               "': its index grid would hold " + std::to_string(voxels) +
+                                               " voxels at --volume-res " + std::to_string(options.index_grid.resolution) +
+                                               ", above the limit of " + std::to_string(kMaxIndexGridVoxels) +
+                                               " (384 MiB); lower --volume-res");
     }
     // The index around the object: the water's when the object lies below
     // the water at rest, else air's.
     double top = -1e300;
-    for (const Vec3d& w : world_points(o.transform, decoded->positions)) top = std::max(top, w[1]);
+    for (const Vec3d& w : world_points(o.transform, mesh.positions)) top = std::max(top, w[1]);
     const float outside = scene.water && top < scene.water->level ? scene.water->ior : 1.0f;
-    grids.push_back(voxelize_index(oi, *decoded, o.material.ior, outside, options.index_grid));
+    grids.push_back(voxelize_index(oi, mesh, o.material.ior, outside, options.index_grid));
     IndexGridReport rep;
     rep.object = oi;
     rep.size = grids.back().size;
@@ -231,17 +234,13 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
 
   t0 = Clock::now();
   out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes, tables, grids);
-  if (!grids.empty()) {
+  if (!tables.empty() || !grids.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
     auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
     if (!c) return Error{ErrorCode::kInternal, "re-reading the baked file: " + c.error().message};
-    const auto idx = c->find(cxb::kTagIndexGrid);
-    for (std::size_t k = 0; k < idx.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(idx[k]).size();
-  }
-  if (!tables.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
-    auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
-    if (!c) return Error{ErrorCode::kInternal, "re-reading the baked file: " + c.error().message};
-    const auto idx = c->find(cxb::kTagTransport);
-    for (std::size_t k = 0; k < idx.size() && k < out.transport.size(); ++k) out.transport[k].stored_bytes = c->payload(idx[k]).size();
+    const auto ltt = c->find(cxb::kTagTransport);
+    for (std::size_t k = 0; k < ltt.size() && k < out.transport.size(); ++k) out.transport[k].stored_bytes = c->payload(ltt[k]).size();
+    const auto igrd = c->find(cxb::kTagIndexGrid);
+    for (std::size_t k = 0; k < igrd.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(igrd[k]).size();
   }
   out.seconds_write = seconds_since(t0);
   out.scene = std::move(scene);

@@ -403,15 +403,17 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               }
             }
             if (grid) grid->deposit(origin, dir, piece.a, piece.b, power, m);
+            // What the piece took, split between scattering and absorption.
             const Rgb after = attenuate(power, m, length);
+            Rgb scattered{0, 0, 0}, absorbed{0, 0, 0};
             for (std::size_t c = 0; c < 3; ++c) {
-              const double lost = power[c] - after[c];
-              const double w = (c == 0 ? 0.2126 : c == 1 ? 0.7152 : 0.0722) * lost / m.st[c];
-              if (m.st[c] > 0) {
-                st.scattered += w * m.ss[c];
-                st.absorbed += w * (m.st[c] - m.ss[c]);
-              }
+              if (!(m.st[c] > 0)) continue;
+              const double lost = (power[c] - after[c]) / m.st[c];
+              scattered[c] = lost * m.ss[c];
+              absorbed[c] = lost * (m.st[c] - m.ss[c]);
             }
+            st.scattered += luminance(scattered);
+            st.absorbed += luminance(absorbed);
             power = after;
             if (piece.b < len) {  // left the medium before the next surface
               st.leaving += luminance(power);
