@@ -74,7 +74,9 @@ struct Renderer::Impl {
   std::vector<bool> closed;  // per mesh: closed and consistently wound
   gl::Program receiver, irradiance, present;
   gl::VertexArray empty_vao;
-  Target hdr, display, irradiance_target;
+  Target hdr, display, irradiance_target, inscatter_target;
+  gl::Texture opaque_depth;  // the receivers' depth before the glass writes its own (draw_media)
+  int opaque_w = 0, opaque_h = 0;
   float exposure = 1.0f;
 
   const SceneDesc& scene() const { return engine->scene(); }
@@ -205,6 +207,15 @@ Status Renderer::render(const FrameParams& f) {
 
   glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
   glViewport(0, 0, f.width, f.height);
+  if (s.engine->has_media()) {
+    if (s.opaque_w != f.width || s.opaque_h != f.height) {
+      s.opaque_depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(s.opaque_depth.get(), 1, GL_DEPTH_COMPONENT32F, f.width, f.height);
+      s.opaque_w = f.width;
+      s.opaque_h = f.height;
+    }
+    glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, f.width, f.height, 1);
+  }
   CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky));
   if (scene.water) {
     Status inner = Status::success();
@@ -214,10 +225,104 @@ Status Renderer::render(const FrameParams& f) {
     }));
     CAUSTIX_RETURN_IF_ERROR(inner);
   }
+  if (s.engine->has_media()) {
+    // The receivers omit diffuse shading's 1/pi (caustix.glsl); the
+    // in-scatter, true radiance, is scaled alike.
+    glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
+    glViewport(0, 0, f.width, f.height);
+    CAUSTIX_RETURN_IF_ERROR(s.engine->draw_media(view_proj, s.hdr.color.get(), s.opaque_depth.get(), 3.14159265f));
+  }
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   glBindVertexArray(0);
   return gl::check_gl("frame");
+}
+
+Result<InscatterImage> Renderer::render_inscatter(const InscatterRequest& q) {
+  Impl& s = *impl_;
+  const SceneDesc& scene = s.scene();
+  if (!s.engine->has_media()) {
+    return make_error(ErrorCode::kUsage, "nothing in the scene scatters light (no medium, water or glass with \"scattering\")");
+  }
+  const int S = q.pixel_samples;
+  if (q.width <= 0 || q.height <= 0 || S < 1 || S > 16 || q.width * S > 8192 || q.height * S > 8192 || !(q.x1 > q.x0) ||
+      !(q.y1 > q.y0) || !std::isfinite(q.x0) || !std::isfinite(q.x1) || !std::isfinite(q.y0) || !std::isfinite(q.y1)) {
+    return make_error(ErrorCode::kUsage, "in-scatter region must have x1 > x0, y1 > y0, pixel samples 1..16 and at most 8192 samples per side");
+  }
+  InscatterImage img;
+  img.width = q.width;
+  img.height = q.height;
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kDirectional) {
+      img.e0 = l.irradiance;
+      break;
+    }
+  }
+  if (!(img.e0 > 0)) img.e0 = 1.0f;
+  CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{q.time, q.caustics}));
+  img.stats = s.engine->volume_stats(true);
+
+  // Orthographic along -z, in front of everything.
+  float z_front = s.engine->bounds_max().z, z_back = s.engine->bounds_min().z;
+  if (scene.medium) {
+    z_front = std::max(z_front, scene.medium->extent[5]);
+    z_back = std::min(z_back, scene.medium->extent[2]);
+  }
+  if (scene.water) {
+    z_front = std::max(z_front, scene.water->extent[3]);
+    z_back = std::min(z_back, scene.water->extent[1]);
+  }
+  z_front += 1.0f;
+  z_back -= 1.0f;
+  const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, z_front), glm::vec3(0, 0, z_front - 1), glm::vec3(0, 1, 0));
+  const glm::mat4 proj = glm::ortho(q.x0, q.x1, q.y0, q.y1, 0.0f, z_front - z_back);
+  const glm::mat4 view_proj = proj * view;
+  const int sw = q.width * S, sh = q.height * S;
+  s.inscatter_target.ensure(sw, sh, GL_RGBA32F, true);
+  const GLuint fbo = s.inscatter_target.fbo.get();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, sw, sh);
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  // The opaque objects' depth: where view rays stop.
+  const gl::Program& p = s.receiver;
+  p.use();
+  p.set("u_view_proj", view_proj);
+  p.set("u_clip_plane", glm::vec4(0.0f));
+  p.set("u_pass", 0);
+  p.set("u_fog", 0);
+  CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(p, 0, 0, std::nullopt));
+  glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
+  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_media(view_proj, 0, s.inscatter_target.depth.get(), 1.0f / img.e0));
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("in-scatter"));
+
+  std::vector<float> px(static_cast<std::size_t>(sw) * static_cast<std::size_t>(sh) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(s.inscatter_target.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * 4), px.data());
+  img.rgb.assign(static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height) * 3, 0.0f);
+  const double n = static_cast<double>(S) * S;
+  for (int y = 0; y < q.height; ++y) {
+    for (int x = 0; x < q.width; ++x) {
+      double e[3] = {0, 0, 0};
+      for (int sy = 0; sy < S; ++sy) {
+        for (int sx = 0; sx < S; ++sx) {
+          const std::size_t k = 4 * (static_cast<std::size_t>(y * S + sy) * static_cast<std::size_t>(sw) + static_cast<std::size_t>(x * S + sx));
+          for (int c = 0; c < 3; ++c) e[c] += px[k + c];
+        }
+      }
+      // GL row 0 is at y0; the image's row 0 at y1.
+      const std::size_t o = 3 * (static_cast<std::size_t>(q.height - 1 - y) * static_cast<std::size_t>(q.width) + static_cast<std::size_t>(x));
+      for (int c = 0; c < 3; ++c) img.rgb[o + c] = static_cast<float>(e[c] / n);
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return img;
 }
 
 Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) {

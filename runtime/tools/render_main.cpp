@@ -35,7 +35,13 @@ int main(int argc, char** argv) {
   auto* irradiance_option = app.add_option("--irradiance", receiver,
                  "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
                  "no albedo or ambient) instead of the beauty image");
-  app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image")->capture_default_str();
+  bool inscatter = false;
+  app.add_flag("--inscatter", inscatter,
+               "write the in-scatter image (shared/DESIGN.md, seed 004: orthographic along -z, row 0 at y1, single "
+               "scattering / E0; surfaces not drawn) instead of the beauty image (.exr)")
+      ->excludes(irradiance_option);
+  app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image; x0,y0,x1,y1 of the in-scatter image")
+      ->capture_default_str();
   int pixel_samples = IrradianceRequest{}.pixel_samples;
   app.add_option("--pixel-samples", pixel_samples,
                  "irradiance: S x S point samples per pixel, averaged (the pixel-box average; 1: the pixel centre; "
@@ -70,6 +76,20 @@ int main(int argc, char** argv) {
                      std::to_string(built_in.glass_map_size))
       ->check(CLI::Range(1, 8192));
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
+  // Media (seed 004; docs/volume.md).
+  const VolumeOptions vdef;
+  VolumeOptions volume;
+  bool no_media = false, no_octree = false;
+  app.add_option("--volume-photons", volume.photons, "media: P x P photons per light")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_option("--volume-grid", volume.grid, "media: radiance-grid voxels along the media's longest side")
+      ->check(CLI::Range(2, 1024))->capture_default_str();
+  app.add_option("--volume-step", volume.step, "media: photon and view steps where an object's index varies, index-grid voxels")
+      ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
+  app.add_option("--view-step", volume.view_step, "media: viewing-pass steps, radiance-grid voxels")
+      ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
+  app.add_flag("--no-octree", no_octree, "media: uniform steps inside index grids (measures what the octree saves)");
+  app.add_flag("--no-media", no_media, "media: no volume caustics or single scattering");
   // The water surface (seed 001).
   WaterLook look;
   std::string fresnel = "approx", camera_pos, camera_target;
@@ -113,6 +133,9 @@ int main(int argc, char** argv) {
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
   if (photons > 0) caustics.photons = photons;
+  volume.octree = !no_octree;
+  volume.enabled = !no_media;
+  caustics.volume = volume;
   look.textures = !plain_water;
   look.refraction = !no_refraction;
   look.reflection = !no_reflection;
@@ -134,7 +157,39 @@ int main(int argc, char** argv) {
 
   const auto t0 = std::chrono::steady_clock::now();
   Status written;
-  if (!receiver.empty()) {
+  if (inscatter) {
+    InscatterRequest q;
+    char extra = 0;
+    if (std::sscanf(region.c_str(), "%f,%f,%f,%f%c", &q.x0, &q.y0, &q.x1, &q.y1, &extra) != 4) {
+      return fail(make_error(ErrorCode::kUsage, "--region '" + region + "' is not x0,y0,x1,y1"));
+    }
+    if (!volume.enabled) return fail(make_error(ErrorCode::kUsage, "--inscatter needs the media (drop --no-media)"));
+    q.width = width;
+    q.height = height;
+    q.time = time;
+    q.caustics = caustics;
+    q.pixel_samples = app.count("--pixel-samples") > 0 ? pixel_samples : InscatterRequest{}.pixel_samples;
+    auto img = (*renderer)->render_inscatter(q);
+    if (!img) return fail(img.error());
+    for (float v : img->rgb) {
+      if (!std::isfinite(v)) return fail(make_error(ErrorCode::kInternal, "non-finite in-scatter rendered"));
+    }
+    char rect[160];
+    std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.y0, q.x1, q.y1);
+    const std::vector<std::pair<std::string, std::string>> attributes{
+        {"caustix:region", rect}, {"caustix:kind", "inscatter"}, {"caustix:e0", std::to_string(img->e0)},
+        {"caustix:time", std::to_string(q.time)}, {"caustix:pixel_samples", std::to_string(q.pixel_samples)}};
+    written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
+    if (verbose) {
+      const VolumeStats& v = img->stats;
+      std::printf("media: %llu photons, %llu steps (%llu in index grids), grid %ux%ux%u, %.1f MB; march %.2f ms, resolve %.2f ms (GPU)\n",
+                  static_cast<unsigned long long>(v.photons), static_cast<unsigned long long>(v.steps),
+                  static_cast<unsigned long long>(v.grid_steps), v.grid_size[0], v.grid_size[1], v.grid_size[2],
+                  static_cast<double>(v.grid_bytes) / 1e6, v.march_ms, v.resolve_ms);
+      std::printf("energy / E0 (m^2): in %.6g = scattered %.6g + absorbed %.6g + leaving %.6g + reflected %.6g + truncated %.6g; grid holds %.6g\n",
+                  v.power_in, v.scattered, v.absorbed, v.leaving, v.reflected, v.truncated, v.deposited);
+    }
+  } else if (!receiver.empty()) {
     IrradianceRequest q;
     q.receiver = receiver;
     char extra = 0;

@@ -17,6 +17,7 @@
 #include "shader_text.h"
 #include "shadow_maps.h"
 #include "water_surface.h"
+#include "volume.h"
 #include "water_view.h"
 
 namespace caustix::runtime {
@@ -71,6 +72,8 @@ struct Engine::Impl {
   gl::Program water_plain;
   std::unique_ptr<CausticsEngine> caustics;
   std::unique_ptr<GlassEngine> glass;
+  std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
+  VolumeOptions volume_options;           // of the last update()
   gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
 
   // One LightBlock per (object, light), at object * lights + light.
@@ -297,6 +300,11 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
     if (!engine) return engine.error();
     s.glass = std::move(*engine);
   }
+  {
+    auto volume = VolumeEngine::create(s.scene, scene.index_grids, kGlslVersion + s.lighting_prefix());
+    if (!volume) return volume.error();
+    s.volume = std::move(*volume);
+  }
   if (s.scene.water) {
     auto water = WaterSurface::create(*s.scene.water);
     if (!water) return water.error();
@@ -447,6 +455,8 @@ Status Engine::update(const FrameUpdate& f) {
   const CausticsOptions& co = f.caustics;
   if (s.caustics) s.caustics->reset_stats();
   if (s.water) s.water->update(f.time);
+  s.volume_options = co.volume;
+  if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     const Light& light = s.scene.lights[li];
     s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius());
@@ -464,6 +474,11 @@ Status Engine::update(const FrameUpdate& f) {
       }));
     }
     s.upload_light(li, co);
+    if (s.volume && !s.lighting.empty()) {
+      // Photons start from the same water state as the caustics (seed 004).
+      CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr,
+                                                     [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }));
+    }
   }
   s.updated = true;
   return gl::check_gl("engine update");
@@ -617,6 +632,51 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
   return gl::check_gl("glass surface");
 }
 
+bool Engine::has_media() const { return impl_->volume != nullptr; }
+
+Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsigned scene_depth, float scale) {
+  Impl& s = *impl_;
+  if (!s.volume) return Status::success();
+  if (!s.updated) return usage("draw_media: update() has not run yet");
+  auto check = [](unsigned tex, GLint want, const char* what) -> Status {
+    if (tex == 0 || !glIsTexture(tex)) return usage(std::string("draw_media: ") + what + " " + std::to_string(tex) + " is not a GL texture");
+    GLint target = 0, format = 0;
+    glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
+    glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    if (target != GL_TEXTURE_2D || format != want) {
+      return usage(std::string("draw_media: ") + what + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
+    }
+    return Status::success();
+  };
+  if (scene_color != 0) CAUSTIX_RETURN_IF_ERROR(check(scene_color, GL_RGBA32F, "scene colour"));
+  CAUSTIX_RETURN_IF_ERROR(check(scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  if (scene_color != 0) {
+    GLint cw = 0, ch = 0, dw = 0, dh = 0;
+    glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_WIDTH, &cw);
+    glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_HEIGHT, &ch);
+    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &dw);
+    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &dh);
+    if (cw != dw || ch != dh) return usage("draw_media: scene colour and depth differ in size");
+  }
+  if (!std::isfinite(scale) || scale < 0.0f) return usage("draw_media: scale must be finite and >= 0");
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(view_proj[c][r])) return usage("draw_media: the view-projection matrix is not finite");
+    }
+  }
+  if (std::fabs(glm::determinant(view_proj)) < 1e-30f) return usage("draw_media: the view-projection matrix is singular");
+  const gl::StateGuard guard = s.guard();
+  s.volume->draw(s.scene, view_proj, scene_color, scene_depth, scale, s.volume_options);
+  return gl::check_gl("media");
+}
+
+VolumeStats Engine::volume_stats(bool read_gpu_counters) {
+  Impl& s = *impl_;
+  if (!s.volume) return VolumeStats{};
+  const gl::StateGuard guard = s.guard();
+  return s.volume->stats(read_gpu_counters);
+}
+
 Status Engine::draw_object(std::uint32_t index) const {
   const Impl& s = *impl_;
   if (index >= s.scene.objects.size()) return usage("draw_object: no object " + std::to_string(index));
@@ -632,6 +692,7 @@ CausticsStats Engine::stats(bool read_gpu_counters) {
   CausticsStats st = s.caustics ? s.caustics->stats(read_gpu_counters) : CausticsStats{};
   if (s.glass) st.gpu_bytes += s.glass->gpu_bytes();            // tables, rays, targets, illumination textures
   if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
+  if (s.volume) st.gpu_bytes += s.volume->gpu_bytes();          // radiance and index grids
   return st;
 }
 

@@ -10,11 +10,13 @@ void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
 void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
 void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
+void delete_query(GLuint id) { glDeleteQueries(1, &id); }
 
 Buffer make_buffer() { GLuint id = 0; glCreateBuffers(1, &id); return Buffer(id); }
 VertexArray make_vertex_array() { GLuint id = 0; glCreateVertexArrays(1, &id); return VertexArray(id); }
 Texture make_texture(GLenum target) { GLuint id = 0; glCreateTextures(target, 1, &id); return Texture(id); }
 Framebuffer make_framebuffer() { GLuint id = 0; glCreateFramebuffers(1, &id); return Framebuffer(id); }
+Query make_query(GLenum target) { GLuint id = 0; glCreateQueries(target, 1, &id); return Query(id); }
 
 namespace {
 

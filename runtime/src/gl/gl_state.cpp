@@ -69,12 +69,15 @@ StateGuard::StateGuard(const std::vector<GLuint>& units) {
     glGetInteger64i_v(GL_UNIFORM_BUFFER_START, i, &ubo_[i].start);
     glGetInteger64i_v(GL_UNIFORM_BUFFER_SIZE, i, &ubo_[i].size);
   }
-  glGetIntegeri_v(GL_IMAGE_BINDING_NAME, 0, &image0_);
-  glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, 0, &image0_level_);
-  glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, 0, &image0_layer_);
-  glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, 0, &image0_access_);
-  glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, 0, &image0_format_);
-  glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, 0, &image0_layered_);
+  for (GLuint i = 0; i < images_.size(); ++i) {
+    Image& m = images_[i];
+    glGetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &m.name);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, i, &m.level);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, i, &m.layer);
+    glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, i, &m.access);
+    glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, i, &m.format);
+    glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, i, &m.layered);
+  }
   units_.reserve(units.size());
   for (GLuint u : units) {
     Unit s;
@@ -83,6 +86,7 @@ StateGuard::StateGuard(const std::vector<GLuint>& units) {
     s.tex_2d = get(GL_TEXTURE_BINDING_2D);
     s.tex_array = get(GL_TEXTURE_BINDING_2D_ARRAY);
     s.tex_cube = get(GL_TEXTURE_BINDING_CUBE_MAP);
+    s.tex_3d = get(GL_TEXTURE_BINDING_3D);
     s.sampler = get(GL_SAMPLER_BINDING);
     if (s.sampler) glBindSampler(u, 0);  // the passes rely on their textures' own parameters
     units_.push_back(s);
@@ -137,13 +141,17 @@ StateGuard::~StateGuard() {
   glBindBuffer(GL_UNIFORM_BUFFER, static_cast<GLuint>(ubo_generic_));
   glBindBuffer(GL_COPY_READ_BUFFER, static_cast<GLuint>(copy_read_));
   glBindBuffer(GL_COPY_WRITE_BUFFER, static_cast<GLuint>(copy_write_));
-  glBindImageTexture(0, static_cast<GLuint>(image0_), image0_level_, image0_layered_, image0_layer_, static_cast<GLenum>(image0_access_),
-                     static_cast<GLenum>(image0_format_ ? image0_format_ : GL_R8));
+  for (GLuint i = 0; i < images_.size(); ++i) {
+    const Image& m = images_[i];
+    glBindImageTexture(i, static_cast<GLuint>(m.name), m.level, m.layered, m.layer, static_cast<GLenum>(m.access),
+                       static_cast<GLenum>(m.format ? m.format : GL_R8));
+  }
   for (const Unit& s : units_) {
     glActiveTexture(GL_TEXTURE0 + s.unit);
     glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(s.tex_2d));
     glBindTexture(GL_TEXTURE_2D_ARRAY, static_cast<GLuint>(s.tex_array));
     glBindTexture(GL_TEXTURE_CUBE_MAP, static_cast<GLuint>(s.tex_cube));
+    glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(s.tex_3d));
     glBindSampler(s.unit, static_cast<GLuint>(s.sampler));
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));

@@ -33,7 +33,7 @@ class StateGuard {
   };
   struct Unit {
     GLuint unit = 0;
-    GLint tex_2d = 0, tex_array = 0, tex_cube = 0, sampler = 0;
+    GLint tex_2d = 0, tex_array = 0, tex_cube = 0, tex_3d = 0, sampler = 0;
   };
   GLint draw_fbo_ = 0, read_fbo_ = 0, program_ = 0, vao_ = 0, active_texture_ = 0;
   std::array<GLint, 4> viewport_{};
@@ -49,8 +49,12 @@ class StateGuard {
   GLint ssbo_generic_ = 0, ubo_generic_ = 0, copy_read_ = 0, copy_write_ = 0;
   std::array<Indexed, kBufferPoints> ssbo_{}, ubo_{};
   GLuint points_ = 0;  // those the context has
-  GLint image0_ = 0, image0_level_ = 0, image0_layer_ = 0, image0_access_ = 0, image0_format_ = 0;
-  GLboolean image0_layered_ = GL_FALSE;
+  // Image units 0 and 1 (the passes' compute shaders write through them).
+  struct Image {
+    GLint name = 0, level = 0, layer = 0, access = 0, format = 0;
+    GLboolean layered = GL_FALSE;
+  };
+  std::array<Image, 2> images_{};
   std::vector<Unit> units_;
   std::vector<std::pair<GLenum, GLboolean>> caps_;
 };

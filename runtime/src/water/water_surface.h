@@ -32,6 +32,9 @@ class WaterSurface {
   void bind_buffers() const;
   void draw() const;  // triangles, vertex pulling from the buffers
 
+  // The grid's vertex positions and normals (vec4 each, row-major along x).
+  GLuint positions_buffer() const { return positions_.get(); }
+  GLuint normals_buffer() const { return normals_.get(); }
   std::uint32_t vertex_count() const { return vertices_; }
   std::uint32_t triangle_count() const { return triangles_; }
   const Water& water() const { return water_; }

@@ -3,6 +3,7 @@
 // produces the same thing, a caustics map per (receiver, light), so their
 // images can be compared pixel for pixel.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -21,6 +22,28 @@ enum class CausticsMethod {
 
 const char* to_string(CausticsMethod m);
 std::optional<CausticsMethod> parse_method(const std::string& name);
+
+// Volume caustics and single scattering in media (seed 004; docs/volume.md).
+// Used only by scenes where something scatters (a medium box, water or glass
+// with "scattering"); elsewhere they cost nothing.
+struct VolumeOptions {
+  bool enabled = true;
+  // Photon marching: photons x photons per light, over the window of the
+  // light that covers the media (or over the water surface for water).
+  std::uint32_t photons = 256;
+  // The radiance grid: voxels along the longest side of the box around
+  // the media (the others in proportion); at most kMaxRadianceVoxels.
+  std::uint32_t grid = 64;
+  // Steps inside an object's index grid where the index varies (octree
+  // level 0), in index-grid voxels; with `octree`, a photon crosses a
+  // wider uniform node in one step ("Photon Marching"), else it takes this
+  // step everywhere inside the grid (the uniform baseline).
+  float step = 0.5f;
+  bool octree = true;
+  // Viewing pass: steps along the camera's rays, in radiance-grid voxels.
+  float view_step = 0.5f;
+};
+inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
 
 struct CausticsOptions {
   CausticsMethod method = CausticsMethod::kLevelMap;
@@ -41,6 +64,7 @@ struct CausticsOptions {
   // 16) and the illumination-texture size (the paper: 512).
   std::uint32_t glass_planes = 4;
   std::uint32_t glass_map_size = 512;
+  VolumeOptions volume;
 };
 
 // Sets the fields a bake preset records (RNDR chunk): map sizes, glass planes.
@@ -56,7 +80,29 @@ struct CausticsStats {
   bool overflowed = false;            // a map's pair list was full (pieces missing)
   std::uint64_t volumes_total = 0;    // before culling, summed over maps
   std::uint64_t planes_drawn = 0;     // summed over maps
-  std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers; glass tables and textures)
+  std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers; glass tables and textures; media grids)
+};
+
+// What the last update()'s photon marching did (seed 004), summed over
+// lights. Energies are luminance-weighted photon power divided by E0 (the
+// first directional light's irradiance, else 1), m^2; read back from the
+// GPU (a stall). in = scattered + absorbed + leaving + reflected + truncated
+// up to the fixed-point rounding of the GPU's integer atomics.
+struct VolumeStats {
+  bool active = false;                 // the scene has media and the effect ran
+  std::uint64_t photons = 0;           // emitted
+  std::uint64_t steps = 0;             // marching steps (curved steps in index grids + straight runs)
+  std::uint64_t grid_steps = 0;        // of which inside index grids
+  double power_in = 0;                 // entered a medium
+  double scattered = 0;                // lost to scattering: the single-scattering source
+  double absorbed = 0;
+  double leaving = 0;                  // left the media (out of the box, into clear glass or air, onto a surface)
+  double reflected = 0;                // Fresnel reflection at glass boundaries (not followed)
+  double truncated = 0;                // still carried when the step limit ended the march
+  double deposited = 0;                // the radiance grid's sum of scattered power (read back), = scattered
+  std::array<std::uint32_t, 3> grid_size{0, 0, 0};
+  std::uint64_t grid_bytes = 0;        // radiance grids (accumulator and textures) and index grids on the GPU
+  double march_ms = 0, resolve_ms = 0; // GPU time of the last update's photon pass and grid resolve (timer queries)
 };
 
 }  // namespace caustix::runtime

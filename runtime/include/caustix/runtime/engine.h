@@ -24,7 +24,15 @@
 // once per light and adds the results (seed 000 eq. 4-20).
 //
 // The view side, into the caller's framebuffer with the caller's camera:
-// draw_water() (seed 001) and draw_glass() (seed 002 §3), each optional.
+// draw_water() (seed 001), draw_glass() (seed 002 §3) and draw_media()
+// (seed 004), each optional.
+//
+// Media (seed 004; docs/volume.md): in a scene where something scatters (a
+// medium box, water or glass with "scattering"), update() also marches
+// photons through the media, bent by the transparent objects' baked index
+// grids, into a radiance grid per light; draw_media() adds the single
+// scattering seen along the camera's rays. Scenes without media pay
+// nothing.
 //
 // Errors: every fallible call returns Status/Result; bad input (an index out
 // of range, a non-finite height, a non-rigid transform, a texture of the
@@ -261,6 +269,26 @@ class Engine {
   // copied, so they may be attached to the bound framebuffer. Writes colour
   // and depth. No-op without transparent objects.
   Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky);
+
+  // Single scattering in the media (seed 004 "Viewing Pass"), seen through
+  // `view_proj` (any camera: perspective or orthographic; GL clip
+  // conventions), into the framebuffer bound to GL_DRAW_FRAMEBUFFER over
+  // the current viewport. Every pixel's ray is marched through the
+  // radiance grid of the last update(), bent inside transparent objects,
+  // and stops where it passes behind `scene_depth` (a 2D
+  // GL_DEPTH_COMPONENT32F texture of the viewport's size: the opaque scene
+  // as the caller rendered it, without the glass). With `scene_color` (2D
+  // GL_RGBA32F, same size) each pixel becomes colour x T + scale x L, T
+  // the transmittance of the fog box and the glass along the ray (the
+  // water's own attenuation is the water surface's, draw_water()); with 0
+  // it adds scale x L (additive blending) to what is bound, for images of
+  // the in-scatter alone. L is radiance in the lights' units (E0 or I
+  // times their colour). Both textures are copied, so they may be attached
+  // to the bound framebuffer. Writes colour only. No-op without media.
+  Status draw_media(const glm::mat4& view_proj, unsigned scene_color, unsigned scene_depth, float scale = 1.0f);
+  bool has_media() const;
+  // What the last update()'s photon marching did (read back: a stall).
+  VolumeStats volume_stats(bool read_gpu_counters = true);
 
   // Draws object `index`'s mesh (attribute 0: object-space position, 1:
   // normal; GL_TRIANGLES, uint32 indices) with whatever program the caller

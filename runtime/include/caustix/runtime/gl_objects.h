@@ -44,16 +44,19 @@ void delete_vertex_array(GLuint id);
 void delete_texture(GLuint id);
 void delete_framebuffer(GLuint id);
 void delete_program(GLuint id);
+void delete_query(GLuint id);
 
 using Buffer = Handle<delete_buffer>;
 using VertexArray = Handle<delete_vertex_array>;
 using Texture = Handle<delete_texture>;
 using Framebuffer = Handle<delete_framebuffer>;
+using Query = Handle<delete_query>;
 
 Buffer make_buffer();
 VertexArray make_vertex_array();
 Texture make_texture(GLenum target);
 Framebuffer make_framebuffer();
+Query make_query(GLenum target);
 
 class Program {
  public:

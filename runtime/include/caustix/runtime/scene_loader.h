@@ -9,6 +9,7 @@
 
 #include "caustix/common/mesh.h"
 #include "caustix/common/status.h"
+#include "caustix/formats/index_grid.h"
 #include "caustix/formats/scene.h"
 
 namespace caustix::runtime {
@@ -19,6 +20,7 @@ struct RuntimeScene {
   std::vector<LevelMap> level_maps;  // at most one per (object, light)
   std::vector<ObjectBox> boxes;
   std::vector<LightTransportTable> transport_tables;  // one per transparent object
+  std::vector<IndexGrid> index_grids;  // one per transparent object, only in scenes that scatter
 };
 
 Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size);

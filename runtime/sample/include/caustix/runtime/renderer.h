@@ -11,7 +11,8 @@
 // illumination per light); receivers (ambient, then one additive pass per
 // light: caustics casting, seed 000 §4.6, eq. 4-19/4-20); Engine::draw_glass
 // and Engine::draw_water on top (the water's textures drawn by the same
-// receiver passes through its callback). present() tone-maps to a display
+// receiver passes through its callback), then Engine::draw_media over it
+// all (seed 004: single scattering, stopped by the opaque scene's depth). present() tone-maps to a display
 // framebuffer; read_hdr() and read_display() return its pixels.
 // render_irradiance() writes the irradiance images of shared/DESIGN.md.
 
@@ -70,6 +71,27 @@ struct IrradianceImage {
   std::vector<float> aux;
 };
 
+// shared/DESIGN.md's in-scatter image (seed 004; docs/volume.md): an
+// orthographic view along -z of [x0, x1] x [y0, y1], columns along +x, row
+// 0 at y1; each pixel the single-scattered radiance reaching the camera
+// divided by E0, averaged over the pixel's square (pixel_samples^2 rays on
+// a regular grid); surfaces are not drawn, but view rays are bent by
+// transparent objects and stopped by opaque ones.
+struct InscatterRequest {
+  float x0 = -1, y0 = -1, x1 = 1, y1 = 1;
+  int width = 256, height = 256;
+  float time = 0.0f;
+  CausticsOptions caustics;
+  int pixel_samples = 2;  // per axis, 1..16
+};
+
+struct InscatterImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // row-major, row 0 at y1
+  float e0 = 1.0f;
+  VolumeStats stats;       // of the photon marching behind it
+};
+
 // The sky's linear colour: the beauty image's background.
 inline constexpr float kSkyColor[3] = {0.42f, 0.58f, 0.78f};
 
@@ -83,6 +105,8 @@ class Renderer {
 
   Status render(const FrameParams& frame);
   Result<IrradianceImage> render_irradiance(const IrradianceRequest& request);
+  // kUsage for a scene without media.
+  Result<InscatterImage> render_inscatter(const InscatterRequest& request);
 
   // Moves light `index` (directional: direction of travel; point: position)
   // and re-derives the level maps it lights, on the GPU (see caustics.h).

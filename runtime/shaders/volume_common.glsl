@@ -1,0 +1,150 @@
+// volume_common.glsl: the scene's media as photon marching and the viewing
+// pass see them (seed 004, Sun et al. 2008; docs/volume.md). Follows the
+// engine's lighting prefix (caustix.glsl: Fresnel, the light's block and
+// shadow maps); volume.cpp sets every uniform.
+
+// ---- transparent objects: index grids (seed 004 "Voxelization") ----
+const int kMaxGlass = 4;
+uniform int u_glass_count;
+uniform mat4 u_world_to_voxel[kMaxGlass];  // world -> continuous voxel coordinates (voxel i spans [i, i + 1))
+uniform vec4 u_glass_ior[kMaxGlass];       // x n_out, y n_in, z world length of a voxel, w 1 = octree levels stored
+uniform vec4 u_glass_size[kMaxGlass];      // xyz voxels
+uniform vec4 u_glass_ss[kMaxGlass];        // rgb sigma_s; w Schlick k
+uniform vec4 u_glass_st[kMaxGlass];        // rgb sigma_t; w phase (1 isotropic, 2 Schlick)
+// R: filtered coverage; G: octree level / 15 (texelFetch). Border 0 (outside).
+layout(binding = 0) uniform sampler3D u_index[kMaxGlass];
+
+// ---- the other media ----
+uniform int u_fog_on;  // the medium box
+uniform vec3 u_fog_lo, u_fog_hi;
+uniform vec4 u_fog_ss, u_fog_st;
+uniform int u_water_on;  // water with scattering or absorption
+uniform vec3 u_water_lo, u_water_hi;  // x, z extent; y from below the scene to the highest wave
+uniform float u_water_level;
+uniform vec4 u_water_ss, u_water_st;
+
+// ---- the radiance grid ----
+uniform vec3 u_grid_lo, u_grid_hi;
+uniform ivec3 u_grid_n;
+
+struct Medium {
+  vec3 ss, st;
+  float k, phase;
+};
+
+bool in_box(vec3 x, vec3 lo, vec3 hi) { return all(greaterThanEqual(x, lo)) && all(lessThanEqual(x, hi)); }
+
+// Ray parameter interval [t0, t1] inside the box (t1 < t0: missed).
+vec2 box_range(vec3 o, vec3 d, vec3 lo, vec3 hi) {
+  vec3 inv = 1.0 / d;
+  vec3 a = (lo - o) * inv, b = (hi - o) * inv;
+  vec3 mn = min(a, b), mx = max(a, b);
+  return vec2(max(max(mn.x, mn.y), mn.z), min(min(mx.x, mx.y), mx.z));
+}
+
+vec3 voxel_of(int g, vec3 x) { return (u_world_to_voxel[g] * vec4(x, 1.0)).xyz; }
+bool in_grid(int g, vec3 u) { return all(greaterThanEqual(u, vec3(0.0))) && all(lessThan(u, u_glass_size[g].xyz)); }
+float coverage(int g, vec3 u) { return texture(u_index[g], u / u_glass_size[g].xyz).r; }
+float index_of(int g, float c) { return mix(u_glass_ior[g].x, u_glass_ior[g].y, c); }
+
+// The first object whose index grid holds x, or -1.
+int glass_at(vec3 x, out vec3 u) {
+  for (int g = 0; g < u_glass_count; ++g) {
+    u = voxel_of(g, x);
+    if (in_grid(g, u)) return g;
+  }
+  return -1;
+}
+
+// World gradient of n at voxel coordinate u (central differences of the
+// trilinear coverage, one voxel apart).
+vec3 index_gradient(int g, vec3 u) {
+  vec3 gc = vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
+                 coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
+                 coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1))) * 0.5;
+  // u = A x + b: grad_x = A^T grad_u.
+  return (u_glass_ior[g].y - u_glass_ior[g].x) * (transpose(mat3(u_world_to_voxel[g])) * gc);
+}
+
+// The octree node around voxel coordinate u (seed 004 "Octree
+// Construction"): its level, stored per voxel.
+int octree_level(int g, vec3 u) {
+  return int(texelFetch(u_index[g], ivec3(floor(u)), 0).g * 15.0 + 0.5);
+}
+
+// The medium at x: the object that holds x (coverage >= 1/2), else the
+// water (photons that entered it; view rays below its rest level), else
+// the medium box, else none.
+Medium medium_at(vec3 x, bool wet) {
+  for (int g = 0; g < u_glass_count; ++g) {
+    vec3 u = voxel_of(g, x);
+    if (in_grid(g, u) && coverage(g, u) >= 0.5) return Medium(u_glass_ss[g].rgb, u_glass_st[g].rgb, u_glass_ss[g].w, u_glass_st[g].w);
+  }
+  if (u_water_on != 0 && wet && in_box(x, u_water_lo, u_water_hi)) return Medium(u_water_ss.rgb, u_water_st.rgb, u_water_ss.w, u_water_st.w);
+  if (u_fog_on != 0 && in_box(x, u_fog_lo, u_fog_hi)) return Medium(u_fog_ss.rgb, u_fog_st.rgb, u_fog_ss.w, u_fog_st.w);
+  return Medium(vec3(0.0), vec3(0.0), 0.0, 1.0);
+}
+
+// Seed 004, "Viewing Pass": isotropic 1/(4 pi); Schlick
+// (1/(4 pi)) (1 - k^2) / (1 - k cos a)^2, a between the light's direction
+// of travel and the scattered direction.
+float phase_value(Medium m, float cos_a) {
+  const float inv_4pi = 0.0795774715;
+  if (m.phase < 1.5) return inv_4pi;
+  float d = 1.0 - m.k * cos_a;
+  return inv_4pi * (1.0 - m.k * m.k) / (d * d);
+}
+
+// Integral over [a, b] of p e^(-st s) ds, per channel.
+vec3 power_length(vec3 p, vec3 st, float a, float b) {
+  vec3 out_v;
+  for (int c = 0; c < 3; ++c) {
+    out_v[c] = st[c] * (b - a) < 1e-6 ? p[c] * (b - a) * exp(-st[c] * a) : p[c] * (exp(-st[c] * a) - exp(-st[c] * b)) / st[c];
+  }
+  return out_v;
+}
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// One step of a ray through object g's index grid from x along unit d
+// (seed 004 "Photon Marching": x += (ds / n) v, v += ds grad n, |v| = n).
+// The step crosses the octree node around x when it is uniform and
+// `octree` is set, else it is `step` voxels. Returns the length; x and d
+// are advanced, `c0`/`c1` are the coverage before and after (a crossing
+// of 1/2 is the object's surface: Fresnel). No step exceeds max_len metres.
+float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octree, float max_len, out float c0, out float c1,
+                out vec3 grad) {
+  float h = u_glass_ior[g].z;
+  float len_voxels = step;
+  int level = octree ? octree_level(g, u) : 0;
+  if (level > 0) {
+    // To the far side of the aligned cube of 2^level voxels around u.
+    float side = float(1 << level);
+    vec3 lo = floor(u / side) * side;
+    vec3 du = mat3(u_world_to_voxel[g]) * d;  // voxels per metre along d
+    vec2 r = box_range(u, du, lo, lo + side);
+    len_voxels = max(r.y / h, step) + 0.01;
+  }
+  float len = min(len_voxels * h, max_len);
+  c0 = coverage(g, u);
+  float n = index_of(g, c0);
+  grad = index_gradient(g, u);
+  vec3 v = n * d + len * grad;
+  x += len * d;
+  d = normalize(v);
+  c1 = coverage(g, voxel_of(g, x));
+  return len;
+}
+
+// The transmittance across the object's surface (exact Fresnel) for a ray
+// that crossed coverage 1/2 between c0 and c1 with direction d; the
+// normal is the index gradient. Under total internal reflection the
+// filtered index turns the ray itself, so nothing is taken.
+float surface_transmittance(int g, float c0, float c1, vec3 d, vec3 grad) {
+  if ((c0 - 0.5) * (c1 - 0.5) > 0.0 || dot(grad, grad) < 1e-20) return 1.0;
+  bool entering = c1 > c0;
+  float eta = entering ? u_glass_ior[g].x / u_glass_ior[g].y : u_glass_ior[g].y / u_glass_ior[g].x;
+  float cos_i = abs(dot(d, normalize(grad)));
+  float r = caustix_fresnel_reflectance(cos_i, eta);
+  return r >= 1.0 ? 1.0 : 1.0 - r;
+}

@@ -1,0 +1,245 @@
+// volume_photons.comp.glsl (after the lighting prefix and volume_common.glsl):
+// photon generation and marching (seed 004, "Photon Generation", "Photon
+// Marching"), one invocation per photon of one light. Each photon's power
+// decays by e^(-sigma_t s) in every medium; what it loses to scattering is
+// deposited into the radiance grid by exact voxel traversal (a
+// track-length estimate), with its direction of travel, as fixed-point
+// integers (GL 4.5 has integer atomics only). Photons stop on opaque
+// surfaces (the light's shadow map), leave the media, or run out of steps.
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) buffer Accumulator { int acc[]; };  // 6 per voxel: rgb scattered power, luminance-weighted direction
+// 0 in, 1 scattered, 2 absorbed, 3 leaving, 4 reflected, 5 truncated
+// (fixed point); 6/7 steps, 8/9 steps in index grids (uint, low/high).
+layout(std430, binding = 1) buffer Tally { uint tally[]; };
+layout(std430, binding = 2) readonly buffer WaterPositions { vec4 water_pos[]; };
+layout(std430, binding = 3) readonly buffer WaterNormals { vec4 water_nrm[]; };
+
+uniform uint u_side;           // photons per axis
+uniform uint u_seed;
+uniform int u_source;          // 0: the light's window at y = u_window_y; 1: the water surface
+uniform vec4 u_window;         // x0, z0, x1, z1 (source 0); the water's extent (source 1)
+uniform float u_window_y;
+uniform uvec2 u_water_cells;
+uniform float u_water_ior;
+uniform vec3 u_light_color;    // linear colour x E0 (directional) or I (point), / E0 of the scene
+uniform float u_scale;         // fixed-point units per unit of scattered power
+uniform float u_tally_scale;   // fixed-point units per unit of tallied power
+uniform float u_step;          // voxels, in index grids
+uniform int u_octree;
+uniform int u_max_steps;
+uniform float u_eps;           // metres: pushes a ray past a boundary it reached
+
+float rand(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  return float(x >> 8) * (1.0 / 16777216.0);
+}
+
+bool occluded(vec3 x) {
+  if (caustix_light.mode.y == 2) {
+    vec3 d = x - caustix_light.light_position.xyz;
+    return texture(caustix_shadow_cube, vec4(d, length(d) / caustix_light.water.z - 0.002)) < 0.5;
+  }
+  vec4 s = caustix_light.world_to_shadow * vec4(x, 1.0);
+  s.xyz /= s.w;
+  if (any(lessThan(s.xyz, vec3(0.0))) || any(greaterThan(s.xyz, vec3(1.0)))) return false;
+  return texture(caustix_shadow_2d, vec3(s.xy, s.z - 0.002)) < 0.5;
+}
+
+void add_fixed(int i, float v) {
+  int q = int(floor(v * u_scale + 0.5));
+  if (q != 0) atomicAdd(acc[i], q);
+}
+
+// Length to the next boundary ahead along the straight ray: a face of the
+// radiance grid, the medium box, the water or an index grid; -1 if none.
+float next_event(vec3 x, vec3 d, bool wet) {
+  float t = 1e30;
+  vec2 r = box_range(x, d, u_grid_lo, u_grid_hi);
+  if (r.y > r.x) t = min(t, r.x > 0.0 ? r.x : (r.y > 0.0 ? r.y : 1e30));
+  if (u_fog_on != 0) {
+    r = box_range(x, d, u_fog_lo, u_fog_hi);
+    if (r.y > r.x) t = min(t, r.x > 0.0 ? r.x : (r.y > 0.0 ? r.y : 1e30));
+  }
+  if (u_water_on != 0) {
+    r = box_range(x, d, u_water_lo, u_water_hi);
+    if (r.y > r.x) t = min(t, r.x > 0.0 ? r.x : (r.y > 0.0 ? r.y : 1e30));
+  }
+  for (int g = 0; g < u_glass_count; ++g) {
+    r = box_range(voxel_of(g, x), mat3(u_world_to_voxel[g]) * d, vec3(0.0), u_glass_size[g].xyz);
+    if (r.y > r.x && r.x > 0.0) t = min(t, r.x);
+  }
+  return t >= 1e29 ? -1.0 : t + u_eps;
+}
+
+// The chord o + s d, s in [0, len], in medium m with power p at s = 0:
+// deposits sigma_s x power x length into every radiance voxel it crosses
+// (Amanatides-Woo traversal), stops where an opaque surface is met, and
+// leaves p attenuated at its end. Returns whether a surface stopped it.
+bool march_chord(vec3 o, vec3 d, float len, inout vec3 p, Medium m, inout float scattered, inout float absorbed) {
+  float end = len;
+  bool blocked = false;
+  vec2 r = box_range(o, d, u_grid_lo, u_grid_hi);
+  float a = max(r.x, 0.0), b = min(r.y, len);
+  if (any(greaterThan(m.ss, vec3(0.0))) && b > a) {
+    vec3 h = (u_grid_hi - u_grid_lo) / vec3(u_grid_n);
+    vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
+    ivec3 cell = clamp(ivec3(floor((start - u_grid_lo) / h)), ivec3(0), u_grid_n - 1);
+    ivec3 stp;
+    vec3 next, delta;
+    for (int k = 0; k < 3; ++k) {
+      stp[k] = d[k] > 0.0 ? 1 : -1;
+      if (abs(d[k]) < 1e-12) {
+        next[k] = 1e30;
+        delta[k] = 1e30;
+      } else {
+        float boundary = u_grid_lo[k] + (float(cell[k]) + (d[k] > 0.0 ? 1.0 : 0.0)) * h[k];
+        next[k] = (boundary - o[k]) / d[k];
+        delta[k] = h[k] / abs(d[k]);
+      }
+    }
+    float s = a;
+    for (int guard = 0; guard < 4096 && s < b; ++guard) {
+      int axis = next.x < next.y ? (next.x < next.z ? 0 : 2) : (next.y < next.z ? 1 : 2);
+      float e = min(next[axis], b);
+      if (e > s) {
+        if (occluded(o + d * e)) {
+          end = s;
+          blocked = true;
+          break;
+        }
+        vec3 sc = m.ss * power_length(p, m.st, s, e);
+        int v = 6 * ((cell.z * u_grid_n.y + cell.y) * u_grid_n.x + cell.x);
+        add_fixed(v, sc.r);
+        add_fixed(v + 1, sc.g);
+        add_fixed(v + 2, sc.b);
+        float l = luminance(sc);
+        add_fixed(v + 3, l * d.x);
+        add_fixed(v + 4, l * d.y);
+        add_fixed(v + 5, l * d.z);
+      }
+      s = e;
+      cell[axis] += stp[axis];
+      next[axis] += delta[axis];
+      if (cell[axis] < 0 || cell[axis] >= u_grid_n[axis]) break;
+    }
+  }
+  if (!blocked && occluded(o + d * len)) blocked = true;
+  vec3 after = p * exp(-m.st * end);
+  vec3 lost = p - after;
+  vec3 ratio = vec3(m.st.r > 0.0 ? m.ss.r / m.st.r : 0.0, m.st.g > 0.0 ? m.ss.g / m.st.g : 0.0, m.st.b > 0.0 ? m.ss.b / m.st.b : 0.0);
+  scattered += luminance(lost * ratio);
+  absorbed += luminance(lost * (1.0 - ratio));
+  p = after;
+  return blocked;
+}
+
+void tally_add(int i, float v) {
+  uint q = uint(max(floor(v * u_tally_scale + 0.5), 0.0));
+  if (q != 0u) atomicAdd(tally[i], q);
+}
+
+void count_add(int i, uint n) {
+  uint old = atomicAdd(tally[i], n);
+  if (old + n < old) atomicAdd(tally[i + 1], 1u);
+}
+
+void main() {
+  uint id = gl_GlobalInvocationID.x;
+  if (id >= u_side * u_side) return;
+  uint ix = id % u_side, iz = id / u_side;
+  // Stratified: one photon per cell of a side x side grid, jittered.
+  vec2 f = (vec2(ix, iz) + vec2(rand(id * 2u + u_seed), rand(id * 2u + 1u + u_seed * 7919u))) / float(u_side);
+  vec2 xz = mix(u_window.xy, u_window.zw, f);
+  float area = (u_window.z - u_window.x) * (u_window.w - u_window.y) / float(u_side * u_side);
+  bool point = caustix_light.mode.y == 2;
+  vec3 lp = caustix_light.light_position.xyz;
+  vec3 x, d;
+  vec3 p;
+  bool wet = false;
+  if (u_source == 0) {
+    x = vec3(xz.x, u_window_y, xz.y);
+    d = point ? normalize(x - lp) : caustix_light.light_direction.xyz;
+    float e = point ? abs(d.y) / dot(x - lp, x - lp) : abs(d.y);
+    p = u_light_color * (e * area);
+  } else {
+    // On the water surface as the caustics see it this frame (seed 004:
+    // photons start at the surface, refracted, with Fresnel).
+    vec2 c = f * vec2(u_water_cells);
+    uvec2 c0 = uvec2(min(floor(c), vec2(u_water_cells) - 1.0));
+    vec2 t = c - vec2(c0);
+    uint nx = u_water_cells.x + 1u;
+    uint i00 = c0.y * nx + c0.x, i10 = i00 + 1u, i01 = i00 + nx, i11 = i01 + 1u;
+    float y = mix(mix(water_pos[i00].y, water_pos[i10].y, t.x), mix(water_pos[i01].y, water_pos[i11].y, t.x), t.y);
+    vec3 n = normalize(mix(mix(water_nrm[i00].xyz, water_nrm[i10].xyz, t.x), mix(water_nrm[i01].xyz, water_nrm[i11].xyz, t.x), t.y));
+    x = vec3(xz.x, y, xz.y);
+    vec3 din = point ? normalize(x - lp) : caustix_light.light_direction.xyz;
+    float cos_i = -dot(din, n);
+    if (point && lp.y <= y) return;
+    if (cos_i <= 0.0) return;
+    float e = point ? abs(din.y) / dot(x - lp, x - lp) : abs(din.y);
+    float tr = 1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / u_water_ior);
+    d = refract(din, n, 1.0 / u_water_ior);
+    p = u_light_color * (e * area * tr);
+    wet = true;
+  }
+
+  float t_in = 0.0, t_sc = 0.0, t_ab = 0.0, t_lv = 0.0, t_rf = 0.0, t_tr = 0.0;
+  uint steps = 0u, grid_steps = 0u;
+  bool in_medium = false;
+  float p_start = luminance(p);
+  int it = 0;
+  for (; it < u_max_steps; ++it) {
+    vec3 u;
+    int g = glass_at(x, u);
+    vec3 x0 = x, d0 = d;
+    float tr = 1.0;
+    if (g >= 0) {
+      float c0, c1;
+      vec3 grad;
+      grid_step(g, u, x, d, u_step, u_octree != 0, 1e30, c0, c1, grad);
+      tr = surface_transmittance(g, c0, c1, d0, grad);
+      ++grid_steps;
+    } else {
+      float len = next_event(x, d, wet);
+      if (len < 0.0) break;
+      x += len * d;
+    }
+    ++steps;
+    vec3 chord = x - x0;
+    float len = length(chord);
+    vec3 cd = len > 0.0 ? chord / len : d0;
+    Medium m = medium_at(x0 + 0.5 * chord, wet);
+    bool blocked;
+    if (any(greaterThan(m.st, vec3(0.0)))) {
+      if (!in_medium) t_in += luminance(p);
+      in_medium = true;
+      blocked = march_chord(x0, cd, len, p, m, t_sc, t_ab);
+    } else {
+      if (in_medium) t_lv += luminance(p);
+      in_medium = false;
+      blocked = occluded(x);
+    }
+    if (blocked) break;
+    if (tr < 1.0) {
+      if (in_medium) t_rf += luminance(p) * (1.0 - tr);
+      p *= tr;
+    }
+    // Light above the water stops where it reaches it (the water's own
+    // photons start at its surface).
+    if (u_water_on != 0 && !wet && in_box(x, u_water_lo, u_water_hi)) break;
+    if (luminance(p) < 1e-7 * p_start) break;
+  }
+  if (in_medium) {
+    if (it >= u_max_steps) t_tr += luminance(p);
+    else t_lv += luminance(p);
+  }
+  tally_add(0, t_in);
+  tally_add(1, t_sc);
+  tally_add(2, t_ab);
+  tally_add(3, t_lv);
+  tally_add(4, t_rf);
+  tally_add(5, t_tr);
+  count_add(6, steps);
+  count_add(8, grid_steps);
+}

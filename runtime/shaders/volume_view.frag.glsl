@@ -1,0 +1,113 @@
+// volume_view.frag.glsl (after the lighting prefix and volume_common.glsl):
+// the viewing pass (seed 004, "Viewing Pass"). Each pixel's camera ray is
+// marched through the radiance grid, curved inside index grids as photons
+// are, adding sigma_s-weighted radiance L = sum p(cos a) S T ds with the
+// medium's phase function against the photons' mean direction, and the
+// transmittance T = e^(-sum sigma_t ds); it stops behind the opaque scene
+// (its depth at the point's pixel). Output: L x u_scale, plus the scene's
+// colour x T when composited (blending adds further lights' L).
+layout(location = 0) out vec4 o_color;
+
+layout(binding = 4) uniform sampler3D u_source;     // per light: rgb S (volume_resolve)
+layout(binding = 5) uniform sampler3D u_direction;  // per light: mean direction of travel
+layout(binding = 6) uniform sampler2D u_scene_depth;
+layout(binding = 7) uniform sampler2D u_scene_color;
+uniform mat4 u_view_proj, u_inv_view_proj;
+uniform vec2 u_viewport_origin, u_viewport_size;
+uniform int u_composite;        // 1: colour x T + L; 0: L only
+uniform int u_water_excluded;   // composite: the water's own attenuation is the water surface's
+uniform float u_scale;
+uniform float u_view_step;      // metres
+uniform float u_step;           // voxels, in index grids
+uniform int u_octree;
+uniform int u_max_steps;
+
+float rand(uvec2 p) {
+  uint x = p.x * 1973u + p.y * 9277u + 26699u;
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  return float(x >> 8) * (1.0 / 16777216.0);
+}
+
+// Whether x lies behind the opaque scene as the camera sees it.
+bool behind_scene(vec3 x) {
+  vec4 c = u_view_proj * vec4(x, 1.0);
+  if (c.w <= 0.0) return false;
+  vec3 ndc = c.xyz / c.w;
+  vec2 uv = 0.5 * ndc.xy + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
+  return 0.5 * ndc.z + 0.5 > texture(u_scene_depth, uv).r;
+}
+
+void main() {
+  vec2 uv = (gl_FragCoord.xy - u_viewport_origin) / u_viewport_size;
+  vec4 a = u_inv_view_proj * vec4(2.0 * uv - 1.0, -1.0, 1.0);
+  vec4 b = u_inv_view_proj * vec4(2.0 * uv - 1.0, 1.0, 1.0);
+  vec3 x = a.xyz / a.w;
+  vec3 d = normalize(b.xyz / b.w - x);
+  float far_t = length(b.xyz / b.w - x);
+
+  // Start where the ray meets the box of the media and index grids.
+  vec3 lo = u_grid_lo, hi = u_grid_hi;
+  if (u_fog_on != 0) { lo = min(lo, u_fog_lo); hi = max(hi, u_fog_hi); }
+  if (u_water_on != 0) { lo = min(lo, u_water_lo); hi = max(hi, u_water_hi); }
+  vec2 r = box_range(x, d, lo, hi);
+  float t0 = max(r.x, 0.0), t1 = min(r.y, far_t);
+  for (int g = 0; g < u_glass_count; ++g) {
+    vec2 rg = box_range(voxel_of(g, x), mat3(u_world_to_voxel[g]) * d, vec3(0.0), u_glass_size[g].xyz);
+    if (rg.y > rg.x) { t0 = min(t0, max(rg.x, 0.0)); t1 = max(t1, min(rg.y, far_t)); }
+  }
+  vec3 L = vec3(0.0);
+  vec3 tau = vec3(0.0), tau_scene = vec3(0.0);  // optical depth: all media; those the scene's colour takes
+  float tr = 1.0;                                 // Fresnel transmittance at object surfaces crossed
+  if (t1 > t0) {
+    // Jittered start against banding (deterministic per pixel).
+    float jitter = rand(uvec2(gl_FragCoord.xy));
+    x += d * t0;
+    float travelled = t0;
+    float pending = jitter * u_view_step;  // first sample after a partial step
+    for (int it = 0; it < u_max_steps && travelled < t1; ++it) {
+      vec3 u;
+      int g = glass_at(x, u);
+      vec3 x0 = x, d0 = d;
+      float len;
+      if (g >= 0) {
+        float c0, c1;
+        vec3 grad;
+        len = grid_step(g, u, x, d, u_step, u_octree != 0, u_view_step, c0, c1, grad);
+        tr *= surface_transmittance(g, c0, c1, d0, grad);
+      } else {
+        len = pending > 0.0 ? pending : u_view_step;
+        pending = 0.0;
+        x += len * d;
+      }
+      travelled += len;
+      vec3 mid = 0.5 * (x0 + x);
+      if (behind_scene(x)) {
+        // Up to the surface: the part of the step in front of it.
+        len *= 0.5;
+        mid = x0 + 0.25 * (x - x0);
+        travelled = 1e30;
+      }
+      bool wet = u_water_on != 0 && mid.y < u_water_level;
+      Medium m = medium_at(mid, wet);
+      if (any(greaterThan(m.ss, vec3(0.0)))) {
+        vec3 gc = (mid - u_grid_lo) / (u_grid_hi - u_grid_lo);
+        if (all(greaterThanEqual(gc, vec3(0.0))) && all(lessThanEqual(gc, vec3(1.0)))) {
+          vec3 S = texture(u_source, gc).rgb;
+          vec3 md = texture(u_direction, gc).xyz;
+          float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
+          // The step's own attenuation: the source at its midpoint.
+          L += tr * phase_value(m, cos_a) * S * exp(-(tau + 0.5 * m.st * len)) * len;
+        }
+      }
+      tau += m.st * len;
+      if (!(wet && u_water_excluded != 0)) tau_scene += m.st * len;
+    }
+  }
+  if (u_composite != 0) {
+    vec3 c = texelFetch(u_scene_color, ivec2(gl_FragCoord.xy - u_viewport_origin), 0).rgb;
+    o_color = vec4(c * exp(-tau_scene) * tr + L * u_scale, 1.0);
+  } else {
+    o_color = vec4(L * u_scale, 1.0);
+  }
+}

@@ -1,0 +1,514 @@
+#include "volume.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "caustix_shaders.h"
+#include "shader_text.h"
+#include "water_surface.h"
+
+namespace caustix::runtime {
+namespace {
+
+glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+
+struct Box {
+  glm::vec3 lo{1e30f}, hi{-1e30f};
+  bool empty() const { return !(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z); }
+  void add(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+};
+
+// sigma_s (w: Schlick k) and sigma_t (w: phase) as the shaders read them.
+struct Coefficients {
+  glm::vec4 ss{0.0f}, st{0.0f, 0.0f, 0.0f, 1.0f};
+  bool scatters() const { return ss.x > 0 || ss.y > 0 || ss.z > 0; }
+  bool any() const { return st.x > 0 || st.y > 0 || st.z > 0; }
+};
+
+Coefficients coefficients(const Vec3f& absorption, const Scattering& s) {
+  Coefficients c;
+  c.ss = glm::vec4(to_glm(s.coefficient), s.phase == Phase::kSchlick ? s.anisotropy : 0.0f);
+  c.st = glm::vec4(to_glm(s.coefficient) + to_glm(absorption), s.phase == Phase::kSchlick ? 2.0f : 1.0f);
+  return c;
+}
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+constexpr int kTallyWords = 16;  // per light: see volume_photons.comp.glsl
+constexpr int kMaxSteps = 4096;
+constexpr GLuint kGridUnit = 0, kSourceUnit = 4, kDirectionUnit = 5, kDepthUnit = 6, kColorUnit = 7;
+
+}  // namespace
+
+struct VolumeEngine::Impl {
+  struct Glass {
+    std::uint32_t object;
+    gl::Texture texture;  // RG16: coverage, octree level / 15
+    glm::vec3 size;
+    glm::mat4 voxel_to_object{1.0f};
+    float n_out, n_in, voxel;
+    Coefficients c;
+    bool under_water = false;
+  };
+  struct PerLight {
+    gl::Texture source, direction;
+    gl::Query march, resolve;
+    bool timed = false;
+    double scale = 1, tally_scale = 1;  // fixed-point units per unit of power (light units)
+    std::uint64_t photons = 0;
+  };
+  std::vector<Glass> glass;
+  std::optional<Box> fog_box, water_box;
+  Coefficients fog, water;
+  float water_level = 0, water_ior = 1.33f;
+  Box grid_box;  // the radiance grid: where something scatters
+  glm::ivec3 grid_n{0};
+  std::uint32_t grid_option = 0;
+  float e0 = 1;
+  gl::Program photons, resolve, view;
+  gl::Buffer accumulator, tally;
+  gl::Texture dummy_3d, depth_copy, color_copy;
+  int copy_w = 0, copy_h = 0;
+  gl::VertexArray empty_vao;
+  std::vector<PerLight> lights;
+  std::uint64_t index_bytes = 0;
+  bool ran = false;
+
+  std::uint64_t voxels() const { return std::uint64_t(grid_n.x) * std::uint64_t(grid_n.y) * std::uint64_t(grid_n.z); }
+
+  glm::mat4 world_to_voxel(const SceneDesc& scene, const Glass& g) const {
+    return glm::inverse(glm::make_mat4(scene.objects[g.object].transform.data()) * g.voxel_to_object);
+  }
+
+  // The uniforms of volume_common.glsl.
+  void set_media(const gl::Program& p, const SceneDesc& scene) const {
+    p.set("u_glass_count", static_cast<int>(glass.size()));
+    for (std::size_t i = 0; i < glass.size(); ++i) {
+      const Glass& g = glass[i];
+      const char k[4] = {'[', static_cast<char>('0' + i), ']', 0};  // i < kMaxObjects
+      auto name = [&k](const char* base) { return std::string(base) + k; };
+      const glm::mat4 model = glm::make_mat4(scene.objects[g.object].transform.data());
+      p.set(name("u_world_to_voxel").c_str(), world_to_voxel(scene, g));
+      p.set(name("u_glass_ior").c_str(), glm::vec4(g.n_out, g.n_in, g.voxel * glm::length(glm::vec3(model[0])), 1.0f));
+      p.set(name("u_glass_size").c_str(), glm::vec4(g.size, 0.0f));
+      p.set(name("u_glass_ss").c_str(), g.c.ss);
+      p.set(name("u_glass_st").c_str(), g.c.st);
+    }
+    p.set("u_fog_on", fog_box ? 1 : 0);
+    if (fog_box) {
+      p.set("u_fog_lo", fog_box->lo);
+      p.set("u_fog_hi", fog_box->hi);
+      p.set("u_fog_ss", fog.ss);
+      p.set("u_fog_st", fog.st);
+    }
+    p.set("u_water_on", water_box ? 1 : 0);
+    if (water_box) {
+      p.set("u_water_lo", water_box->lo);
+      p.set("u_water_hi", water_box->hi);
+      p.set("u_water_level", water_level);
+      p.set("u_water_ss", water.ss);
+      p.set("u_water_st", water.st);
+    }
+    p.set("u_grid_lo", grid_box.lo);
+    p.set("u_grid_hi", grid_box.hi);
+    glProgramUniform3i(p.id(), p.loc("u_grid_n"), grid_n.x, grid_n.y, grid_n.z);
+  }
+
+  void bind_index_grids() const {
+    for (GLuint u = 0; u < kMaxObjects; ++u) {
+      glBindTextureUnit(kGridUnit + u, u < glass.size() ? glass[u].texture.get() : dummy_3d.get());
+    }
+  }
+
+  // World box of object g's index grid at its current transform.
+  Box grid_world_box(const SceneDesc& scene, const Glass& g) const {
+    const glm::mat4 m = glm::make_mat4(scene.objects[g.object].transform.data()) * g.voxel_to_object;
+    Box b;
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner((c & 1) ? g.size.x : 0.0f, (c & 2) ? g.size.y : 0.0f, (c & 4) ? g.size.z : 0.0f);
+      const glm::vec3 w(m * glm::vec4(corner, 1.0f));
+      b.lo = glm::min(b.lo, w);
+      b.hi = glm::max(b.hi, w);
+    }
+    return b;
+  }
+
+  // The radiance grid's box: where something scatters.
+  Box scattering_box(const SceneDesc& scene) const {
+    Box b;
+    if (fog_box && fog.scatters()) b.add(*fog_box);
+    if (water_box && water.scatters()) b.add(*water_box);
+    for (const Glass& g : glass) {
+      if (g.c.scatters()) b.add(grid_world_box(scene, g));
+    }
+    return b;
+  }
+};
+
+VolumeEngine::~VolumeEngine() = default;
+
+Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scene, const std::vector<IndexGrid>& grids,
+                                                           const std::string& lighting_prefix) {
+  if (!scene_scatters(scene)) return std::unique_ptr<VolumeEngine>();
+  std::unique_ptr<VolumeEngine> e(new VolumeEngine());
+  e->impl_ = std::make_unique<Impl>();
+  Impl& s = *e->impl_;
+  if (grids.size() > kMaxObjects) {
+    return make_error(ErrorCode::kUsage, "the scene has " + std::to_string(grids.size()) + " transparent objects in media; the runtime's volume effect takes at most " +
+                                             std::to_string(kMaxObjects));
+  }
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kDirectional) {
+      s.e0 = l.irradiance;
+      break;
+    }
+  }
+  if (!(s.e0 > 0)) s.e0 = 1;
+  if (scene.medium) {
+    const auto& x = scene.medium->extent;
+    s.fog_box = Box{{x[0], x[1], x[2]}, {x[3], x[4], x[5]}};
+    s.fog = coefficients(scene.medium->absorption, scene.medium->scattering);
+  }
+  if (scene.water) {
+    const Water& w = *scene.water;
+    float amplitude = 0;
+    for (const Wave& wave : w.waves) amplitude += std::fabs(wave.amplitude);
+    float floor_y = w.level;
+    for (const Object& o : scene.objects) {
+      const MeshInfo& mi = scene.meshes[o.mesh_index];
+      const glm::mat4 m = glm::make_mat4(o.transform.data());
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
+                               (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2]);
+        floor_y = std::min(floor_y, (m * glm::vec4(corner, 1.0f)).y);
+      }
+    }
+    s.water_box = Box{{w.extent[0], floor_y - 0.01f, w.extent[1]}, {w.extent[2], w.level + amplitude + 1e-3f, w.extent[3]}};
+    s.water = coefficients(w.absorption, w.scattering);
+    s.water_level = w.level;
+    s.water_ior = w.ior;
+  }
+  s.dummy_3d = gl::make_texture(GL_TEXTURE_3D);
+  glTextureStorage3D(s.dummy_3d.get(), 1, GL_RG16, 1, 1, 1);
+  glClearTexImage(s.dummy_3d.get(), 0, GL_RG, GL_UNSIGNED_SHORT, nullptr);
+  for (const IndexGrid& g : grids) {
+    Impl::Glass gl_grid;
+    gl_grid.object = g.object;
+    gl_grid.size = glm::vec3(g.size[0], g.size[1], g.size[2]);
+    gl_grid.voxel_to_object = glm::scale(glm::translate(glm::mat4(1.0f), to_glm(g.origin)), glm::vec3(g.voxel));
+    gl_grid.n_out = g.ior_outside;
+    gl_grid.n_in = g.ior_inside;
+    gl_grid.voxel = g.voxel;
+    const Object& o = scene.objects[g.object];
+    gl_grid.c = coefficients(o.material.absorption, o.material.scattering);
+    // Coverage and level interleaved: the level as a 16-bit fraction of 15
+    // (exact after rounding), read with texelFetch.
+    std::vector<std::uint16_t> texels(2 * g.voxels());
+    for (std::size_t v = 0; v < g.voxels(); ++v) {
+      texels[2 * v] = g.coverage[v];
+      texels[2 * v + 1] = static_cast<std::uint16_t>(g.level[v] * 4369u);
+    }
+    gl_grid.texture = gl::make_texture(GL_TEXTURE_3D);
+    const GLuint t = gl_grid.texture.get();
+    glTextureStorage3D(t, 1, GL_RG16, static_cast<GLsizei>(g.size[0]), static_cast<GLsizei>(g.size[1]), static_cast<GLsizei>(g.size[2]));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t, 0, 0, 0, 0, static_cast<GLsizei>(g.size[0]), static_cast<GLsizei>(g.size[1]), static_cast<GLsizei>(g.size[2]),
+                        GL_RG, GL_UNSIGNED_SHORT, texels.data());
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum w : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTextureParameteri(t, w, GL_CLAMP_TO_BORDER);
+    const float border[4] = {0, 0, 0, 0};
+    glTextureParameterfv(t, GL_TEXTURE_BORDER_COLOR, border);
+    s.index_bytes += 4 * g.voxels();
+    s.glass.push_back(std::move(gl_grid));
+  }
+  if (s.water_box) {
+    for (Impl::Glass& g : s.glass) g.under_water = s.grid_world_box(scene, g).hi.y < s.water_level;
+  }
+
+  const std::string common = lighting_prefix + shaders::k_volume_common_glsl;
+  const std::string photons_src = common + shaders::k_volume_photons_comp_glsl;
+  const std::string view_src = common + shaders::k_volume_view_frag_glsl;
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.photons, "volume_photons", photons_src.c_str()},
+                                              {&s.resolve, "volume_resolve", shaders::k_volume_resolve_comp_glsl},
+                                              {&s.view, "volume_view", shaders::k_fullscreen_vert_glsl, view_src.c_str()}}));
+  s.empty_vao = gl::make_vertex_array();
+  s.lights.resize(scene.lights.size());
+  for (Impl::PerLight& l : s.lights) {
+    l.march = gl::make_query(GL_TIME_ELAPSED);
+    l.resolve = gl::make_query(GL_TIME_ELAPSED);
+  }
+  s.tally = gl::make_buffer();
+  glNamedBufferStorage(s.tally.get(), GLsizeiptr{4} * kTallyWords * static_cast<GLsizeiptr>(std::max<std::size_t>(1, s.lights.size())), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("volume set-up"));
+  return e;
+}
+
+Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o) {
+  Impl& s = *impl_;
+  s.ran = false;
+  if (!o.enabled) return Status::success();
+  if (o.photons < 1 || o.photons > 8192 || o.grid < 2 || o.grid > 1024 || !(o.step >= 0.05f && o.step <= 16.0f) ||
+      !(o.view_step >= 0.05f && o.view_step <= 16.0f)) {
+    return make_error(ErrorCode::kUsage, "volume options: photons 1..8192 per axis, grid 2..1024, step and view step 0.05..16 voxels");
+  }
+  const Box box = s.scattering_box(scene);
+  if (box.empty()) return Status::success();
+  const glm::vec3 ext = box.hi - box.lo;
+  const float side = std::max({ext.x, ext.y, ext.z}) / static_cast<float>(o.grid);
+  glm::ivec3 n;
+  for (int k = 0; k < 3; ++k) n[k] = std::max(1, static_cast<int>(std::ceil(ext[k] / side - 1e-4f)));
+  const std::uint64_t voxels = std::uint64_t(n.x) * std::uint64_t(n.y) * std::uint64_t(n.z);
+  if (voxels > kMaxRadianceVoxels) {
+    return make_error(ErrorCode::kUsage, "radiance grid " + std::to_string(n.x) + " x " + std::to_string(n.y) + " x " + std::to_string(n.z) +
+                                             " voxels exceeds the limit of " + std::to_string(kMaxRadianceVoxels) + " (" +
+                                             std::to_string(kMaxRadianceVoxels * 56 >> 20) + " MiB per light); lower the volume grid");
+  }
+  s.grid_box = box;
+  if (n != s.grid_n) {
+    s.grid_n = n;
+    s.accumulator = gl::make_buffer();
+    glNamedBufferStorage(s.accumulator.get(), static_cast<GLsizeiptr>(voxels * 6 * 4), nullptr, 0);
+    for (Impl::PerLight& l : s.lights) {
+      for (auto [tex, format] : {std::pair{&l.source, GL_RGBA32F}, std::pair{&l.direction, GL_RGBA16F}}) {
+        *tex = gl::make_texture(GL_TEXTURE_3D);
+        glTextureStorage3D(tex->get(), 1, format, n.x, n.y, n.z);
+        glTextureParameteri(tex->get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(tex->get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        for (GLenum w : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTextureParameteri(tex->get(), w, GL_CLAMP_TO_EDGE);
+      }
+    }
+  }
+  glClearNamedBufferData(s.tally.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  for (Impl::PerLight& l : s.lights) {
+    l.timed = false;
+    l.photons = 0;
+  }
+  s.ran = true;
+  return gl::check_gl("volume grids");
+}
+
+Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& o, const WaterSurface* water,
+                                  const std::function<void()>& bind_light) {
+  Impl& s = *impl_;
+  if (!s.ran) return Status::success();
+  Impl::PerLight& pl = s.lights[li];
+  const Light& light = scene.lights[li];
+  const bool point = light.type == LightType::kPoint;
+  const glm::vec3 lp = to_glm(light.position);
+  const glm::vec3 dir = point ? glm::vec3(0, -1, 0) : glm::normalize(to_glm(light.direction));
+  const float power = point ? light.intensity : light.irradiance;
+  const glm::vec3 color = to_glm(light.color) * power;
+
+  // Sources (seed 004 "Photon Generation"): the light's window over what
+  // lies in the air (the medium box, objects above any water) on a plane
+  // above it, and the water surface when the water or an object under it
+  // scatters.
+  Box air;
+  if (s.fog_box) air.add(*s.fog_box);
+  bool under_scatters = s.water_box && s.water.scatters();
+  for (const Impl::Glass& g : s.glass) {
+    if (!g.under_water) air.add(s.grid_world_box(scene, g));
+    under_scatters = under_scatters || (g.under_water && g.c.scatters());
+  }
+  struct Source {
+    int kind;
+    glm::vec4 window;
+    float y = 0;
+    double bound = 0;  // largest power per unit of the window's area
+  };
+  std::vector<Source> sources;
+  if (!air.empty()) {
+    const float y_top = air.hi.y + 1e-3f;
+    glm::vec4 win(1e30f, 1e30f, -1e30f, -1e30f);
+    bool ok = !point || lp.y > y_top;
+    if (ok && !point && !(dir.y < 0.0f)) ok = false;
+    for (int c = 0; c < 8 && ok; ++c) {
+      const glm::vec3 corner((c & 1) ? air.hi.x : air.lo.x, (c & 2) ? air.hi.y : air.lo.y, (c & 4) ? air.hi.z : air.lo.z);
+      // Back along the light's ray to the plane y = y_top.
+      const glm::vec3 q = point ? lp + (corner - lp) * ((lp.y - y_top) / std::max(lp.y - corner.y, 1e-6f))
+                                : corner + dir * ((y_top - corner.y) / dir.y);
+      win = glm::vec4(std::min(win.x, q.x), std::min(win.y, q.z), std::max(win.z, q.x), std::max(win.w, q.z));
+    }
+    if (ok) sources.push_back({0, win, y_top, point ? 1.0 / double(lp.y - y_top) / double(lp.y - y_top) : -dir.y});
+  }
+  if (under_scatters && water) {
+    const Water& w = water->water();
+    const bool lit = point ? lp.y > s.water_box->hi.y : dir.y < 0.0f;
+    if (lit) {
+      const double d = lp.y - s.water_box->hi.y;
+      sources.push_back({1, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y});
+    }
+  }
+  // Fixed point: no voxel can hold more than all the power emitted.
+  double total = 0;
+  for (const Source& src : sources) total += src.bound * double(src.window.z - src.window.x) * double(src.window.w - src.window.y);
+  const double cmax = std::max({color.r, color.g, color.b, 1e-30f});
+  pl.scale = std::ldexp(1.0, 30) / std::max(total * cmax, 1e-30);
+  pl.tally_scale = std::ldexp(1.0, 28) / std::max(total * std::max(double(luminance(color)), 1e-30), 1e-30);
+
+  glClearNamedBufferData(s.accumulator.get(), GL_R32I, GL_RED_INTEGER, GL_INT, nullptr);
+  bind_light();
+  s.bind_index_grids();
+  const gl::Program& p = s.photons;
+  p.use();
+  s.set_media(p, scene);
+  const glm::vec3 ext = s.grid_box.hi - s.grid_box.lo;
+  p.set("u_seed", 0x9E3779B9u * (li + 1));
+  p.set("u_light_color", color);
+  p.set("u_scale", static_cast<float>(pl.scale));
+  p.set("u_tally_scale", static_cast<float>(pl.tally_scale));
+  p.set("u_step", o.step);
+  p.set("u_octree", o.octree ? 1 : 0);
+  p.set("u_max_steps", kMaxSteps);
+  p.set("u_eps", 1e-5f * std::max({ext.x, ext.y, ext.z}));
+  p.set("u_side", o.photons);
+  p.set("u_water_ior", s.water_ior);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, s.accumulator.get());
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, s.tally.get(), GLintptr{4} * kTallyWords * li, GLsizeiptr{4} * kTallyWords);
+  if (water) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, water->positions_buffer());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, water->normals_buffer());
+    glProgramUniform2ui(p.id(), p.loc("u_water_cells"), water->water().cells[0], water->water().cells[1]);
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.tally.get());  // never read
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.tally.get());
+  }
+  const GLuint groups = (o.photons * o.photons + 63) / 64;
+  glBeginQuery(GL_TIME_ELAPSED, pl.march.get());
+  for (const Source& src : sources) {
+    p.set("u_source", src.kind);
+    p.set("u_window", src.window);
+    p.set("u_window_y", src.y);
+    glDispatchCompute(groups, 1, 1);
+    pl.photons += std::uint64_t{o.photons} * o.photons;
+  }
+  glEndQuery(GL_TIME_ELAPSED);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+  glBeginQuery(GL_TIME_ELAPSED, pl.resolve.get());
+  s.resolve.use();
+  glProgramUniform3i(s.resolve.id(), s.resolve.loc("u_grid_n"), s.grid_n.x, s.grid_n.y, s.grid_n.z);
+  const glm::vec3 h = ext / glm::vec3(s.grid_n);
+  s.resolve.set("u_inv_scale_volume", static_cast<float>(1.0 / (pl.scale * double(h.x) * double(h.y) * double(h.z))));
+  glBindImageTexture(0, pl.source.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, pl.direction.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glDispatchCompute(static_cast<GLuint>((s.voxels() + 63) / 64), 1, 1);
+  glEndQuery(GL_TIME_ELAPSED);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  pl.timed = true;
+  return gl::check_gl("volume photons");
+}
+
+void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLuint scene_color, GLuint scene_depth, float scale,
+                        const VolumeOptions& o) {
+  Impl& s = *impl_;
+  if (!s.ran) return;
+  GLint vp[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, vp);
+  GLint w = 0, h = 0;
+  glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &w);
+  glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &h);
+  if (w != s.copy_w || h != s.copy_h) {
+    s.color_copy = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(s.color_copy.get(), 1, GL_RGBA32F, w, h);
+    s.depth_copy = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(s.depth_copy.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    for (GLuint tex : {s.color_copy.get(), s.depth_copy.get()}) {
+      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    s.copy_w = w;
+    s.copy_h = h;
+  }
+  if (scene_color) glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, 0, 0, 0, s.color_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, 0, 0, 0, s.depth_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+
+  const gl::Program& p = s.view;
+  p.use();
+  s.set_media(p, scene);
+  const glm::vec3 hv = (s.grid_box.hi - s.grid_box.lo) / glm::vec3(s.grid_n);
+  p.set("u_view_proj", view_proj);
+  p.set("u_inv_view_proj", glm::inverse(view_proj));
+  p.set("u_viewport_origin", glm::vec2(vp[0], vp[1]));
+  p.set("u_viewport_size", glm::vec2(vp[2], vp[3]));
+  p.set("u_water_excluded", 1);
+  p.set("u_scale", scale);
+  p.set("u_view_step", o.view_step * std::min({hv.x, hv.y, hv.z}));
+  p.set("u_step", o.step);
+  p.set("u_octree", o.octree ? 1 : 0);
+  p.set("u_max_steps", kMaxSteps);
+  s.bind_index_grids();
+  glBindTextureUnit(kDepthUnit, s.depth_copy.get());
+  glBindTextureUnit(kColorUnit, s.color_copy.get());
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CULL_FACE);
+  glBindVertexArray(s.empty_vao.get());
+  for (std::size_t li = 0; li < s.lights.size(); ++li) {
+    const bool composite = scene_color != 0 && li == 0;
+    p.set("u_composite", composite ? 1 : 0);
+    if (composite) {
+      glDisable(GL_BLEND);
+    } else {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+    }
+    glBindTextureUnit(kSourceUnit, s.lights[li].source.get());
+    glBindTextureUnit(kDirectionUnit, s.lights[li].direction.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  glBindVertexArray(0);
+}
+
+VolumeStats VolumeEngine::stats(bool read_gpu) {
+  Impl& s = *impl_;
+  VolumeStats st;
+  st.active = s.ran;
+  st.grid_size = {static_cast<std::uint32_t>(s.grid_n.x), static_cast<std::uint32_t>(s.grid_n.y), static_cast<std::uint32_t>(s.grid_n.z)};
+  st.grid_bytes = gpu_bytes();
+  if (!s.ran || !read_gpu) return st;
+  std::vector<std::uint32_t> t(kTallyWords * s.lights.size());
+  glGetNamedBufferSubData(s.tally.get(), 0, static_cast<GLsizeiptr>(t.size() * 4), t.data());
+  for (std::size_t li = 0; li < s.lights.size(); ++li) {
+    const Impl::PerLight& l = s.lights[li];
+    if (!l.timed) continue;
+    const std::uint32_t* w = &t[kTallyWords * li];
+    const double k = 1.0 / (l.tally_scale * s.e0);
+    st.photons += l.photons;
+    st.power_in += w[0] * k;
+    st.scattered += w[1] * k;
+    st.absorbed += w[2] * k;
+    st.leaving += w[3] * k;
+    st.reflected += w[4] * k;
+    st.truncated += w[5] * k;
+    st.steps += w[6] + (std::uint64_t{w[7]} << 32);
+    st.grid_steps += w[8] + (std::uint64_t{w[9]} << 32);
+    st.deposited += w[10] / (l.scale * s.e0);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(l.march.get(), GL_QUERY_RESULT, &ns);
+    st.march_ms += static_cast<double>(ns) * 1e-6;
+    glGetQueryObjectui64v(l.resolve.get(), GL_QUERY_RESULT, &ns);
+    st.resolve_ms += static_cast<double>(ns) * 1e-6;
+  }
+  return st;
+}
+
+std::uint64_t VolumeEngine::gpu_bytes() const {
+  const Impl& s = *impl_;
+  // Accumulator (6 x 4 B) and per light RGBA32F + RGBA16F per voxel; index grids RG16.
+  return s.voxels() * (24 + 24 * s.lights.size()) + s.index_bytes;
+}
+
+}  // namespace caustix::runtime

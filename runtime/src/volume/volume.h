@@ -1,0 +1,68 @@
+#pragma once
+// Volume caustics and single scattering in participating media (seed 004:
+// Sun, Zhou, Stollnitz, Shi and Guo, "Interactive Relighting of Dynamic
+// Refractive Objects", SIGGRAPH 2008; docs/volume.md). Per light, photons
+// are generated over the window of the light that covers the media (or on
+// the animated water surface, refracted with Fresnel), marched along
+// curved paths through the transparent objects' baked index grids with
+// steps as large as their octrees allow (volume_photons.comp.glsl), and
+// deposit the power they lose to scattering, with their direction, into a
+// radiance grid over the media; the viewing pass marches the camera's
+// rays through it (volume_view.frag.glsl). Internal to the runtime.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/index_grid.h"
+#include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/gl_objects.h"
+
+namespace caustix::runtime {
+
+class WaterSurface;
+
+class VolumeEngine {
+ public:
+  // At most this many transparent objects in a scene with media (their
+  // index grids are sampled from one sampler array).
+  static constexpr std::size_t kMaxObjects = 4;
+
+  // Null (and no error) when nothing in the scene scatters. `grids` are
+  // the scene's IGRD chunks (one per transparent object); `lighting_prefix`
+  // is #version plus caustix.glsl with the engine's bindings.
+  static Result<std::unique_ptr<VolumeEngine>> create(const SceneDesc& scene, const std::vector<IndexGrid>& grids,
+                                                      const std::string& lighting_prefix);
+  ~VolumeEngine();
+
+  // Clears last frame's statistics; re-allocates the grids if the options
+  // changed their size (kUsage beyond kMaxRadianceVoxels).
+  Status begin_frame(const SceneDesc& scene, const VolumeOptions& options);
+  // Photons of light `li` into its radiance grid. `bind_light` binds the
+  // light's block and shadow maps (caustix.glsl). `water` is the animated
+  // surface when the scene has water.
+  Status update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& options, const WaterSurface* water,
+                      const std::function<void()>& bind_light);
+  // The viewing pass into the bound framebuffer and viewport, through
+  // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
+  // the viewport's size) each pixel becomes colour x T + L x scale, else
+  // L x scale is added; rays stop behind `scene_depth`.
+  void draw(const SceneDesc& scene, const glm::mat4& view_proj, GLuint scene_color, GLuint scene_depth, float scale,
+            const VolumeOptions& options);
+
+  VolumeStats stats(bool read_gpu);
+  std::uint64_t gpu_bytes() const;
+
+ private:
+  VolumeEngine() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caustix::runtime
