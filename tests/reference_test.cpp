@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "media_oracle.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
 
@@ -167,26 +168,8 @@ TEST(Reference, GlassBallFocusesWhereTheBallLensFormulaDoes) {
 
 // --- media (issue 19) ---------------------------------------------------------
 
-// A fog box [-1, 1] x [0, 2] x [-1, 1] over a bare floor, sun straight
-// down: the in-scatter image along -z is, per pixel, the pixel-box average
-// over y of sigma_s p E0 e^(-sigma_t (2 - y)) (1 - e^(-2 sigma_t)) / sigma_t
-// (the light's path down to y, the view's path out of the box's front).
-nlohmann::json fog_box(double scattering, double absorption) {
-  nlohmann::json j = test::canonical_scene("glass_ball");
-  j["objects"].erase(1);
-  j["lights"][0]["irradiance"] = 2.0;
-  j["medium"] = {{"extent", {-1, 0, -1, 1, 2, 1}}, {"scattering", scattering}, {"absorption", absorption}};
-  return j;
-}
-
-double fog_pixel(double ss, double st, double phase, double ya, double yb) {
-  const double height = yb - ya;
-  ya = std::clamp(ya, 0.0, 2.0);
-  yb = std::clamp(yb, 0.0, 2.0);
-  if (yb <= ya) return 0;
-  const double light = (std::exp(-st * (2 - yb)) - std::exp(-st * (2 - ya))) / st;  // integral over y
-  return ss * phase * light / height * (1 - std::exp(-2 * st)) / st;
-}
+using test::fog_box;
+using test::fog_pixel;
 
 TEST(ReferenceMedia, FogWithoutObjectsIsTheAnalyticIntegral) {
   const double ss = 0.5, sa = 0.25, st = ss + sa;
@@ -317,11 +300,7 @@ TEST(ReferenceMedia, FogBallConeConvergesToTheBallLensFocus) {
 // transmittance at normal incidence, 4 m of water between the point's
 // z and the camera side of the water's extent.
 TEST(ReferenceMedia, FlatScatteringWaterIsUniformAndAnalytic) {
-  nlohmann::json j = test::canonical_scene("flat_pool");
-  j["lights"][0]["direction"] = {0, -1, 0};
-  j["water"]["scattering"] = 0.4;
-  j["water"]["absorption"] = 0.1;
-  j["water"]["grid"]["extent"] = {-2, -2, 2, 2};
+  const nlohmann::json j = test::scattering_flat_pool();
   InscatterRequest q;
   q.scene_path = test::write_scene(j, "reference_water");
   q.x0 = -1.5, q.y0 = 0, q.x1 = 1.5, q.y1 = 2.5;
@@ -330,12 +309,10 @@ TEST(ReferenceMedia, FlatScatteringWaterIsUniformAndAnalytic) {
   InscatterStats stats;
   auto img = trace_inscatter(q, &stats);
   ASSERT_TRUE(img.ok()) << img.error().message;
-  const double ss = 0.4, st = 0.5, level = 2.0, t0 = fresnel_t(1.0, 1.33);
+  const double ss = 0.4, st = 0.5, t0 = fresnel_t(1.0, 1.33);
   const double dy = 2.5 / 20;
   for (int row = 0; row < 20; ++row) {
-    const double yb = std::min(2.5 - row * dy, level), ya = 2.5 - (row + 1) * dy;
-    const double light = yb > ya ? (std::exp(-st * (level - yb)) - std::exp(-st * (level - ya))) / st / dy : 0.0;
-    const double expected = ss / (4 * kPi) * t0 * light * (1 - std::exp(-4 * st)) / st;
+    const double expected = test::flat_water_pixel(2.5 - (row + 1) * dy, 2.5 - row * dy);
     for (int col = 0; col < 12; ++col) {
       const std::size_t i = std::size_t(row) * 12 + std::size_t(col);
       EXPECT_NEAR(img->rgb[3 * i + 1], expected, 4 * img->sigma[i] + 1e-6) << "row " << row << " col " << col;

@@ -181,7 +181,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     const Water& w = *scene.water;
     float amplitude = 0;
     for (const Wave& wave : w.waves) amplitude += std::fabs(wave.amplitude);
-    float floor_y = w.level;
+    float floor_y = w.level;  // the lowest object: nothing below it is seen
     for (const Object& o : scene.objects) {
       const MeshInfo& mi = scene.meshes[o.mesh_index];
       const glm::mat4 m = glm::make_mat4(o.transform.data());
@@ -191,7 +191,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
         floor_y = std::min(floor_y, (m * glm::vec4(corner, 1.0f)).y);
       }
     }
-    s.water_box = Box{{w.extent[0], floor_y - 0.01f, w.extent[1]}, {w.extent[2], w.level + amplitude + 1e-3f, w.extent[3]}};
+    s.water_box = Box{{w.extent[0], floor_y, w.extent[1]}, {w.extent[2], w.level + amplitude + 1e-3f, w.extent[3]}};
     s.water = coefficients(w.absorption, w.scattering);
     s.water_level = w.level;
     s.water_ior = w.ior;

@@ -1,0 +1,62 @@
+#pragma once
+// Analytic single scattering for the media tests of the reference
+// (reference_test.cpp) and the runtime (volume_test.cpp): the same scenes
+// and the same closed forms, so both are held to one oracle.
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "optics_oracle.h"
+#include "scene_fixture.h"
+
+namespace caustix::test {
+
+// A fog box [-1, 1] x [0, 2] x [-1, 1] over a bare floor, sun straight
+// down (E0 = 2): the in-scatter image along -z is, per pixel, the
+// pixel-box average over y of sigma_s p E0 e^(-sigma_t (2 - y))
+// (1 - e^(-2 sigma_t)) / sigma_t / E0 (the light's path down to y, the
+// view's path out of the box's front).
+inline nlohmann::json fog_box(double scattering, double absorption) {
+  nlohmann::json j = canonical_scene("glass_ball");
+  j["objects"].erase(1);
+  j["lights"][0]["irradiance"] = 2.0;
+  j["medium"] = {{"extent", {-1, 0, -1, 1, 2, 1}}, {"scattering", scattering}, {"absorption", absorption}};
+  return j;
+}
+
+// The fog box's pixel spanning [ya, yb] in height (whole in x).
+inline double fog_pixel(double ss, double st, double phase, double ya, double yb) {
+  const double height = yb - ya;
+  ya = std::clamp(ya, 0.0, 2.0);
+  yb = std::clamp(yb, 0.0, 2.0);
+  if (yb <= ya) return 0;
+  const double light = (std::exp(-st * (2 - yb)) - std::exp(-st * (2 - ya))) / st;  // integral over y
+  return ss * phase * light / height * (1 - std::exp(-2 * st)) / st;
+}
+
+// flat_pool with the sun straight down, its water scattering (sigma_s 0.4,
+// sigma_a 0.1) over the extent [-2, 2]^2.
+inline nlohmann::json scattering_flat_pool() {
+  nlohmann::json j = canonical_scene("flat_pool");
+  j["lights"][0]["direction"] = {0, -1, 0};
+  j["water"]["scattering"] = 0.4;
+  j["water"]["absorption"] = 0.1;
+  j["water"]["grid"]["extent"] = {-2, -2, 2, 2};
+  return j;
+}
+
+// Its shafts at depths within the pixel [ya, yb] of height: sigma_s p E0
+// T(0) e^(-sigma_t d) (1 - e^(-4 sigma_t)) / sigma_t averaged over the
+// pixel, T(0) the Fresnel transmittance at normal incidence, 4 m of water
+// between the point's z and the camera side of the water's extent.
+inline double flat_water_pixel(double ya, double yb) {
+  const double ss = 0.4, st = 0.5, level = 2.0, t0 = fresnel_t(1.0, 1.33);
+  const double height = yb - ya;
+  yb = std::min(yb, level);
+  const double light = yb > ya ? (std::exp(-st * (level - yb)) - std::exp(-st * (level - ya))) / st / height : 0.0;
+  return ss / (4 * kPi) * t0 * light * (1 - std::exp(-4 * st)) / st;
+}
+
+}  // namespace caustix::test
