@@ -4,7 +4,7 @@
 # then caustix-bench tradeoff (every knob from the 'balanced' preset, then
 # the presets) -> docs/results/tradeoff_<scene>.csv and .png. Needs a built
 # tree (scripts/test.sh or scripts/run-default.sh); installs
-# python3-matplotlib if missing. About 40 minutes on 2 cores with llvmpipe.
+# python3-matplotlib if missing. About 60 minutes on 2 cores with llvmpipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
@@ -29,4 +29,17 @@ run() {
 run wavy_pool floor 0,-0.03125,4,0.03125 256x4 256000000
 run thesis_teapot teapot -1.25,-0.8,1.35,0.8 104x64 128000000
 run glass_ball floor -1,-1,1,1 128x128 32000000
-/usr/bin/python3 scripts/plot_tradeoff.py docs/results wavy_pool thesis_teapot glass_ball
+# Media (docs/volume.md): in-scatter references, the media's knobs.
+run_media() {
+  local scene=$1 region=$2 size=$3 photons=$4
+  local ref=build/tradeoff/${scene}_inscatter_ref.exr
+  if [ ! -f "$ref" ]; then
+    ./build/tools/caustix-reference "assets/scenes/$scene.json" --inscatter --region "$region" \
+      --size "$size" --photons "$photons" -o "$ref"
+  fi
+  ./build/tools/caustix-bench tradeoff "assets/scenes/$scene.json" --reference "$ref" --size 320x200 \
+    --csv "docs/results/tradeoff_$scene.csv"
+}
+run_media fog_ball -1.5,0,1.5,2.5 120x100 4000000
+run_media shafts_pool -1.5,0,1.5,2.2 120x88 2000000
+/usr/bin/python3 scripts/plot_tradeoff.py docs/results wavy_pool thesis_teapot glass_ball fog_ball shafts_pool

@@ -47,8 +47,9 @@ def main(folder, scenes):
         front_ax.axhline(noise, color="grey", ls=":", label=f"reference noise {noise:.3f}")
         knob_ax.axhline(noise, color="grey", ls=":")
         front_ax.set_xscale("log")
-        front_ax.set_xlabel(f"ms per frame, 640x480 ({rows[0]['renderer'].split(',')[0]})")
-        front_ax.set_ylabel("relative L1 error of irradiance vs caustix-reference")
+        media = rows[0]["receiver"] == "(in-scatter)"  # scripts/bench-tradeoff.sh: media frames at 320x200
+        front_ax.set_xlabel(f"ms per frame, {'320x200' if media else '640x480'} ({rows[0]['renderer'].split(',')[0]})")
+        front_ax.set_ylabel(f"relative L1 error of {'in-scatter' if media else 'irradiance'} vs caustix-reference")
         front_ax.set_title(f"{scene}: error against frame time")
         front_ax.legend(fontsize=7, loc="upper right")
         knob_ax.set_xlabel("knob value, in sweep order (listed in the legend)")

@@ -99,15 +99,18 @@ Snapshot snapshot() {
     glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, i, &b);
     s["ubo_" + std::to_string(i)] = b;
   }
-  GLint image0 = 0;
-  glGetIntegeri_v(GL_IMAGE_BINDING_NAME, 0, &image0);
-  s["image_0"] = image0;
+  for (GLuint i = 0; i < 2; ++i) {
+    GLint image = 0;
+    glGetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &image);
+    s["image_" + std::to_string(i)] = image;
+  }
   GLint active = 0;
   glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
   for (GLuint u = 0; u < 16; ++u) {
     glActiveTexture(GL_TEXTURE0 + u);
     for (auto [name, e] : {std::pair{"2d", GL_TEXTURE_BINDING_2D}, std::pair{"array", GL_TEXTURE_BINDING_2D_ARRAY},
-                           std::pair{"cube", GL_TEXTURE_BINDING_CUBE_MAP}, std::pair{"sampler", GL_SAMPLER_BINDING}}) {
+                           std::pair{"cube", GL_TEXTURE_BINDING_CUBE_MAP}, std::pair{"3d", GL_TEXTURE_BINDING_3D},
+                           std::pair{"sampler", GL_SAMPLER_BINDING}}) {
       GLint v = 0;
       glGetIntegerv(e, &v);
       s["unit" + std::to_string(u) + "_" + name] = v;
@@ -220,7 +223,7 @@ void expect_state_kept(const char* what, F&& call) {
 
 TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
   ::testing::Test::RecordProperty("gl_state_values", static_cast<int>(snapshot().size()));
-  for (const char* name : {"wavy_pool", "glass_ball"}) {
+  for (const char* name : {"wavy_pool", "glass_ball", "fog_ball"}) {
     SCOPED_TRACE(name);
     auto loaded = test::bake_and_load(scene(name));
     ASSERT_TRUE(loaded);
@@ -246,6 +249,11 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     expect_state_kept("draw_object", [&] { ASSERT_TRUE(engine->draw_object(0).ok()); });
     expect_state_kept("lighting", [&] { ASSERT_TRUE(engine->lighting(0, 0).ok()); });
     expect_state_kept("draw_glass", [&] { ASSERT_TRUE(engine->draw_glass(test_view(), color_.get(), depth_.get(), glm::vec3(0.5f)).ok()); });
+    const glm::mat4 view_proj = test_view().projection() * test_view().view;
+    expect_state_kept("draw_media", [&] { ASSERT_TRUE(engine->draw_media(view_proj, color_.get(), depth_.get()).ok()); });
+    expect_state_kept("draw_media (in-scatter only)", [&] { ASSERT_TRUE(engine->draw_media(view_proj, 0, depth_.get()).ok()); });
+    expect_state_kept("volume_stats", [&] { (void)engine->volume_stats(); });
+    EXPECT_EQ(engine->has_media(), std::string(name) == "fog_ball");
     if (sc.water) {
       runtime::WaterLook look;
       look.texture_size = 32;

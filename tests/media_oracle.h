@@ -3,8 +3,12 @@
 // (reference_test.cpp) and the runtime (volume_test.cpp): the same scenes
 // and the same closed forms, so both are held to one oracle.
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -57,6 +61,34 @@ inline double flat_water_pixel(double ya, double yb) {
   yb = std::min(yb, level);
   const double light = yb > ya ? (std::exp(-st * (level - yb)) - std::exp(-st * (level - ya))) / st / height : 0.0;
   return ss / (4 * kPi) * t0 * light * (1 - std::exp(-4 * st)) / st;
+}
+
+// fog_box(0.5, 0) under the isotropic phase and Schlick's at k = 0, 0.6
+// and -0.6, imaged by `image`: k = 0 is the isotropic image (to
+// `k0_tolerance` relative; 0: bit for bit) and +-0.6 scale it by
+// p_k(0) / p_0 = 1 - k^2 (light down, camera along z: cos a = 0 exactly)
+// to `tolerance` relative.
+inline void expect_schlick_scaling(const std::function<std::vector<float>(const nlohmann::json&)>& image, double tolerance) {
+  nlohmann::json j = fog_box(0.5, 0.0);
+  const auto iso = image(j);
+  j["medium"]["phase"] = "schlick";
+  j["medium"]["anisotropy"] = 0.0;
+  const auto k0 = image(j);
+  j["medium"]["anisotropy"] = 0.6;
+  const auto k6 = image(j);
+  j["medium"]["anisotropy"] = -0.6;
+  const auto km6 = image(j);
+  ASSERT_EQ(iso.size(), k0.size());
+  ASSERT_EQ(iso.size(), k6.size());
+  ASSERT_EQ(iso.size(), km6.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < iso.size(); ++i) {
+    EXPECT_EQ(k0[i], iso[i]) << i;
+    EXPECT_NEAR(k6[i], 0.64 * iso[i], tolerance * iso[i]) << i;
+    EXPECT_NEAR(km6[i], 0.64 * iso[i], tolerance * iso[i]) << i;
+    sum += iso[i];
+  }
+  EXPECT_GT(sum, 0);
 }
 
 }  // namespace caustix::test

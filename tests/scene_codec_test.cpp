@@ -58,7 +58,7 @@ SceneDesc full_scene() {
   c.position = {1, 2, 3};
   c.fov_y_deg = 60;
   s.camera = c;
-  s.render = RenderDefaults{"fast", 256, 128, 3};
+  s.render = RenderDefaults{"fast", 256, 128, 3, 96, 48};
   return s;
 }
 
@@ -118,6 +118,8 @@ TEST(SceneCodec, EveryFieldSurvives) {
   EXPECT_EQ(r.render->caustics_map_size, 256u);
   EXPECT_EQ(r.render->glass_map_size, 128u);
   EXPECT_EQ(r.render->glass_planes, 3u);
+  EXPECT_EQ(r.render->volume_photons, 96u);
+  EXPECT_EQ(r.render->volume_grid, 48u);
   ASSERT_EQ(d->draco_meshes.size(), 1u);
   EXPECT_EQ(d->draco_meshes[0].size(), 4u);
 }
@@ -243,6 +245,33 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
   auto d = decode(encode_scene(s, {{0}}));
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("/render/glass_map_size"), std::string::npos) << d.error().message;
+  s = full_scene();
+  s.render->volume_grid = 1;
+  d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/render/volume_grid"), std::string::npos) << d.error().message;
+
+  // A chunk written before issue 19 ends after the glass planes: the
+  // media's pair keeps its defaults. Any other length is refused.
+  for (const std::uint64_t cut : {8u, 4u}) {
+    auto b = encode_scene(full_scene(), {{0}});
+    auto c = cxb::read_container(b.data(), b.size());
+    ASSERT_TRUE(c.ok());
+    const std::size_t i = c->find(cxb::kTagRender).at(0);
+    const std::uint64_t off = test::get_u64(b, test::entry(i) + 8), size = test::get_u64(b, test::entry(i) + 16);
+    std::fill(b.begin() + static_cast<std::ptrdiff_t>(off + size - cut), b.begin() + static_cast<std::ptrdiff_t>(off + size), 0);
+    test::put_u64(b, test::entry(i) + 16, size - cut);
+    test::reseal_payload(b, i);
+    auto old = decode(b);
+    if (cut == 8) {
+      ASSERT_TRUE(old.ok()) << old.error().message;
+      EXPECT_EQ(old->scene.render->volume_photons, RenderDefaults{}.volume_photons);
+      EXPECT_EQ(old->scene.render->volume_grid, RenderDefaults{}.volume_grid);
+      EXPECT_EQ(old->scene.render->glass_planes, 3u);
+    } else {
+      EXPECT_FALSE(old.ok());
+    }
+  }
 }
 
 // A hostile MDIA payload: a phase that is not 1..2 and an anisotropy of 1

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bake_fixture.h"
+#include "caustix/runtime/gl_objects.h"
 #include "caustix/bake/bake.h"
 #include "gl_fixture.h"
 #include "media_oracle.h"
@@ -106,26 +107,7 @@ TEST_F(Volume, SchlickPhaseScalesAsThePhaseFunction) {
     q.caustics.volume.photons = 64;
     return inscatter(*r, q).rgb;
   };
-  nlohmann::json j = fog_box(0.5, 0.0);
-  const auto iso = image(j);
-  j["medium"]["phase"] = "schlick";
-  j["medium"]["anisotropy"] = 0.0;
-  const auto k0 = image(j);
-  j["medium"]["anisotropy"] = 0.6;
-  const auto k6 = image(j);
-  j["medium"]["anisotropy"] = -0.6;
-  const auto km6 = image(j);
-  ASSERT_EQ(iso.size(), k0.size());
-  ASSERT_EQ(iso.size(), k6.size());
-  ASSERT_EQ(iso.size(), km6.size());
-  double sum = 0;
-  for (std::size_t i = 0; i < iso.size(); ++i) {
-    EXPECT_EQ(k0[i], iso[i]) << i;
-    EXPECT_NEAR(k6[i], 0.64 * iso[i], 1e-4 * iso[i]) << i;
-    EXPECT_NEAR(km6[i], 0.64 * iso[i], 1e-4 * iso[i]) << i;
-    sum += iso[i];
-  }
-  EXPECT_GT(sum, 0);
+  expect_schlick_scaling(image, 1e-4);
 }
 
 TEST_F(Volume, FlatScatteringWaterIsUniformAndAnalytic) {
@@ -271,6 +253,29 @@ TEST_F(Volume, Extremes) {
       expect_energy_balance(img.stats);
     }
   }
+  // Bad arguments to draw_media are refused by name.
+  runtime::Engine& e = r->engine();
+  EXPECT_EQ(e.draw_media(glm::mat4(1.0f), 0, 12345).error().code, ErrorCode::kUsage);
+  runtime::gl::Texture depth = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, 4, 4);
+  runtime::gl::Texture color = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(color.get(), 1, GL_RGBA8, 4, 4);
+  const auto wrong = e.draw_media(glm::mat4(1.0f), color.get(), depth.get());
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.error().message.find("scene colour"), std::string::npos) << wrong.error().message;
+  EXPECT_EQ(e.draw_media(glm::mat4(0.0f), 0, depth.get()).error().code, ErrorCode::kUsage);  // singular
+  EXPECT_EQ(e.draw_media(glm::mat4(1.0f), 0, depth.get(), -1.0f).error().code, ErrorCode::kUsage);
+  // Into the caller's framebuffer.
+  runtime::gl::Texture target = runtime::gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(target.get(), 1, GL_RGBA32F, 4, 4);
+  runtime::gl::Framebuffer fbo = runtime::gl::make_framebuffer();
+  glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+  glViewport(0, 0, 4, 4);
+  const auto drawn = e.draw_media(glm::mat4(1.0f), 0, depth.get());
+  EXPECT_TRUE(drawn.ok()) << drawn.error().message;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
   q.caustics.volume.grid = 1024;  // 1024^3 voxels over the cube
   auto refused = r->render_inscatter(q);
   ASSERT_FALSE(refused.ok());

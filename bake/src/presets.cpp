@@ -9,6 +9,7 @@ namespace {
 // (docs/results/tradeoff_*.csv); the values below are read off those sweeps.
 BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t position_map, double water_grid_scale,
                  std::uint32_t ltt_resolution, double glass_turn, std::uint32_t caustics_map, std::uint32_t glass_map,
+                 std::uint32_t volume_res, float octree_eps, std::uint32_t volume_photons, std::uint32_t volume_grid,
                  const char* name) {
   BakeOptions o;
   o.level_maps.slicing.planes = planes;
@@ -17,7 +18,9 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
   o.water_grid_scale = water_grid_scale;
   o.transport.resolution = ltt_resolution;
   o.glass_refine.max_turn_deg = glass_turn;
-  o.render = RenderDefaults{name, caustics_map, glass_map, RenderDefaults{}.glass_planes};
+  o.index_grid.resolution = volume_res;
+  o.index_grid.epsilon = octree_eps;
+  o.render = RenderDefaults{name, caustics_map, glass_map, RenderDefaults{}.glass_planes, volume_photons, volume_grid};
   return o;
 }
 
@@ -31,15 +34,23 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 // textures above 512^2 and curved-glass refinement (--glass-turn 5) buy
 // glass_ball's focal spot (error 0.0301 -> 0.0217 together) at about 3x
 // the frame time on llvmpipe (docs/tradeoff.md), so only accurate has them.
+// Media (docs/volume.md, docs/results/tradeoff_fog_ball.csv): the photon
+// count stops paying at 128^2-256^2 per light (the track-length deposits
+// need few photons); the radiance grid is the lever (fog_ball 4.4 / 3.7 /
+// 3.3 % at 16 / 32 / 64 voxels); the index grid and its octree threshold
+// barely move the image and cost the bake little.
 const std::array<Preset, 3> kPresets{{
-    {"fast", "half the water grid per axis, 4 planes, 512^2 maps, R = 12 transport tables, 256^2 glass textures",
-     make(4, 64, 512, 0.5, 12, 0, 512, 256, "fast")},
-    {"balanced", "scene.json's water grid, 8 planes, 512^2 maps, R = 20 transport tables, 512^2 glass textures",
-     make(8, 64, 512, 1.0, 20, 0, 512, 512, "balanced")},
+    {"fast", "half the water grid per axis, 4 planes, 512^2 maps, R = 12 transport tables, 256^2 glass textures; media: "
+             "48-voxel index grids (octree eps 0.02), 128^2 photons, 32-voxel radiance grid",
+     make(4, 64, 512, 0.5, 12, 0, 512, 256, 48, 0.02f, 128, 32, "fast")},
+    {"balanced", "scene.json's water grid, 8 planes, 512^2 maps, R = 20 transport tables, 512^2 glass textures; media: "
+                 "64-voxel index grids (octree eps 0.01), 256^2 photons, 64-voxel radiance grid",
+     make(8, 64, 512, 1.0, 20, 0, 512, 512, 64, 0.01f, 256, 64, "balanced")},
     {"accurate",
      "three times the water grid per axis, 16 planes, 1024^2 maps, R = 32 transport tables, curved glass refined to 5 "
-     "degrees per edge, 1024^2 glass textures",
-     make(16, 256, 1024, 3.0, 32, 5, 1024, 1024, "accurate")},
+     "degrees per edge, 1024^2 glass textures; media: 96-voxel index grids (octree eps 0.005), 512^2 photons, "
+     "96-voxel radiance grid",
+     make(16, 256, 1024, 3.0, 32, 5, 1024, 1024, 96, 0.005f, 512, 96, "accurate")},
 }};
 
 }  // namespace

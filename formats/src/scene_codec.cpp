@@ -102,6 +102,8 @@ std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
   w.u32(r.caustics_map_size);
   w.u32(r.glass_map_size);
   w.u32(r.glass_planes);
+  w.u32(r.volume_photons);
+  w.u32(r.volume_grid);
   return w.take();
 }
 
@@ -235,8 +237,13 @@ bool decode_camera(ChunkDecoder& d, Camera& c) {
 }
 
 bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
-  return d.str(r.preset, "preset name") && d.u32(r.caustics_map_size, "render defaults") &&
-         d.u32(r.glass_map_size, "render defaults") && d.u32(r.glass_planes, "render defaults") && d.finish();
+  if (!d.str(r.preset, "preset name") || !d.u32(r.caustics_map_size, "render defaults") ||
+      !d.u32(r.glass_map_size, "render defaults") || !d.u32(r.glass_planes, "render defaults")) {
+    return false;
+  }
+  // The media's pair came later (issue 19): files without it keep the defaults.
+  if (d.remaining() > 0 && (!d.u32(r.volume_photons, "render defaults") || !d.u32(r.volume_grid, "render defaults"))) return false;
+  return d.finish();
 }
 
 constexpr std::size_t kScatteringRecord = 12 + 4 + 4;

@@ -202,8 +202,17 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(r.glass_map_size >= 1 && r.glass_map_size <= kMaxRuntimeMapSize, "/render/glass_map_size",
              "must be in [1, 8192]");
     c.expect(r.glass_planes >= 1 && r.glass_planes <= kMaxGlassPlanes, "/render/glass_planes", "must be in [1, 16]");
+    c.expect(r.volume_photons >= 1 && r.volume_photons <= 8192, "/render/volume_photons", "must be in [1, 8192]");
+    c.expect(r.volume_grid >= 2 && r.volume_grid <= 1024, "/render/volume_grid", "must be in [2, 1024]");
   }
   return c.issue;
+}
+
+float scene_e0(const SceneDesc& s) {
+  for (const Light& l : s.lights) {
+    if (l.type == LightType::kDirectional) return l.irradiance > 0 ? l.irradiance : 1.0f;
+  }
+  return 1.0f;
 }
 
 bool scene_scatters(const SceneDesc& s) {

@@ -252,13 +252,7 @@ Result<InscatterImage> Renderer::render_inscatter(const InscatterRequest& q) {
   InscatterImage img;
   img.width = q.width;
   img.height = q.height;
-  for (const Light& l : scene.lights) {
-    if (l.type == LightType::kDirectional) {
-      img.e0 = l.irradiance;
-      break;
-    }
-  }
-  if (!(img.e0 > 0)) img.e0 = 1.0f;
+  img.e0 = scene_e0(scene);
   CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{q.time, q.caustics}));
   img.stats = s.engine->volume_stats(true);
 
@@ -346,13 +340,7 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
   IrradianceImage img;
   img.width = q.width;
   img.height = q.height;
-  for (const Light& l : scene.lights) {
-    if (l.type == LightType::kDirectional) {
-      img.e0 = l.irradiance;
-      break;
-    }
-  }
-  if (!(img.e0 > 0)) img.e0 = 1.0f;
+  img.e0 = scene_e0(scene);
   CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{q.time, q.caustics}));
 
   // The direction towards the first light as the receiver's shading sees it

@@ -46,8 +46,15 @@ bool occluded(vec3 x) {
   return texture(caustix_shadow_2d, vec3(s.xy, s.z - 0.002)) < 0.5;
 }
 
+// Stochastic rounding: unbiased however small a deposit is against the
+// fixed-point unit.
+uint g_rng;
+float next_random() {
+  g_rng ^= g_rng << 13; g_rng ^= g_rng >> 17; g_rng ^= g_rng << 5;
+  return float(g_rng >> 8) * (1.0 / 16777216.0);
+}
 void add_fixed(int i, float v) {
-  int q = int(floor(v * u_scale + 0.5));
+  int q = int(floor(v * u_scale + next_random()));
   if (q != 0) atomicAdd(acc[i], q);
 }
 
@@ -148,6 +155,8 @@ void main() {
   uint id = gl_GlobalInvocationID.x;
   if (id >= u_side * u_side) return;
   uint ix = id % u_side, iz = id / u_side;
+  g_rng = (id + 1u) * 0x9E3779B9u ^ u_seed;
+  if (g_rng == 0u) g_rng = 1u;
   // Stratified: one photon per cell of a side x side grid, jittered.
   vec2 f = (vec2(ix, iz) + vec2(rand(id * 2u + u_seed), rand(id * 2u + 1u + u_seed * 7919u))) / float(u_side);
   vec2 xz = mix(u_window.xy, u_window.zw, f);

@@ -106,7 +106,9 @@ void main() {
   }
   if (u_composite != 0) {
     vec3 c = texelFetch(u_scene_color, ivec2(gl_FragCoord.xy - u_viewport_origin), 0).rgb;
-    o_color = vec4(c * exp(-tau_scene) * tr + L * u_scale, 1.0);
+    // The glass's own Fresnel is in its colour already (draw_glass); the
+    // in-scatter behind its surfaces is seen through them (tr).
+    o_color = vec4(c * exp(-tau_scene) + L * u_scale, 1.0);
   } else {
     o_color = vec4(L * u_scale, 1.0);
   }

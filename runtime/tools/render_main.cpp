@@ -77,13 +77,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 8192));
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   // Media (seed 004; docs/volume.md).
-  const VolumeOptions vdef;
   VolumeOptions volume;
   bool no_media = false, no_octree = false;
-  app.add_option("--volume-photons", volume.photons, "media: P x P photons per light")
-      ->check(CLI::Range(1, 8192))->capture_default_str();
-  app.add_option("--volume-grid", volume.grid, "media: radiance-grid voxels along the media's longest side")
-      ->check(CLI::Range(2, 1024))->capture_default_str();
+  std::uint32_t volume_photons = 0, volume_grid = 0;
+  app.add_option("--volume-photons", volume_photons,
+                 "media: P x P photons per light; default: the bake preset's, else " + std::to_string(built_in.volume.photons))
+      ->check(CLI::Range(1, 8192));
+  app.add_option("--volume-grid", volume_grid,
+                 "media: radiance-grid voxels along the media's longest side; default: the bake preset's, else " +
+                     std::to_string(built_in.volume.grid))
+      ->check(CLI::Range(2, 1024));
   app.add_option("--volume-step", volume.step, "media: photon and view steps where an object's index varies, index-grid voxels")
       ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
   app.add_option("--view-step", volume.view_step, "media: viewing-pass steps, radiance-grid voxels")
@@ -133,9 +136,12 @@ int main(int argc, char** argv) {
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
   if (photons > 0) caustics.photons = photons;
-  volume.octree = !no_octree;
-  volume.enabled = !no_media;
-  caustics.volume = volume;
+  caustics.volume.octree = !no_octree;
+  caustics.volume.enabled = !no_media;
+  caustics.volume.step = volume.step;
+  caustics.volume.view_step = volume.view_step;
+  if (volume_photons > 0) caustics.volume.photons = volume_photons;
+  if (volume_grid > 0) caustics.volume.grid = volume_grid;
   look.textures = !plain_water;
   look.refraction = !no_refraction;
   look.reflection = !no_reflection;
@@ -163,7 +169,7 @@ int main(int argc, char** argv) {
     if (std::sscanf(region.c_str(), "%f,%f,%f,%f%c", &q.x0, &q.y0, &q.x1, &q.y1, &extra) != 4) {
       return fail(make_error(ErrorCode::kUsage, "--region '" + region + "' is not x0,y0,x1,y1"));
     }
-    if (!volume.enabled) return fail(make_error(ErrorCode::kUsage, "--inscatter needs the media (drop --no-media)"));
+    if (no_media) return fail(make_error(ErrorCode::kUsage, "--inscatter needs the media (drop --no-media)"));
     q.width = width;
     q.height = height;
     q.time = time;
@@ -177,7 +183,7 @@ int main(int argc, char** argv) {
     char rect[160];
     std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.y0, q.x1, q.y1);
     const std::vector<std::pair<std::string, std::string>> attributes{
-        {"caustix:region", rect}, {"caustix:kind", "inscatter"}, {"caustix:e0", std::to_string(img->e0)},
+        {"caustix:region", rect}, {"caustix:image", "inscatter"}, {"caustix:e0", std::to_string(img->e0)},
         {"caustix:time", std::to_string(q.time)}, {"caustix:pixel_samples", std::to_string(q.pixel_samples)}};
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (verbose) {

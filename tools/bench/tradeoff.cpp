@@ -27,6 +27,7 @@ struct Knob {
   bool glass_only;  // only scenes with transparent objects
   bool water_only;  // only scenes with water (level maps)
   std::function<void(Setting&, double)> apply;
+  bool media_only = false;  // only in-scatter references (seed 004; docs/volume.md)
 };
 
 // Each knob's values bracket its default (balanced) on both sides.
@@ -55,6 +56,19 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.bake.glass_refine.max_turn_deg = v; }},
       {"glass-size", {128, 256, 512, 1024, 2048}, true, false,
        [](Setting& s, double v) { s.caustics.glass_map_size = static_cast<std::uint32_t>(v); }},
+      // Media (seed 004): judged on in-scatter images.
+      {"volume-grid", {16, 32, 64, 128}, false, false,
+       [](Setting& s, double v) { s.caustics.volume.grid = static_cast<std::uint32_t>(v); }, true},
+      {"volume-photons", {64, 128, 256, 512, 1024}, false, false,
+       [](Setting& s, double v) { s.caustics.volume.photons = static_cast<std::uint32_t>(v); }, true},
+      {"volume-step", {0.25, 0.5, 1, 2}, false, false, [](Setting& s, double v) { s.caustics.volume.step = static_cast<float>(v); }, true},
+      {"octree", {1, 0}, false, false, [](Setting& s, double v) { s.caustics.volume.octree = v != 0; }, true},
+      {"octree-eps", {0, 0.003, 0.01, 0.03, 0.1}, false, false,
+       [](Setting& s, double v) { s.bake.index_grid.epsilon = static_cast<float>(v); }, true},
+      {"volume-res", {32, 64, 128}, false, false,
+       [](Setting& s, double v) { s.bake.index_grid.resolution = static_cast<std::uint32_t>(v); }, true},
+      {"view-step", {0.25, 0.5, 1, 2}, false, false,
+       [](Setting& s, double v) { s.caustics.volume.view_step = static_cast<float>(v); }, true},
       {"position-bits", {8, 10, 12, 14, 16}, false, false,
        [](Setting& s, double v) { s.bake.draco.position_bits = static_cast<int>(v); }},
       {"normal-bits", {8, 10, 12, 14, 16}, false, false,
@@ -72,7 +86,7 @@ Setting from_preset(const bake::Preset& p) {
 struct Reference {
   metrics::Image image;
   std::array<double, 4> region{};
-  std::string receiver;
+  std::string receiver;  // empty: an in-scatter image (x0, y0, x1, y1)
   float time = 0;
   double noise = 0;
 };
@@ -83,8 +97,9 @@ Result<Reference> load_reference(const std::string& path) {
   Reference r;
   r.receiver = img->attribute("caustix:receiver");
   const auto region = img->region();
-  if (r.receiver.empty() || !region) {
-    return make_error(ErrorCode::kInput, path + ": not an irradiance image (no caustix:receiver / caustix:region)");
+  const bool inscatter = img->attribute("caustix:image") == "inscatter";
+  if ((r.receiver.empty() && !inscatter) || !region) {
+    return make_error(ErrorCode::kInput, path + ": neither an irradiance image (caustix:receiver) nor an in-scatter image, or no caustix:region");
   }
   r.region = *region;
   r.time = std::strtof(img->attribute("caustix:time").c_str(), nullptr);
@@ -111,8 +126,8 @@ int tradeoff(const TradeoffRequest& q) {
   auto context = runtime::HeadlessContext::create();
   if (!context) return fail(context.error());
 
-  CsvOut out(q.csv, "scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,gpu_mb,eq29,rel_l1,rms,flux_ratio,"
-       "peak_px,peak_m,reference_noise,renderer");
+  CsvOut out(q.csv, "scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,media_ms,march_ms,gpu_mb,eq29,rel_l1,rms,"
+       "flux_ratio,peak_px,peak_m,reference_noise,renderer");
 
   // One row: bake with the setting (the baker's own timing), load the bytes,
   // render the reference's image, then time beauty frames.
@@ -125,6 +140,22 @@ int tradeoff(const TradeoffRequest& q) {
     if (!scene) return scene.error();
     auto renderer = runtime::Renderer::create(*scene);
     if (!renderer) return renderer.error();
+    metrics::Image judged;
+    if (ref->receiver.empty()) {
+      runtime::InscatterRequest iq;
+      iq.x0 = static_cast<float>(ref->region[0]);
+      iq.y0 = static_cast<float>(ref->region[1]);
+      iq.x1 = static_cast<float>(ref->region[2]);
+      iq.y1 = static_cast<float>(ref->region[3]);
+      iq.width = ref->image.width;
+      iq.height = ref->image.height;
+      iq.time = ref->time;
+      iq.caustics = s.caustics;
+      iq.pixel_samples = std::min(q.pixel_samples, 4);
+      auto img = (*renderer)->render_inscatter(iq);
+      if (!img) return img.error();
+      judged = {img->width, img->height, std::move(img->rgb)};
+    } else {
     runtime::IrradianceRequest ir;
     ir.receiver = ref->receiver;
     ir.x0 = static_cast<float>(ref->region[0]);
@@ -138,17 +169,45 @@ int tradeoff(const TradeoffRequest& q) {
     ir.pixel_samples = q.pixel_samples;
     auto img = (*renderer)->render_irradiance(ir);
     if (!img) return img.error();
-    const metrics::Comparison c =
-        metrics::compare({img->width, img->height, std::move(img->rgb)}, ref->image, ref->region);
+    judged = {img->width, img->height, std::move(img->rgb)};
+    }
+    const metrics::Comparison c = metrics::compare(judged, ref->image, ref->region);
     auto times = time_frames(**renderer, s.caustics, q.frame_width, q.frame_height, q.warmup, q.frames);
     if (!times) return times.error();
+    // What the media cost in a frame: the same frames without them; of
+    // which the light side (photon marching and resolve: Engine::update
+    // with and without them, to glFinish), the rest being the viewing pass.
+    double media_ms = 0, march_ms = 0;
+    if ((*renderer)->engine().has_media()) {
+      runtime::CausticsOptions off = s.caustics;
+      off.volume.enabled = false;
+      auto plain = time_frames(**renderer, off, q.frame_width, q.frame_height, q.warmup, q.frames);
+      if (!plain) return plain.error();
+      media_ms = times->median_ms - plain->median_ms;
+      auto update_ms = [&](const runtime::CausticsOptions& co) -> Result<double> {
+        std::vector<double> ms;
+        for (int i = 0; i < q.warmup + q.frames; ++i) {
+          const auto t = Clock::now();
+          if (Status st = (*renderer)->engine().update(runtime::FrameUpdate{0.0f, co}); !st) return st.error();
+          (*renderer)->finish();
+          if (i >= q.warmup) ms.push_back(ms_since(t));
+        }
+        return median(ms);
+      };
+      auto on = update_ms(s.caustics);
+      if (!on) return on.error();
+      auto without = update_ms(off);
+      if (!without) return without.error();
+      march_ms = *on - *without;
+    }
     const runtime::CausticsStats cs = (*renderer)->caustics_stats(false);
     std::string cells = "-";
     if (scene->desc.water) cells = std::to_string(scene->desc.water->cells[0]) + "x" + std::to_string(scene->desc.water->cells[1]);
     char line[1024];
-    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.3f,%zu,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,\"%s\"",
-                  scene->desc.name.c_str(), ref->receiver.c_str(), knob.c_str(), value.c_str(), cells.c_str(), bake_s,
-                  baked->cxb.size(), times->median_ms, times->min_ms, static_cast<double>(cs.gpu_bytes) / 1e6, c.eq29,
+    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.3f,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,\"%s\"",
+                  scene->desc.name.c_str(), ref->receiver.empty() ? "(in-scatter)" : ref->receiver.c_str(), knob.c_str(),
+                  value.c_str(), cells.c_str(), bake_s, baked->cxb.size(), times->median_ms, times->min_ms, media_ms, march_ms,
+                  static_cast<double>(cs.gpu_bytes) / 1e6, c.eq29,
                   c.rel_l1, c.rms, c.flux_ratio, c.peak_error_px, c.peak_error_m.value_or(0), ref->noise,
                   context->get()->description().c_str());
     out.row(line);
@@ -173,7 +232,9 @@ int tradeoff(const TradeoffRequest& q) {
     const Knob* knob = nullptr;
     for (const Knob& k : knobs()) knob = name == k.name ? &k : knob;
     if (!knob) return fail(make_error(ErrorCode::kUsage, "unknown knob '" + name + "'"));
-    if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water)) {
+    const bool inscatter = ref->receiver.empty();
+    if (q.knobs.empty() && knob->media_only != inscatter) continue;  // in-scatter references sweep the media's knobs
+    if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water) || (knob->media_only && !inscatter)) {
       std::fprintf(stderr, "caustix-bench: %s does not apply to %s (skipped)\n", knob->name, q.scene_path.c_str());
       continue;
     }

@@ -252,14 +252,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
                                                "' is not above the scene; the reference emits from above only");
     }
   }
-  double e0 = 0;
-  for (const Light& l : scene.lights) {
-    if (l.type == LightType::kDirectional) {
-      e0 = l.irradiance;
-      break;
-    }
-  }
-  if (!(e0 > 0)) e0 = 1;
+  const double e0 = scene_e0(scene);
 
   // The grid covers the medium and the scattering glass: where view rays
   // through glass gather.

@@ -138,13 +138,7 @@ Result<Image> trace(const Request& q) {
   Image out;
   out.width = q.width;
   out.height = q.height;
-  for (const Light& l : scene.lights) {
-    if (l.type == LightType::kDirectional) {
-      out.e0 = l.irradiance;
-      break;
-    }
-  }
-  if (!(out.e0 > 0)) out.e0 = 1;
+  out.e0 = scene_e0(scene);
   const std::size_t pixels = static_cast<std::size_t>(q.width) * static_cast<std::size_t>(q.height);
   const std::uint64_t per_batch = q.photons / q.batches;
   std::vector<std::vector<double>> batch_images(q.batches, std::vector<double>(pixels * 3, 0.0));

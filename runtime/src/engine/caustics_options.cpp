@@ -25,6 +25,8 @@ void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.map_size = render.caustics_map_size;
   o.glass_map_size = render.glass_map_size;
   o.glass_planes = render.glass_planes;
+  o.volume.photons = render.volume_photons;
+  o.volume.grid = render.volume_grid;
 }
 
 CausticsOptions default_caustics_options(const SceneDesc& scene) {

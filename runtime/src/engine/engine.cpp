@@ -45,6 +45,20 @@ glm::mat4 frame_matrix(const BoundingFrame& f) {
 
 Error usage(const std::string& what) { return make_error(ErrorCode::kUsage, what); }
 
+// The caller's scene colour or depth texture for `call`: a 2D texture of
+// the internal format `want`.
+Status check_scene_texture(const char* call, unsigned tex, GLint want, const char* what) {
+  const std::string prefix = std::string(call) + ": " + what;
+  if (tex == 0 || !glIsTexture(tex)) return usage(prefix + " " + std::to_string(tex) + " is not a GL texture");
+  GLint target = 0, format = 0;
+  glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
+  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  if (target != GL_TEXTURE_2D || format != want) {
+    return usage(prefix + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
+  }
+  return Status::success();
+}
+
 }  // namespace
 
 glm::mat4 View::projection() const {
@@ -615,18 +629,8 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
 Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky) {
   Impl& s = *impl_;
   if (!s.glass) return Status::success();
-  auto check = [](unsigned tex, GLint want, const char* what) -> Status {
-    if (tex == 0 || !glIsTexture(tex)) return usage(std::string("draw_glass: ") + what + " " + std::to_string(tex) + " is not a GL texture");
-    GLint target = 0, format = 0;
-    glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
-    glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
-    if (target != GL_TEXTURE_2D || format != want) {
-      return usage(std::string("draw_glass: ") + what + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
-    }
-    return Status::success();
-  };
-  CAUSTIX_RETURN_IF_ERROR(check(scene_color, GL_RGBA32F, "scene colour"));
-  CAUSTIX_RETURN_IF_ERROR(check(scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_color, GL_RGBA32F, "scene colour"));
+  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   const gl::StateGuard guard = s.guard();
   s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius());
   return gl::check_gl("glass surface");
@@ -638,18 +642,8 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
   Impl& s = *impl_;
   if (!s.volume) return Status::success();
   if (!s.updated) return usage("draw_media: update() has not run yet");
-  auto check = [](unsigned tex, GLint want, const char* what) -> Status {
-    if (tex == 0 || !glIsTexture(tex)) return usage(std::string("draw_media: ") + what + " " + std::to_string(tex) + " is not a GL texture");
-    GLint target = 0, format = 0;
-    glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
-    glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
-    if (target != GL_TEXTURE_2D || format != want) {
-      return usage(std::string("draw_media: ") + what + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
-    }
-    return Status::success();
-  };
-  if (scene_color != 0) CAUSTIX_RETURN_IF_ERROR(check(scene_color, GL_RGBA32F, "scene colour"));
-  CAUSTIX_RETURN_IF_ERROR(check(scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  if (scene_color != 0) CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_media", scene_color, GL_RGBA32F, "scene colour"));
+  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_media", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   if (scene_color != 0) {
     GLint cw = 0, ch = 0, dw = 0, dh = 0;
     glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_WIDTH, &cw);

@@ -1,5 +1,7 @@
 #include "glass.h"
 
+#include "scene_copy.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -61,8 +63,7 @@ struct GlassEngine::Impl {
   gl::Buffer sum, rect_indices;
   std::uint64_t rect_capacity = 0;
   gl::VertexArray empty_vao;
-  gl::Texture color_copy, depth_copy;
-  int copy_w = 0, copy_h = 0;
+  gl::SceneCopy copy;  // of the caller's colour and depth
 
   void set_table(const gl::Program& p, const Glass& g) const {
     p.set("u_ltt_resolution", static_cast<int>(g.params.resolution));
@@ -336,25 +337,7 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
 void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
                              GLuint scene_color, GLuint scene_depth, float march_length) {
   Impl& s = *impl_;
-  GLint w = 0, h = 0;
-  glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_WIDTH, &w);
-  glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_HEIGHT, &h);
-  if (w != s.copy_w || h != s.copy_h) {
-    s.color_copy = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.color_copy.get(), 1, GL_RGBA32F, w, h);
-    s.depth_copy = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.depth_copy.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    for (GLuint tex : {s.color_copy.get(), s.depth_copy.get()}) {
-      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    }
-    s.copy_w = w;
-    s.copy_h = h;
-  }
-  glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, 0, 0, 0, s.color_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, 0, 0, 0, s.depth_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  s.copy.copy(scene_color, scene_depth);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -366,8 +349,8 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   s.surface.set("u_eye", eye);
   s.surface.set("u_sky", sky);
   s.surface.set("u_march_length", march_length);
-  glBindTextureUnit(0, s.color_copy.get());
-  glBindTextureUnit(1, s.depth_copy.get());
+  glBindTextureUnit(0, s.copy.color());
+  glBindTextureUnit(1, s.copy.depth());
   for (const Impl::Glass& g : s.glass) {
     s.set_table(s.surface, g);
     s.set_pose(s.surface, scene, g);

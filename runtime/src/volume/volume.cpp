@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix_shaders.h"
+#include "scene_copy.h"
 #include "shader_text.h"
 #include "water_surface.h"
 
@@ -75,8 +76,8 @@ struct VolumeEngine::Impl {
   float e0 = 1;
   gl::Program photons, resolve, view;
   gl::Buffer accumulator, tally;
-  gl::Texture dummy_3d, depth_copy, color_copy;
-  int copy_w = 0, copy_h = 0;
+  gl::Texture dummy_3d;
+  gl::SceneCopy copy;  // of the caller's colour and depth
   gl::VertexArray empty_vao;
   std::vector<PerLight> lights;
   std::uint64_t index_bytes = 0;
@@ -141,6 +142,16 @@ struct VolumeEngine::Impl {
     return b;
   }
 
+  // The largest sigma_s of any medium and channel.
+  float max_scattering() const {
+    auto mx = [](const Coefficients& c) { return std::max({c.ss.x, c.ss.y, c.ss.z}); };
+    float m = 0;
+    if (fog_box) m = std::max(m, mx(fog));
+    if (water_box) m = std::max(m, mx(water));
+    for (const Glass& g : glass) m = std::max(m, mx(g.c));
+    return m;
+  }
+
   // The radiance grid's box: where something scatters.
   Box scattering_box(const SceneDesc& scene) const {
     Box b;
@@ -165,13 +176,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     return make_error(ErrorCode::kUsage, "the scene has " + std::to_string(grids.size()) + " transparent objects in media; the runtime's volume effect takes at most " +
                                              std::to_string(kMaxObjects));
   }
-  for (const Light& l : scene.lights) {
-    if (l.type == LightType::kDirectional) {
-      s.e0 = l.irradiance;
-      break;
-    }
-  }
-  if (!(s.e0 > 0)) s.e0 = 1;
+  s.e0 = scene_e0(scene);
   if (scene.medium) {
     const auto& x = scene.medium->extent;
     s.fog_box = Box{{x[0], x[1], x[2]}, {x[3], x[4], x[5]}};
@@ -349,11 +354,16 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
       sources.push_back({1, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y});
     }
   }
-  // Fixed point: no voxel can hold more than all the power emitted.
+  // Fixed point: one photon crossing one voxel deposits at most
+  // min(1, sigma_s sqrt(3) h) of its power, so no voxel can hold more than
+  // that share of all the power emitted (2^29: room for a path that turns
+  // back through a voxel).
   double total = 0;
   for (const Source& src : sources) total += src.bound * double(src.window.z - src.window.x) * double(src.window.w - src.window.y);
   const double cmax = std::max({color.r, color.g, color.b, 1e-30f});
-  pl.scale = std::ldexp(1.0, 30) / std::max(total * cmax, 1e-30);
+  const glm::vec3 hg = (s.grid_box.hi - s.grid_box.lo) / glm::vec3(s.grid_n);
+  const double share = std::min(1.0, double(s.max_scattering()) * std::sqrt(3.0) * double(std::max({hg.x, hg.y, hg.z})));
+  pl.scale = std::ldexp(1.0, 29) / std::max(total * cmax * share, 1e-30);
   pl.tally_scale = std::ldexp(1.0, 28) / std::max(total * std::max(double(luminance(color)), 1e-30), 1e-30);
 
   glClearNamedBufferData(s.accumulator.get(), GL_R32I, GL_RED_INTEGER, GL_INT, nullptr);
@@ -415,25 +425,7 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   if (!s.ran) return;
   GLint vp[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, vp);
-  GLint w = 0, h = 0;
-  glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &w);
-  glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &h);
-  if (w != s.copy_w || h != s.copy_h) {
-    s.color_copy = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.color_copy.get(), 1, GL_RGBA32F, w, h);
-    s.depth_copy = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.depth_copy.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    for (GLuint tex : {s.color_copy.get(), s.depth_copy.get()}) {
-      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    }
-    s.copy_w = w;
-    s.copy_h = h;
-  }
-  if (scene_color) glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, 0, 0, 0, s.color_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, 0, 0, 0, s.depth_copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  s.copy.copy(scene_color, scene_depth);
 
   const gl::Program& p = s.view;
   p.use();
@@ -450,14 +442,17 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
   s.bind_index_grids();
-  glBindTextureUnit(kDepthUnit, s.depth_copy.get());
-  glBindTextureUnit(kColorUnit, s.color_copy.get());
+  glBindTextureUnit(kDepthUnit, s.copy.depth());
+  glBindTextureUnit(kColorUnit, s.copy.color());
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glDisable(GL_CULL_FACE);
   glBindVertexArray(s.empty_vao.get());
+  bool first = true;
   for (std::size_t li = 0; li < s.lights.size(); ++li) {
-    const bool composite = scene_color != 0 && li == 0;
+    if (!s.lights[li].timed) continue;  // no photons this frame
+    const bool composite = scene_color != 0 && first;
+    first = false;
     p.set("u_composite", composite ? 1 : 0);
     if (composite) {
       glDisable(GL_BLEND);
@@ -495,7 +490,7 @@ VolumeStats VolumeEngine::stats(bool read_gpu) {
     st.truncated += w[5] * k;
     st.steps += w[6] + (std::uint64_t{w[7]} << 32);
     st.grid_steps += w[8] + (std::uint64_t{w[9]} << 32);
-    st.deposited += w[10] / (l.scale * s.e0);
+    st.deposited += (w[10] + std::ldexp(double(w[11]), 32)) / (l.scale * s.e0);
     GLuint64 ns = 0;
     glGetQueryObjectui64v(l.march.get(), GL_QUERY_RESULT, &ns);
     st.march_ms += static_cast<double>(ns) * 1e-6;

@@ -131,6 +131,10 @@ struct RenderDefaults {
   std::uint32_t caustics_map_size = 512;  // water caustics map S x S, 1..kMaxRuntimeMapSize
   std::uint32_t glass_map_size = 512;     // glass illumination textures, 1..kMaxRuntimeMapSize
   std::uint32_t glass_planes = 4;         // virtual planes per glass target, 1..kMaxGlassPlanes
+  // Media (seed 004; docs/volume.md): photons per axis per light (1..8192)
+  // and radiance-grid voxels along the media's longest side (2..1024).
+  std::uint32_t volume_photons = 256;
+  std::uint32_t volume_grid = 64;
 };
 
 struct SceneDesc {
@@ -159,6 +163,9 @@ inline constexpr float kMaxCoefficient = 1e6f;  // scattering and absorption, 1/
 // with a scattering coefficient): such scenes get the MDIA chunk and the
 // volume effect; others pay nothing for media.
 bool scene_scatters(const SceneDesc& scene);
+// E0, what irradiance and in-scatter images are divided by
+// (shared/DESIGN.md): the first directional light's irradiance, else 1.
+float scene_e0(const SceneDesc& scene);
 
 // A value rule broken: `pointer` is a JSON pointer into the scene
 // ("/objects/2/material/ior") so the JSON front end can turn it into a line

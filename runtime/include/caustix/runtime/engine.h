@@ -7,7 +7,7 @@
 // engine never creates a context, never draws into the default framebuffer
 // unless the caller has it bound, and never assumes a viewport, program,
 // VAO or any other state: each call saves the state it touches and restores
-// it before returning (tests/engine_test.cpp compares 151 GL state values
+// it before returning (tests/engine_test.cpp compares 168 GL state values
 // before and after every call). The exceptions are named where they apply:
 // bind() exists to change bindings, and the callback of draw_water() runs
 // with the state the engine set for it.
@@ -279,7 +279,8 @@ class Engine {
   // GL_DEPTH_COMPONENT32F texture of the viewport's size: the opaque scene
   // as the caller rendered it, without the glass). With `scene_color` (2D
   // GL_RGBA32F, same size) each pixel becomes colour x T + scale x L, T
-  // the transmittance of the fog box and the glass along the ray (the
+  // the extinction e^(-sum sigma_t ds) of the fog box and the glass along
+  // the ray (the glass's Fresnel is draw_glass()'s; the
   // water's own attenuation is the water surface's, draw_water()); with 0
   // it adds scale x L (additive blending) to what is bound, for images of
   // the in-scatter alone. L is radiance in the lights' units (E0 or I
