@@ -40,6 +40,22 @@ inline double fog_pixel(double ss, double st, double phase, double ya, double yb
   return ss * phase * light / height * (1 - std::exp(-2 * st)) / st;
 }
 
+// fog_box's whole in-scatter image over [x0, x1] x [y0, y1], width x
+// height pixels, row 0 at y1 (isotropic phase), row-major.
+inline std::vector<double> fog_box_image(double ss, double st, double x0, double y0, double x1, double y1, int width, int height) {
+  const double dx = (x1 - x0) / width, dy = (y1 - y0) / height;
+  std::vector<double> out(std::size_t(width) * std::size_t(height));
+  for (int row = 0; row < height; ++row) {
+    const double yb = y1 - row * dy, ya = yb - dy;
+    for (int col = 0; col < width; ++col) {
+      const double xa = x0 + col * dx, xb = xa + dx;
+      const double cover = std::max(0.0, std::min(xb, 1.0) - std::max(xa, -1.0)) / dx;
+      out[std::size_t(row) * std::size_t(width) + std::size_t(col)] = cover * fog_pixel(ss, st, 1 / (4 * kPi), ya, yb);
+    }
+  }
+  return out;
+}
+
 // flat_pool with the sun straight down, its water scattering (sigma_s 0.4,
 // sigma_a 0.1) over the extent [-2, 2]^2.
 inline nlohmann::json scattering_flat_pool() {

@@ -315,7 +315,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
     s.glass = std::move(*engine);
   }
   {
-    auto volume = VolumeEngine::create(s.scene, scene.index_grids, kGlslVersion + s.lighting_prefix());
+    auto volume = VolumeEngine::create(s.scene, scene.index_grids, s.lo.y, kGlslVersion + s.lighting_prefix());
     if (!volume) return volume.error();
     s.volume = std::move(*volume);
   }

@@ -167,7 +167,7 @@ struct VolumeEngine::Impl {
 VolumeEngine::~VolumeEngine() = default;
 
 Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scene, const std::vector<IndexGrid>& grids,
-                                                           const std::string& lighting_prefix) {
+                                                           float scene_min_y, const std::string& lighting_prefix) {
   if (!scene_scatters(scene)) return std::unique_ptr<VolumeEngine>();
   std::unique_ptr<VolumeEngine> e(new VolumeEngine());
   e->impl_ = std::make_unique<Impl>();
@@ -186,16 +186,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     const Water& w = *scene.water;
     float amplitude = 0;
     for (const Wave& wave : w.waves) amplitude += std::fabs(wave.amplitude);
-    float floor_y = w.level;  // the lowest object: nothing below it is seen
-    for (const Object& o : scene.objects) {
-      const MeshInfo& mi = scene.meshes[o.mesh_index];
-      const glm::mat4 m = glm::make_mat4(o.transform.data());
-      for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
-                               (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2]);
-        floor_y = std::min(floor_y, (m * glm::vec4(corner, 1.0f)).y);
-      }
-    }
+    const float floor_y = std::min(w.level, scene_min_y);  // the lowest object: nothing below it is seen
     s.water_box = Box{{w.extent[0], floor_y, w.extent[1]}, {w.extent[2], w.level + amplitude + 1e-3f, w.extent[3]}};
     s.water = coefficients(w.absorption, w.scattering);
     s.water_level = w.level;

@@ -35,9 +35,11 @@ class VolumeEngine {
   static constexpr std::size_t kMaxObjects = 4;
 
   // Null (and no error) when nothing in the scene scatters. `grids` are
-  // the scene's IGRD chunks (one per transparent object); `lighting_prefix`
-  // is #version plus caustix.glsl with the engine's bindings.
-  static Result<std::unique_ptr<VolumeEngine>> create(const SceneDesc& scene, const std::vector<IndexGrid>& grids,
+  // the scene's IGRD chunks (one per transparent object); `scene_min_y`
+  // the lowest point of the objects' world bounds (the water's medium ends
+  // there); `lighting_prefix` is #version plus caustix.glsl with the
+  // engine's bindings.
+  static Result<std::unique_ptr<VolumeEngine>> create(const SceneDesc& scene, const std::vector<IndexGrid>& grids, float scene_min_y,
                                                       const std::string& lighting_prefix);
   ~VolumeEngine();
 
