@@ -8,6 +8,8 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
               receivers' accuracy: the facets' sag is 3e-4 of the radius)
   cylinder.obj  closed cylinder, radius 1, axis along x from -1 to 1,
               96 segments, smooth side, flat caps
+  ring.obj    open cylinder (a ring: no caps), radius 1, axis y from 0 to 1,
+              256 segments, smooth outward normals (a mirror ring, issue 20)
   box.obj     unit cube centred on the origin (flat-shaded faces)
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
   teapot.obj  the Utah teapot from teapot_patches.txt, 12 x 12 quads per patch,
@@ -101,6 +103,20 @@ def cylinder(seg=96):
         for s in range(seg):
             i, j = centre + 1 + s, centre + 1 + (s + 1) % seg
             faces.append((centre, i, j) if x > 0 else (centre, j, i))
+    return verts, faces, normals
+
+
+def ring(seg=256):
+    verts, normals, faces = [], [], []
+    for i in range(seg):
+        a = 2 * math.pi * i / seg
+        c, s = math.cos(a), math.sin(a)
+        verts += [(c, 0.0, s), (c, 1.0, s)]
+        normals += [(c, 0.0, s), (c, 0.0, s)]
+    for i in range(seg):
+        j = (i + 1) % seg
+        # counter-clockwise seen from outside
+        faces.append((2 * i, 2 * i + 1, 2 * j + 1, 2 * j))
     return verts, faces, normals
 
 
@@ -270,6 +286,8 @@ if __name__ == "__main__":
     write_obj("sphere_fine.obj", v, f, n, comment="UV sphere, radius 1, 128 x 64.")
     v, f, n = cylinder()
     write_obj("cylinder.obj", v, f, n, comment="Closed cylinder, radius 1, axis x in [-1, 1].")
+    v, f, n = ring()
+    write_obj("ring.obj", v, f, n, comment="Open cylinder, radius 1, axis y in [0, 1], no caps.")
     v, f, n = box()
     write_obj("box.obj", v, f, n, comment="Unit cube centred on the origin.")
     v, f, n = walls()

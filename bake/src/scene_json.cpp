@@ -208,7 +208,7 @@ bool parse_scattering(Walker& w, const json& v, const std::string& ptr, Scatteri
 
 bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "absorption", "scattering", "phase", "anisotropy"});
+  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
   if (const json* j = Walker::optional_member(v, "ior")) {
@@ -218,6 +218,9 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
   if (const json* j = Walker::optional_member(v, "absorption")) {
     if (!w.scalar_or_vec3(*j, ptr + "/absorption", out.absorption)) return false;
     if (!out.transparent) w.warn(ptr + "/absorption", "\"absorption\" has no effect on an opaque material");
+  }
+  if (const json* j = Walker::optional_member(v, "reflectance"); j && !w.scalar_or_vec3(*j, ptr + "/reflectance", out.reflectance)) {
+    return false;
   }
   return parse_scattering(w, v, ptr, out.scattering);
 }
@@ -245,10 +248,14 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       if (role == "receiver") obj.role = Role::kReceiver;
       else if (role == "transparent") obj.role = Role::kTransparent;
       else if (role == "both") obj.role = Role::kBoth;
-      else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\" or \"both\", got \"" + role + "\"");
+      else if (role == "mirror") obj.role = Role::kMirror;
+      else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\", \"both\" or \"mirror\", got \"" + role + "\"");
     }
     if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material)) return false;
     if (const json* j = Walker::optional_member(o, "transform"); j && !parse_transform(w, *j, ptr + "/transform", obj.transform)) return false;
+    if (!is_mirror(obj.role) && o.contains("material") && o["material"].contains("reflectance")) {
+      w.warn(ptr + "/material/reflectance", "\"reflectance\" has no effect on an object that is not a mirror");
+    }
 
     // One mesh per distinct resolved file, numbered in order of first use.
     const std::filesystem::path resolved = (base / mesh_src).lexically_normal();

@@ -142,6 +142,26 @@ std::vector<std::uint8_t> encode_media(const SceneDesc& s) {
   return w.take();
 }
 
+// MIRR: u32 count; per mirror object, in object order: u32 object index,
+// vec3 reflectance.
+std::vector<std::uint8_t> encode_mirrors(const SceneDesc& s) {
+  ByteWriter w;
+  std::vector<std::uint32_t> mirrors;
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    if (is_mirror(s.objects[i].role)) mirrors.push_back(i);
+  }
+  w.u32(static_cast<std::uint32_t>(mirrors.size()));
+  for (std::uint32_t i : mirrors) {
+    w.u32(i);
+    w.vec3(s.objects[i].material.reflectance);
+  }
+  return w.take();
+}
+
+bool has_mirrors(const SceneDesc& s) {
+  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_mirror(o.role); });
+}
+
 // --- decoding ----------------------------------------------------------------
 
 // Smallest encodings, used to bound counts by the payload size.
@@ -181,7 +201,7 @@ bool decode_objects(ChunkDecoder& d, SceneDesc& s) {
     for (float& f : o.transform) {
       if (!d.f32(f, "object transform")) return false;
     }
-    if (role < 1 || role > 3) return d.fail("object '" + o.name + "': role " + std::to_string(role) + " is not 1..3");
+    if (role < 1 || role > 4) return d.fail("object '" + o.name + "': role " + std::to_string(role) + " is not 1..4");
     if (transparent > 1) return d.fail("object '" + o.name + "': transparent flag is not 0 or 1");
     o.role = static_cast<Role>(role);
     o.material.transparent = transparent == 1;
@@ -291,6 +311,27 @@ bool decode_media(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+bool decode_mirrors(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 16, "mirror")) return false;
+  std::uint32_t listed = 0;
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t obj = 0;
+    if (!d.u32(obj, "mirror object index")) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_mirror(s.objects[obj].role)) {
+      return d.fail("mirror object index " + std::to_string(obj) + " is out of range, out of order or not a mirror");
+    }
+    prev = obj;
+    ++listed;
+    if (!d.vec3(s.objects[obj].material.reflectance, "mirror reflectance")) return false;
+  }
+  const auto mirrors = std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_mirror(o.role); });
+  if (listed != static_cast<std::uint32_t>(mirrors)) {
+    return d.fail(std::to_string(listed) + " reflectance records for " + std::to_string(mirrors) + " mirrors");
+  }
+  return d.finish();
+}
+
 Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }
 
 }  // namespace
@@ -307,6 +348,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   w.add_chunk(cxb::kTagLights, cxb::kChunkRequired, encode_lights(scene));
   if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
   if (scene.medium || scene_scatters(scene)) w.add_chunk(cxb::kTagMedia, cxb::kChunkRequired, encode_media(scene));
+  if (has_mirrors(scene)) w.add_chunk(cxb::kTagMirrors, cxb::kChunkRequired, encode_mirrors(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -360,6 +402,13 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!mdia) return mdia.error();
   if (*mdia) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagMedia, **mdia, [&](ChunkDecoder& d) { return decode_media(d, s); }));
+  }
+  auto mirr = single(cxb::kTagMirrors, false);
+  if (!mirr) return mirr.error();
+  if (*mirr) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagMirrors, **mirr, [&](ChunkDecoder& d) { return decode_mirrors(d, s); }));
+  } else if (has_mirrors(s)) {
+    return container_error("the scene has mirrors but no 'MIRR' chunk");
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

@@ -92,8 +92,14 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(names.insert(o.name).second, p + "/name", "'" + o.name + "' is used by an earlier object");
     c.expect(o.mesh_index < s.meshes.size(), p + "/mesh",
              "mesh index " + std::to_string(o.mesh_index) + " is out of range");
-    c.expect(o.role == Role::kReceiver || o.role == Role::kTransparent || o.role == Role::kBoth,
-             p + "/role", "must be receiver, transparent or both");
+    c.expect(o.role == Role::kReceiver || o.role == Role::kTransparent || o.role == Role::kBoth || o.role == Role::kMirror,
+             p + "/role", "must be receiver, transparent, both or mirror");
+    if (is_mirror(o.role)) {
+      for (float r : o.material.reflectance) {
+        c.range(r, 0.0f, 1.0f, p + "/material/reflectance", "each component must be in [0, 1]");
+      }
+      c.expect(!o.material.transparent, p + "/material", "a mirror cannot have a transparent material");
+    }
     for (float a : o.material.albedo) {
       c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
     }

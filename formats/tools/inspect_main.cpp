@@ -18,6 +18,7 @@ const char* role_name(caustix::Role r) {
     case caustix::Role::kReceiver: return "receiver";
     case caustix::Role::kTransparent: return "transparent";
     case caustix::Role::kBoth: return "both";
+    case caustix::Role::kMirror: return "mirror";
   }
   return "?";
 }

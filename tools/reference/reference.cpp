@@ -48,7 +48,7 @@ Result<Image> trace(const Request& q) {
   double y_objects = -1e300;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     y_objects = std::max(y_objects, world.object_box[i].second[1]);
-    if (is_transparent(scene.objects[i].role)) glass_boxes.push_back(world.object_box[i]);
+    if (is_caster(scene.objects[i].role)) glass_boxes.push_back(world.object_box[i]);
   }
   for (std::size_t t = 0; t < world.tris.size(); ++t) {
     if (world.owner[t] == *receiver) rtris.push_back(world.tris[t]);
@@ -204,6 +204,16 @@ Result<Image> trace(const Request& q) {
           }
           const std::uint32_t obj = world.owner[h->triangle];
           const Object& o = scene.objects[obj];
+          if (is_mirror(o.role)) {
+            // A two-sided specular reflector (issue 20): the smooth normal
+            // turned to face the photon, the reflectance per channel.
+            Vec3d nrm = world.normal_at(h->triangle, p);
+            if (dot(nrm, dir) > 0) nrm = {-nrm[0], -nrm[1], -nrm[2]};
+            for (std::size_t c = 0; c < 3; ++c) rgb[c] *= o.material.reflectance[c];
+            origin = p;
+            dir = normalize(add(dir, nrm, -2 * dot(dir, nrm)));
+            continue;
+          }
           if (!is_transparent(o.role)) {
             if (obj != *receiver) break;
             // Only the receiver's first surface seen from above counts.

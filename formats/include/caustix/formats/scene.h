@@ -27,12 +27,19 @@
 namespace caustix {
 
 // On-disk enums: never renumber.
-enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3 };
+// kMirror (issue 20): a two-sided specular reflector (any mesh, open ones
+// too); it casts shadows, reflects material.reflectance of the light that
+// reaches it and is lit by the image-space caustic maps (seed 003), not a
+// receiver of caustics itself.
+enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3, kMirror = 4 };
 enum class LightType : std::uint8_t { kDirectional = 1, kPoint = 2 };
 enum class Phase : std::uint8_t { kIsotropic = 1, kSchlick = 2 };
 
 inline bool is_receiver(Role r) { return r == Role::kReceiver || r == Role::kBoth; }
 inline bool is_transparent(Role r) { return r == Role::kTransparent || r == Role::kBoth; }
+inline bool is_mirror(Role r) { return r == Role::kMirror; }
+// Objects whose light the image-space caustic maps carry (seed 003).
+inline bool is_caster(Role r) { return is_transparent(r) || is_mirror(r); }
 
 // Single scattering in a participating medium (seed 004, "Viewing Pass"):
 // scattering coefficient sigma_s and the phase function, isotropic 1/(4 pi)
@@ -53,6 +60,7 @@ struct Material {
   float ior = 1.5f;                // used when transparent; >= 1
   Vec3f absorption{0, 0, 0};       // transparent: 1/m per RGB channel, >= 0 (stored in the LTTB chunk)
   Scattering scattering;           // transparent: milky or dusty glass (stored in the MDIA chunk)
+  Vec3f reflectance{0.9f, 0.9f, 0.9f};  // mirror: specular reflectance per RGB channel, in [0, 1] (the MIRR chunk)
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
