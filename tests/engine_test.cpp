@@ -223,7 +223,7 @@ void expect_state_kept(const char* what, F&& call) {
 
 TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
   ::testing::Test::RecordProperty("gl_state_values", static_cast<int>(snapshot().size()));
-  for (const char* name : {"wavy_pool", "glass_ball", "fog_ball"}) {
+  for (const char* name : {"wavy_pool", "glass_ball", "fog_ball", "mirror_ring"}) {
     SCOPED_TRACE(name);
     auto loaded = test::bake_and_load(scene(name));
     ASSERT_TRUE(loaded);
@@ -240,6 +240,13 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     expect_state_kept("update (volumetric)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
     frame.caustics.method = runtime::CausticsMethod::kSplat;
     expect_state_kept("update (splat)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    frame.caustics.glass_method = runtime::GlassMethod::kCausticMap;
+    frame.caustics.caustic_map.photons = 64;
+    frame.caustics.caustic_map.two_pass = true;
+    expect_state_kept("update (caustic maps, two-pass splats)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    frame.caustics.caustic_map.two_pass = false;
+    expect_state_kept("update (caustic maps)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+    expect_state_kept("caustic_map_stats", [&] { (void)engine->caustic_map_stats(); });
     Light light = sc.lights[0];
     light.direction = {0.3f, -1.0f, 0.1f};
     expect_state_kept("set_light", [&] { ASSERT_TRUE(engine->set_light(0, light).ok()); });
@@ -283,7 +290,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       expect_state_kept("set_water_heights_texture", [&] { ASSERT_TRUE(engine->set_water_heights_texture(tex.get()).ok()); });
       expect_state_kept("update (heights)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
     }
-    // bind() changes exactly the block's binding point and its eight units.
+    // bind() changes exactly the block's binding point and its nine units.
     const Snapshot before = snapshot();
     ASSERT_TRUE(engine->bind(0, 0).ok());
     const Snapshot after = snapshot();
@@ -302,14 +309,16 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
 
     // The matrices are the block's frames: a point at the frame's origin
     // plus half extents along U and W maps to the map's corner (1, 1).
+    // After the caustic-map updates, the floor is lit through the light's
+    // caustic map (wavy_pool: the water's caustics map).
     const runtime::LightBlock& k = r->block;
     const bool caustics = k.mode.x == static_cast<int>(runtime::LightMode::kCaustics);
-    const bool glass = k.mode.z == 1;
-    EXPECT_TRUE(caustics || glass) << "the floor should be lit through a map in " << name;
-    const glm::mat4& m = caustics ? r->world_to_caustics : r->world_to_glass;
-    const glm::vec4 o = caustics ? k.frame_origin : k.glass_origin;
-    const glm::vec4 u = caustics ? k.frame_u : k.glass_u, v = caustics ? k.frame_v : k.glass_v;
-    const glm::vec4 w = caustics ? k.frame_w : k.glass_w, half = caustics ? k.frame_half : k.glass_half;
+    const bool cmap = !caustics && k.cmap_origin.w != 0.0f;
+    EXPECT_TRUE(caustics || cmap) << "the floor should be lit through a map in " << name;
+    const glm::mat4& m = caustics ? r->world_to_caustics : r->world_to_caustic_map;
+    const glm::vec4 o = caustics ? k.frame_origin : k.cmap_origin;
+    const glm::vec4 u = caustics ? k.frame_u : k.cmap_u, v = caustics ? k.frame_v : k.cmap_v;
+    const glm::vec4 w = caustics ? k.frame_w : k.cmap_w, half = caustics ? k.frame_half : k.cmap_half;
     const glm::vec3 p = glm::vec3(o) + glm::vec3(u) * half.x + glm::vec3(w) * half.z + glm::vec3(v) * 0.25f;
     const glm::vec4 q = m * glm::vec4(p, 1.0f);
     EXPECT_NEAR(q.x, 1.0f, 1e-4f);

@@ -76,6 +76,32 @@ int main(int argc, char** argv) {
                      std::to_string(built_in.glass_map_size))
       ->check(CLI::Range(1, 8192));
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
+  // Image-space caustic maps (seed 003; docs/caustic-maps.md).
+  std::string glass_method = to_string(built_in.glass_method);
+  CausticMapOptions cmap;
+  bool cmap_two_pass = false, cmap_drop_tir = false;
+  app.add_option("--glass-method", glass_method,
+                 "light through glass: table (light-transport tables, seed 002) or caustic-map (image-space caustic maps, seed 003); mirrors always use caustic maps")
+      ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
+  app.add_option("--cmap-photons", cmap.photons, "caustic maps: photon grid side over the casters (P x P photons per light)")
+      ->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--cmap-size", cmap.map_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
+  app.add_option("--cmap-sigma", cmap.splat_sigma, "caustic maps: Gaussian splat standard deviation, texels (0: one texel)")
+      ->check(CLI::Range(0.0f, 8.0f))->capture_default_str();
+  app.add_flag("--cmap-two-pass", cmap_two_pass, "caustic maps: one-texel splats, then a separable blur (instead of one-pass Gaussian splats)");
+  app.add_option("--cmap-iterations", cmap.iterations, "caustic maps: landing iterations against the receivers")
+      ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--cmap-exit-iterations", cmap.exit_iterations, "caustic maps: exit-point iterations against the glass's back faces")
+      ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--cmap-bounces", cmap.bounces, "caustic maps: caster surfaces (mirror reflections) followed per photon")
+      ->check(CLI::Range(1, 8))->capture_default_str();
+  app.add_flag("--cmap-drop-tir", cmap_drop_tir, "caustic maps: drop photons totally reflected at the glass's exit (default: leave them unrefracted)");
+  app.add_option("--cmap-edge-cos", cmap.edge_cos, "caustic maps: edge testing, drop photons entering glass where |n.l| is below this (0: off)")
+      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+  app.add_option("--cmap-max-deviation", cmap.max_deviation_deg, "caustic maps: bounded refraction deviation, degrees (180: off)")
+      ->check(CLI::Range(0.0f, 180.0f))->capture_default_str();
+  app.add_option("--cmap-max-travel", cmap.max_travel, "caustic maps: drop photons that travel farther after a mirror, metres (0: the scene's diagonal)")
+      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
   // Media (seed 004; docs/volume.md).
   VolumeOptions volume;
   bool no_media = false, no_octree = false;
@@ -135,6 +161,10 @@ int main(int argc, char** argv) {
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
+  caustics.glass_method = *parse_glass_method(glass_method);
+  cmap.two_pass = cmap_two_pass;
+  cmap.tir_one_sided = !cmap_drop_tir;
+  caustics.caustic_map = cmap;
   if (photons > 0) caustics.photons = photons;
   caustics.volume.octree = !no_octree;
   caustics.volume.enabled = !no_media;
@@ -261,6 +291,16 @@ int main(int argc, char** argv) {
                 method.c_str(), static_cast<unsigned long long>(cs.planes_drawn),
                 static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
                 static_cast<double>(cs.gpu_bytes) / 1e6);
+    const CausticMapStats cm = (*renderer)->engine().caustic_map_stats();
+    if (cm.active) {
+      std::printf("caustic maps (glass: %s): %llu photons, %llu landed (%.6g W), %llu reflections, %llu TIR one-sided, %llu TIR dropped, "
+                  "%llu edge, %llu deviation, %llu too far, %llu lost, %llu out of bounces; capture %.2f ms, photons %.2f ms, splat %.2f ms (GPU, last light)\n",
+                  glass_method.c_str(), static_cast<unsigned long long>(cm.photons), static_cast<unsigned long long>(cm.landed), cm.landed_power,
+                  static_cast<unsigned long long>(cm.reflections), static_cast<unsigned long long>(cm.tir),
+                  static_cast<unsigned long long>(cm.tir_dropped), static_cast<unsigned long long>(cm.edge_dropped),
+                  static_cast<unsigned long long>(cm.deviation_dropped), static_cast<unsigned long long>(cm.too_far),
+                  static_cast<unsigned long long>(cm.lost), static_cast<unsigned long long>(cm.out_of_bounces), cm.capture_ms, cm.photon_ms, cm.splat_ms);
+    }
   }
   if (!quiet) std::printf("caustix-render: wrote %s (%dx%d, t = %g s, %.1f ms)\n", out_path.c_str(), width, height, time, ms);
   return kExitOk;

@@ -79,6 +79,8 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
 
 
 struct RuntimeModes final : Modes {
+  std::string glass_method = "table";
+  std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5;
@@ -99,6 +101,10 @@ struct RuntimeModes final : Modes {
     fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
+    fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
+        ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
+    fr->add_option("--cmap-photons", cmap_photons, "caustic maps: photon grid side")->check(CLI::Range(1, 4096))->capture_default_str();
+    fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
     fr->add_option("--label", label, "first CSV column");
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
@@ -135,6 +141,9 @@ struct RuntimeModes final : Modes {
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
     co.map_size = csize;
+    co.glass_method = *runtime::parse_glass_method(glass_method);
+    co.caustic_map.photons = cmap_photons;
+    co.caustic_map.map_size = cmap_size;
     return frames(cxb, co, gsize, w, h, warmup, count, label, move_light);
   }
 };

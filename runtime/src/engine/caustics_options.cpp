@@ -21,6 +21,15 @@ std::optional<CausticsMethod> parse_method(const std::string& name) {
   return std::nullopt;
 }
 
+const char* to_string(GlassMethod m) { return m == GlassMethod::kTable ? "table" : "caustic-map"; }
+
+std::optional<GlassMethod> parse_glass_method(const std::string& name) {
+  for (GlassMethod m : {GlassMethod::kTable, GlassMethod::kCausticMap}) {
+    if (name == to_string(m)) return m;
+  }
+  return std::nullopt;
+}
+
 void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.map_size = render.caustics_map_size;
   o.glass_map_size = render.glass_map_size;

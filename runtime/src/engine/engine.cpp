@@ -12,6 +12,7 @@
 #include "caustix/formats/frame.h"
 #include "caustix/runtime/gl_objects.h"
 #include "gl_state.h"
+#include "causticmap.h"
 #include "glass.h"
 #include "gpu_mesh.h"
 #include "shader_text.h"
@@ -86,6 +87,8 @@ struct Engine::Impl {
   gl::Program water_plain;
   std::unique_ptr<CausticsEngine> caustics;
   std::unique_ptr<GlassEngine> glass;
+  std::unique_ptr<CausticMapEngine> caustic_maps;  // created on the first update that needs it
+  std::vector<std::array<glm::vec3, 2>> object_boxes;  // world (min, max) per object
   std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
   VolumeOptions volume_options;           // of the last update()
   gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
@@ -105,6 +108,7 @@ struct Engine::Impl {
   void compute_bounds() {
     bool first = true;
     object_min_y.assign(scene.objects.size(), 0.0f);
+    object_boxes.assign(scene.objects.size(), {glm::vec3(1e30f), glm::vec3(-1e30f)});
     for (std::size_t oi = 0; oi < scene.objects.size(); ++oi) {
       const Object& o = scene.objects[oi];
       const MeshInfo& mi = scene.meshes[o.mesh_index];
@@ -117,6 +121,7 @@ struct Engine::Impl {
         lo = first ? w : glm::min(lo, w);
         hi = first ? w : glm::max(hi, w);
         min_y = std::min(min_y, w.y);
+        object_boxes[oi] = {glm::min(object_boxes[oi][0], w), glm::max(object_boxes[oi][1], w)};
         first = false;
       }
       object_min_y[oi] = min_y;
@@ -162,7 +167,8 @@ struct Engine::Impl {
     r.caustics = r.position = dummy_2d.get();
     r.glass_illumination = dummy_array.get();
     r.glass_target = dummy_2d.get();
-    r.world_to_caustics = r.world_to_glass = glm::mat4(1.0f);
+    r.world_to_caustics = r.world_to_glass = r.world_to_caustic_map = glm::mat4(1.0f);
+    r.caustic_map = dummy_2d.get();
     LightBlock& b = r.block;
     std::optional<CausticsEngine::Binding> cb;
     if (caustics && co.method != CausticsMethod::kNone) cb = caustics->binding(oi, li);
@@ -183,8 +189,22 @@ struct Engine::Impl {
     const Light& light = scene.lights[li];
     const bool under = scene.water && object_min_y[oi] < scene.water->level && light_above_water(light);
     b.mode.x = static_cast<int>(under ? LightMode::kFlatWater : LightMode::kDirect);
+    std::optional<CausticMapEngine::Binding> cm;
+    // Not on a mirror itself: it is no receiver of the map (it lies in
+    // front of the receivers the map's alpha records).
+    if (caustic_maps && !under && co.method != CausticsMethod::kNone && !is_mirror(scene.objects[oi].role)) cm = caustic_maps->binding(li);
+    if (cm) {
+      const BoundingFrame& f = cm->frame;
+      b.cmap_origin = vec4_of(f.origin, 1.0f);
+      b.cmap_u = vec4_of(f.u, cm->texel_diagonal);
+      b.cmap_v = vec4_of(f.v, cm->tolerance);
+      b.cmap_w = vec4_of(f.w, 0.0f);
+      b.cmap_half = vec4_of(f.half, 0.0f);
+      r.caustic_map = cm->map;
+      r.world_to_caustic_map = frame_matrix(f);
+    }
     std::optional<GlassEngine::Binding> g;
-    if (glass && !under && co.method != CausticsMethod::kNone) g = glass->binding(oi, li);
+    if (glass && !under && co.method != CausticsMethod::kNone && co.glass_method == GlassMethod::kTable) g = glass->binding(oi, li);
     if (!g) return;
     const BoundingFrame& f = g->frame;
     b.mode.z = 1;
@@ -219,6 +239,7 @@ struct Engine::Impl {
     glBindTextureUnit(bindings.glass_target, r.glass_target);
     glBindTextureUnit(bindings.glass_shadow_2d, r.glass_shadow_2d);
     glBindTextureUnit(bindings.glass_shadow_cube, r.glass_shadow_cube);
+    glBindTextureUnit(bindings.caustic_map, r.caustic_map);
   }
 
   std::string lighting_prefix() const {
@@ -234,6 +255,7 @@ struct Engine::Impl {
     def("CAUSTIX_UNIT_GLASS_TARGET", b.glass_target);
     def("CAUSTIX_UNIT_GLASS_SHADOW_2D", b.glass_shadow_2d);
     def("CAUSTIX_UNIT_GLASS_SHADOW_CUBE", b.glass_shadow_cube);
+    def("CAUSTIX_UNIT_CAUSTIC_MAP", b.caustic_map);
     return s + shaders::k_caustix_glsl;
   }
 
@@ -264,13 +286,14 @@ Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
 Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const Bindings& bindings) {
-  const unsigned units[8] = {bindings.shadow_2d, bindings.shadow_cube, bindings.caustics, bindings.position,
-                             bindings.glass_illumination, bindings.glass_target, bindings.glass_shadow_2d, bindings.glass_shadow_cube};
+  const unsigned units[9] = {bindings.shadow_2d,          bindings.shadow_cube,  bindings.caustics,
+                             bindings.position,           bindings.glass_illumination, bindings.glass_target,
+                             bindings.glass_shadow_2d,    bindings.glass_shadow_cube,  bindings.caustic_map};
   GLint max_units = 0, max_ubo = 0;
   glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_units);
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &max_ubo);
   if (max_units == 0) return make_error(ErrorCode::kGraphics, "no current OpenGL context (the engine needs the application's 4.5 core context)");
-  for (int i = 0; i < 8; ++i) {
+  for (int i = 0; i < 9; ++i) {
     if (units[i] >= static_cast<unsigned>(max_units)) {
       return usage("Bindings: texture unit " + std::to_string(units[i]) + " is beyond this context's " + std::to_string(max_units));
     }
@@ -465,9 +488,17 @@ void Engine::use_scene_waves() {
 Status Engine::update(const FrameUpdate& f) {
   Impl& s = *impl_;
   if (!std::isfinite(f.time)) return usage("update: time is not finite");
+  if (CausticMapEngine::needed(s.scene, f.caustics.glass_method)) CAUSTIX_RETURN_IF_ERROR(CausticMapEngine::check(f.caustics.caustic_map));
   const gl::StateGuard guard = s.guard();
   const CausticsOptions& co = f.caustics;
   if (s.caustics) s.caustics->reset_stats();
+  const bool caustic_maps = co.method != CausticsMethod::kNone && CausticMapEngine::needed(s.scene, co.glass_method);
+  if (caustic_maps && !s.caustic_maps) {
+    auto cm = CausticMapEngine::create(s.scene, [&s](std::uint32_t i) { s.draw_object(i); });
+    if (!cm) return cm.error();
+    s.caustic_maps = std::move(*cm);
+  }
+  if (s.caustic_maps) s.caustic_maps->reset_stats();
   if (s.water) s.water->update(f.time);
   s.volume_options = co.volume;
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
@@ -486,6 +517,13 @@ Status Engine::update(const FrameUpdate& f) {
         p.set("u_light_position", glm::vec3(b.light_position));
         p.set("u_light_power", b.light_color.w);
       }));
+    }
+    if (s.caustic_maps) {
+      if (caustic_maps) {
+        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes));
+      } else {
+        s.caustic_maps->clear(li);
+      }
     }
     s.upload_light(li, co);
     if (s.volume && !s.lighting.empty()) {
@@ -687,7 +725,15 @@ CausticsStats Engine::stats(bool read_gpu_counters) {
   if (s.glass) st.gpu_bytes += s.glass->gpu_bytes();            // tables, rays, targets, illumination textures
   if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
   if (s.volume) st.gpu_bytes += s.volume->gpu_bytes();          // radiance and index grids
+  if (s.caustic_maps) st.gpu_bytes += s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
   return st;
+}
+
+CausticMapStats Engine::caustic_map_stats(bool read_gpu_counters) {
+  Impl& s = *impl_;
+  if (!s.caustic_maps) return {};
+  const gl::StateGuard guard = s.guard();
+  return s.caustic_maps->stats(read_gpu_counters);
 }
 
 }  // namespace caustix::runtime

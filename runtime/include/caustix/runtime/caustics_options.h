@@ -45,6 +45,33 @@ struct VolumeOptions {
 };
 inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
 
+// How light through transparent objects reaches the receivers.
+enum class GlassMethod {
+  kTable,       // light-transport tables (seed 002 §4): baked per object
+  kCausticMap,  // image-space caustic maps (seed 003; Shah et al. 2007): nothing baked, any rigid object
+};
+const char* to_string(GlassMethod m);
+std::optional<GlassMethod> parse_glass_method(const std::string& name);
+
+// Image-space caustic maps (seed 003, Shah, Konttinen & Pattanaik 2007;
+// docs/caustic-maps.md): per light, the casters (mirrors always, glass with
+// GlassMethod::kCausticMap) seen from the light give photons * photons
+// photons, refracted or reflected in a compute shader, landed on the
+// receivers seen from the light and splatted into a map_size^2 caustic map.
+struct CausticMapOptions {
+  std::uint32_t photons = 512;     // photon grid side over the casters' footprint (1..4096)
+  std::uint32_t map_size = 512;    // caustic map side (16..4096)
+  float splat_sigma = 1.0f;        // Gaussian splat's standard deviation, caustic-map texels (0: one texel, no filter; <= 8)
+  bool two_pass = false;           // splat into one texel, then a separable Gaussian blur (Wyman's baseline) instead of one-pass splats
+  std::uint32_t iterations = 10;   // landing iterations against the receivers seen from the light (the blog: ten; 1..64)
+  std::uint32_t exit_iterations = 4;  // exit-point iterations against the casters' back faces (1..64)
+  std::uint32_t bounces = 2;       // mirror reflections followed per photon (1..8)
+  bool tir_one_sided = true;       // TIR at the exit: leave unrefracted (the blog's one-sided refraction); false drops the photon
+  float edge_cos = 0.0f;           // edge testing: drop photons entering where |n . l| < edge_cos (0: off)
+  float max_deviation_deg = 180.0f;  // bounded refraction deviation: drop photons turned more than this from the light (180: off)
+  float max_travel = 0.0f;         // catacaustics: drop photons that travel farther than this after a mirror, metres (0: the scene's diagonal)
+};
+
 struct CausticsOptions {
   CausticsMethod method = CausticsMethod::kLevelMap;
   std::optional<std::uint32_t> planes;  // re-slice with n pieces (uniform) / eps = h/(2n) (smart)
@@ -65,6 +92,8 @@ struct CausticsOptions {
   std::uint32_t glass_planes = 4;
   std::uint32_t glass_map_size = 512;
   VolumeOptions volume;
+  GlassMethod glass_method = GlassMethod::kTable;
+  CausticMapOptions caustic_map;
 };
 
 // Sets the fields a bake preset records (RNDR chunk): map sizes, glass planes.
@@ -88,6 +117,24 @@ struct CausticsStats {
 // first directional light's irradiance, else 1), m^2; read back from the
 // GPU (a stall). in = scattered + absorbed + leaving + reflected + truncated
 // up to the fixed-point rounding of the GPU's integer atomics.
+// What the last update()'s caustic maps did (issue 20), summed over lights.
+struct CausticMapStats {
+  bool active = false;                // some light had casters
+  std::uint64_t photons = 0;          // emitted (grid texels covered by a caster)
+  std::uint64_t landed = 0;           // splatted onto a receiver
+  std::uint64_t reflections = 0;      // mirror reflections
+  std::uint64_t tir = 0;              // total internal reflections left unrefracted (one-sided refraction)
+  std::uint64_t tir_dropped = 0;      // ... or dropped (tir_one_sided false)
+  std::uint64_t edge_dropped = 0;     // edge testing
+  std::uint64_t deviation_dropped = 0;  // bounded refraction deviation
+  std::uint64_t too_far = 0;          // travelled farther than max_travel after a mirror
+  std::uint64_t lost = 0;             // no receiver seen from the light where they land
+  std::uint64_t out_of_bounces = 0;   // met a mirror after the last reflection allowed (ended there)
+  double landed_power = 0;            // sum of the landed photons' luminance flux, W (read back)
+  double capture_ms = 0, photon_ms = 0, splat_ms = 0;  // GPU time of the last light's passes (timer queries)
+  std::uint64_t gpu_bytes = 0;
+};
+
 struct VolumeStats {
   bool active = false;                 // the scene has media and the effect ran
   std::uint64_t photons = 0;           // emitted

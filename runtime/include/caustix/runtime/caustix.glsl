@@ -65,6 +65,9 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 #ifndef CAUSTIX_UNIT_GLASS_SHADOW_CUBE
 #define CAUSTIX_UNIT_GLASS_SHADOW_CUBE 15
 #endif
+#ifndef CAUSTIX_UNIT_CAUSTIC_MAP
+#define CAUSTIX_UNIT_CAUSTIC_MAP 16
+#endif
 
 // One (receiver, light): caustix::runtime::LightBlock field for field.
 // Light modes (mode.x), chosen per (object, light) by the engine:
@@ -101,6 +104,11 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   vec4 glass_w;
   vec4 glass_half;
   vec4 glass_plane_v[4]; // 16 plane coordinates along V, decreasing: plane 0 nearest the light
+  vec4 cmap_origin;      // w 1: a caustic map is bound
+  vec4 cmap_u;           // w half a texel's diagonal
+  vec4 cmap_v;           // w visibility tolerance along V
+  vec4 cmap_w;
+  vec4 cmap_half;
 } caustix_light;
 
 layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
@@ -116,6 +124,12 @@ layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix
 layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2D caustix_glass_target;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_2D) uniform sampler2DShadow caustix_glass_shadow_2d;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_CUBE) uniform samplerCubeShadow caustix_glass_shadow_cube;
+
+// Image-space caustic map (seed 003; docs/caustic-maps.md): light off
+// mirrors, and through glass drawn by caustic maps, as irradiance on the
+// receivers' first surface seen from the light (rgb) and that surface's
+// coordinate along cmap_v (alpha).
+layout(binding = CAUSTIX_UNIT_CAUSTIC_MAP) uniform sampler2D caustix_caustic_map;
 
 float caustix_plane_v(int i) { return caustix_light.glass_plane_v[i >> 2][i & 3]; }
 
@@ -169,6 +183,23 @@ vec3 caustix_glass_irradiance(vec3 p) {
   return mix(texture(caustix_glass_illumination, vec3(uv, float(i0))).rgb, texture(caustix_glass_illumination, vec3(uv, float(i1))).rgb, f);
 }
 
+// The caustic map's irradiance at p: zero where p lies behind the first
+// receiver surface the light sees there (the photons land on that one; a
+// slope-scaled tolerance as for the caustics map). Not multiplied by the
+// shadow maps: the photons found their own way (a mirror lights the floor
+// its own wall shades from the sun).
+vec3 caustix_caustic_map_irradiance(vec3 p, vec3 n) {
+  vec3 rel = p - caustix_light.cmap_origin.xyz;
+  vec3 c = vec3(dot(rel, caustix_light.cmap_u.xyz), dot(rel, caustix_light.cmap_v.xyz), dot(rel, caustix_light.cmap_w.xyz));
+  vec2 uv = 0.5 * (c.xz / caustix_light.cmap_half.xyz.xz + 1.0);
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+  vec4 m = texture(caustix_caustic_map, uv);
+  float cos_t = abs(dot(n, caustix_light.cmap_v.xyz));
+  float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
+  if (c.y < m.a - caustix_light.cmap_v.w - caustix_light.cmap_u.w * slope) return vec3(0.0);
+  return m.rgb;
+}
+
 // Path length in water along the refracted light (eq. 4-17's d).
 float caustix_water_path(vec3 p, vec3 travel) {
   return p.y < caustix_light.water.x ? (caustix_light.water.x - p.y) / max(-travel.y, 1e-4) : 0.0;
@@ -216,6 +247,7 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
   // Eq. 2: light through glass, I_Q; other objects' shadows along the
   // unrefracted light direction (an approximation, docs/glass.md).
   if (caustix_light.mode.z != 0) e += caustix_glass_irradiance(p) * vis;
+  if (caustix_light.cmap_origin.w != 0.0) e += caustix_caustic_map_irradiance(p, n);
   return caustix_light.light_color.rgb * e;
 }
 

@@ -27,6 +27,11 @@
 // draw_water() (seed 001), draw_glass() (seed 002 §3) and draw_media()
 // (seed 004), each optional.
 //
+// Mirrors and caustic maps (seed 003; docs/caustic-maps.md): light off
+// mirror objects, and through glass when FrameUpdate::caustics.glass_method
+// is kCausticMap, reaches the receivers through each light's image-space
+// caustic map, which update() renders; the include adds it.
+//
 // Media (seed 004; docs/volume.md): in a scene where something scatters (a
 // medium box, water or glass with "scattering"), update() also marches
 // photons through the media, bent by the transparent objects' baked index
@@ -59,7 +64,7 @@
 namespace caustix::runtime {
 
 // Where the GLSL include finds its resources: one uniform-buffer binding
-// point (the block CaustixLight) and eight texture units. Change them when
+// point (the block CaustixLight) and nine texture units. Change them when
 // they collide with the application's own; glsl_include() then carries the
 // matching #defines (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
 struct Bindings {
@@ -72,6 +77,10 @@ struct Bindings {
   unsigned glass_target = 13;       // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
   unsigned glass_shadow_2d = 14;    // sampler2DShadow: the glass's own shadow map (directional)
   unsigned glass_shadow_cube = 15;  // samplerCubeShadow: the glass's own shadow map (point)
+  // sampler2D RGBA32F: the light's image-space caustic map (mirrors; glass
+  // with GlassMethod::kCausticMap). GL 4.5 guarantees units 0..15 per
+  // stage; every current driver has 32 (move it where yours has fewer).
+  unsigned caustic_map = 16;
 };
 
 // How a receiver is lit by one light (the block's mode.x).
@@ -108,8 +117,18 @@ struct LightBlock {
   glm::vec4 glass_w{0};
   glm::vec4 glass_half{0};
   std::array<glm::vec4, 4> glass_plane_v{};  // 16 plane coordinates along V, decreasing
+  // Image-space caustic map (issue 20; seed 003): an orthographic frame
+  // along the light, V towards it; texture coordinate as for the caustics
+  // map. The map holds irradiance on the receivers' first surface seen
+  // from the light (rgb, without the light's colour) and that surface's
+  // coordinate along V (alpha).
+  glm::vec4 cmap_origin{0};     // w: 1 where a caustic map is bound, else 0
+  glm::vec4 cmap_u{0};          // w: half a texel's diagonal (m)
+  glm::vec4 cmap_v{0};          // w: visibility tolerance along V (m)
+  glm::vec4 cmap_w{0};
+  glm::vec4 cmap_half{0};
 };
-static_assert(sizeof(LightBlock) == 25 * 16, "LightBlock must match the std140 block of caustix.glsl");
+static_assert(sizeof(LightBlock) == 30 * 16, "LightBlock must match the std140 block of caustix.glsl");
 
 // Everything the GLSL include reads for one (receiver, light), as plain data.
 struct ReceiverLighting {
@@ -117,6 +136,7 @@ struct ReceiverLighting {
   // GL texture names (never 0: unused ones are valid 1x1 textures).
   unsigned shadow_2d = 0, shadow_cube = 0, caustics = 0, position = 0;
   unsigned glass_illumination = 0, glass_target = 0, glass_shadow_2d = 0, glass_shadow_cube = 0;
+  unsigned caustic_map = 0;
   // The block's frames as matrices: world (x, y, z, 1) -> (s, t, v, 1), with
   // (s, t) the texture coordinate of the caustics and position maps (of the
   // glass textures), in [0, 1] over the region they cover, and v the
@@ -124,6 +144,7 @@ struct ReceiverLighting {
   // planes hold). Identity where the mode does not use them.
   glm::mat4 world_to_caustics{1.0f};
   glm::mat4 world_to_glass{1.0f};
+  glm::mat4 world_to_caustic_map{1.0f};
   // The block as the engine uploaded it: glBindBufferRange(GL_UNIFORM_BUFFER,
   // binding, buffer, offset, sizeof(LightBlock)).
   unsigned buffer = 0;
@@ -242,7 +263,7 @@ class Engine {
   // object that is transparent, or an index out of range, is kUsage.
   Result<ReceiverLighting> lighting(std::uint32_t object, std::uint32_t light) const;
   // Binds lighting(object, light): the block at bindings().block and the
-  // eight textures at their units. Leaves exactly these nine bindings
+  // nine textures at their units. Leaves exactly these ten bindings
   // changed (and nothing else): the point of the call.
   Status bind(std::uint32_t object, std::uint32_t light) const;
 
@@ -299,6 +320,9 @@ class Engine {
   // What the last update()'s caustics passes did (GPU counters read back
   // when asked: a pipeline stall).
   CausticsStats stats(bool read_gpu_counters = true);
+  // What the last update()'s image-space caustic maps did, summed over
+  // lights (counters and photons read back when asked: a stall).
+  CausticMapStats caustic_map_stats(bool read_gpu_counters = true);
 
  private:
   Engine();

@@ -1,0 +1,22 @@
+#version 450 core
+// causticmap_splat.frag: a photon's share of a texel as irradiance on the
+// receiver there. The texel covers u_texel_area m^2 across the light's
+// direction, so |n . V| / u_texel_area of it on the receiver: E = Phi w
+// |n . V| / a (flux per receiver area; Shah et al. weight by the surface's
+// cosine). Additive blending sums the photons (rgb); alpha keeps the
+// receiver's coordinate along V (written by the capture pass).
+in vec3 v_flux;
+in vec2 v_centre;
+in float v_norm;
+uniform float u_sigma;
+uniform float u_texel_area;
+uniform vec3 u_v;
+layout(binding = 0) uniform sampler2D u_receivers;  // normal, V
+out vec4 o_color;
+float gauss(float d) { return u_sigma > 0.0 ? exp(-0.5 * d * d / (u_sigma * u_sigma)) : 1.0; }
+void main() {
+  vec2 d = gl_FragCoord.xy - v_centre;
+  float w = gauss(d.x) * gauss(d.y) * v_norm;
+  vec3 n = texelFetch(u_receivers, ivec2(gl_FragCoord.xy), 0).xyz;
+  o_color = vec4(v_flux * (w * abs(dot(n, u_v)) / u_texel_area), 0.0);
+}

@@ -1,0 +1,442 @@
+#include "causticmap.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "caustix_shaders.h"
+#include "shader_text.h"
+
+namespace caustix::runtime {
+namespace {
+
+constexpr int kCounters = 10;
+
+glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
+Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+bool active_caster(const Object& o, GlassMethod method) {
+  return is_mirror(o.role) || (is_transparent(o.role) && method == GlassMethod::kCausticMap);
+}
+
+gl::Texture make_map(int size, GLenum format, GLenum filter) {
+  gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, format, size, size);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+// An orthographic frame along the light: V towards it, (U, W) across.
+struct LightFrame {
+  glm::vec3 u, v, w;
+  glm::vec3 origin;  // the caustic map's centre; coordinates along V are from here
+  glm::vec2 map_half, caster_half;
+  glm::vec3 caster_origin;
+  float v_lo = 0, v_hi = 0;  // range along V of everything
+};
+
+// Corners' extents of boxes along U, W, V.
+void extents(const LightFrame& f, const std::vector<std::array<glm::vec3, 2>>& boxes, glm::vec3& lo, glm::vec3& hi) {
+  lo = glm::vec3(1e30f);
+  hi = glm::vec3(-1e30f);
+  for (const auto& b : boxes) {
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 p(c & 1 ? b[1].x : b[0].x, c & 2 ? b[1].y : b[0].y, c & 4 ? b[1].z : b[0].z);
+      const glm::vec3 q(glm::dot(p, f.u), glm::dot(p, f.w), glm::dot(p, f.v));
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+  }
+}
+
+}  // namespace
+
+struct CausticMapEngine::Impl {
+  struct PerLight {
+    int photons = 0, size = 0;
+    gl::Texture front_pos, front_nrm, back_pos, back_nrm, caster_depth;
+    gl::Texture map, receivers, receiver_depth, scratch, scratch2;
+    gl::Framebuffer caster_fbo, receiver_fbo, splat_fbo;
+    gl::Buffer photon_buffer;
+    gl::Query capture_q, photon_q, splat_q;
+    bool valid = false, timed = false;
+    Binding binding;
+    std::uint64_t bytes = 0;
+  };
+  std::vector<PerLight> lights;
+  std::function<void(std::uint32_t)> draw_object;
+  gl::Program capture, photons, splat, blur;
+  gl::Buffer materials, counters;
+  gl::VertexArray empty_vao;
+  std::vector<float> material_data;
+
+  void ensure(PerLight& pl, int photons_side, int size) {
+    if (pl.photons != photons_side) {
+      pl.photons = photons_side;
+      pl.front_pos = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
+      pl.front_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
+      pl.back_pos = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
+      pl.back_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
+      pl.caster_depth = make_map(photons_side, GL_DEPTH_COMPONENT32F, GL_NEAREST);
+      pl.caster_fbo = gl::make_framebuffer();
+      pl.photon_buffer = gl::make_buffer();
+      glNamedBufferStorage(pl.photon_buffer.get(), static_cast<GLsizeiptr>(std::size_t{32} * photons_side * photons_side), nullptr, 0);
+    }
+    if (pl.size != size) {
+      pl.size = size;
+      pl.map = make_map(size, GL_RGBA32F, GL_LINEAR);
+      pl.receivers = make_map(size, GL_RGBA32F, GL_NEAREST);
+      pl.receiver_depth = make_map(size, GL_DEPTH_COMPONENT32F, GL_NEAREST);
+      pl.scratch = make_map(size, GL_RGBA32F, GL_NEAREST);
+      pl.scratch2 = make_map(size, GL_RGBA32F, GL_NEAREST);
+      pl.receiver_fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(pl.receiver_fbo.get(), GL_COLOR_ATTACHMENT0, pl.map.get(), 0);
+      glNamedFramebufferTexture(pl.receiver_fbo.get(), GL_COLOR_ATTACHMENT1, pl.receivers.get(), 0);
+      glNamedFramebufferTexture(pl.receiver_fbo.get(), GL_DEPTH_ATTACHMENT, pl.receiver_depth.get(), 0);
+      const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+      glNamedFramebufferDrawBuffers(pl.receiver_fbo.get(), 2, bufs);
+      pl.splat_fbo = gl::make_framebuffer();
+    }
+    const std::uint64_t p2 = std::uint64_t(photons_side) * std::uint64_t(photons_side), s2 = std::uint64_t(size) * std::uint64_t(size);
+    pl.bytes = p2 * (4 * 16 + 4 + 32) + s2 * (4 * 16 + 4);
+  }
+
+  // Renders objects (casters or receivers) into the bound framebuffer.
+  void draw(const SceneDesc& scene, const glm::mat4& view_proj, bool casters, GlassMethod method) {
+    capture.use();
+    capture.set("u_view_proj", view_proj);
+    capture.set("u_caster", casters ? 1 : 0);
+    for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+      const Object& o = scene.objects[i];
+      if (casters ? !active_caster(o, method) : is_caster(o.role)) continue;
+      const glm::mat4 model = glm::make_mat4(o.transform.data());
+      capture.set("u_model", model);
+      capture.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+      capture.set("u_object", static_cast<float>(i + 1));
+      draw_object(i);
+    }
+  }
+};
+
+Status CausticMapEngine::check(const CausticMapOptions& o) {
+  auto bad = [](const std::string& what) { return make_error(ErrorCode::kUsage, "caustic map options: " + what); };
+  if (o.photons < 1 || o.photons > 4096) return bad("photons must be 1..4096 (grid side), got " + std::to_string(o.photons));
+  if (o.map_size < 16 || o.map_size > 4096) return bad("map_size must be 16..4096, got " + std::to_string(o.map_size));
+  if (!(o.splat_sigma >= 0.0f && o.splat_sigma <= 8.0f)) return bad("splat_sigma must be 0..8 texels");
+  if (o.iterations < 1 || o.iterations > 64 || o.exit_iterations < 1 || o.exit_iterations > 64) {
+    return bad("iterations and exit_iterations must be 1..64");
+  }
+  if (o.bounces < 1 || o.bounces > 8) return bad("bounces must be 1..8, got " + std::to_string(o.bounces));
+  if (!(o.edge_cos >= 0.0f && o.edge_cos <= 1.0f)) return bad("edge_cos must be in [0, 1]");
+  if (!(o.max_deviation_deg >= 0.0f && o.max_deviation_deg <= 180.0f)) return bad("max_deviation_deg must be in [0, 180]");
+  if (!(o.max_travel >= 0.0f && std::isfinite(o.max_travel))) return bad("max_travel must be finite and >= 0");
+  return Status::success();
+}
+
+bool CausticMapEngine::needed(const SceneDesc& scene, GlassMethod method) {
+  return std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) { return active_caster(o, method); });
+}
+
+CausticMapEngine::~CausticMapEngine() = default;
+
+Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object) {
+  std::unique_ptr<CausticMapEngine> e(new CausticMapEngine());
+  e->impl_ = std::make_unique<Impl>();
+  Impl& s = *e->impl_;
+  s.draw_object = std::move(draw_object);
+  const std::string photons_src = with_optics(shaders::k_causticmap_photons_comp_glsl);
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs({
+      {&s.capture, "causticmap_capture", shaders::k_mesh_vert_glsl, shaders::k_causticmap_capture_frag_glsl},
+      {&s.photons, "causticmap_photons", photons_src.c_str()},
+      {&s.splat, "causticmap_splat", shaders::k_causticmap_splat_vert_glsl, shaders::k_causticmap_splat_frag_glsl},
+      {&s.blur, "causticmap_blur", shaders::k_causticmap_blur_comp_glsl},
+  }));
+  s.lights.resize(scene.lights.size());
+  // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0); kind is
+  // set per update (glass counts only with caustic maps).
+  s.material_data.assign(scene.objects.size() * 8, 0.0f);
+  s.materials = gl::make_buffer();
+  glNamedBufferStorage(s.materials.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(s.material_data.size(), 8) * 4), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  s.counters = gl::make_buffer();
+  glNamedBufferStorage(s.counters.get(), kCounters * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glClearNamedBufferData(s.counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  s.empty_vao = gl::make_vertex_array();
+  CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustic maps set-up"));
+  return e;
+}
+
+Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& options,
+                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes) {
+  Impl& s = *impl_;
+  Impl::PerLight& pl = s.lights[li];
+  const CausticMapOptions& o = options.caustic_map;
+  pl.valid = false;
+  std::vector<std::array<glm::vec3, 2>> caster_boxes;
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& obj = scene.objects[i];
+    const bool active = active_caster(obj, options.glass_method);
+    s.material_data[8 * i + 0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
+    s.material_data[8 * i + 1] = obj.material.ior;
+    const Vec3f& c = is_mirror(obj.role) ? obj.material.reflectance : obj.material.absorption;
+    for (int k = 0; k < 3; ++k) s.material_data[8 * i + 4 + k] = c[k];
+    if (active) caster_boxes.push_back(world_boxes[i]);
+  }
+  if (caster_boxes.empty()) return Status::success();
+  glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
+
+  // The frame: V towards the light (directional), or from the scene's
+  // centre towards it (point: an orthographic approximation of its view).
+  const Light& light = scene.lights[li];
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& b : world_boxes) {
+    lo = glm::min(lo, b[0]);
+    hi = glm::max(hi, b[1]);
+  }
+  LightFrame f;
+  const bool directional = light.type == LightType::kDirectional;
+  f.v = directional ? -glm::normalize(to_glm(light.direction)) : glm::normalize(to_glm(light.position) - 0.5f * (lo + hi));
+  const glm::vec3 up = std::fabs(f.v.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  f.u = glm::normalize(glm::cross(up, f.v));
+  f.w = glm::cross(f.v, f.u);
+  glm::vec3 all_lo, all_hi, c_lo, c_hi;
+  extents(f, world_boxes, all_lo, all_hi);
+  extents(f, caster_boxes, c_lo, c_hi);
+  const int size = static_cast<int>(o.map_size), side = static_cast<int>(o.photons);
+  s.ensure(pl, side, size);
+  // A texel of margin on each side (at most 1 %) so that nothing touches
+  // the border.
+  auto rect = [&](const glm::vec3& a, const glm::vec3& b, int n, glm::vec3& origin, glm::vec2& half) {
+    half = glm::max(0.5f * glm::vec2(b.x - a.x, b.y - a.y), glm::vec2(1e-4f));
+    half *= 1.0f + std::min(2.0f / static_cast<float>(n), 0.01f);
+    const glm::vec2 mid = 0.5f * glm::vec2(a.x + b.x, a.y + b.y);
+    origin = mid.x * f.u + mid.y * f.w + 0.5f * (all_lo.z + all_hi.z) * f.v;
+  };
+  rect(all_lo, all_hi, size, f.origin, f.map_half);
+  rect(c_lo, c_hi, side, f.caster_origin, f.caster_half);
+  const float v0 = glm::dot(f.origin, f.v);
+  f.v_lo = all_lo.z - v0;
+  f.v_hi = all_hi.z - v0;
+  const float v_pad = 0.01f * (f.v_hi - f.v_lo) + 1e-4f;
+  // Orthographic projection of a rectangle: clip x, y over it, depth from
+  // the nearest to the light (largest V) to the farthest.
+  auto ortho = [&](const glm::vec3& origin, const glm::vec2& half) {
+    const float vh = 0.5f * (f.v_hi - f.v_lo) + v_pad, vc = v0 + 0.5f * (f.v_hi + f.v_lo);
+    glm::mat4 m(0.0f);
+    const glm::vec3 rows[3] = {f.u / half.x, f.w / half.y, -f.v / vh};
+    const float offs[3] = {-glm::dot(f.u, origin) / half.x, -glm::dot(f.w, origin) / half.y, vc / vh};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) m[c][r] = rows[r][c];
+      m[3][r] = offs[r];
+    }
+    m[3][3] = 1.0f;
+    return m;
+  };
+
+  if (!pl.capture_q.get()) {
+    pl.capture_q = gl::make_query(GL_TIME_ELAPSED);
+    pl.photon_q = gl::make_query(GL_TIME_ELAPSED);
+    pl.splat_q = gl::make_query(GL_TIME_ELAPSED);
+  }
+  glBeginQuery(GL_TIME_ELAPSED, pl.capture_q.get());
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  s.capture.set("u_origin", f.origin);
+  s.capture.set("u_v", f.v);
+  // Receivers: caustic map alpha and the receiver map.
+  const float zero[4] = {0, 0, 0, -1e30f};
+  const float none[4] = {0, 0, 0, -1e30f};
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.receiver_fbo.get());
+  glViewport(0, 0, size, size);
+  glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 0, zero);
+  glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 1, none);
+  glClearNamedFramebufferfi(pl.receiver_fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glDepthFunc(GL_LESS);
+  s.draw(scene, ortho(f.origin, f.map_half), false, options.glass_method);
+  // Casters: nearest (front) and farthest (back) surfaces.
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.caster_fbo.get());
+  glViewport(0, 0, side, side);
+  const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  const float empty[4] = {0, 0, 0, 0};
+  for (int layer = 0; layer < 2; ++layer) {
+    glNamedFramebufferTexture(pl.caster_fbo.get(), GL_COLOR_ATTACHMENT0, (layer ? pl.back_pos : pl.front_pos).get(), 0);
+    glNamedFramebufferTexture(pl.caster_fbo.get(), GL_COLOR_ATTACHMENT1, (layer ? pl.back_nrm : pl.front_nrm).get(), 0);
+    glNamedFramebufferTexture(pl.caster_fbo.get(), GL_DEPTH_ATTACHMENT, pl.caster_depth.get(), 0);
+    glNamedFramebufferDrawBuffers(pl.caster_fbo.get(), 2, bufs);
+    glClearNamedFramebufferfv(pl.caster_fbo.get(), GL_COLOR, 0, empty);
+    glClearNamedFramebufferfv(pl.caster_fbo.get(), GL_COLOR, 1, empty);
+    glClearNamedFramebufferfi(pl.caster_fbo.get(), GL_DEPTH_STENCIL, 0, layer ? 0.0f : 1.0f, 0);
+    glDepthFunc(layer ? GL_GREATER : GL_LESS);
+    s.draw(scene, ortho(f.caster_origin, f.caster_half), true, options.glass_method);
+  }
+  glDepthFunc(GL_LESS);
+  glEndQuery(GL_TIME_ELAPSED);
+
+  // Photons.
+  glBeginQuery(GL_TIME_ELAPSED, pl.photon_q.get());
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  const gl::Program& p = s.photons;
+  p.use();
+  p.set("u_photons", side);
+  p.set("u_u", f.u);
+  p.set("u_v", f.v);
+  p.set("u_w", f.w);
+  p.set("u_caster_origin", f.caster_origin);
+  p.set("u_caster_half", f.caster_half);
+  p.set("u_map_origin", f.origin);
+  p.set("u_map_half", f.map_half);
+  p.set("u_light_type", directional ? 1 : 2);
+  p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
+  p.set("u_light_pos", to_glm(light.position));
+  p.set("u_light_power", directional ? light.irradiance : light.intensity);
+  p.set("u_iterations", static_cast<int>(o.iterations));
+  p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
+  p.set("u_bounces", static_cast<int>(o.bounces));
+  p.set("u_mirrors", std::any_of(scene.objects.begin(), scene.objects.end(), [](const Object& obj) { return is_mirror(obj.role); }) ? 1 : 0);
+  p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
+  p.set("u_edge_cos", o.edge_cos);
+  p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
+  const float diagonal = glm::length(hi - lo);
+  p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
+  // A landing point must lie on the receiver texel it projects into: within
+  // two texels' run along V on a surface tilted up to 75 degrees.
+  const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
+  p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
+  glBindTextureUnit(0, pl.front_pos.get());
+  glBindTextureUnit(1, pl.front_nrm.get());
+  glBindTextureUnit(2, pl.back_pos.get());
+  glBindTextureUnit(3, pl.back_nrm.get());
+  glBindTextureUnit(4, pl.receivers.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s.materials.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.counters.get());
+  const GLuint groups = static_cast<GLuint>((side + 7) / 8);
+  glDispatchCompute(groups, groups, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glEndQuery(GL_TIME_ELAPSED);
+
+  // Splats into the caustic map (one pass), or into one texel each and a
+  // separable blur (two passes).
+  glBeginQuery(GL_TIME_ELAPSED, pl.splat_q.get());
+  const float sigma = o.splat_sigma;
+  const bool two_pass = o.two_pass && sigma > 0;
+  GLuint target = pl.map.get();
+  if (two_pass) {
+    target = pl.scratch.get();
+    const float clear[4] = {0, 0, 0, 0};
+    glClearTexImage(target, 0, GL_RGBA, GL_FLOAT, clear);
+  }
+  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
+  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+  glViewport(0, 0, size, size);
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  s.splat.use();
+  s.splat.set("u_size", static_cast<float>(size));
+  s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
+  s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
+  s.splat.set("u_v", f.v);
+  glBindTextureUnit(0, pl.receivers.get());
+  glBindVertexArray(s.empty_vao.get());
+  glDrawArrays(GL_POINTS, 0, side * side);
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glDisable(GL_BLEND);
+  if (two_pass) {
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    s.blur.use();
+    s.blur.set("u_sigma", sigma);
+    const GLuint g = static_cast<GLuint>((size + 7) / 8);
+    for (int axis = 0; axis < 2; ++axis) {
+      s.blur.set("u_axis", axis);
+      glBindTextureUnit(0, axis == 0 ? pl.scratch.get() : pl.scratch2.get());
+      glBindTextureUnit(1, pl.map.get());
+      glBindImageTexture(0, axis == 0 ? pl.scratch2.get() : pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glDispatchCompute(g, g, 1);
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+  }
+  glEndQuery(GL_TIME_ELAPSED);
+  pl.timed = true;
+
+  Binding& b = pl.binding;
+  b.frame.origin = {f.origin.x, f.origin.y, f.origin.z};
+  b.frame.u = to_vec3f(f.u);
+  b.frame.v = to_vec3f(f.v);
+  b.frame.w = to_vec3f(f.w);
+  b.frame.half = {f.map_half.x, 0.5f * (f.v_hi - f.v_lo), f.map_half.y};
+  b.map = pl.map.get();
+  const float n = static_cast<float>(size);
+  b.texel_diagonal = 0.5f * std::hypot(2.0f * f.map_half.x / n, 2.0f * f.map_half.y / n);
+  b.tolerance = texel + 1e-4f * diagonal;
+  pl.valid = true;
+  return gl::check_gl("caustic map");
+}
+
+void CausticMapEngine::clear(std::uint32_t light) {
+  if (light < impl_->lights.size()) impl_->lights[light].valid = false;
+}
+
+std::optional<CausticMapEngine::Binding> CausticMapEngine::binding(std::uint32_t light) const {
+  if (light >= impl_->lights.size() || !impl_->lights[light].valid) return std::nullopt;
+  return impl_->lights[light].binding;
+}
+
+void CausticMapEngine::reset_stats() { glClearNamedBufferData(impl_->counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr); }
+
+CausticMapStats CausticMapEngine::stats(bool read) {
+  CausticMapStats st;
+  st.gpu_bytes = gpu_bytes();
+  for (const auto& pl : impl_->lights) st.active = st.active || pl.valid;
+  if (!read || !st.active) return st;
+  std::uint32_t c[kCounters] = {};
+  glGetNamedBufferSubData(impl_->counters.get(), 0, sizeof(c), c);
+  st.photons = c[0];
+  st.landed = c[1];
+  st.tir = c[2];
+  st.edge_dropped = c[3];
+  st.deviation_dropped = c[4];
+  st.too_far = c[5];
+  st.lost = c[6];
+  st.reflections = c[7];
+  st.tir_dropped = c[8];
+  st.out_of_bounces = c[9];
+  for (const auto& pl : impl_->lights) {
+    if (!pl.valid) continue;
+    std::vector<float> ph(std::size_t{8} * pl.photons * pl.photons);
+    glGetNamedBufferSubData(pl.photon_buffer.get(), 0, static_cast<GLsizeiptr>(ph.size() * 4), ph.data());
+    for (std::size_t i = 0; i < ph.size(); i += 8) {
+      if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];
+    }
+    if (pl.timed) {
+      GLuint64 ns[3] = {};
+      glGetQueryObjectui64v(pl.capture_q.get(), GL_QUERY_RESULT, &ns[0]);
+      glGetQueryObjectui64v(pl.photon_q.get(), GL_QUERY_RESULT, &ns[1]);
+      glGetQueryObjectui64v(pl.splat_q.get(), GL_QUERY_RESULT, &ns[2]);
+      st.capture_ms = static_cast<double>(ns[0]) * 1e-6;
+      st.photon_ms = static_cast<double>(ns[1]) * 1e-6;
+      st.splat_ms = static_cast<double>(ns[2]) * 1e-6;
+    }
+  }
+  return st;
+}
+
+std::uint64_t CausticMapEngine::gpu_bytes() const {
+  std::uint64_t b = 0;
+  for (const auto& pl : impl_->lights) b += pl.bytes;
+  return b;
+}
+
+}  // namespace caustix::runtime

@@ -1,0 +1,67 @@
+#pragma once
+// Image-space caustic maps (seed 003; Shah, Konttinen & Pattanaik 2007;
+// docs/caustic-maps.md): per light, the casters (mirrors always, glass when
+// CausticsOptions::glass_method is kCausticMap) seen from the light in an
+// orthographic frame along it give a grid of photons; a compute shader
+// refracts (or reflects) them and lands them on the receivers seen from the
+// light; their flux is splatted into the light's caustic map, which holds
+// irradiance on the receivers' first surface seen from the light (rgb) and
+// that surface's coordinate along V (alpha). Nothing is baked: casters may
+// move or deform between frames. Internal to the runtime.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/formats/level_map.h"
+#include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/gl_objects.h"
+
+namespace caustix::runtime {
+
+class CausticMapEngine {
+ public:
+  // kUsage naming the knob when an option is out of its documented range
+  // (caustics_options.h) or not finite.
+  static Status check(const CausticMapOptions& options);
+  // Whether a scene needs the effect with these options at all.
+  static bool needed(const SceneDesc& scene, GlassMethod method);
+  // draw_object(i) issues object i's draw call (attribute 0 position, 1
+  // normal).
+  static Result<std::unique_ptr<CausticMapEngine>> create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object);
+  ~CausticMapEngine();
+
+  // The caustic map of `light` for the current transforms. world_boxes[i]
+  // is object i's world bounding box (min, max).
+  Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
+                      const std::vector<std::array<glm::vec3, 2>>& world_boxes);
+
+  struct Binding {
+    BoundingFrame frame;  // orthographic along the light: V towards it; the map covers (u, w) in +-half
+    GLuint map = 0;       // RGBA32F: irradiance rgb (W/m^2 without the light's colour), alpha the receivers' V
+    float texel_diagonal = 0;  // half a texel's diagonal, metres (the slope-scaled visibility tolerance)
+    float tolerance = 0;       // constant visibility tolerance along V, metres
+  };
+  // Forgets the light's map (an update without caster light).
+  void clear(std::uint32_t light);
+  // The light's map from its last update_light(), if it had casters.
+  std::optional<Binding> binding(std::uint32_t light) const;
+
+  void reset_stats();
+  // Counters summed over the lights since reset_stats() (read back: a stall).
+  CausticMapStats stats(bool read_gpu_counters);
+  std::uint64_t gpu_bytes() const;
+
+ private:
+  CausticMapEngine() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caustix::runtime
