@@ -118,36 +118,16 @@ TEST_F(CausticMap, BallLensFluxAndFocalSpot) {
   const double half = 2.0, pix = 2 * half / n;
   const Floor f = render(test::canonical_scene("glass_ball"), n, half);
   ASSERT_TRUE(f.stats.active);
-  std::vector<test::Landing> on_floor;
-  for (const auto& l : test::ball_lens(0.5, 0.75, 1.5, 20000)) {
-    if (l.rho < half) on_floor.push_back(l);
-  }
-  double expected = 0;
-  for (const auto& l : on_floor) expected += l.weight;
-  const double shadow = 0.5 * 48 * std::sin(2 * kPi / 48) * 0.25;  // the 48-gon silhouette
-  const double transmitted = f.flux() - (4 * half * half - shadow);
-  EXPECT_NEAR(transmitted / expected, 1.0, 0.05) << "transmitted " << transmitted << " expected " << expected;
-  std::vector<test::Landing> measured;
-  const double r_shadow = 0.5 * std::cos(kPi / 48);
-  std::size_t peak = 0;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const double x = -half + (j + 0.5) * pix, z = -half + (i + 0.5) * pix, rho = std::hypot(x, z);
-      const std::size_t k = static_cast<std::size_t>(i) * n + j;
-      if (f.e[k] > f.e[peak]) peak = k;
-      measured.push_back({rho, std::max(0.0, f.e[k] - (rho > r_shadow ? 1.0 : 0.0)) * pix * pix});
-    }
-  }
-  const double px = -half + (peak % n + 0.5) * pix, pz = -half + (peak / n + 0.5) * pix;
-  EXPECT_LT(std::hypot(px, pz), 1.5 * pix) << "peak at (" << px << ", " << pz << ")";
-  const double r50 = test::radius_enclosing(on_floor, 0.5), m50 = test::radius_enclosing(measured, 0.5);
-  EXPECT_NEAR(m50, r50, std::max(2 * pix, 0.1 * r50));
+  const test::BallLensFloor b = test::ball_lens_floor(f.e, n, half);
+  EXPECT_NEAR(b.transmitted / b.expected, 1.0, 0.05) << "transmitted " << b.transmitted << " expected " << b.expected;
+  EXPECT_LT(std::hypot(b.peak_x, b.peak_z), 1.5 * pix) << "peak at (" << b.peak_x << ", " << b.peak_z << ")";
+  EXPECT_NEAR(b.m50, b.r50, std::max(2 * pix, 0.1 * b.r50));
   std::printf("[glass_ball, caustic map] transmitted %.4f / expected %.4f; R50 %.4f vs %.4f m; %llu photons, %llu TIR one-sided\n",
-              transmitted, expected, m50, r50, static_cast<unsigned long long>(f.stats.photons),
+              b.transmitted, b.expected, b.m50, b.r50, static_cast<unsigned long long>(f.stats.photons),
               static_cast<unsigned long long>(f.stats.tir));
   // Issue 20's target: encircled power within 10 % at r >= 2 cm.
   for (double r : {0.02, 0.03, 0.05, 0.1, 0.2}) {
-    const double got = test::encircled(measured, r), want = test::encircled(on_floor, r);
+    const double got = test::encircled(b.measured, r), want = test::encircled(b.exact, r);
     std::printf("[glass_ball, caustic map] encircled power within %.2f m: %.4f vs %.4f exact (%+.1f %%)\n", r, got, want,
                 100 * (got / want - 1));
     EXPECT_NEAR(got / want, 1.0, 0.10) << "r = " << r;

@@ -89,4 +89,45 @@ inline double encircled(const std::vector<Landing>& l, double r) {
   return sum;
 }
 
+// glass_ball's floor image (E/E0, n x n pixels over |x|, |z| < half, row 0
+// at z = -half) against the exact trace: the light through the ball that
+// lands on the floor (everything minus the direct light outside the ball's
+// shadow, its silhouette the UV sphere's 48-gon equator), the peak, and
+// the radius holding half the transmitted flux, measured and exact.
+struct BallLensFloor {
+  double transmitted = 0, expected = 0;
+  double peak_x = 0, peak_z = 0, peak_e = 0;
+  double m50 = 0, r50 = 0;
+  std::vector<Landing> measured, exact;  // for encircled()
+};
+inline BallLensFloor ball_lens_floor(const std::vector<float>& e, int n, double half) {
+  BallLensFloor b;
+  const double pix = 2 * half / n;
+  for (const auto& l : ball_lens(0.5, 0.75, 1.5, 20000)) {
+    if (l.rho < half) b.exact.push_back(l);
+  }
+  for (const auto& l : b.exact) b.expected += l.weight;
+  const double shadow = 0.5 * 48 * std::sin(2 * kPi / 48) * 0.25;
+  double total = 0;
+  for (float v : e) total += v * pix * pix;
+  b.transmitted = total - (4 * half * half - shadow);
+  const double r_shadow = 0.5 * std::cos(kPi / 48);
+  std::size_t peak = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double x = -half + (j + 0.5) * pix, z = -half + (i + 0.5) * pix, rho = std::hypot(x, z);
+      const std::size_t k = static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j);
+      if (e[k] > e[peak]) peak = k;
+      const double direct = rho > r_shadow ? 1.0 : 0.0;
+      b.measured.push_back({rho, std::max(0.0, e[k] - direct) * pix * pix});
+    }
+  }
+  b.peak_x = -half + (static_cast<double>(peak % static_cast<std::size_t>(n)) + 0.5) * pix;
+  b.peak_z = -half + (static_cast<double>(peak / static_cast<std::size_t>(n)) + 0.5) * pix;
+  b.peak_e = e[peak];
+  b.r50 = radius_enclosing(b.exact, 0.5);
+  b.m50 = radius_enclosing(b.measured, 0.5);
+  return b;
+}
+
 }  // namespace caustix::test
