@@ -305,5 +305,46 @@ TEST(SceneCodec, MediaAreValidated) {
   EXPECT_NE(d.error().message.find("scattering object index 1"), std::string::npos) << d.error().message;
 }
 
+// Mirrors (issue 20): role 4 and the MIRR chunk survive; a reflectance out
+// of [0, 1] is refused by name; a mirror whose record is missing (the
+// count says none) is refused with the chunk named; a scene without
+// mirrors has no MIRR chunk.
+TEST(SceneCodec, MirrorsAreStoredAndValidated) {
+  SceneDesc s = full_scene();
+  Object m = s.objects[0];
+  m.name = "ring";
+  m.role = Role::kMirror;
+  m.material = Material{};
+  m.material.reflectance = {0.9f, 0.5f, 0.25f};
+  s.objects.push_back(m);
+  auto b = encode_scene(s, {{0}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.objects[1].role, Role::kMirror);
+  EXPECT_EQ(d->scene.objects[1].material.reflectance, m.material.reflectance);
+
+  SceneDesc bad = s;
+  bad.objects[1].material.reflectance[1] = 1.5f;
+  d = decode(encode_scene(bad, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/1/material/reflectance"), std::string::npos) << d.error().message;
+
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t mirr = c->find(cxb::kTagMirrors).at(0);
+  EXPECT_TRUE(c->chunks()[mirr].flags & cxb::kChunkRequired);
+  const std::uint32_t zero = 0;
+  std::memcpy(b.data() + c->chunks()[mirr].offset, &zero, 4);
+  test::reseal_payload(b, mirr);
+  d = decode(b);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'MIRR'"), std::string::npos) << d.error().message;
+
+  auto plain = encode_scene(full_scene(), {{0}});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagMirrors).empty());
+}
+
 }  // namespace
 }  // namespace caustix
