@@ -113,25 +113,64 @@ double nephroid_cusp_x(double R, double H, double a, double x0, double pix, int 
   return x0 + (static_cast<double>(peak) + 0.5) * pix;
 }
 
-TEST_F(CausticMap, BallLensFluxAndFocalSpot) {
-  const int n = 512;
-  const double half = 2.0, pix = 2 * half / n;
-  const Floor f = render(test::canonical_scene("glass_ball"), n, half);
-  ASSERT_TRUE(f.stats.active);
+// The ball-lens checks of issue 20's targets on one image: flux, focal
+// spot, R50 and encircled power within 10 % at r >= 2 cm.
+void expect_ball_lens(const Floor& f, int n, double half, const char* label) {
+  const double pix = 2 * half / n;
   const test::BallLensFloor b = test::ball_lens_floor(f.e, n, half);
-  EXPECT_NEAR(b.transmitted / b.expected, 1.0, 0.05) << "transmitted " << b.transmitted << " expected " << b.expected;
-  EXPECT_LT(std::hypot(b.peak_x, b.peak_z), 1.5 * pix) << "peak at (" << b.peak_x << ", " << b.peak_z << ")";
-  EXPECT_NEAR(b.m50, b.r50, std::max(2 * pix, 0.1 * b.r50));
-  std::printf("[glass_ball, caustic map] transmitted %.4f / expected %.4f; R50 %.4f vs %.4f m; %llu photons, %llu TIR one-sided\n",
+  EXPECT_NEAR(b.transmitted / b.expected, 1.0, 0.05) << label << ": transmitted " << b.transmitted << " expected " << b.expected;
+  EXPECT_LT(std::hypot(b.peak_x, b.peak_z), 1.5 * pix) << label << ": peak at (" << b.peak_x << ", " << b.peak_z << ")";
+  EXPECT_NEAR(b.m50, b.r50, std::max(2 * pix, 0.1 * b.r50)) << label;
+  std::printf("[glass_ball, %s] transmitted %.4f / expected %.4f; R50 %.4f vs %.4f m; %llu photons, %llu TIR one-sided\n", label,
               b.transmitted, b.expected, b.m50, b.r50, static_cast<unsigned long long>(f.stats.photons),
               static_cast<unsigned long long>(f.stats.tir));
-  // Issue 20's target: encircled power within 10 % at r >= 2 cm.
   for (double r : {0.02, 0.03, 0.05, 0.1, 0.2}) {
     const double got = test::encircled(b.measured, r), want = test::encircled(b.exact, r);
-    std::printf("[glass_ball, caustic map] encircled power within %.2f m: %.4f vs %.4f exact (%+.1f %%)\n", r, got, want,
+    std::printf("[glass_ball, %s] encircled power within %.2f m: %.4f vs %.4f exact (%+.1f %%)\n", label, r, got, want,
                 100 * (got / want - 1));
-    EXPECT_NEAR(got / want, 1.0, 0.10) << "r = " << r;
+    EXPECT_NEAR(got / want, 1.0, 0.10) << label << ": r = " << r;
   }
+}
+
+TEST_F(CausticMap, BallLensFluxAndFocalSpot) {
+  const int n = 512;
+  const double half = 2.0;
+  const Floor f = render(test::canonical_scene("glass_ball"), n, half);
+  ASSERT_TRUE(f.stats.active);
+  expect_ball_lens(f, n, half, "caustic map");
+}
+
+// Adaptive caustic maps (Wyman & Nichols 2009): with a budget that takes
+// every covered texel the traversal ends at the grid's texels and traces
+// exactly the uniform grid's photons; with a smaller one it traces at most
+// the budget, coarser cells inside the ball and the finest along its
+// outline, and the ball lens still meets the targets.
+TEST_F(CausticMap, AdaptiveRefinesOverTheCastersWithinTheBudget) {
+  const nlohmann::json ball = test::canonical_scene("glass_ball");
+  const Floor uniform = render(ball, 64, 1.0);
+  runtime::CausticsOptions o = caustic_maps();
+  o.caustic_map.adaptive_levels = 4;
+  o.caustic_map.photon_budget = 1u << 20;
+  const Floor all = render(ball, 64, 1.0, o);
+  EXPECT_EQ(all.stats.photons, uniform.stats.photons);
+  EXPECT_EQ(all.stats.photons_per_level[0], uniform.stats.photons);
+  EXPECT_EQ(all.stats.landed, uniform.stats.landed);
+  EXPECT_NEAR(all.stats.landed_power / uniform.stats.landed_power, 1.0, 1e-6);
+
+  const int n = 512;
+  const double half = 2.0;
+  o.caustic_map.photons = 1024;
+  o.caustic_map.photon_budget = 1u << 16;
+  const Floor f = render(ball, n, half, o);
+  EXPECT_LE(f.stats.photons, o.caustic_map.photon_budget);
+  EXPECT_GT(f.stats.photons, o.caustic_map.photon_budget / 2) << "the budget is spent";
+  EXPECT_GT(f.stats.photons_per_level[0], 0u) << "the outline is refined to the finest level";
+  std::uint64_t coarser = 0;
+  for (std::size_t k = 1; k < f.stats.photons_per_level.size(); ++k) coarser += f.stats.photons_per_level[k];
+  EXPECT_GT(coarser, f.stats.photons_per_level[0]) << "the inside stays coarser";
+  // Each cell carries its covered area's flux: the same power lands.
+  EXPECT_NEAR(f.stats.landed_power / uniform.stats.landed_power, 1.0, 0.01);
+  expect_ball_lens(f, n, half, "adaptive caustic map, 2^16 photons");
 }
 
 // The nephroid: its cusp on the lit axis within 2 pixels of the exact
@@ -272,7 +311,7 @@ TEST_F(CausticMap, Extremes) {
     ASSERT_TRUE(scene.has_value());
     auto r = runtime::Renderer::create(*scene);
     ASSERT_TRUE(r.ok());
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 6; ++k) {
       runtime::IrradianceRequest q;
       q.receiver = "floor";
       q.width = q.height = 8;
@@ -282,6 +321,12 @@ TEST_F(CausticMap, Extremes) {
       if (k == 1) c.bounces = 9;
       if (k == 2) c.splat_sigma = std::nanf("");
       if (k == 3) c.map_size = 8;
+      if (k == 4) c.adaptive_levels = 9;
+      if (k == 5) {  // fewer than the coarsest level's 64^2 cells
+        c.adaptive_levels = 4;
+        c.photons = 1024;
+        c.photon_budget = 100;
+      }
       auto img = (*r)->render_irradiance(q);
       ASSERT_FALSE(img.ok()) << k;
       EXPECT_EQ(img.error().code, ErrorCode::kUsage) << img.error().message;

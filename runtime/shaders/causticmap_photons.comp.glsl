@@ -18,7 +18,10 @@
 // from the light (the blog's ten iterations; each step takes the tangent
 // plane of the receiver texel it projects into, exact on planes, where
 // Shah et al. take the distance to it), and written with its flux for
-// causticmap_splat. Edge testing and bounded refraction deviation (the
+// causticmap_splat. With adaptive caustic maps (causticmap_adaptive.comp)
+// the photons are the traversal's leaves, one invocation each: a cell of
+// 2^k x 2^k capture texels leaves from a covered texel found by descending
+// the coverage pyramid, with the flux of the cell's covered area. Edge testing and bounded refraction deviation (the
 // blog) and the catacaustics' travel limit are optional and counted.
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -35,6 +38,13 @@ layout(std430, binding = 1) readonly buffer Materials { vec4 material[]; };
 // 7 mirror reflections, 8 TIR dropped, 9 out of bounces (met a mirror
 // after the last reflection allowed).
 layout(std430, binding = 2) buffer Counters { uint counter[]; };
+// Adaptive (u_adaptive = 1): causticmap_adaptive.comp's pyramid, lists and state.
+layout(std430, binding = 3) readonly buffer Pyramid { vec4 pyramid[]; };
+layout(std430, binding = 4) readonly buffer Lists { uint cells[]; };
+layout(std430, binding = 5) readonly buffer State { uint list_count[2]; uint leaves; };
+uniform int u_adaptive;
+uniform uint u_budget;
+uniform int u_offset[9];
 
 uniform int u_photons;         // grid side
 uniform vec3 u_u, u_v, u_w;    // light frame (V towards the light)
@@ -152,9 +162,34 @@ bool next_mirror(vec3 x, vec3 d, float t_max, int self, out vec3 hit, out vec3 n
 }
 
 void main() {
-  ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
-  if (ij.x >= u_photons || ij.y >= u_photons) return;
-  int id = ij.y * u_photons + ij.x;
+  ivec2 ij;
+  int id;
+  // One texel of the casters' map, across the light: its flux.
+  float area = 4.0 * u_caster_half.x * u_caster_half.y / float(u_photons * u_photons);
+  if (u_adaptive != 0) {
+    id = int(gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex);
+    if (uint(id) >= leaves) return;
+    uint c = cells[2u * u_budget + uint(id)];
+    ij = ivec2(int(c & 0xfffu), int((c >> 12) & 0xfffu));
+    int k = int(c >> 24);
+    // The cell's covered area; it leaves from the covered texel reached by
+    // taking the most covered child at each level (the first on ties).
+    area *= float(1 << (2 * k)) * pyramid[u_offset[k] + ij.y * (u_photons >> k) + ij.x].w;
+    for (; k > 0; --k) {
+      ivec2 best = 2 * ij;
+      float cov = -1.0;
+      for (int j = 0; j < 4; ++j) {
+        ivec2 q = 2 * ij + ivec2(j & 1, j >> 1);
+        float w = pyramid[u_offset[k - 1] + q.y * (u_photons >> (k - 1)) + q.x].w;
+        if (w > cov) { cov = w; best = q; }
+      }
+      ij = best;
+    }
+  } else {
+    ij = ivec2(gl_GlobalInvocationID.xy);
+    if (ij.x >= u_photons || ij.y >= u_photons) return;
+    id = ij.y * u_photons + ij.x;
+  }
   photon[2 * id] = vec4(0.0);
   photon[2 * id + 1] = vec4(0.0);
   vec4 fp = texelFetch(u_front_pos, ij, 0);
@@ -163,8 +198,6 @@ void main() {
   vec3 x = fp.xyz;
   vec3 n = normalize(texelFetch(u_front_nrm, ij, 0).xyz);
   int object = int(fp.w + 0.5) - 1;
-  // One texel of the casters' map, across the light: its flux.
-  float area = 4.0 * u_caster_half.x * u_caster_half.y / float(u_photons * u_photons);
   vec3 d;
   float power;
   if (u_light_type == 1) {

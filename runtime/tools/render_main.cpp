@@ -102,6 +102,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0f, 180.0f))->capture_default_str();
   app.add_option("--cmap-max-travel", cmap.max_travel, "caustic maps: drop photons that travel farther after a mirror, metres (0: the scene's diagonal)")
       ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+  app.add_option("--cmap-adaptive", cmap.adaptive_levels,
+                 "caustic maps: adaptive traversal levels (Wyman & Nichols 2009): start from cells of 2^n x 2^n grid texels, refine those over a caster (0: the uniform grid)")
+      ->check(CLI::Range(0, 8))->capture_default_str();
+  app.add_option("--cmap-budget", cmap.photon_budget, "caustic maps, adaptive: most photons traced per light")
+      ->check(CLI::Range(1, 1 << 24))->capture_default_str();
   // Media (seed 004; docs/volume.md).
   VolumeOptions volume;
   bool no_media = false, no_octree = false;
@@ -300,6 +305,13 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(cm.tir_dropped), static_cast<unsigned long long>(cm.edge_dropped),
                   static_cast<unsigned long long>(cm.deviation_dropped), static_cast<unsigned long long>(cm.too_far),
                   static_cast<unsigned long long>(cm.lost), static_cast<unsigned long long>(cm.out_of_bounces), cm.capture_ms, cm.photon_ms, cm.splat_ms);
+      if (cmap.adaptive_levels > 0) {
+        std::printf("adaptive caustic maps: photons per level (cell side in grid texels)");
+        for (std::uint32_t k = 0; k <= cmap.adaptive_levels; ++k) {
+          std::printf(" %u: %llu", 1u << k, static_cast<unsigned long long>(cm.photons_per_level[k]));
+        }
+        std::printf("\n");
+      }
     }
   }
   if (!quiet) std::printf("caustix-render: wrote %s (%dx%d, t = %g s, %.1f ms)\n", out_path.c_str(), width, height, time, ms);

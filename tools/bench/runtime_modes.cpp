@@ -81,6 +81,7 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
 struct RuntimeModes final : Modes {
   std::string glass_method = "table";
   std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
+  std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5;
@@ -105,6 +106,8 @@ struct RuntimeModes final : Modes {
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
     fr->add_option("--cmap-photons", cmap_photons, "caustic maps: photon grid side")->check(CLI::Range(1, 4096))->capture_default_str();
     fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
+    fr->add_option("--cmap-adaptive", cmap_adaptive, "caustic maps: adaptive traversal levels (0: uniform grid)")->check(CLI::Range(0, 8))->capture_default_str();
+    fr->add_option("--cmap-budget", cmap_budget, "caustic maps, adaptive: most photons per light")->check(CLI::Range(1, 1 << 24))->capture_default_str();
     fr->add_option("--label", label, "first CSV column");
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
@@ -144,6 +147,8 @@ struct RuntimeModes final : Modes {
     co.glass_method = *runtime::parse_glass_method(glass_method);
     co.caustic_map.photons = cmap_photons;
     co.caustic_map.map_size = cmap_size;
+    co.caustic_map.adaptive_levels = cmap_adaptive;
+    co.caustic_map.photon_budget = cmap_budget;
     return frames(cxb, co, gsize, w, h, warmup, count, label, move_light);
   }
 };

@@ -12,6 +12,10 @@ namespace caustix::runtime {
 namespace {
 
 constexpr int kCounters = 10;
+// causticmap_adaptive.comp's State block: count[2], leaves, threshold,
+// dispatch (uvec4 at 16), photon_dispatch (32), draw (48), hist[16] (64).
+constexpr GLsizeiptr kStateBytes = 128;
+constexpr GLintptr kDispatchOffset = 16, kPhotonDispatchOffset = 32, kDrawOffset = 48;
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -62,6 +66,11 @@ struct CausticMapEngine::Impl {
     gl::Texture map, receivers, receiver_depth, scratch, scratch2;
     gl::Framebuffer caster_fbo, receiver_fbo, splat_fbo;
     gl::Buffer photon_buffer;
+    // Adaptive traversal (causticmap_adaptive.comp): coverage pyramid, cell
+    // lists (two of `budget`, then the leaves), state and indirect args.
+    std::uint32_t levels = 0, budget = 0;
+    gl::Buffer pyramid, cells, state;
+    std::array<int, 9> offsets{};
     gl::Query capture_q, photon_q, splat_q;
     bool valid = false, timed = false;
     Binding binding;
@@ -69,13 +78,38 @@ struct CausticMapEngine::Impl {
   };
   std::vector<PerLight> lights;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program capture, photons, splat, blur;
+  gl::Program capture, photons, splat, blur, adaptive;
   gl::Buffer materials, counters;
   gl::VertexArray empty_vao;
   std::vector<float> material_data;
 
-  void ensure(PerLight& pl, int photons_side, int size) {
-    if (pl.photons != photons_side) {
+  // photons_side: the capture's side (a multiple of 2^levels when adaptive).
+  void ensure(PerLight& pl, int photons_side, int size, std::uint32_t levels, std::uint32_t budget) {
+    const bool new_side = pl.photons != photons_side;
+    if (new_side || pl.levels != levels || pl.budget != budget) {
+      pl.levels = levels;
+      pl.budget = budget;
+      const std::uint64_t slots = levels > 0 ? budget : std::uint64_t(photons_side) * std::uint64_t(photons_side);
+      pl.photon_buffer = gl::make_buffer();
+      glNamedBufferStorage(pl.photon_buffer.get(), static_cast<GLsizeiptr>(32 * slots), nullptr, 0);
+      pl.pyramid = gl::Buffer();
+      pl.cells = gl::Buffer();
+      pl.state = gl::Buffer();
+      if (levels > 0) {
+        int total = 0;
+        for (std::uint32_t k = 0; k <= levels; ++k) {
+          pl.offsets[k] = total;
+          total += (photons_side >> k) * (photons_side >> k);
+        }
+        pl.pyramid = gl::make_buffer();
+        glNamedBufferStorage(pl.pyramid.get(), static_cast<GLsizeiptr>(std::size_t{16} * static_cast<std::size_t>(total)), nullptr, 0);
+        pl.cells = gl::make_buffer();
+        glNamedBufferStorage(pl.cells.get(), static_cast<GLsizeiptr>(std::size_t{12} * budget), nullptr, 0);
+        pl.state = gl::make_buffer();
+        glNamedBufferStorage(pl.state.get(), kStateBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      }
+    }
+    if (new_side) {
       pl.photons = photons_side;
       pl.front_pos = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
       pl.front_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
@@ -83,8 +117,6 @@ struct CausticMapEngine::Impl {
       pl.back_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
       pl.caster_depth = make_map(photons_side, GL_DEPTH_COMPONENT32F, GL_NEAREST);
       pl.caster_fbo = gl::make_framebuffer();
-      pl.photon_buffer = gl::make_buffer();
-      glNamedBufferStorage(pl.photon_buffer.get(), static_cast<GLsizeiptr>(std::size_t{32} * photons_side * photons_side), nullptr, 0);
     }
     if (pl.size != size) {
       pl.size = size;
@@ -102,8 +134,60 @@ struct CausticMapEngine::Impl {
       pl.splat_fbo = gl::make_framebuffer();
     }
     const std::uint64_t p2 = std::uint64_t(photons_side) * std::uint64_t(photons_side), s2 = std::uint64_t(size) * std::uint64_t(size);
-    pl.bytes = p2 * (4 * 16 + 4 + 32) + s2 * (4 * 16 + 4);
+    pl.bytes = p2 * (4 * 16 + 4) + s2 * (4 * 16 + 4);
+    if (levels > 0) {
+      pl.bytes += std::uint64_t{32 + 12} * budget + kStateBytes;
+      for (std::uint32_t k = 0; k <= levels; ++k) pl.bytes += 16 * std::uint64_t(photons_side >> k) * std::uint64_t(photons_side >> k);
+    } else {
+      pl.bytes += 32 * p2;
+    }
   }
+
+  // Adaptive caustic maps' traversal (causticmap_adaptive.comp's stages):
+  // the leaves into pl.cells' third list, and the photon pass's dispatch
+  // and the splats' draw into pl.state.
+  void traverse(PerLight& pl) {
+    const gl::Program& a = adaptive;
+    a.use();
+    const int side = pl.photons, L = static_cast<int>(pl.levels);
+    a.set("u_side", side);
+    a.set("u_levels", L);
+    glProgramUniform1iv(a.id(), a.loc("u_offset"), 9, pl.offsets.data());
+    a.set("u_budget", static_cast<unsigned>(pl.budget));
+    glClearNamedBufferData(pl.state.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glBindTextureUnit(0, pl.front_pos.get());
+    glBindTextureUnit(1, pl.front_nrm.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, pl.pyramid.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, pl.cells.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, pl.state.get());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+    auto run = [&](int stage, int level, int cur, GLuint cells) {
+      a.set("u_stage", stage);
+      a.set("u_level", level);
+      a.set("u_cur", cur);
+      glDispatchCompute((cells + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    };
+    auto cells_at = [&](int k) { return static_cast<GLuint>((side >> k) * (side >> k)); };
+    run(0, 0, 0, cells_at(0));
+    for (int k = 1; k <= L; ++k) run(1, k, 0, cells_at(k));
+    run(2, L, 0, cells_at(L));
+    int cur = 0;
+    for (int k = L; k >= 0; --k, cur = 1 - cur) {
+      run(3, k, cur, 1);
+      for (int stage : {4, 5, 6}) {
+        a.set("u_stage", stage);
+        a.set("u_level", k);
+        a.set("u_cur", cur);
+        if (stage == 5) glDispatchCompute(1, 1, 1);
+        else glDispatchComputeIndirect(kDispatchOffset);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+      }
+    }
+    run(7, 0, 0, 1);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  }
+
 
   // Renders objects (casters or receivers) into the bound framebuffer.
   void draw(const SceneDesc& scene, const glm::mat4& view_proj, bool casters, GlassMethod method) {
@@ -134,6 +218,14 @@ Status CausticMapEngine::check(const CausticMapOptions& o) {
   if (!(o.edge_cos >= 0.0f && o.edge_cos <= 1.0f)) return bad("edge_cos must be in [0, 1]");
   if (!(o.max_deviation_deg >= 0.0f && o.max_deviation_deg <= 180.0f)) return bad("max_deviation_deg must be in [0, 180]");
   if (!(o.max_travel >= 0.0f && std::isfinite(o.max_travel))) return bad("max_travel must be finite and >= 0");
+  if (o.adaptive_levels > 8) return bad("adaptive_levels must be 0..8, got " + std::to_string(o.adaptive_levels));
+  if (o.adaptive_levels > 0) {
+    const std::uint32_t coarse = (o.photons + (1u << o.adaptive_levels) - 1) >> o.adaptive_levels;
+    if (o.photon_budget > (1u << 24) || o.photon_budget < coarse * coarse) {
+      return bad("photon_budget must be " + std::to_string(coarse * coarse) + " (the coarsest level's " + std::to_string(coarse) + "^2 cells) .. " +
+                 std::to_string(1u << 24) + ", got " + std::to_string(o.photon_budget));
+    }
+  }
   return Status::success();
 }
 
@@ -154,6 +246,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
       {&s.photons, "causticmap_photons", photons_src.c_str()},
       {&s.splat, "causticmap_splat", shaders::k_causticmap_splat_vert_glsl, shaders::k_causticmap_splat_frag_glsl},
       {&s.blur, "causticmap_blur", shaders::k_causticmap_blur_comp_glsl},
+      {&s.adaptive, "causticmap_adaptive", shaders::k_causticmap_adaptive_comp_glsl},
   }));
   s.lights.resize(scene.lights.size());
   // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0); kind is
@@ -206,8 +299,11 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glm::vec3 all_lo, all_hi, c_lo, c_hi;
   extents(f, world_boxes, all_lo, all_hi);
   extents(f, caster_boxes, c_lo, c_hi);
-  const int size = static_cast<int>(o.map_size), side = static_cast<int>(o.photons);
-  s.ensure(pl, side, size);
+  const int size = static_cast<int>(o.map_size);
+  const std::uint32_t cell = 1u << o.adaptive_levels;
+  const int side = static_cast<int>((o.photons + cell - 1) / cell * cell);
+  s.ensure(pl, side, size, o.adaptive_levels, o.photon_budget);
+  const bool adaptive = o.adaptive_levels > 0;
   // A texel of margin on each side (at most 1 %) so that nothing touches
   // the border.
   auto rect = [&](const glm::vec3& a, const glm::vec3& b, int n, glm::vec3& origin, glm::vec2& half) {
@@ -280,12 +376,16 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glDepthFunc(GL_LESS);
   glEndQuery(GL_TIME_ELAPSED);
 
-  // Photons.
+  // Photons: the adaptive traversal's leaves, or the whole grid.
   glBeginQuery(GL_TIME_ELAPSED, pl.photon_q.get());
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  if (adaptive) s.traverse(pl);
   const gl::Program& p = s.photons;
   p.use();
   p.set("u_photons", side);
+  p.set("u_adaptive", adaptive ? 1 : 0);
+  glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
+  p.set("u_budget", static_cast<unsigned>(pl.budget));
   p.set("u_u", f.u);
   p.set("u_v", f.v);
   p.set("u_w", f.w);
@@ -318,9 +418,17 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s.materials.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.counters.get());
-  const GLuint groups = static_cast<GLuint>((side + 7) / 8);
-  glDispatchCompute(groups, groups, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  if (adaptive) {
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+    glDispatchComputeIndirect(kPhotonDispatchOffset);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  } else {
+    // The adaptive blocks are not read; any buffer keeps them bound.
+    for (GLuint b : {3u, 4u, 5u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, s.counters.get());
+    const GLuint groups = static_cast<GLuint>((side + 7) / 8);
+    glDispatchCompute(groups, groups, 1);
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glEndQuery(GL_TIME_ELAPSED);
 
   // Splats into the caustic map (one pass), or into one texel each and a
@@ -351,7 +459,13 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   s.splat.set("u_v", f.v);
   glBindTextureUnit(0, pl.receivers.get());
   glBindVertexArray(s.empty_vao.get());
-  glDrawArrays(GL_POINTS, 0, side * side);
+  if (adaptive) {
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
+    glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  } else {
+    glDrawArrays(GL_POINTS, 0, side * side);
+  }
   glDisable(GL_PROGRAM_POINT_SIZE);
   glDisable(GL_BLEND);
   if (two_pass) {
@@ -415,7 +529,16 @@ CausticMapStats CausticMapEngine::stats(bool read) {
   st.out_of_bounces = c[9];
   for (const auto& pl : impl_->lights) {
     if (!pl.valid) continue;
-    std::vector<float> ph(std::size_t{8} * pl.photons * pl.photons);
+    std::size_t slots = std::size_t(pl.photons) * std::size_t(pl.photons);
+    if (pl.levels > 0) {
+      std::uint32_t leaves = 0;
+      glGetNamedBufferSubData(pl.state.get(), 8, 4, &leaves);
+      slots = leaves;
+      std::vector<std::uint32_t> cells(leaves);
+      glGetNamedBufferSubData(pl.cells.get(), static_cast<GLintptr>(std::size_t{8} * pl.budget), static_cast<GLsizeiptr>(4 * cells.size()), cells.data());
+      for (std::uint32_t cell : cells) ++st.photons_per_level[std::min<std::uint32_t>(cell >> 24, 8)];
+    }
+    std::vector<float> ph(std::size_t{8} * slots);
     glGetNamedBufferSubData(pl.photon_buffer.get(), 0, static_cast<GLsizeiptr>(ph.size() * 4), ph.data());
     for (std::size_t i = 0; i < ph.size(); i += 8) {
       if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];

@@ -70,6 +70,13 @@ struct CausticMapOptions {
   float edge_cos = 0.0f;           // edge testing: drop photons entering where |n . l| < edge_cos (0: off)
   float max_deviation_deg = 180.0f;  // bounded refraction deviation: drop photons turned more than this from the light (180: off)
   float max_travel = 0.0f;         // catacaustics: drop photons that travel farther than this after a mirror, metres (0: the scene's diagonal)
+  // Adaptive caustic maps (Wyman & Nichols 2009): 0 traces the uniform
+  // grid; n (1..8) starts from cells of 2^n x 2^n grid texels (the grid's
+  // side rounded up to a multiple of 2^n) and refines only the cells that
+  // cover a caster, level by level, the outline and where the casters'
+  // normal turns first, until photon_budget photons.
+  std::uint32_t adaptive_levels = 0;
+  std::uint32_t photon_budget = 1u << 16;  // adaptive: most photons traced (>= the coarsest level's cells; <= 2^24)
 };
 
 struct CausticsOptions {
@@ -131,6 +138,9 @@ struct CausticMapStats {
   std::uint64_t lost = 0;             // no receiver seen from the light where they land
   std::uint64_t out_of_bounces = 0;   // met a mirror after the last reflection allowed (ended there)
   double landed_power = 0;            // sum of the landed photons' luminance flux, W (read back)
+  // Adaptive: photons traced per traversal level (0: one grid texel; level
+  // k: a cell of 4^k texels), read back.
+  std::array<std::uint64_t, 9> photons_per_level{};
   double capture_ms = 0, photon_ms = 0, splat_ms = 0;  // GPU time of the last light's passes (timer queries)
   std::uint64_t gpu_bytes = 0;
 };
