@@ -107,6 +107,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 8))->capture_default_str();
   app.add_option("--cmap-budget", cmap.photon_budget, "caustic maps, adaptive: most photons traced per light")
       ->check(CLI::Range(1, 1 << 24))->capture_default_str();
+  // Shadows (issue 20: variance shadow maps, seed 003).
+  ShadowOptions shadow_options;
+  std::string shadow_filter = to_string(shadow_options.filter);
+  app.add_option("--shadow-filter", shadow_filter, "shadows of directional lights: pcf (3x3) or vsm (variance shadow maps, Donnelly & Lauritzen 2006)")
+      ->check(CLI::IsMember({"pcf", "vsm"}))->capture_default_str();
+  app.add_option("--vsm-filter", shadow_options.vsm_filter, "variance shadow maps: box filter width, texels (odd)")
+      ->check(CLI::Range(1, 63))->capture_default_str();
+  app.add_option("--vsm-bleeding", shadow_options.vsm_bleeding, "variance shadow maps: light-bleeding reduction in [0, 0.95]")
+      ->check(CLI::Range(0.0f, 0.95f))->capture_default_str();
   // Media (seed 004; docs/volume.md).
   VolumeOptions volume;
   bool no_media = false, no_octree = false;
@@ -170,6 +179,8 @@ int main(int argc, char** argv) {
   cmap.two_pass = cmap_two_pass;
   cmap.tir_one_sided = !cmap_drop_tir;
   caustics.caustic_map = cmap;
+  shadow_options.filter = *parse_shadow_filter(shadow_filter);
+  caustics.shadows = shadow_options;
   if (photons > 0) caustics.photons = photons;
   caustics.volume.octree = !no_octree;
   caustics.volume.enabled = !no_media;

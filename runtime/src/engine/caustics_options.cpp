@@ -30,6 +30,15 @@ std::optional<GlassMethod> parse_glass_method(const std::string& name) {
   return std::nullopt;
 }
 
+const char* to_string(ShadowFilter f) { return f == ShadowFilter::kPcf ? "pcf" : "vsm"; }
+
+std::optional<ShadowFilter> parse_shadow_filter(const std::string& name) {
+  for (ShadowFilter f : {ShadowFilter::kPcf, ShadowFilter::kVsm}) {
+    if (name == to_string(f)) return f;
+  }
+  return std::nullopt;
+}
+
 void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.map_size = render.caustics_map_size;
   o.glass_map_size = render.glass_map_size;

@@ -133,14 +133,14 @@ struct Engine::Impl {
   }
 
   // The light's part of the block (the same for every receiver).
-  void fill_light(LightBlock& b, std::uint32_t li) const {
+  void fill_light(LightBlock& b, std::uint32_t li, const ShadowOptions& so) const {
     const Light& light = scene.lights[li];
     const bool dir = light.type == LightType::kDirectional;
     const ShadowMaps::Maps m = shadows->maps(li);
     b.mode.y = dir ? 1 : 2;
     b.mode.w = glass ? 1 : 0;
-    b.light_direction = glm::vec4(glm::normalize(to_glm(light.direction)), 0.0f);
-    b.light_position = vec4_of(light.position, 1.0f);
+    b.light_direction = glm::vec4(glm::normalize(to_glm(light.direction)), m.vsm ? 1.0f : 0.0f);
+    b.light_position = vec4_of(light.position, m.vsm ? so.vsm_bleeding : 0.0f);
     b.light_color = vec4_of(light.color, dir ? light.irradiance : light.intensity);
     b.world_to_shadow = m.world_to_shadow;
     b.water = glm::vec4(-1e30f, 1.0f, m.far, m.texel);
@@ -159,11 +159,13 @@ struct Engine::Impl {
   void fill_receiver(ReceiverLighting& r, std::uint32_t oi, std::uint32_t li, const CausticsOptions& co) const {
     const ShadowMaps::Maps m = shadows->maps(li);
     r.block = LightBlock{};
-    fill_light(r.block, li);
+    fill_light(r.block, li, co.shadows);
     r.shadow_2d = m.opaque_2d;
     r.shadow_cube = m.opaque_cube;
     r.glass_shadow_2d = m.glass_2d;
     r.glass_shadow_cube = m.glass_cube;
+    r.shadow_vsm = m.opaque_vsm;
+    r.glass_shadow_vsm = m.glass_vsm;
     r.caustics = r.position = dummy_2d.get();
     r.glass_illumination = dummy_array.get();
     r.glass_target = dummy_2d.get();
@@ -240,6 +242,8 @@ struct Engine::Impl {
     glBindTextureUnit(bindings.glass_shadow_2d, r.glass_shadow_2d);
     glBindTextureUnit(bindings.glass_shadow_cube, r.glass_shadow_cube);
     glBindTextureUnit(bindings.caustic_map, r.caustic_map);
+    glBindTextureUnit(bindings.shadow_vsm, r.shadow_vsm);
+    glBindTextureUnit(bindings.glass_shadow_vsm, r.glass_shadow_vsm);
   }
 
   std::string lighting_prefix() const {
@@ -256,6 +260,8 @@ struct Engine::Impl {
     def("CAUSTIX_UNIT_GLASS_SHADOW_2D", b.glass_shadow_2d);
     def("CAUSTIX_UNIT_GLASS_SHADOW_CUBE", b.glass_shadow_cube);
     def("CAUSTIX_UNIT_CAUSTIC_MAP", b.caustic_map);
+    def("CAUSTIX_UNIT_SHADOW_VSM", b.shadow_vsm);
+    def("CAUSTIX_UNIT_GLASS_SHADOW_VSM", b.glass_shadow_vsm);
     return s + shaders::k_caustix_glsl;
   }
 
@@ -286,14 +292,15 @@ Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
 Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const Bindings& bindings) {
-  const unsigned units[9] = {bindings.shadow_2d,          bindings.shadow_cube,  bindings.caustics,
-                             bindings.position,           bindings.glass_illumination, bindings.glass_target,
-                             bindings.glass_shadow_2d,    bindings.glass_shadow_cube,  bindings.caustic_map};
+  const unsigned units[11] = {bindings.shadow_2d,       bindings.shadow_cube,       bindings.caustics,
+                              bindings.position,        bindings.glass_illumination, bindings.glass_target,
+                              bindings.glass_shadow_2d, bindings.glass_shadow_cube,  bindings.caustic_map,
+                              bindings.shadow_vsm,      bindings.glass_shadow_vsm};
   GLint max_units = 0, max_ubo = 0;
   glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_units);
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &max_ubo);
   if (max_units == 0) return make_error(ErrorCode::kGraphics, "no current OpenGL context (the engine needs the application's 4.5 core context)");
-  for (int i = 0; i < 9; ++i) {
+  for (int i = 0; i < 11; ++i) {
     if (units[i] >= static_cast<unsigned>(max_units)) {
       return usage("Bindings: texture unit " + std::to_string(units[i]) + " is beyond this context's " + std::to_string(max_units));
     }
@@ -489,6 +496,11 @@ Status Engine::update(const FrameUpdate& f) {
   Impl& s = *impl_;
   if (!std::isfinite(f.time)) return usage("update: time is not finite");
   if (CausticMapEngine::needed(s.scene, f.caustics.glass_method)) CAUSTIX_RETURN_IF_ERROR(CausticMapEngine::check(f.caustics.caustic_map));
+  const ShadowOptions& so = f.caustics.shadows;
+  if (so.vsm_filter < 1 || so.vsm_filter > 63 || so.vsm_filter % 2 == 0) {
+    return usage("shadow options: vsm_filter must be odd, 1..63 texels, got " + std::to_string(so.vsm_filter));
+  }
+  if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) return usage("shadow options: vsm_bleeding must be in [0, 0.95]");
   const gl::StateGuard guard = s.guard();
   const CausticsOptions& co = f.caustics;
   if (s.caustics) s.caustics->reset_stats();
@@ -504,7 +516,7 @@ Status Engine::update(const FrameUpdate& f) {
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     const Light& light = s.scene.lights[li];
-    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius());
+    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius(), co.shadows);
     if (s.caustics) CAUSTIX_RETURN_IF_ERROR(s.caustics->update_light(li, light, co));
     if (s.glass && co.method != CausticsMethod::kNone) {
       s.upload_light(li, co);  // the rays read the light's block and shadow maps

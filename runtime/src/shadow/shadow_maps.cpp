@@ -25,13 +25,23 @@ gl::Texture make_shadow_texture(GLenum target, int size) {
   return t;
 }
 
+gl::Texture make_moments_texture(int size) {
+  gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, GL_RG32F, size, size);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
 }  // namespace
 
 Result<ShadowMaps> ShadowMaps::create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object) {
   ShadowMaps s;
   s.draw_object_ = std::move(draw_object);
-  CAUSTIX_RETURN_IF_ERROR(
-      gl::build_programs({{&s.program_, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl}}));
+  CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.program_, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl},
+                                              {&s.vsm_program_, "shadow_vsm", shaders::k_shadow_vsm_comp_glsl}}));
   for (const Object& o : scene.objects) s.glass_ = s.glass_ || is_transparent(o.role);
   s.fbo_ = gl::make_framebuffer();
   glNamedFramebufferDrawBuffer(s.fbo_.get(), GL_NONE);
@@ -39,6 +49,9 @@ Result<ShadowMaps> ShadowMaps::create(const SceneDesc& scene, std::function<void
   // only one (an unbound shadow sampler is undefined).
   s.dummy_2d_ = make_shadow_texture(GL_TEXTURE_2D, 1);
   s.dummy_cube_ = make_shadow_texture(GL_TEXTURE_CUBE_MAP, 1);
+  s.dummy_vsm_ = make_moments_texture(1);
+  const float far[4] = {1, 1, 0, 0};
+  glClearTexImage(s.dummy_vsm_.get(), 0, GL_RG, GL_FLOAT, far);
   for (const Light& l : scene.lights) {
     PerLight p;
     p.point = l.type == LightType::kPoint;
@@ -113,7 +126,25 @@ float ShadowMaps::render_point(const SceneDesc& scene, const Light& light, GLuin
   return far;
 }
 
-void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius) {
+void ShadowMaps::filter_moments(GLuint depth, GLuint moments, std::uint32_t width) {
+  const gl::Program& p = vsm_program_;
+  p.use();
+  p.set("u_radius", static_cast<int>(width / 2));
+  // The depth map compares by default; the pass reads depths.
+  glTextureParameteri(depth, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  const GLuint groups = (kSize + 7) / 8;
+  for (int pass = 0; pass < 2; ++pass) {
+    p.set("u_pass", pass);
+    glBindTextureUnit(0, depth);
+    glBindTextureUnit(1, vsm_scratch_.get());
+    glBindImageTexture(0, pass == 0 ? vsm_scratch_.get() : moments, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glDispatchCompute(groups, groups, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  glTextureParameteri(depth, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+}
+
+void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options) {
   const Light& light = scene.lights[li];
   PerLight& p = lights_[li];
   glDisable(GL_BLEND);
@@ -126,6 +157,24 @@ void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec
     p.world_to_shadow = render_directional(scene, dir, p.opaque.get(), false, center, radius);
     if (glass_) render_directional(scene, dir, p.glass.get(), true, center, radius);
     p.texel = 2.0f * radius / kSize;
+    p.vsm = options.filter == ShadowFilter::kVsm;
+    if (p.vsm) {
+      const std::uint64_t bytes = std::uint64_t{8} * kSize * kSize;
+      if (!vsm_scratch_.get()) {
+        vsm_scratch_ = make_moments_texture(kSize);
+        bytes_ += bytes;
+      }
+      if (!p.opaque_vsm.get()) {
+        p.opaque_vsm = make_moments_texture(kSize);
+        bytes_ += bytes;
+        if (glass_) {
+          p.glass_vsm = make_moments_texture(kSize);
+          bytes_ += bytes;
+        }
+      }
+      filter_moments(p.opaque.get(), p.opaque_vsm.get(), options.vsm_filter);
+      if (glass_) filter_moments(p.glass.get(), p.glass_vsm.get(), options.vsm_filter);
+    }
   } else {
     p.far = render_point(scene, light, p.opaque.get(), false, center, radius);
     if (glass_) render_point(scene, light, p.glass.get(), true, center, radius);
@@ -134,7 +183,13 @@ void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec
 
 ShadowMaps::Maps ShadowMaps::maps(std::uint32_t li) const {
   const PerLight& p = lights_[li];
-  Maps m{dummy_2d_.get(), dummy_cube_.get(), dummy_2d_.get(), dummy_cube_.get(), p.world_to_shadow, p.far, p.texel};
+  Maps m{dummy_2d_.get(), dummy_cube_.get(), dummy_2d_.get(), dummy_cube_.get(), dummy_vsm_.get(), dummy_vsm_.get(), false,
+         p.world_to_shadow, p.far, p.texel};
+  if (p.vsm) {
+    m.vsm = true;
+    m.opaque_vsm = p.opaque_vsm.get();
+    if (glass_) m.glass_vsm = p.glass_vsm.get();
+  }
   if (p.point) {
     m.opaque_cube = p.opaque.get();
     if (glass_) m.glass_cube = p.glass.get();

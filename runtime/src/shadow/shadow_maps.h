@@ -5,7 +5,10 @@
 // (point lights), of the opaque objects, and with transparent objects in the
 // scene a second one of the glass alone (the direct light it takes away;
 // its light comes back through the illumination textures). Created only for
-// the light kinds and objects the scene has. Internal to the runtime.
+// the light kinds and objects the scene has. With variance shadow maps
+// (ShadowOptions::filter kVsm, directional lights) each depth map also
+// gives a map of its filtered moments (shadow_vsm.comp), made the first
+// time they are asked for. Internal to the runtime.
 
 #include <cstdint>
 #include <functional>
@@ -15,6 +18,7 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
+#include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
 
 namespace caustix::runtime {
@@ -28,10 +32,12 @@ class ShadowMaps {
   static Result<ShadowMaps> create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object);
 
   // Renders light `li`'s maps; `center`, `radius` bound the scene.
-  void render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius);
+  void render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options);
 
   struct Maps {
     GLuint opaque_2d, opaque_cube, glass_2d, glass_cube;  // valid textures (1x1 where unused)
+    GLuint opaque_vsm, glass_vsm;                         // RG32F moments (1x1 where unused)
+    bool vsm = false;                                     // the moments are this light's shadows
     glm::mat4 world_to_shadow{1.0f};                      // directional
     float far = 1.0f;                                     // point: distance / far is stored
     float texel = 0.0f;                                   // directional: world size of a texel
@@ -46,6 +52,8 @@ class ShadowMaps {
  private:
   struct PerLight {
     gl::Texture opaque, glass;
+    gl::Texture opaque_vsm, glass_vsm;
+    bool vsm = false;
     glm::mat4 world_to_shadow{1.0f};
     float far = 1.0f, texel = 0.0f;
     bool point = false;
@@ -55,9 +63,12 @@ class ShadowMaps {
   float render_point(const SceneDesc& scene, const Light& light, GLuint target, bool glass_only, const glm::vec3& center,
                      float radius);
   void draw_casters(const SceneDesc& scene, bool glass_only) const;
+  // The moments of `depth` into `moments`, box-filtered `width` texels.
+  void filter_moments(GLuint depth, GLuint moments, std::uint32_t width);
 
   std::function<void(std::uint32_t)> draw_object_;
-  gl::Program program_;
+  gl::Program program_, vsm_program_;
+  gl::Texture vsm_scratch_, dummy_vsm_;
   gl::Framebuffer fbo_;
   std::vector<PerLight> lights_;
   gl::Texture dummy_2d_, dummy_cube_;

@@ -79,6 +79,21 @@ struct CausticMapOptions {
   std::uint32_t photon_budget = 1u << 16;  // adaptive: most photons traced (>= the coarsest level's cells; <= 2^24)
 };
 
+// Shadows of the direct light (caustix.glsl's caustix_shadow_visibility)
+// for the opaque objects and the glass. Point lights keep 3x3 PCF on their
+// cube maps whichever filter is chosen.
+enum class ShadowFilter {
+  kPcf,  // 3x3 percentage-closer filtering of the depth map
+  kVsm,  // variance shadow maps (Donnelly & Lauritzen 2006; seed 003): soft, filtered moments, Chebyshev's bound
+};
+const char* to_string(ShadowFilter f);
+std::optional<ShadowFilter> parse_shadow_filter(const std::string& name);
+struct ShadowOptions {
+  ShadowFilter filter = ShadowFilter::kPcf;
+  std::uint32_t vsm_filter = 5;  // VSM: box filter width over the moments, texels (odd, 1..63; the blog: 5)
+  float vsm_bleeding = 0.2f;     // VSM light-bleeding reduction: bounds below this read as shadow, the rest rescaled ([0, 0.95])
+};
+
 struct CausticsOptions {
   CausticsMethod method = CausticsMethod::kLevelMap;
   std::optional<std::uint32_t> planes;  // re-slice with n pieces (uniform) / eps = h/(2n) (smart)
@@ -101,6 +116,7 @@ struct CausticsOptions {
   VolumeOptions volume;
   GlassMethod glass_method = GlassMethod::kTable;
   CausticMapOptions caustic_map;
+  ShadowOptions shadows;
 };
 
 // Sets the fields a bake preset records (RNDR chunk): map sizes, glass planes.

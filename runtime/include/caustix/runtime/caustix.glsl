@@ -68,6 +68,12 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 #ifndef CAUSTIX_UNIT_CAUSTIC_MAP
 #define CAUSTIX_UNIT_CAUSTIC_MAP 16
 #endif
+#ifndef CAUSTIX_UNIT_SHADOW_VSM
+#define CAUSTIX_UNIT_SHADOW_VSM 17
+#endif
+#ifndef CAUSTIX_UNIT_GLASS_SHADOW_VSM
+#define CAUSTIX_UNIT_GLASS_SHADOW_VSM 18
+#endif
 
 // One (receiver, light): caustix::runtime::LightBlock field for field.
 // Light modes (mode.x), chosen per (object, light) by the engine:
@@ -86,8 +92,8 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 //    map) and not in another object's shadow.
 layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   ivec4 mode;            // x light mode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
-  vec4 light_direction;  // xyz unit direction of travel (directional)
-  vec4 light_position;   // xyz (point)
+  vec4 light_direction;  // xyz unit direction of travel (directional), w 1: variance shadow maps
+  vec4 light_position;   // xyz (point), w VSM light-bleeding reduction
   vec4 light_color;      // rgb linear colour, w E0 (W/m^2) or I (W/sr)
   vec4 water;            // x rest level, y IOR, z point shadow far, w shadow texel (m)
   vec4 absorption;       // xyz K per metre
@@ -133,17 +139,36 @@ layout(binding = CAUSTIX_UNIT_CAUSTIC_MAP) uniform sampler2D caustix_caustic_map
 
 float caustix_plane_v(int i) { return caustix_light.glass_plane_v[i >> 2][i & 3]; }
 
-float caustix_shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map_cube, vec3 p, vec3 n, vec3 to_light) {
+// Variance shadow maps (Donnelly & Lauritzen 2006): the filtered moments
+// (m1, m2) of the light's depth around p's texel bound the fraction of it
+// at or beyond depth z by Chebyshev's one-tailed inequality (their eq. 5),
+// p_max = var / (var + (z - m1)^2), exact for one planar occluder over a
+// planar receiver; the bound's tail below `bleeding` is cut (light-bleeding
+// reduction, GPU Gems 3 ch. 8) and the rest rescaled to [0, 1].
+layout(binding = CAUSTIX_UNIT_SHADOW_VSM) uniform sampler2D caustix_shadow_vsm;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_VSM) uniform sampler2D caustix_glass_shadow_vsm;
+float caustix_vsm_visibility(sampler2D moments, vec2 uv, float z) {
+  vec2 m = texture(moments, uv).xy;
+  if (z <= m.x) return 1.0;
+  float variance = max(m.y - m.x * m.x, 2e-6);  // float cancellation in m2 - m1^2
+  float d = z - m.x;
+  float p_max = variance / (variance + d * d);
+  float bleeding = caustix_light.light_position.w;
+  return clamp((p_max - bleeding) / (1.0 - bleeding), 0.0, 1.0);
+}
+
+float caustix_shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map_cube, sampler2D moments, vec3 p, vec3 n, vec3 to_light) {
   if (caustix_light.mode.y == 2) {
     vec3 q = p + n * (0.01 * length(p - caustix_light.light_position.xyz));
     vec3 d = q - caustix_light.light_position.xyz;
     return texture(map_cube, vec4(d, length(d) / caustix_light.water.z - 0.002));
   }
-  // Normal offset against acne, 3x3 PCF against aliasing.
+  // Normal offset against acne; 3x3 PCF against aliasing, or the moments.
   vec4 s = caustix_light.world_to_shadow * vec4(p + n * (1.5 * caustix_light.water.w), 1.0);
   s.xyz /= s.w;
   if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;
   float bias = 0.002 * (1.0 - max(dot(n, to_light), 0.0)) + 0.0005;
+  if (caustix_light.light_direction.w != 0.0) return caustix_vsm_visibility(moments, s.xy, s.z - bias);
   vec2 texel = 1.0 / vec2(textureSize(map_2d, 0));
   float sum = 0.0;
   for (int y = -1; y <= 1; ++y)
@@ -153,7 +178,9 @@ float caustix_shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map
 }
 
 // Opaque objects' shadow.
-float caustix_shadow_visibility(vec3 p, vec3 n, vec3 to_light) { return caustix_shadow_visibility_in(caustix_shadow_2d, caustix_shadow_cube, p, n, to_light); }
+float caustix_shadow_visibility(vec3 p, vec3 n, vec3 to_light) {
+  return caustix_shadow_visibility_in(caustix_shadow_2d, caustix_shadow_cube, caustix_shadow_vsm, p, n, to_light);
+}
 
 // Seed 002 §4.3: the incident intensity at p from the illumination textures:
 // zero where p lies behind the target's first surface as the virtual camera
@@ -242,7 +269,7 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
            caustix_shadow_visibility(p, n, -travel);
   }
   float vis = caustix_shadow_visibility(p, n, -l);
-  float glass_vis = caustix_light.mode.w != 0 ? caustix_shadow_visibility_in(caustix_glass_shadow_2d, caustix_glass_shadow_cube, p, n, -l) : 1.0;
+  float glass_vis = caustix_light.mode.w != 0 ? caustix_shadow_visibility_in(caustix_glass_shadow_2d, caustix_glass_shadow_cube, caustix_glass_shadow_vsm, p, n, -l) : 1.0;
   vec3 e = vec3(e_in * max(dot(n, -l), 0.0) * vis * glass_vis);
   // Eq. 2: light through glass, I_Q; other objects' shadows along the
   // unrefracted light direction (an approximation, docs/glass.md).

@@ -81,6 +81,11 @@ struct Bindings {
   // with GlassMethod::kCausticMap). GL 4.5 guarantees units 0..15 per
   // stage; every current driver has 32 (move it where yours has fewer).
   unsigned caustic_map = 16;
+  // sampler2D RG32F: the filtered depth moments of the light's shadow map
+  // and of the glass's (variance shadow maps, ShadowOptions::filter kVsm;
+  // directional lights; 1x1 where unused).
+  unsigned shadow_vsm = 17;
+  unsigned glass_shadow_vsm = 18;
 };
 
 // How a receiver is lit by one light (the block's mode.x).
@@ -96,8 +101,8 @@ enum class LightMode : int {
 // extra scalars in w where noted.
 struct LightBlock {
   glm::ivec4 mode{0};           // x LightMode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
-  glm::vec4 light_direction{0}; // xyz: unit direction of travel (directional)
-  glm::vec4 light_position{0};  // xyz: position (point)
+  glm::vec4 light_direction{0}; // xyz: unit direction of travel (directional); w: 1 variance shadow maps, 0 PCF
+  glm::vec4 light_position{0};  // xyz: position (point); w: VSM light-bleeding reduction
   glm::vec4 light_color{0};     // rgb: linear colour; w: E0 (W/m^2, directional) or I (W/sr, point)
   glm::vec4 water{0};           // x rest level (-1e30: no water), y IOR, z point shadow far plane, w shadow texel (m)
   glm::vec4 absorption{0};      // xyz: water's K per metre
@@ -137,6 +142,7 @@ struct ReceiverLighting {
   unsigned shadow_2d = 0, shadow_cube = 0, caustics = 0, position = 0;
   unsigned glass_illumination = 0, glass_target = 0, glass_shadow_2d = 0, glass_shadow_cube = 0;
   unsigned caustic_map = 0;
+  unsigned shadow_vsm = 0, glass_shadow_vsm = 0;
   // The block's frames as matrices: world (x, y, z, 1) -> (s, t, v, 1), with
   // (s, t) the texture coordinate of the caustics and position maps (of the
   // glass textures), in [0, 1] over the region they cover, and v the
