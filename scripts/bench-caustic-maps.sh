@@ -7,7 +7,7 @@
 # the photon grid, the caustic map's size, the splat and the iterations;
 # then ms per frame of the whole runtime with each glass method side by
 # side (caustix-bench frames). Needs a built tree; installs
-# python3-matplotlib if missing. About 10 minutes on 2 cores with llvmpipe.
+# python3-matplotlib if missing. About 25 minutes on 2 cores with llvmpipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
@@ -49,6 +49,8 @@ PY
   for g in 0 0.5 2 4; do run caustic-map sigma $g --cmap-sigma $g; done
   run caustic-map two_pass 1 --cmap-two-pass
   for i in 1 2 4; do run caustic-map iterations $i --cmap-iterations $i; done
+  # Adaptive caustic maps over a 1024^2 grid, 4 levels, at these budgets.
+  for n in 4096 16384 65536 262144; do run caustic-map adaptive_budget $n --cmap-photons 1024 --cmap-adaptive 4 --cmap-budget $n; done
   if [ $s = mirror_ring ]; then
     for b in 1 4 8; do run caustic-map bounces $b --cmap-bounces $b; done
     for d in 0.5 1.0; do run caustic-map max_travel $d --cmap-max-travel $d; done
@@ -69,4 +71,10 @@ for s in glass_ball glass_teapot; do
   done
 done
 $B/tools/caustix-bench frames "$T/mirror_ring.cxb" --label mirror_ring/caustic-map/512 >> "$FR"
+# The trade-off rows (docs/tradeoff.md): glass method, adaptive budget and
+# VSM width on glass_ball; adaptive budget and the presets on mirror_ring.
+$B/tools/caustix-bench tradeoff assets/scenes/glass_ball.json --reference "$T/glass_ball.ref.exr" --pixel-samples 4 \
+  --knobs glass-method,cmap-budget,vsm-filter --csv docs/results/tradeoff_caustic_maps_glass_ball.csv >/dev/null
+$B/tools/caustix-bench tradeoff assets/scenes/mirror_ring.json --reference "$T/mirror_ring.ref.exr" --pixel-samples 4 \
+  --knobs cmap-budget,presets --csv docs/results/tradeoff_caustic_maps_mirror_ring.csv >/dev/null
 /usr/bin/python3 scripts/plot_caustic_maps.py docs/results

@@ -58,7 +58,7 @@ SceneDesc full_scene() {
   c.position = {1, 2, 3};
   c.fov_y_deg = 60;
   s.camera = c;
-  s.render = RenderDefaults{"fast", 256, 128, 3, 96, 48};
+  s.render = RenderDefaults{"fast", 256, 128, 3, 96, 48, 300, 200, 3, 5000};
   return s;
 }
 
@@ -120,6 +120,10 @@ TEST(SceneCodec, EveryFieldSurvives) {
   EXPECT_EQ(r.render->glass_planes, 3u);
   EXPECT_EQ(r.render->volume_photons, 96u);
   EXPECT_EQ(r.render->volume_grid, 48u);
+  EXPECT_EQ(r.render->cmap_photons, 300u);
+  EXPECT_EQ(r.render->cmap_map_size, 200u);
+  EXPECT_EQ(r.render->cmap_adaptive_levels, 3u);
+  EXPECT_EQ(r.render->cmap_photon_budget, 5000u);
   ASSERT_EQ(d->draco_meshes.size(), 1u);
   EXPECT_EQ(d->draco_meshes[0].size(), 4u);
 }
@@ -250,23 +254,33 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
   d = decode(encode_scene(s, {{0}}));
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("/render/volume_grid"), std::string::npos) << d.error().message;
+  s = full_scene();
+  s.render->cmap_adaptive_levels = 9;
+  d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/render/cmap_adaptive_levels"), std::string::npos) << d.error().message;
 
-  // A chunk written before issue 19 ends after the glass planes: the
-  // media's pair keeps its defaults. Any other length is refused.
-  for (const std::uint64_t cut : {8u, 4u}) {
-    auto b = encode_scene(full_scene(), {{0}});
-    auto c = cxb::read_container(b.data(), b.size());
+  // A chunk written before issue 19 ends after the glass planes (before
+  // issue 20, after the media's pair): what follows keeps its defaults.
+  // Any other length is refused.
+  for (const std::size_t cut : {24u, 16u, 4u}) {
+    const auto full = encode_scene(full_scene(), {{0}});
+    auto c = cxb::read_container(full.data(), full.size());
     ASSERT_TRUE(c.ok());
-    const std::size_t i = c->find(cxb::kTagRender).at(0);
-    const std::uint64_t off = test::get_u64(b, test::entry(i) + 8), size = test::get_u64(b, test::entry(i) + 16);
-    std::fill(b.begin() + static_cast<std::ptrdiff_t>(off + size - cut), b.begin() + static_cast<std::ptrdiff_t>(off + size), 0);
-    test::put_u64(b, test::entry(i) + 16, size - cut);
-    test::reseal_payload(b, i);
-    auto old = decode(b);
-    if (cut == 8) {
+    cxb::ContainerWriter w;
+    for (std::size_t i = 0; i < c->chunks().size(); ++i) {
+      const auto p = c->payload(i);
+      std::vector<std::uint8_t> payload(p.begin(), p.end());
+      if (c->chunks()[i].tag == cxb::kTagRender) payload.resize(payload.size() - cut);
+      w.add_chunk(c->chunks()[i].tag, c->chunks()[i].flags, std::move(payload));
+    }
+    auto old = decode(w.finish());
+    if (cut != 4) {
       ASSERT_TRUE(old.ok()) << old.error().message;
-      EXPECT_EQ(old->scene.render->volume_photons, RenderDefaults{}.volume_photons);
-      EXPECT_EQ(old->scene.render->volume_grid, RenderDefaults{}.volume_grid);
+      EXPECT_EQ(old->scene.render->volume_photons, cut == 24 ? RenderDefaults{}.volume_photons : 96u);
+      EXPECT_EQ(old->scene.render->volume_grid, cut == 24 ? RenderDefaults{}.volume_grid : 48u);
+      EXPECT_EQ(old->scene.render->cmap_photons, RenderDefaults{}.cmap_photons);
+      EXPECT_EQ(old->scene.render->cmap_photon_budget, RenderDefaults{}.cmap_photon_budget);
       EXPECT_EQ(old->scene.render->glass_planes, 3u);
     } else {
       EXPECT_FALSE(old.ok());

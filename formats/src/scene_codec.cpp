@@ -104,6 +104,10 @@ std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
   w.u32(r.glass_planes);
   w.u32(r.volume_photons);
   w.u32(r.volume_grid);
+  w.u32(r.cmap_photons);
+  w.u32(r.cmap_map_size);
+  w.u32(r.cmap_adaptive_levels);
+  w.u32(r.cmap_photon_budget);
   return w.take();
 }
 
@@ -263,6 +267,11 @@ bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
   }
   // The media's pair came later (issue 19): files without it keep the defaults.
   if (d.remaining() > 0 && (!d.u32(r.volume_photons, "render defaults") || !d.u32(r.volume_grid, "render defaults"))) return false;
+  // So did the caustic maps' four (issue 20).
+  if (d.remaining() > 0 && (!d.u32(r.cmap_photons, "render defaults") || !d.u32(r.cmap_map_size, "render defaults") ||
+                            !d.u32(r.cmap_adaptive_levels, "render defaults") || !d.u32(r.cmap_photon_budget, "render defaults"))) {
+    return false;
+  }
   return d.finish();
 }
 

@@ -210,6 +210,10 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(r.glass_planes >= 1 && r.glass_planes <= kMaxGlassPlanes, "/render/glass_planes", "must be in [1, 16]");
     c.expect(r.volume_photons >= 1 && r.volume_photons <= 8192, "/render/volume_photons", "must be in [1, 8192]");
     c.expect(r.volume_grid >= 2 && r.volume_grid <= 1024, "/render/volume_grid", "must be in [2, 1024]");
+    c.expect(r.cmap_photons >= 1 && r.cmap_photons <= 4096, "/render/cmap_photons", "must be in [1, 4096]");
+    c.expect(r.cmap_map_size >= 16 && r.cmap_map_size <= 4096, "/render/cmap_map_size", "must be in [16, 4096]");
+    c.expect(r.cmap_adaptive_levels <= 8, "/render/cmap_adaptive_levels", "must be in [0, 8]");
+    c.expect(r.cmap_photon_budget >= 1 && r.cmap_photon_budget <= (1u << 24), "/render/cmap_photon_budget", "must be in [1, 2^24]");
   }
   return c.issue;
 }

@@ -176,6 +176,11 @@ int main(int argc, char** argv) {
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
   caustics.glass_method = *parse_glass_method(glass_method);
+  // The bake preset's caustic-map defaults unless given here.
+  if (app.count("--cmap-photons") == 0) cmap.photons = caustics.caustic_map.photons;
+  if (app.count("--cmap-size") == 0) cmap.map_size = caustics.caustic_map.map_size;
+  if (app.count("--cmap-adaptive") == 0) cmap.adaptive_levels = caustics.caustic_map.adaptive_levels;
+  if (app.count("--cmap-budget") == 0) cmap.photon_budget = caustics.caustic_map.photon_budget;
   cmap.two_pass = cmap_two_pass;
   cmap.tir_one_sided = !cmap_drop_tir;
   caustics.caustic_map = cmap;

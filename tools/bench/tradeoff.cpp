@@ -28,7 +28,14 @@ struct Knob {
   bool water_only;  // only scenes with water (level maps)
   std::function<void(Setting&, double)> apply;
   bool media_only = false;  // only in-scatter references (seed 004; docs/volume.md)
+  bool caster_only = false;  // only scenes with glass or mirrors (image-space caustic maps, issue 20)
 };
+
+// Caustic maps (seed 003) draw glass from here on; mirrors always use them.
+runtime::CausticMapOptions& caustic_maps(Setting& s) {
+  s.caustics.glass_method = runtime::GlassMethod::kCausticMap;
+  return s.caustics.caustic_map;
+}
 
 // Each knob's values bracket its default (balanced) on both sides.
 const std::vector<Knob>& knobs() {
@@ -69,6 +76,32 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.bake.index_grid.resolution = static_cast<std::uint32_t>(v); }, true},
       {"view-step", {0.25, 0.5, 1, 2}, false, false,
        [](Setting& s, double v) { s.caustics.volume.view_step = static_cast<float>(v); }, true},
+      // Image-space caustic maps (issue 20; docs/caustic-maps.md).
+      {"glass-method", {0, 1}, true, false,
+       [](Setting& s, double v) { s.caustics.glass_method = v != 0 ? runtime::GlassMethod::kCausticMap : runtime::GlassMethod::kTable; }},
+      {"cmap-photons", {128, 256, 512, 1024}, false, false,
+       [](Setting& s, double v) { caustic_maps(s).photons = static_cast<std::uint32_t>(v); }, false, true},
+      {"cmap-size", {256, 512, 1024, 2048}, false, false,
+       [](Setting& s, double v) { caustic_maps(s).map_size = static_cast<std::uint32_t>(v); }, false, true},
+      {"cmap-sigma", {0, 0.5, 1, 2}, false, false,
+       [](Setting& s, double v) { caustic_maps(s).splat_sigma = static_cast<float>(v); }, false, true},
+      {"cmap-iterations", {1, 2, 4, 10}, false, false,
+       [](Setting& s, double v) { caustic_maps(s).iterations = static_cast<std::uint32_t>(v); }, false, true},
+      // Adaptive caustic maps over a 1024^2 grid, 4 levels, this many photons.
+      {"cmap-budget", {4096, 16384, 65536, 262144}, false, false,
+       [](Setting& s, double v) {
+         runtime::CausticMapOptions& c = caustic_maps(s);
+         c.photons = 1024;
+         c.adaptive_levels = 4;
+         c.photon_budget = static_cast<std::uint32_t>(v);
+       },
+       false, true},
+      // Variance shadow maps' filter width (texels); 0: PCF.
+      {"vsm-filter", {0, 1, 5, 21}, false, false,
+       [](Setting& s, double v) {
+         s.caustics.shadows.filter = v > 0 ? runtime::ShadowFilter::kVsm : runtime::ShadowFilter::kPcf;
+         if (v > 0) s.caustics.shadows.vsm_filter = static_cast<std::uint32_t>(v);
+       }},
       {"position-bits", {8, 10, 12, 14, 16}, false, false,
        [](Setting& s, double v) { s.bake.draco.position_bits = static_cast<int>(v); }},
       {"normal-bits", {8, 10, 12, 14, 16}, false, false,
@@ -220,6 +253,8 @@ int tradeoff(const TradeoffRequest& q) {
   const bool has_water = doc->scene.water.has_value();
   const bool has_glass = std::any_of(doc->scene.objects.begin(), doc->scene.objects.end(),
                                      [](const Object& o) { return is_transparent(o.role); });
+  const bool has_casters = has_glass || std::any_of(doc->scene.objects.begin(), doc->scene.objects.end(),
+                                                    [](const Object& o) { return is_mirror(o.role); });
 
   const std::vector<std::string> wanted = q.knobs.empty() ? tradeoff_knobs() : q.knobs;
   for (const std::string& name : wanted) {
@@ -234,7 +269,8 @@ int tradeoff(const TradeoffRequest& q) {
     if (!knob) return fail(make_error(ErrorCode::kUsage, "unknown knob '" + name + "'"));
     const bool inscatter = ref->receiver.empty();
     if (q.knobs.empty() && knob->media_only != inscatter) continue;  // in-scatter references sweep the media's knobs
-    if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water) || (knob->media_only && !inscatter)) {
+    if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water) || (knob->media_only && !inscatter) ||
+        (knob->caster_only && !has_casters)) {
       std::fprintf(stderr, "caustix-bench: %s does not apply to %s (skipped)\n", knob->name, q.scene_path.c_str());
       continue;
     }

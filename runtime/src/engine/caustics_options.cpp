@@ -45,6 +45,10 @@ void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.glass_planes = render.glass_planes;
   o.volume.photons = render.volume_photons;
   o.volume.grid = render.volume_grid;
+  o.caustic_map.photons = render.cmap_photons;
+  o.caustic_map.map_size = render.cmap_map_size;
+  o.caustic_map.adaptive_levels = render.cmap_adaptive_levels;
+  o.caustic_map.photon_budget = render.cmap_photon_budget;
 }
 
 CausticsOptions default_caustics_options(const SceneDesc& scene) {

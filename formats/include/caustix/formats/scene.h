@@ -143,6 +143,13 @@ struct RenderDefaults {
   // and radiance-grid voxels along the media's longest side (2..1024).
   std::uint32_t volume_photons = 256;
   std::uint32_t volume_grid = 64;
+  // Image-space caustic maps (issue 20; docs/caustic-maps.md): photon grid
+  // side (1..4096), caustic map side (16..4096), adaptive traversal levels
+  // (0..8; 0: the uniform grid) and photon budget (1..2^24).
+  std::uint32_t cmap_photons = 512;
+  std::uint32_t cmap_map_size = 512;
+  std::uint32_t cmap_adaptive_levels = 0;
+  std::uint32_t cmap_photon_budget = 1u << 16;
 };
 
 struct SceneDesc {
