@@ -161,11 +161,13 @@ struct CausticMapEngine::Impl {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, pl.cells.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, pl.state.get());
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+    // cells 0: over the current list (the indirect arguments stage 3 wrote).
     auto run = [&](int stage, int level, int cur, GLuint cells) {
       a.set("u_stage", stage);
       a.set("u_level", level);
       a.set("u_cur", cur);
-      glDispatchCompute((cells + 63) / 64, 1, 1);
+      if (cells > 0) glDispatchCompute((cells + 63) / 64, 1, 1);
+      else glDispatchComputeIndirect(kDispatchOffset);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     };
     auto cells_at = [&](int k) { return static_cast<GLuint>((side >> k) * (side >> k)); };
@@ -175,19 +177,13 @@ struct CausticMapEngine::Impl {
     int cur = 0;
     for (int k = L; k >= 0; --k, cur = 1 - cur) {
       run(3, k, cur, 1);
-      for (int stage : {4, 5, 6}) {
-        a.set("u_stage", stage);
-        a.set("u_level", k);
-        a.set("u_cur", cur);
-        if (stage == 5) glDispatchCompute(1, 1, 1);
-        else glDispatchComputeIndirect(kDispatchOffset);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-      }
+      run(4, k, cur, 0);
+      run(5, k, cur, 1);
+      run(6, k, cur, 0);
     }
     run(7, 0, 0, 1);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   }
-
 
   // Renders objects (casters or receivers) into the bound framebuffer.
   void draw(const SceneDesc& scene, const glm::mat4& view_proj, bool casters, GlassMethod method) {
