@@ -166,12 +166,14 @@ void main() {
   int id;
   // One texel of the casters' map, across the light: its flux.
   float area = 4.0 * u_caster_half.x * u_caster_half.y / float(u_photons * u_photons);
+  int level = 0;
   if (u_adaptive != 0) {
     id = int(gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex);
     if (uint(id) >= leaves) return;
     uint c = cells[2u * u_budget + uint(id)];
     ij = ivec2(int(c & 0xfffu), int((c >> 12) & 0xfffu));
     int k = int(c >> 24);
+    level = k;
     // The cell's covered area; it leaves from the covered texel reached by
     // taking the most covered child at each level (the first on ties).
     area *= float(1 << (2 * k)) * pyramid[u_offset[k] + ij.y * (u_photons >> k) + ij.x].w;
@@ -279,7 +281,9 @@ void main() {
     travelled += t_land;
     if (after_mirror && u_max_travel > 0.0 && travelled > u_max_travel) { atomicAdd(counter[5], 1u); return; }
     vec3 q = x + t_land * d;
-    photon[2 * id] = vec4(to_uv(q, u_map_origin, u_map_half), 0.0, 0.0);
+    // z: the photon's spacing on the casters' grid (2^level texels), by
+    // which its splat widens (causticmap_splat.vert).
+    photon[2 * id] = vec4(to_uv(q, u_map_origin, u_map_half), float(1 << level), 0.0);
     photon[2 * id + 1] = vec4(flux, 1.0);
     atomicAdd(counter[1], 1u);
     return;

@@ -8,12 +8,12 @@
 in vec3 v_flux;
 in vec2 v_centre;
 in float v_norm;
-uniform float u_sigma;
+in float v_sigma;
 uniform float u_texel_area;
 uniform vec3 u_v;
 layout(binding = 0) uniform sampler2D u_receivers;  // normal, V
 out vec4 o_color;
-float gauss(float d) { return u_sigma > 0.0 ? exp(-0.5 * d * d / (u_sigma * u_sigma)) : 1.0; }
+float gauss(float d) { return v_sigma > 0.0 ? exp(-0.5 * d * d / (v_sigma * v_sigma)) : 1.0; }
 void main() {
   vec2 d = gl_FragCoord.xy - v_centre;
   float w = gauss(d.x) * gauss(d.y) * v_norm;

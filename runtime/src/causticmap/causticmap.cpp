@@ -16,6 +16,9 @@ constexpr int kCounters = 10;
 // dispatch (uvec4 at 16), photon_dispatch (32), draw (48), hist[16] (64).
 constexpr GLsizeiptr kStateBytes = 128;
 constexpr GLintptr kDispatchOffset = 16, kPhotonDispatchOffset = 32, kDrawOffset = 48;
+// Caustic map texels a side of one texel of the adaptive photons' density
+// map (causticmap_density.vert).
+constexpr int kDensityBlock = 8;
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -64,6 +67,7 @@ struct CausticMapEngine::Impl {
     int photons = 0, size = 0;
     gl::Texture front_pos, front_nrm, back_pos, back_nrm, caster_depth;
     gl::Texture map, receivers, receiver_depth, scratch, scratch2;
+    gl::Texture density;  // adaptive: finest-grid photons per kDensityBlock^2 texels
     gl::Framebuffer caster_fbo, receiver_fbo, splat_fbo;
     gl::Buffer photon_buffer;
     // Adaptive traversal (causticmap_adaptive.comp): coverage pyramid, cell
@@ -78,10 +82,11 @@ struct CausticMapEngine::Impl {
   };
   std::vector<PerLight> lights;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program capture, photons, splat, blur, adaptive;
+  gl::Program capture, photons, splat, density, blur, adaptive;
   gl::Buffer materials, counters;
   gl::VertexArray empty_vao;
   std::vector<float> material_data;
+  float max_splat_radius = 0;  // texels: (the largest point size - 1) / 2
 
   // photons_side: the capture's side (a multiple of 2^levels when adaptive).
   void ensure(PerLight& pl, int photons_side, int size, std::uint32_t levels, std::uint32_t budget) {
@@ -125,6 +130,7 @@ struct CausticMapEngine::Impl {
       pl.receiver_depth = make_map(size, GL_DEPTH_COMPONENT32F, GL_NEAREST);
       pl.scratch = make_map(size, GL_RGBA32F, GL_NEAREST);
       pl.scratch2 = make_map(size, GL_RGBA32F, GL_NEAREST);
+      pl.density = make_map(std::max(1, size / kDensityBlock), GL_R32F, GL_LINEAR);
       pl.receiver_fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(pl.receiver_fbo.get(), GL_COLOR_ATTACHMENT0, pl.map.get(), 0);
       glNamedFramebufferTexture(pl.receiver_fbo.get(), GL_COLOR_ATTACHMENT1, pl.receivers.get(), 0);
@@ -134,7 +140,8 @@ struct CausticMapEngine::Impl {
       pl.splat_fbo = gl::make_framebuffer();
     }
     const std::uint64_t p2 = std::uint64_t(photons_side) * std::uint64_t(photons_side), s2 = std::uint64_t(size) * std::uint64_t(size);
-    pl.bytes = p2 * (4 * 16 + 4) + s2 * (4 * 16 + 4);
+    const std::uint64_t dside = std::uint64_t(std::max(1, size / kDensityBlock));
+    pl.bytes = p2 * (4 * 16 + 4) + s2 * (4 * 16 + 4) + 4 * dside * dside;
     if (levels > 0) {
       pl.bytes += std::uint64_t{32 + 12} * budget + kStateBytes;
       for (std::uint32_t k = 0; k <= levels; ++k) pl.bytes += 16 * std::uint64_t(photons_side >> k) * std::uint64_t(photons_side >> k);
@@ -241,6 +248,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
       {&s.capture, "causticmap_capture", shaders::k_mesh_vert_glsl, shaders::k_causticmap_capture_frag_glsl},
       {&s.photons, "causticmap_photons", photons_src.c_str()},
       {&s.splat, "causticmap_splat", shaders::k_causticmap_splat_vert_glsl, shaders::k_causticmap_splat_frag_glsl},
+      {&s.density, "causticmap_density", shaders::k_causticmap_density_vert_glsl, shaders::k_causticmap_density_frag_glsl},
       {&s.blur, "causticmap_blur", shaders::k_causticmap_blur_comp_glsl},
       {&s.adaptive, "causticmap_adaptive", shaders::k_causticmap_adaptive_comp_glsl},
   }));
@@ -255,6 +263,9 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
   glNamedBufferStorage(s.counters.get(), kCounters * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   glClearNamedBufferData(s.counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   s.empty_vao = gl::make_vertex_array();
+  GLfloat point_range[2] = {1, 1};
+  glGetFloatv(GL_POINT_SIZE_RANGE, point_range);
+  s.max_splat_radius = std::max(0.0f, std::floor((point_range[1] - 1.0f) / 2.0f));
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustic maps set-up"));
   return e;
 }
@@ -438,30 +449,53 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     const float clear[4] = {0, 0, 0, 0};
     glClearTexImage(target, 0, GL_RGBA, GL_FLOAT, clear);
   }
-  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
-  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
-  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-  glViewport(0, 0, size, size);
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
-  glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
   glEnable(GL_PROGRAM_POINT_SIZE);
+  glBindVertexArray(s.empty_vao.get());
+  const auto draw_photons = [&] {
+    if (adaptive) {
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
+      glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    } else {
+      glDrawArrays(GL_POINTS, 0, side * side);
+    }
+  };
+  // Adaptive one-pass splats size themselves by the landed photons'
+  // density: count them first.
+  const bool variable = adaptive && !two_pass;
+  if (variable) {
+    const int dside = std::max(1, size / kDensityBlock);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, zero);
+    glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.density.get(), 0);
+    glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+    glViewport(0, 0, dside, dside);
+    glBlendFunc(GL_ONE, GL_ONE);
+    s.density.use();
+    draw_photons();
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  }
+  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
+  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+  glViewport(0, 0, size, size);
+  glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
   s.splat.use();
   s.splat.set("u_size", static_cast<float>(size));
   s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
+  s.splat.set("u_max_radius", s.max_splat_radius);
+  s.splat.set("u_variable", variable ? 1 : 0);
+  s.splat.set("u_block", static_cast<float>(kDensityBlock));
   s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
   s.splat.set("u_v", f.v);
   glBindTextureUnit(0, pl.receivers.get());
-  glBindVertexArray(s.empty_vao.get());
-  if (adaptive) {
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
-    glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-  } else {
-    glDrawArrays(GL_POINTS, 0, side * side);
-  }
+  glBindTextureUnit(1, pl.density.get());
+  draw_photons();
   glDisable(GL_PROGRAM_POINT_SIZE);
   glDisable(GL_BLEND);
   if (two_pass) {
