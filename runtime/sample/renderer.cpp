@@ -216,7 +216,7 @@ Status Renderer::render(const FrameParams& f) {
     }
     glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, f.width, f.height, 1);
   }
-  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky));
+  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky, f.glass_view));
   if (scene.water) {
     Status inner = Status::success();
     CAUSTIX_RETURN_IF_ERROR(s.engine->draw_water(view, look, [&](const WaterPass& p) {

@@ -83,6 +83,16 @@ int main(int argc, char** argv) {
   app.add_option("--glass-method", glass_method,
                  "light through glass: table (light-transport tables, seed 002) or caustic-map (image-space caustic maps, seed 003); mirrors always use caustic maps")
       ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
+  std::string glass_view = to_string(GlassView::kTable);
+  GlassViewOptions view_options;
+  app.add_option("--glass-view", glass_view,
+                 "the view through glass: table (view rays through the light-transport table, seed 002 §3) or nearby (nearby-geometry refraction, seed 003: per pixel against the glass's back faces and the scene's depth)")
+      ->check(CLI::IsMember({"table", "nearby"}))->capture_default_str();
+  app.add_option("--glass-view-iterations", view_options.iterations, "nearby glass view: landing iterations against the scene's depth")
+      ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--glass-view-exit-iterations", view_options.exit_iterations,
+                 "nearby glass view: exit-point iterations against the glass's back faces")
+      ->check(CLI::Range(1, 64))->capture_default_str();
   app.add_option("--cmap-photons", cmap.photons, "caustic maps: photon grid side over the casters (P x P photons per light)")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   app.add_option("--cmap-size", cmap.map_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
@@ -176,6 +186,7 @@ int main(int argc, char** argv) {
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.cull = !no_cull;
   caustics.glass_method = *parse_glass_method(glass_method);
+  view_options.method = *parse_glass_view(glass_view);
   // The bake preset's caustic-map defaults unless given here.
   if (app.count("--cmap-photons") == 0) cmap.photons = caustics.caustic_map.photons;
   if (app.count("--cmap-size") == 0) cmap.map_size = caustics.caustic_map.map_size;
@@ -274,7 +285,7 @@ int main(int argc, char** argv) {
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {
-    const FrameParams frame{camera, time, width, height, caustics, look};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
@@ -291,7 +302,7 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
-    const FrameParams frame{camera, time, width, height, caustics, look};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;

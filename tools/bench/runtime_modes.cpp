@@ -27,8 +27,8 @@ namespace caustix::bench {
 namespace {
 
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
-int frames(const std::string& cxb, const runtime::CausticsOptions& co, std::uint32_t glass_size, int width, int height,
-           int warmup, int count, const std::string& label, bool move_light) {
+int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
+           std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -38,7 +38,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, std::uint
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
-  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light);
+  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, {}, std::nullopt, glass_view);
   if (!times) return cli::fail("caustix-bench", times.error());
   const runtime::CausticsStats cs = r->caustics_stats();
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
@@ -79,7 +79,7 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
 
 
 struct RuntimeModes final : Modes {
-  std::string glass_method = "table";
+  std::string glass_method = "table", glass_view = "table";
   std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
   std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
@@ -104,6 +104,8 @@ struct RuntimeModes final : Modes {
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
     fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
+    fr->add_option("--glass-view", glass_view, "the view through glass: table (seed 002 §3) or nearby (nearby-geometry refraction, seed 003)")
+        ->check(CLI::IsMember({"table", "nearby"}))->capture_default_str();
     fr->add_option("--cmap-photons", cmap_photons, "caustic maps: photon grid side")->check(CLI::Range(1, 4096))->capture_default_str();
     fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
     fr->add_option("--cmap-adaptive", cmap_adaptive, "caustic maps: adaptive traversal levels (0: uniform grid)")->check(CLI::Range(0, 8))->capture_default_str();
@@ -149,7 +151,9 @@ struct RuntimeModes final : Modes {
     co.caustic_map.map_size = cmap_size;
     co.caustic_map.adaptive_levels = cmap_adaptive;
     co.caustic_map.photon_budget = cmap_budget;
-    return frames(cxb, co, gsize, w, h, warmup, count, label, move_light);
+    runtime::GlassViewOptions gv;
+    gv.method = *runtime::parse_glass_view(glass_view);
+    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light);
   }
 };
 

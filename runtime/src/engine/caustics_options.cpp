@@ -30,6 +30,15 @@ std::optional<GlassMethod> parse_glass_method(const std::string& name) {
   return std::nullopt;
 }
 
+const char* to_string(GlassView v) { return v == GlassView::kTable ? "table" : "nearby"; }
+
+std::optional<GlassView> parse_glass_view(const std::string& name) {
+  for (GlassView v : {GlassView::kTable, GlassView::kNearby}) {
+    if (name == to_string(v)) return v;
+  }
+  return std::nullopt;
+}
+
 const char* to_string(ShadowFilter f) { return f == ShadowFilter::kPcf ? "pcf" : "vsm"; }
 
 std::optional<ShadowFilter> parse_shadow_filter(const std::string& name) {

@@ -676,13 +676,19 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   return gl::check_gl("water surface");
 }
 
-Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky) {
+Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky,
+                          const GlassViewOptions& options) {
   Impl& s = *impl_;
+  for (const auto& [name, value] : {std::pair{"glass view iterations", options.iterations},
+                                    std::pair{"glass view exit_iterations", options.exit_iterations}}) {
+    if (value < 1 || value > 64) return usage(std::string("draw_glass: ") + name + " must be 1..64, got " + std::to_string(value));
+  }
   if (!s.glass) return Status::success();
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_color, GL_RGBA32F, "scene colour"));
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   const gl::StateGuard guard = s.guard();
-  s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius());
+  s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius(),
+                      options);
   return gl::check_gl("glass surface");
 }
 

@@ -37,6 +37,8 @@ class SceneCopy {
   }
   GLuint color() const { return color_.get(); }
   GLuint depth() const { return depth_.get(); }
+  int width() const { return w_; }
+  int height() const { return h_; }
 
  private:
   Texture color_, depth_;

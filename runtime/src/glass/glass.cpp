@@ -59,7 +59,12 @@ struct GlassEngine::Impl {
   std::vector<Glass> glass;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, geometry, target_program, illumination, surface;
+  gl::Program rays, geometry, target_program, illumination, surface, back_faces, nearby;
+  // GlassView::kNearby: the glass's nearest back faces seen from the camera
+  // (world position, outward normal), the size of the scene copy.
+  gl::Texture back_position, back_normal, back_depth;
+  gl::Framebuffer back_fbo;
+  int back_w = 0, back_h = 0;
   gl::Buffer sum, rect_indices;
   std::uint64_t rect_capacity = 0;
   gl::VertexArray empty_vao;
@@ -80,6 +85,65 @@ struct GlassEngine::Impl {
     p.set("u_model", to_glm(scene.objects[g.object].transform));
     p.set("u_rotation", rotation);
     p.set("u_scale", scale);
+  }
+  // Model matrix and the normals' matrix (inverse transpose) for mesh.vert.
+  void set_mesh_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
+    const glm::mat4 model = to_glm(scene.objects[g.object].transform);
+    p.set("u_model", model);
+    p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+  }
+  // The back faces into back_fbo; the caller's draw framebuffer and
+  // viewport are put back.
+  void draw_back_faces(const SceneDesc& scene, const glm::mat4& view_proj) {
+    const int w = copy.width(), h = copy.height();
+    if (w != back_w || h != back_h) {
+      back_position = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(back_position.get(), 1, GL_RGBA32F, w, h);
+      back_normal = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(back_normal.get(), 1, GL_RGBA16F, w, h);
+      back_depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(back_depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+      for (GLuint tex : {back_position.get(), back_normal.get()}) {
+        glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      }
+      back_fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT0, back_position.get(), 0);
+      glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT1, back_normal.get(), 0);
+      glNamedFramebufferTexture(back_fbo.get(), GL_DEPTH_ATTACHMENT, back_depth.get(), 0);
+      const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+      glNamedFramebufferDrawBuffers(back_fbo.get(), 2, bufs);
+      back_w = w;
+      back_h = h;
+    }
+    GLint caller_fbo = 0, viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &caller_fbo);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, back_fbo.get());
+    glViewport(0, 0, w, h);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_BLEND);
+    const float zero[4] = {0, 0, 0, 0}, far = 1.0f;
+    glClearNamedFramebufferfv(back_fbo.get(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(back_fbo.get(), GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(back_fbo.get(), GL_DEPTH, 0, &far);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT);
+    back_faces.use();
+    back_faces.set("u_view_proj", view_proj);
+    back_faces.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
+    for (const Glass& g : glass) {
+      set_mesh_pose(back_faces, scene, g);
+      g.mesh->draw();
+    }
+    glCullFace(GL_BACK);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(caller_fbo));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   }
   void ensure_rect_indices(std::uint64_t prims) {
     if (prims <= rect_capacity) return;
@@ -130,6 +194,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string rays_src = lighting_prefix + shaders::k_transport_glsl + shaders::k_glass_rays_comp_glsl;
   const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
   const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
+  const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);
   const std::string stride = "#define PRIM_STRIDE 6\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
@@ -138,7 +203,9 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.geometry, "glass_geometry", shaders::k_glass_geometry_comp_glsl},
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
-       {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()}}));
+       {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
+       {&s.back_faces, "glass_back", shaders::k_mesh_vert_glsl, shaders::k_glass_back_frag_glsl},
+       {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()}}));
 
   for (const LightTransportTable& t : tables) {
     Impl::Glass g;
@@ -335,26 +402,43 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
 }
 
 void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                             GLuint scene_color, GLuint scene_depth, float march_length) {
+                             GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options) {
   Impl& s = *impl_;
   s.copy.copy(scene_color, scene_depth);
+  const bool nearby = options.method == GlassView::kNearby;
+  if (nearby) s.draw_back_faces(scene, view_proj);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
-  s.surface.use();
-  s.surface.set("u_view_proj", view_proj);
-  s.surface.set("u_eye", eye);
-  s.surface.set("u_sky", sky);
-  s.surface.set("u_march_length", march_length);
+  const gl::Program& p = nearby ? s.nearby : s.surface;
+  p.use();
+  p.set("u_view_proj", view_proj);
+  p.set("u_eye", eye);
+  p.set("u_sky", sky);
   glBindTextureUnit(0, s.copy.color());
   glBindTextureUnit(1, s.copy.depth());
+  if (nearby) {
+    p.set("u_inv_view_proj", glm::inverse(view_proj));
+    p.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
+    p.set("u_iterations", static_cast<int>(options.iterations));
+    p.set("u_exit_iterations", static_cast<int>(options.exit_iterations));
+    glBindTextureUnit(2, s.back_position.get());
+    glBindTextureUnit(3, s.back_normal.get());
+  } else {
+    p.set("u_march_length", march_length);
+  }
   for (const Impl::Glass& g : s.glass) {
-    s.set_table(s.surface, g);
-    s.set_pose(s.surface, scene, g);
-    s.surface.set("u_ior", scene.objects[g.object].material.ior);
+    if (nearby) {
+      s.set_mesh_pose(p, scene, g);
+      p.set("u_glass_absorption", glm::vec3(g.params.absorption[0], g.params.absorption[1], g.params.absorption[2]));
+    } else {
+      s.set_table(p, g);
+      s.set_pose(p, scene, g);
+    }
+    p.set("u_ior", scene.objects[g.object].material.ior);
     g.mesh->draw();
   }
   glDisable(GL_CULL_FACE);
@@ -370,6 +454,7 @@ std::uint64_t GlassEngine::gpu_bytes() const {
     b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
     for (std::uint64_t c : t.primitive_capacity) b += c * kPrimitiveBytes;
   }
+  b += std::uint64_t(impl_->back_w) * static_cast<std::uint64_t>(impl_->back_h) * (16 + 8 + 4);
   return b + impl_->rect_capacity * 24;
 }
 

@@ -56,10 +56,11 @@ class GlassEngine {
   // The target's textures of `light` from its last update_light(), if any.
   std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
 
-  // Draws the transparent objects as glass (seed 002 §3: view rays through
-  // the table) over the opaque scene's colour and depth.
+  // Draws the transparent objects as glass over the opaque scene's colour
+  // and depth into the bound draw framebuffer: view rays through the table
+  // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby).
   void draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                  GLuint scene_color, GLuint scene_depth, float march_length);
+                  GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options);
 
   std::uint64_t gpu_bytes() const;
 

@@ -53,6 +53,28 @@ enum class GlassMethod {
 const char* to_string(GlassMethod m);
 std::optional<GlassMethod> parse_glass_method(const std::string& name);
 
+// How Engine::draw_glass() finds what the camera sees through the glass
+// (docs/glass.md, "The view through the glass").
+enum class GlassView {
+  // Seed 002 §3: per vertex, the light-transport table gives where and in
+  // which direction the view ray leaves the object; the exit ray is marched
+  // through the scene's depth buffer.
+  kTable,
+  // Nearby-geometry refraction (seed 003; Shah, Konttinen & Pattanaik 2007,
+  // with Wyman 2005's back faces): per pixel, exact refraction into the
+  // glass, the exit point by iterating against the glass's back faces seen
+  // from the camera, exact refraction out, and the landing point by Shah's
+  // iteration against the scene's depth. Nothing baked; exact on planes.
+  kNearby,
+};
+const char* to_string(GlassView v);
+std::optional<GlassView> parse_glass_view(const std::string& name);
+struct GlassViewOptions {
+  GlassView method = GlassView::kTable;
+  std::uint32_t iterations = 10;      // nearby: landing iterations against the scene's depth (1..64)
+  std::uint32_t exit_iterations = 4;  // nearby: exit-point iterations against the back faces (1..64)
+};
+
 // Image-space caustic maps (seed 003, Shah, Konttinen & Pattanaik 2007;
 // docs/caustic-maps.md): per light, the casters (mirrors always, glass with
 // GlassMethod::kCausticMap) seen from the light give photons * photons

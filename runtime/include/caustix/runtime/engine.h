@@ -289,13 +289,17 @@ class Engine {
   // scene or with a bad look.
   Status draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene);
   WaterMedium water_medium(const View& view, const WaterLook& look) const;
-  // The transparent objects as glass (seed 002 §3: view rays through the
-  // light-transport table) into the bound framebuffer. `scene_color` and
+  // The transparent objects as glass into the bound framebuffer: what is
+  // seen through them by `options.method` (GlassView: view rays through the
+  // light-transport table, seed 002 §3, or nearby-geometry refraction, seed
+  // 003), with the Fresnel reflection of the sky. `scene_color` and
   // `scene_depth` are 2D textures (RGBA float colour, depth) of the opaque
-  // scene as the caller rendered it, the size of the viewport; they are
-  // copied, so they may be attached to the bound framebuffer. Writes colour
-  // and depth. No-op without transparent objects.
-  Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky);
+  // scene as the caller rendered it with `view`, the size of the viewport;
+  // they are copied, so they may be attached to the bound framebuffer.
+  // Writes colour and depth. No-op without transparent objects; kUsage for
+  // options out of range (naming the knob).
+  Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky,
+                    const GlassViewOptions& options = {});
 
   // Single scattering in the media (seed 004 "Viewing Pass"), seen through
   // `view_proj` (any camera: perspective or orthographic; GL clip

@@ -39,6 +39,7 @@ struct FrameParams {
   int height = 480;
   CausticsOptions caustics;
   WaterLook water;
+  GlassViewOptions glass_view;  // how the view through glass is found (Engine::draw_glass)
 };
 
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];

@@ -1,0 +1,117 @@
+// Nearby-geometry refraction for the view through glass (prefixed with
+// #version and caustix.glsl's optics; GlassView::kNearby). Seed 003's
+// image-space method for the camera's rays (Shah, Konttinen & Pattanaik
+// 2007, "Caustics mapping: an image-space technique for real-time
+// caustics", §3: the refracted ray's intersection with nearby geometry is
+// estimated by iterating against positions rendered from the view point),
+// with the object's far side taken from its back faces seen from the
+// camera (Wyman 2005, "An approximate image-space approach for interactive
+// refraction"), as the caustic maps take it from the light:
+//  1. the view ray refracts into the glass at this fragment (exact Snell
+//     and Fresnel with the interpolated normal);
+//  2. the exit point: start where the back face lies behind this pixel and
+//     step against the back faces' tangent plane at the point the ray has
+//     reached, u_exit_iterations times (exact on a plane);
+//  3. the ray refracts out (Fresnel); under total internal reflection it
+//     leaves unrefracted without the exit's Fresnel (the blog's one-sided
+//     refraction, as the caustic maps do);
+//  4. the landing point: Shah's iteration d <- |P(x + d t) - x|, P the
+//     scene's position (from its depth) where the point x + d t projects,
+//     u_iterations times from the scene point behind the exit; rays that
+//     leave the screen or meet only sky see the sky.
+// Absorption along the path inside, exp(-sigma_a l).
+in vec3 v_world;
+in vec3 v_normal;
+
+layout(binding = 0) uniform sampler2D u_scene_color;
+layout(binding = 1) uniform sampler2D u_scene_depth;
+layout(binding = 2) uniform sampler2D u_back_position;
+layout(binding = 3) uniform sampler2D u_back_normal;
+uniform mat4 u_view_proj;
+uniform mat4 u_inv_view_proj;
+uniform vec3 u_eye;
+uniform vec3 u_sky;
+uniform float u_ior;
+uniform vec3 u_glass_absorption;
+uniform int u_iterations;
+uniform int u_exit_iterations;
+
+out vec4 o_color;
+
+// Screen coordinates of a world point; false behind the eye or off screen.
+bool to_screen(vec3 p, out vec2 uv) {
+  vec4 c = u_view_proj * vec4(p, 1.0);
+  if (c.w <= 0.0) return false;
+  vec2 ndc = c.xy / c.w;
+  uv = ndc * 0.5 + 0.5;
+  return all(lessThanEqual(abs(ndc), vec2(1.0)));
+}
+
+// The opaque scene's world position at uv; false where it shows sky.
+bool scene_position(vec2 uv, out vec3 p) {
+  float depth = texture(u_scene_depth, uv).r;
+  if (depth >= 1.0) return false;
+  vec4 w = u_inv_view_proj * vec4(vec3(uv, depth) * 2.0 - 1.0, 1.0);
+  p = w.xyz / w.w;
+  return true;
+}
+
+// What the ray from x along d sees first in the opaque scene.
+vec3 scene_along(vec3 x, vec3 d) {
+  vec2 uv;
+  vec3 p;
+  if (!to_screen(x, uv) || !scene_position(uv, p)) return u_sky;
+  float t = length(p - x);
+  for (int k = 0; k < u_iterations; ++k) {
+    if (!to_screen(x + t * d, uv) || !scene_position(uv, p)) return u_sky;
+    t = length(p - x);
+  }
+  return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : u_sky;
+}
+
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 view = normalize(v_world - u_eye);
+  if (dot(n, view) > 0.0) n = -n;
+  float cos_i = max(-dot(view, n), 0.0);
+  float reflectance = 1.0 - caustix_fresnel_transmittance(cos_i, u_ior);
+  vec3 sky_reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
+
+  // 1. Into the glass.
+  vec3 t1 = refract(view, n, 1.0 / u_ior);
+  vec3 transmitted = vec3(1.0 - reflectance);
+  // 2. The exit point against the back faces.
+  vec3 x = v_world;
+  vec2 uv;
+  float t = 0.0;
+  vec3 ne = -n;
+  if (to_screen(x, uv)) {
+    vec4 bp = texture(u_back_position, uv);
+    if (bp.w > 0.5) {
+      t = max(dot(bp.xyz - x, t1), 0.0);
+      ne = normalize(texture(u_back_normal, uv).xyz);
+    }
+  }
+  for (int k = 0; k < u_exit_iterations; ++k) {
+    if (!to_screen(x + t * t1, uv)) break;
+    vec4 bp = texture(u_back_position, uv);
+    if (bp.w < 0.5) break;
+    vec3 nb = normalize(texture(u_back_normal, uv).xyz);
+    float dn = dot(t1, nb);
+    if (dn < 1e-3) break;  // the back face must face away from the ray
+    ne = nb;
+    t = max(dot(bp.xyz - x, nb) / dn, 0.0);
+  }
+  vec3 exit_point = x + t * t1;
+  transmitted *= exp(-u_glass_absorption * t);
+  // 3. Out of the glass (ne outward; the ray leaves through it).
+  vec3 nin = dot(ne, t1) > 0.0 ? -ne : ne;
+  vec3 t2 = refract(t1, nin, u_ior);
+  if (dot(t2, t2) == 0.0) {
+    t2 = t1;  // total internal reflection: one-sided refraction
+  } else {
+    transmitted *= caustix_fresnel_transmittance(-dot(t1, nin), 1.0 / u_ior);
+  }
+  // 4. What the exit ray meets.
+  o_color = vec4(reflectance * sky_reflected + transmitted * scene_along(exit_point, normalize(t2)), 1.0);
+}

@@ -1,0 +1,174 @@
+// The view through glass (issue 20; seed 003's nearby-geometry refraction,
+// Shah, Konttinen & Pattanaik 2007, against seed 002 §3's table-traced view
+// rays), with Snell's law as the oracle: a dark strip on the floor seen
+// through a flat glass slab from an oblique camera appears where the exact
+// trace of the camera's rays through the slab's two faces puts it, not
+// where the straight view would. Nearby refraction is exact on planes (the
+// exit and landing iterations converge onto the slab's back face and the
+// floor), so the strip's edge lands within a pixel of the trace's. Extremes:
+// one and 64 iterations stay finite; iterations out of 1..64 are refused by
+// name.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "bake_fixture.h"
+#include "caustix/runtime/renderer.h"
+#include "gl_fixture.h"
+#include "scene_fixture.h"
+
+namespace caustix {
+namespace {
+
+constexpr double kIor = 1.5;
+constexpr double kSlabTop = 0.5, kSlabBottom = 0.3;  // y; the slab spans |x|, |z| <= 1
+constexpr double kStripTop = 0.004, kStripEdge = 0.2;  // the strip spans |z| <= 0.2; 4 mm (its unlit side, under half a pixel, counts half)
+constexpr int kSize = 256;
+const glm::vec3 kEye(0.0f, 1.5f, 1.5f);
+
+// A closed box (8 shared corners, 12 triangles, outward winding) of the
+// given extent, written as OBJ; the bake splits its crease edges.
+std::string write_slab() {
+  const auto path = std::filesystem::temp_directory_path() / "caustix_glass_view_slab.obj";
+  std::ofstream f(path);
+  for (int c = 0; c < 8; ++c) {
+    f << "v " << (c & 1 ? 1 : -1) << ' ' << (c & 2 ? kSlabTop : kSlabBottom) << ' ' << (c & 4 ? 1 : -1) << '\n';
+  }
+  // Faces as corner quads (1-based), counter-clockwise seen from outside.
+  const int quads[6][4] = {{1, 5, 7, 3}, {2, 4, 8, 6}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 3, 4, 2}, {5, 6, 8, 7}};
+  for (const auto& q : quads) f << "f " << q[0] << ' ' << q[1] << ' ' << q[2] << "\nf " << q[0] << ' ' << q[2] << ' ' << q[3] << '\n';
+  return path.string();
+}
+
+nlohmann::json slab_scene() {
+  const std::string meshes = test::kScenes + "../meshes/";
+  return {{"name", "glass_view_slab"},
+          {"objects",
+           {{{"name", "floor"}, {"mesh", meshes + "plane.obj"}, {"material", {{"albedo", 0.9}}}, {"transform", {{"scale", {6, 1, 6}}}}},
+            {{"name", "strip"},
+             {"mesh", meshes + "box.obj"},
+             {"material", {{"albedo", 0.05}}},
+             {"transform", {{"translate", {0, kStripTop / 2, 0}}, {"scale", {3.0, kStripTop, 2 * kStripEdge}}}}},
+            {{"name", "slab"}, {"mesh", write_slab()}, {"role", "transparent"}, {"material", {{"transparent", true}, {"ior", kIor}}}}}},
+          {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1.0}}}},
+          {"camera", {{"position", {kEye.x, kEye.y, kEye.z}}, {"target", {0, 0, 0}}, {"fov_y_deg", 45}}}};
+}
+
+// The image row (from the bottom, fractional pixel centres) where the
+// world point p projects under the test's camera.
+double image_row(const glm::vec3& p) {
+  const glm::mat4 vp = glm::perspective(glm::radians(45.0f), 1.0f, 0.05f, 100.0f) *
+                       glm::lookAt(kEye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+  return (c.y / c.w * 0.5 + 0.5) * kSize - 0.5;
+}
+
+// The exact trace (in the x = 0 plane): the point on the slab's top face
+// whose camera ray, refracted through both faces (leaving parallel to how
+// it came), lands on the strip's edge (halfway up its side).
+glm::vec3 apparent_edge() {
+  double lo = -1, hi = 1;
+  for (int k = 0; k < 100; ++k) {
+    const double ze = 0.5 * (lo + hi);
+    const double dy = kSlabTop - kEye.y, dz = ze - kEye.z;
+    const double s = std::fabs(dz) / std::hypot(dy, dz), st = s / kIor;
+    const double tan_i = s / std::sqrt(1 - s * s), tan_t = st / std::sqrt(1 - st * st);
+    const double land = ze - (kSlabTop - kSlabBottom) * tan_t - (kSlabBottom - kStripTop / 2) * tan_i;
+    (land > kStripEdge ? hi : lo) = ze;
+  }
+  return {0.0f, static_cast<float>(kSlabTop), static_cast<float>(0.5 * (lo + hi))};
+}
+
+class GlassView : public test::GlTest {
+ protected:
+  void SetUp() override {
+    test::GlTest::SetUp();
+    auto scene = test::bake_and_load(test::write_scene(slab_scene(), "glass_view_test"));
+    ASSERT_TRUE(scene.has_value());
+    auto r = runtime::Renderer::create(*scene);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    renderer_ = std::move(*r);
+  }
+  Status render(const runtime::GlassViewOptions& o) {
+    runtime::FrameParams f;
+    f.camera.position = {kEye.x, kEye.y, kEye.z};
+    f.camera.target = {0, 0, 0};
+    f.camera.fov_y_deg = 45;
+    f.width = f.height = kSize;
+    f.glass_view = o;
+    return renderer_->render(f);
+  }
+  // The strip's near edge along the image's centre column, searched within
+  // [near - 20, near + 40] pixels: the row where the luminance crosses
+  // halfway between the floor and the strip.
+  double edge_row(const runtime::GlassViewOptions& o, double near) {
+    const Status st = render(o);
+    EXPECT_TRUE(st.ok()) << st.error().message;
+    const std::vector<float> hdr = renderer_->read_hdr();
+    std::vector<double> column(kSize);
+    for (int row = 0; row < kSize; ++row) {  // from the bottom; read_hdr() gives the top row first
+      const std::size_t i = (static_cast<std::size_t>(kSize - 1 - row) * kSize + kSize / 2) * 4;
+      for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(hdr[i + c]));
+      column[row] = (hdr[i] + hdr[i + 1] + hdr[i + 2]) / 3;
+    }
+    // Below the edge lies the floor in front of the strip; the strip is the
+    // darkest stretch above it.
+    const auto lo = column.begin() + std::max(0, static_cast<int>(near) - 20);
+    const auto dark = std::min_element(lo, column.begin() + std::min(kSize, static_cast<int>(near) + 40));
+    const double half = 0.5 * (*dark + *std::max_element(lo, dark + 1));
+    for (int row = static_cast<int>(dark - column.begin()); row > lo - column.begin(); --row) {
+      if (column[row - 1] >= half) return row - 1 + (column[row - 1] - half) / (column[row - 1] - column[row]);
+    }
+    ADD_FAILURE() << "no edge in the column";
+    return 0;
+  }
+  std::unique_ptr<runtime::Renderer> renderer_;
+};
+
+TEST_F(GlassView, NearbyRefractionPutsTheStripWhereSnellSays) {
+  const double straight = image_row({0.0f, static_cast<float>(kStripTop / 2), static_cast<float>(kStripEdge)});
+  const double exact = image_row(apparent_edge());
+  runtime::GlassViewOptions o;
+  o.method = runtime::GlassView::kNearby;
+  const double nearby = edge_row(o, exact);
+  o.method = runtime::GlassView::kTable;
+  const double table = edge_row(o, exact);
+  std::printf("[slab] strip edge at row %.2f exact (%.2f seen straight); nearby %.2f (%+.2f px), table %.2f (%+.2f px)\n", exact,
+              straight, nearby, nearby - exact, table, table - exact);
+  ASSERT_GT(std::fabs(exact - straight), 4.0) << "the slab must shift the edge for the test to mean anything";
+  EXPECT_NEAR(nearby, exact, 1.0);
+
+}
+
+TEST_F(GlassView, IterationExtremesStayFiniteAndAbsurdOnesAreRefused) {
+  runtime::GlassViewOptions o;
+  o.method = runtime::GlassView::kNearby;
+  for (std::uint32_t n : {1u, 64u}) {
+    o.iterations = o.exit_iterations = n;
+    edge_row(o, image_row(apparent_edge()));  // asserts every pixel of the column finite
+  }
+  for (auto field : {&runtime::GlassViewOptions::iterations, &runtime::GlassViewOptions::exit_iterations}) {
+    for (std::uint32_t bad : {0u, 65u}) {
+      runtime::GlassViewOptions b;
+      b.method = runtime::GlassView::kNearby;
+      b.*field = bad;
+      const Status st = render(b);
+      ASSERT_FALSE(st.ok());
+      EXPECT_EQ(st.error().code, ErrorCode::kUsage);
+      EXPECT_NE(st.error().message.find("iterations"), std::string::npos) << st.error().message;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace caustix
