@@ -1,6 +1,20 @@
 #include "caustix/runtime/caustics_options.h"
 
+#include <initializer_list>
+
 namespace caustix::runtime {
+namespace {
+
+// The value among `all` whose to_string() is `name`.
+template <class E>
+std::optional<E> by_name(const std::string& name, std::initializer_list<E> all) {
+  for (E e : all) {
+    if (name == to_string(e)) return e;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 const char* to_string(CausticsMethod m) {
   switch (m) {
@@ -14,38 +28,24 @@ const char* to_string(CausticsMethod m) {
 }
 
 std::optional<CausticsMethod> parse_method(const std::string& name) {
-  for (CausticsMethod m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric, CausticsMethod::kSplat,
-                          CausticsMethod::kNone}) {
-    if (name == to_string(m)) return m;
-  }
-  return std::nullopt;
+  return by_name(name, {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric, CausticsMethod::kSplat,
+                        CausticsMethod::kNone});
 }
 
 const char* to_string(GlassMethod m) { return m == GlassMethod::kTable ? "table" : "caustic-map"; }
 
 std::optional<GlassMethod> parse_glass_method(const std::string& name) {
-  for (GlassMethod m : {GlassMethod::kTable, GlassMethod::kCausticMap}) {
-    if (name == to_string(m)) return m;
-  }
-  return std::nullopt;
+  return by_name(name, {GlassMethod::kTable, GlassMethod::kCausticMap});
 }
 
 const char* to_string(GlassView v) { return v == GlassView::kTable ? "table" : "nearby"; }
 
-std::optional<GlassView> parse_glass_view(const std::string& name) {
-  for (GlassView v : {GlassView::kTable, GlassView::kNearby}) {
-    if (name == to_string(v)) return v;
-  }
-  return std::nullopt;
-}
+std::optional<GlassView> parse_glass_view(const std::string& name) { return by_name(name, {GlassView::kTable, GlassView::kNearby}); }
 
 const char* to_string(ShadowFilter f) { return f == ShadowFilter::kPcf ? "pcf" : "vsm"; }
 
 std::optional<ShadowFilter> parse_shadow_filter(const std::string& name) {
-  for (ShadowFilter f : {ShadowFilter::kPcf, ShadowFilter::kVsm}) {
-    if (name == to_string(f)) return f;
-  }
-  return std::nullopt;
+  return by_name(name, {ShadowFilter::kPcf, ShadowFilter::kVsm});
 }
 
 void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {

@@ -86,9 +86,10 @@ struct GlassEngine::Impl {
     p.set("u_rotation", rotation);
     p.set("u_scale", scale);
   }
-  // Model matrix and the normals' matrix (inverse transpose) for mesh.vert.
-  void set_mesh_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
-    const glm::mat4 model = to_glm(scene.objects[g.object].transform);
+  // An object's model matrix and the normals' matrix (inverse transpose)
+  // for mesh.vert.
+  static void set_mesh_pose(const gl::Program& p, const Object& o) {
+    const glm::mat4 model = to_glm(o.transform);
     p.set("u_model", model);
     p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
   }
@@ -138,7 +139,7 @@ struct GlassEngine::Impl {
     back_faces.set("u_view_proj", view_proj);
     back_faces.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
     for (const Glass& g : glass) {
-      set_mesh_pose(back_faces, scene, g);
+      set_mesh_pose(back_faces, scene.objects[g.object]);
       g.mesh->draw();
     }
     glCullFace(GL_BACK);
@@ -335,9 +336,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     }
     camera[3][3] = 1.0f;
     s.target_program.set("u_view_proj", camera);
-    const glm::mat4 model = to_glm(o.transform);
-    s.target_program.set("u_model", model);
-    s.target_program.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+    Impl::set_mesh_pose(s.target_program, o);
     s.draw_object(t.object);
 
     // 4. Illumination textures: every glass triangle's volume cut by every
@@ -432,7 +431,7 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   }
   for (const Impl::Glass& g : s.glass) {
     if (nearby) {
-      s.set_mesh_pose(p, scene, g);
+      Impl::set_mesh_pose(p, scene.objects[g.object]);
       p.set("u_glass_absorption", glm::vec3(g.params.absorption[0], g.params.absorption[1], g.params.absorption[2]));
     } else {
       s.set_table(p, g);
