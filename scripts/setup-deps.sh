@@ -16,6 +16,8 @@ PACKAGES=(
   xvfb xauth
   # small well-kept libraries: JSON, CLI parsing, checksums, threading
   nlohmann-json3-dev libcli11-dev libxxhash-dev libzstd-dev libtbb-dev
+  # glTF 2.0 input (bake/src/gltf_import.cpp)
+  libtinygltf-dev
   # Embree: only caustix-bench raycast, measured against CGAL's AABB tree
   libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots

@@ -6,9 +6,10 @@
 #      baker's scene.json and mesh import tests, the mesh corpus imported and
 #      baked -- under AddressSanitizer + UBSan (CAUSTIX_PARTS=bake);
 #   3. a short libFuzzer run of each fuzz target (clang-14): the .cxb reader,
-#      the runtime's loading path and the mesh importer, seeded with their
-#      committed corpora (tests/fuzz/corpus, tests/fuzz/corpus_mesh) and the
-#      regression inputs.
+#      the runtime's loading path, the mesh importer and the glTF importer,
+#      seeded with their committed corpora (tests/fuzz/corpus,
+#      tests/fuzz/corpus_mesh, tests/fuzz/corpus_gltf) and the regression
+#      inputs.
 # CAUSTIX_FUZZ_SECONDS (default 30) sets the length of each run in step 3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,5 +34,5 @@ echo "== 3/3 libFuzzer, ${CAUSTIX_FUZZ_SECONDS:-30} s per target"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCAUSTIX_PARTS=bake -DCAUSTIX_FUZZ=ON -DCAUSTIX_SANITIZE=ON \
   -DCAUSTIX_FUZZ_SECONDS="${CAUSTIX_FUZZ_SECONDS:-30}" >/dev/null
-cmake --build build-fuzz --target fuzz_cxb_reader fuzz_load_scene fuzz_mesh_import
+cmake --build build-fuzz --target fuzz_cxb_reader fuzz_load_scene fuzz_mesh_import fuzz_gltf_import
 (cd build-fuzz && ctest --output-on-failure)

@@ -60,6 +60,25 @@ contains "unknown preset named" "$tmp/err" "turbo"
 "$bake" "$scene" -o "$tmp/x.cxb" --levels 0 2>/dev/null; check "bad levels" 2 $?
 "$bake" "$scene" -o "$tmp/x.cxb" --map-size 9000 2>/dev/null; check "map too large" 2 $?
 
+# glTF 2.0 (docs/scene-format.md): the glass ball baked straight from its
+# .gltf and rendered; a scene.json importing a .glb beside its own water; a
+# broken glTF refused by pointer with nothing written.
+gltf=$src/assets/gltf/glass_ball.gltf
+"$bake" "$gltf" -o "$tmp/g.cxb" --depfile "$tmp/g.d" --ltt-resolution 8 -q; check "bake a .gltf" 0 $?
+contains "depfile lists the glTF" "$tmp/g.d" "glass_ball.gltf"
+"$render" "$tmp/g.cxb" -o "$tmp/g.png" --size 96x64 -q; check "render a baked .gltf" 0 $?
+"$bake" "$gltf" -o "$tmp/g2.cxb" --ltt-resolution 8 --threads 1 -q; check "bake a .gltf again" 0 $?
+cmp -s "$tmp/g.cxb" "$tmp/g2.cxb"; check "glTF bakes are byte-identical" 0 $?
+cp "$gltf" "$tmp/ball.gltf"
+printf '{"gltf": "ball.gltf", "water": {"level": 1.6, "grid": {"cells": [16, 16], "extent": [-2, -2, 2, 2]}}}' >"$tmp/withwater.json"
+"$bake" "$tmp/withwater.json" -o "$tmp/w.cxb" --depfile "$tmp/w.d" --ltt-resolution 8 -q; check "scene.json importing a glTF" 0 $?
+contains "depfile lists the imported glTF" "$tmp/w.d" "ball.gltf"
+"$inspect" "$tmp/w.cxb" >"$tmp/out"; contains "imported objects and water" "$tmp/out" "WATR"
+sed 's/"mesh": 1,/"mesh": 7,/' "$gltf" >"$tmp/bad.gltf"
+"$bake" "$tmp/bad.gltf" -o "$tmp/bg.cxb" 2>"$tmp/err"; check "bad glTF" 3 $?
+contains "bad glTF names the pointer" "$tmp/err" "/nodes/1/mesh: mesh 7 does not exist"
+[ ! -e "$tmp/bg.cxb" ]; check "no output for a bad glTF" 0 $?
+
 # Bad input: clear error naming the place, exit 3, old output untouched, no temp files left.
 cp "$tmp/a.cxb" "$tmp/keep.cxb"
 printf '{\n  "objects": [ { "name": "a", "mesh": 5 } ]\n}\n' >"$tmp/bad.json"

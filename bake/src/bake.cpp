@@ -82,9 +82,9 @@ std::optional<std::string> float_precision_warning(const Object& o, const Triang
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
   BakeResult out;
-  auto doc = load_scene_json(scene_path);
+  auto doc = load_scene(scene_path);
   if (!doc) return doc.error();
-  out.inputs.push_back(scene_path);
+  out.inputs = doc->inputs;
   out.warnings = doc->warnings;
   SceneDesc& scene = doc->scene;
   scene.render = options.render;
@@ -98,10 +98,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   std::vector<TriangleMesh> meshes;
   for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
     const std::string& path = doc->mesh_paths[i];
-    out.inputs.push_back(path);
     auto t0 = Clock::now();
-    auto imported = import_mesh(path);
+    Result<ImportedMesh> imported = doc->imported[i] ? std::move(*doc->imported[i]) : import_mesh(path);
     if (!imported) return imported.error();
+    if (!doc->imported[i]) out.inputs.push_back(path);
     for (const auto& w : imported->warnings) out.warnings.push_back(path + ": " + w);
     TriangleMesh& mesh = imported->mesh;
     if (mesh.positions.size() > kMaxMeshVertices) {

@@ -61,28 +61,34 @@ Result<ImportedMesh> import_mesh(const std::string& path) {
               : *format == MeshFormat::kPly ? read_ply(path)
                                             : read_stl(path);
   if (!read) return input_error(path, read.error().message);
-  PolygonSoup& soup = *read;
+  auto out = mesh_from_soup(std::move(*read));
+  if (!out) return input_error(path, out.error().message);
+  return out;
+}
+
+Result<ImportedMesh> mesh_from_soup(PolygonSoup&& soup) {
+  const auto refuse = [](const std::string& msg) { return make_error(ErrorCode::kInput, msg); };
   ImportedMesh out;
   out.warnings = std::move(soup.warnings);
 
   if (soup.polygon_count() == 0) {
-    return input_error(path, "the mesh has no faces" +
+    return refuse("the mesh has no faces" +
                                  (soup.points.empty() ? std::string()
                                                       : " (" + std::to_string(soup.points.size()) +
                                                             " points: a point cloud is not a surface)"));
   }
   for (std::size_t i = 0; i < soup.points.size(); ++i) {
     const P3& p = soup.points[i];
-    if (!finite3(p)) return input_error(path, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+    if (!finite3(p)) return refuse("vertex " + std::to_string(i) + " has a non-finite coordinate");
     if (std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])}) > FLT_MAX) {
-      return input_error(path, "vertex " + std::to_string(i) + " has a coordinate beyond the float range");
+      return refuse("vertex " + std::to_string(i) + " has a coordinate beyond the float range");
     }
   }
   const auto n_points = static_cast<std::uint64_t>(soup.points.size());
   for (std::size_t f = 0; f < soup.polygon_count(); ++f) {
     for (std::uint32_t k = soup.offsets[f]; k < soup.offsets[f + 1]; ++k) {
       if (soup.corners[k] >= n_points) {
-        return input_error(path, "face " + std::to_string(f) + " refers to vertex " + std::to_string(soup.corners[k]) +
+        return refuse("face " + std::to_string(f) + " refers to vertex " + std::to_string(soup.corners[k]) +
                                      ", a vertex that does not exist (the file has " + std::to_string(n_points) +
                                      " vertices); refusing the mesh rather than dropping the face");
       }
@@ -127,7 +133,7 @@ Result<ImportedMesh> import_mesh(const std::string& path) {
     if (kept == before) degenerate.add(f);
     tris.resize(kept);
   }
-  if (tris.empty()) return input_error(path, "every face is degenerate (fewer than three corners, or zero area)");
+  if (tris.empty()) return refuse("every face is degenerate (fewer than three corners, or zero area)");
   if (degenerate.count > 0) {
     out.warnings.push_back("dropped " + std::to_string(degenerate.count) +
                            " degenerate face(s) (fewer than three distinct corners, or zero area), " + degenerate.where());

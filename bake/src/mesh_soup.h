@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "caustix/bake/mesh_import.h"
 #include "caustix/common/status.h"
 
 namespace caustix::bake {
@@ -59,6 +60,11 @@ struct PolygonSoup {
   std::size_t polygon_count() const { return offsets.size() - 1; }
   void add_polygon_end() { offsets.push_back(static_cast<std::uint32_t>(corners.size())); }
 };
+
+// Validates, triangulates and compacts a soup as import_mesh() documents
+// (bake/include/caustix/bake/mesh_import.h); errors name the vertex or face
+// but not the file. The glTF importer builds its soups from accessors.
+Result<ImportedMesh> mesh_from_soup(PolygonSoup&& soup);
 
 // Each reader returns the soup or an error message (without the path: the
 // importer prefixes it) naming the place: line, element, vertex or face.

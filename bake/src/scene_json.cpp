@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <map>
 
+#include "caustix/bake/gltf_import.h"
 #include "caustix/formats/file_io.h"
 #include "json_locations.h"
 
@@ -225,11 +226,65 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
   return parse_scattering(w, v, ptr, out.scattering);
 }
 
-bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::filesystem::path& base) {
+// The glTF files a scene names, each read once (by resolved path).
+class GltfFiles {
+ public:
+  // The file, or nullptr after recording the error at `ptr`.
+  const GltfFile* get(Walker& w, const std::string& ptr, const std::string& path, SceneDocument& doc) {
+    auto it = files_.find(path);
+    if (it == files_.end()) {
+      auto file = GltfFile::load(path);
+      if (!file) {
+        w.fail(ptr, file.error().message);
+        return nullptr;
+      }
+      for (const auto& s : file->inputs()) doc.inputs.push_back(s);
+      for (const auto& s : file->warnings()) doc.warnings.push_back(s);
+      it = files_.emplace(path, std::move(*file)).first;
+    }
+    return &it->second;
+  }
+
+ private:
+  std::map<std::string, GltfFile> files_;
+};
+
+// "gltf": every mesh node of the file becomes an object after scene.json's
+// own; its lights and camera are taken when scene.json gives none.
+bool parse_gltf(Walker& w, const json& root, SceneDocument& doc, const std::filesystem::path& base, GltfFiles& files) {
+  const json* j = Walker::optional_member(root, "gltf");
+  if (!j) return true;
+  std::string src;
+  if (!w.string(*j, "/gltf", src)) return false;
+  if (!is_gltf_path(src)) return w.fail("/gltf", "expected a .gltf or .glb file, got \"" + src + "\"");
+  const std::string resolved = (base / src).lexically_normal().string();
+  const GltfFile* file = files.get(w, "/gltf", resolved, doc);
+  if (!file) return false;
+  auto gs = file->scene();
+  if (!gs) return w.fail("/gltf", gs.error().message);
+  const auto offset = static_cast<std::uint32_t>(doc.scene.meshes.size());
+  for (Object o : gs->scene.objects) {
+    o.mesh_index += offset;
+    doc.scene.objects.push_back(std::move(o));
+  }
+  for (std::size_t i = 0; i < gs->meshes.size(); ++i) {
+    const std::string& source = gs->scene.meshes[i].source;
+    doc.mesh_paths.push_back(resolved + source.substr(source.find('#')));
+    doc.scene.meshes.push_back(gs->scene.meshes[i]);
+    doc.imported.emplace_back(std::move(gs->meshes[i]));
+  }
+  if (!root.contains("lights")) doc.scene.lights = gs->scene.lights;
+  if (!root.contains("camera")) doc.scene.camera = gs->scene.camera;
+  for (auto& s : gs->warnings) doc.warnings.push_back(std::move(s));
+  return true;
+}
+
+bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::filesystem::path& base, GltfFiles& files) {
+  if (!root.contains("objects") && root.contains("gltf")) return true;
   const json* objs = w.member(root, "", "objects");
   if (!objs) return false;
   if (!objs->is_array()) return w.fail("/objects", "expected an array of objects, got " + Walker::type_of(*objs));
-  std::map<std::string, std::uint32_t> mesh_by_path;
+  std::map<std::pair<std::string, bool>, std::uint32_t> mesh_by_path;  // (resolved source, welded)
   for (std::size_t i = 0; i < objs->size(); ++i) {
     const json& o = (*objs)[i];
     const std::string ptr = "/objects/" + std::to_string(i);
@@ -257,10 +312,28 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       w.warn(ptr + "/material/reflectance", "\"reflectance\" has no effect on an object that is not a mirror");
     }
 
-    // One mesh per distinct resolved file, numbered in order of first use.
+    // One mesh per distinct resolved file, numbered in order of first use;
+    // "file.glb#Node" names a glTF node's mesh, welded for a solid
+    // (GltfFile::node_mesh).
     const std::filesystem::path resolved = (base / mesh_src).lexically_normal();
-    const auto [it, inserted] = mesh_by_path.emplace(resolved.string(), static_cast<std::uint32_t>(doc.mesh_paths.size()));
+    const auto hash = mesh_src.find('#');
+    const bool from_gltf = hash != std::string::npos && is_gltf_path(mesh_src.substr(0, hash));
+    const bool weld = from_gltf && is_transparent(obj.role);
+    const auto [it, inserted] =
+        mesh_by_path.emplace(std::pair{resolved.string(), weld}, static_cast<std::uint32_t>(doc.mesh_paths.size()));
     if (inserted) {
+      if (from_gltf) {
+        const std::string file_path = (base / mesh_src.substr(0, hash)).lexically_normal().string();
+        const GltfFile* file = files.get(w, ptr + "/mesh", file_path, doc);
+        if (!file) return false;
+        auto mesh = file->node_mesh(mesh_src.substr(hash + 1), weld);
+        if (!mesh) return w.fail(ptr + "/mesh", mesh.error().message);
+        for (const auto& s : mesh->warnings) doc.warnings.push_back(resolved.string() + ": " + s);
+        mesh->warnings.clear();
+        doc.imported.emplace_back(std::move(*mesh));
+      } else {
+        doc.imported.emplace_back();
+      }
       doc.mesh_paths.push_back(resolved.string());
       MeshInfo info;
       info.source = mesh_src;
@@ -441,10 +514,12 @@ Result<SceneDocument> parse_scene_json(const std::string& text, const std::strin
   SceneDocument out;
   const json& root = doc.root;
   if (!w.object(root, "")) return *w.error();
-  w.check_fields(root, "", {"name", "objects", "lights", "water", "medium", "camera", "$schema", "comment"});
+  w.check_fields(root, "", {"name", "objects", "gltf", "lights", "water", "medium", "camera", "$schema", "comment"});
   if (const json* j = Walker::optional_member(root, "name"); j && !w.string(*j, "/name", out.scene.name)) return *w.error();
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
-  if (!parse_objects(w, root, out, base) || !parse_lights(w, root, out.scene) ||
+  out.inputs.push_back(path);
+  GltfFiles files;
+  if (!parse_objects(w, root, out, base, files) || !parse_gltf(w, root, out, base, files) || !parse_lights(w, root, out.scene) ||
       !parse_water(w, root, out.scene) || !parse_medium(w, root, out.scene) || !parse_camera(w, root, out.scene)) {
     return *w.error();
   }
@@ -454,7 +529,31 @@ Result<SceneDocument> parse_scene_json(const std::string& text, const std::strin
     return *w.error();
   }
   normalize_scene(out.scene);
-  out.warnings = std::move(w.warnings());
+  for (auto& s : w.warnings()) out.warnings.push_back(std::move(s));
+  return out;
+}
+
+Result<SceneDocument> load_scene(const std::string& path) {
+  if (!is_gltf_path(path)) return load_scene_json(path);
+  auto file = GltfFile::load(path);
+  if (!file) return file.error();
+  auto gs = file->scene();
+  if (!gs) return gs.error();
+  SceneDocument out;
+  out.scene = std::move(gs->scene);
+  for (std::size_t i = 0; i < gs->meshes.size(); ++i) {
+    const std::string& source = out.scene.meshes[i].source;
+    out.mesh_paths.push_back(path + source.substr(source.find('#')));
+    out.imported.emplace_back(std::move(gs->meshes[i]));
+  }
+  out.inputs = file->inputs();
+  out.warnings = file->warnings();
+  for (auto& s : gs->warnings) out.warnings.push_back(std::move(s));
+  if (out.scene.lights.empty()) out.warnings.push_back(path + ": the scene has no lights (KHR_lights_punctual); everything will be dark");
+  if (auto issue = validate_scene(out.scene, /*check_meshes=*/false)) {
+    return make_error(ErrorCode::kInput, path + ": the imported scene's " + issue->pointer + ": " + issue->message);
+  }
+  normalize_scene(out.scene);
   return out;
 }
 

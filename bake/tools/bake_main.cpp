@@ -1,4 +1,4 @@
-// caustix-bake: scene.json + meshes -> one .cxb file. See --help and README.md
+// caustix-bake: scene.json + meshes (or a glTF 2.0 scene) -> one .cxb file. See --help and README.md
 // for the exit codes.
 
 #include <tbb/global_control.h>
@@ -40,12 +40,12 @@ int main(int argc, char** argv) {
   bool quiet = false, verbose = false;
   auto& lm = opt.level_maps;
 
-  CLI::App app{"caustix-bake: bake scene.json and its meshes into one .cxb file"};
+  CLI::App app{"caustix-bake: bake scene.json and its meshes, or a glTF 2.0 scene (.gltf, .glb), into one .cxb file"};
   app.footer(
-      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid or missing input (scene.json, mesh),\n"
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid or missing input (scene.json, glTF, mesh),\n"
       "            5 output could not be written. The output is written atomically: on failure\n"
       "            an existing file at OUT is left untouched and no partial file is created.");
-  app.add_option("scene", scene_path, "scene description (scene.json)")->required();
+  app.add_option("scene", scene_path, "scene description: scene.json, or a glTF 2.0 file (.gltf, .glb)")->required();
   app.add_option("-o,--output", out_path, "output .cxb file")->required();
   std::string preset_names;
   std::vector<std::string> preset_list;

@@ -60,7 +60,12 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
     runtime::CausticsOptions co;
     co.method = m;
     if (planes > 0) co.planes = planes;
-    runtime::FrameParams f{r->default_camera(), 1.0f, width, height, co, {}};
+    runtime::FrameParams f;
+    f.camera = r->default_camera();
+    f.time = 1.0f;
+    f.width = width;
+    f.height = height;
+    f.caustics = co;
     metrics::Image img{width, height, {}};
     if (!r->render(f)) return img;
     const auto rgba = r->read_hdr();

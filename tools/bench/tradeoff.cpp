@@ -248,7 +248,7 @@ int tradeoff(const TradeoffRequest& q) {
   };
 
   // What the scene has decides which knobs apply.
-  auto doc = bake::load_scene_json(q.scene_path);
+  auto doc = bake::load_scene(q.scene_path);
   if (!doc) return fail(doc.error());
   const bool has_water = doc->scene.water.has_value();
   const bool has_glass = std::any_of(doc->scene.objects.begin(), doc->scene.objects.end(),

@@ -175,7 +175,7 @@ constexpr int kMaxInteractions = 64;
 }  // namespace
 
 Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) {
-  auto doc = bake::load_scene_json(q.scene_path);
+  auto doc = bake::load_scene(q.scene_path);
   if (!doc) return doc.error();
   const SceneDesc& scene = doc->scene;
   if (!(q.x1 > q.x0) || !(q.y1 > q.y0) || q.width < 1 || q.height < 1 || q.width > 16384 || q.height > 16384 ||

@@ -16,7 +16,7 @@ constexpr int kMaxInteractions = 64;  // glass interfaces followed per photon
 }  // namespace
 
 Result<Image> trace(const Request& q) {
-  auto doc = bake::load_scene_json(q.scene_path);
+  auto doc = bake::load_scene(q.scene_path);
   if (!doc) return doc.error();
   const SceneDesc& scene = doc->scene;
   if (!(q.x1 > q.x0) || !(q.z1 > q.z0) || q.width < 1 || q.height < 1 || q.width > 16384 || q.height > 16384 ||

@@ -27,7 +27,8 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
   const SceneDesc& scene = doc.scene;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
-    auto mesh = bake::import_mesh(doc.mesh_paths[o.mesh_index]);
+    const auto& imported = doc.imported[o.mesh_index];
+    auto mesh = imported ? Result<bake::ImportedMesh>(*imported) : bake::import_mesh(doc.mesh_paths[o.mesh_index]);
     if (!mesh) return mesh.error();
     if (is_transparent(o.role)) {
       bake::GlassRefineOptions creases_only;

@@ -469,8 +469,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const bool variable = adaptive && !two_pass;
   if (variable) {
     const int dside = std::max(1, size / kDensityBlock);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, zero);
+    const float no_photons[4] = {0, 0, 0, 0};
+    glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, no_photons);
     glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.density.get(), 0);
     glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());

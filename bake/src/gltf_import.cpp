@@ -1,0 +1,822 @@
+// glTF 2.0 import through tinygltf (docs/scene-format.md, "glTF scenes").
+// tinygltf parses the JSON, the GLB container and the buffers (data URIs and
+// external files); it trusts the indices it hands out, so every index,
+// accessor range and the node hierarchy are checked here before use, and
+// Draco-compressed primitives are decoded here (tinygltf's own Draco path
+// indexes buffer views unchecked).
+
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include <draco/compression/decode.h>
+
+#include "caustix/bake/gltf_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <tuple>
+#include <map>
+#include <set>
+
+#include "caustix/formats/file_io.h"
+#include "mesh_soup.h"
+
+namespace caustix::bake {
+
+namespace {
+
+using Mat4d = std::array<double, 16>;  // column-major
+using V3 = std::array<double, 3>;
+
+constexpr Mat4d kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+constexpr double kPi = 3.14159265358979323846;
+// glTF's lights are photometric (lux, candela); caustix's radiometric
+// (W/m^2, W/sr). 683 lm/W is the definition of the candela at 555 nm and
+// what Blender's exporter uses both ways.
+constexpr double kLumensPerWatt = 683.0;
+constexpr std::uint64_t kMaxFileBytes = std::uint64_t{2} << 30;
+// Extensions whose content caustix uses.
+const std::set<std::string> kSupported{"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_materials_transmission",
+                                       "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual"};
+
+Mat4d mul(const Mat4d& a, const Mat4d& b) {
+  Mat4d r{};
+  for (std::size_t c = 0; c < 4; ++c) {
+    for (std::size_t rr = 0; rr < 4; ++rr) {
+      double s = 0;
+      for (std::size_t k = 0; k < 4; ++k) s += a[k * 4 + rr] * b[c * 4 + k];
+      r[c * 4 + rr] = s;
+    }
+  }
+  return r;
+}
+V3 apply_dir(const Mat4d& m, const V3& d) {
+  return {m[0] * d[0] + m[4] * d[1] + m[8] * d[2], m[1] * d[0] + m[5] * d[1] + m[9] * d[2],
+          m[2] * d[0] + m[6] * d[1] + m[10] * d[2]};
+}
+V3 normalized(const V3& v) {
+  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return {v[0] / len, v[1] / len, v[2] / len};
+}
+Vec3f to_f(const V3& v) { return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])}; }
+double det3(const Mat4d& m) {
+  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+// A value of an extension object, or nullptr.
+const tinygltf::Value* field(const tinygltf::Value& obj, const char* key) {
+  return obj.IsObject() && obj.Has(key) ? &obj.Get(key) : nullptr;
+}
+const tinygltf::Value* extension(const tinygltf::ExtensionMap& ext, const char* name) {
+  const auto it = ext.find(name);
+  return it == ext.end() ? nullptr : &it->second;
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    case TINYGLTF_TYPE_VEC4: return "VEC4";
+    default: return "a matrix type";
+  }
+}
+
+// KHR_draco_mesh_compression's primitives keep an "indices" accessor with
+// no buffer view (the indices are in the Draco stream), which tinygltf 2.7
+// refuses unless its own Draco path -- which indexes buffer views unchecked
+// -- has filled it. Such "indices" are dropped from the JSON (of a .gltf, or
+// of a GLB's first chunk) before tinygltf parses it; the primitive is
+// decoded from its stream (decode_draco_primitive). Bytes that do not parse
+// are left for tinygltf to refuse.
+void without_draco_indices(std::vector<std::uint8_t>& bytes) {
+  const bool glb = bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  std::size_t begin = 0, end = bytes.size();
+  if (glb) {
+    std::uint32_t chunk = 0, type = 0;
+    std::memcpy(&chunk, bytes.data() + 12, 4);
+    std::memcpy(&type, bytes.data() + 16, 4);
+    if (type != 0x4E4F534A || chunk > bytes.size() - 20) return;  // "JSON"
+    begin = 20;
+    end = 20 + std::size_t{chunk};
+  }
+  nlohmann::json doc = nlohmann::json::parse(bytes.begin() + static_cast<std::ptrdiff_t>(begin), bytes.begin() + static_cast<std::ptrdiff_t>(end),
+                                             nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return;
+  bool changed = false;
+  for (auto& mesh : doc["meshes"]) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (auto& prim : mesh["primitives"]) {
+      if (prim.is_object() && prim.contains("indices") && prim.contains("extensions") && prim["extensions"].is_object() &&
+          prim["extensions"].contains("KHR_draco_mesh_compression")) {
+        prim.erase("indices");
+        changed = true;
+      }
+    }
+  }
+  if (!changed) return;
+  std::string json = doc.dump();
+  if (!glb) {
+    bytes.assign(json.begin(), json.end());
+    return;
+  }
+  while (json.size() % 4) json.push_back(' ');  // GLB 2.0 §4.4.3.1: padded with spaces
+  std::vector<std::uint8_t> out(bytes.begin(), bytes.begin() + 12);
+  const auto u32 = [&](std::size_t at, std::uint64_t v) {
+    for (std::size_t k = 0; k < 4; ++k) out[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+  };
+  out.resize(20);
+  u32(12, json.size());
+  u32(16, 0x4E4F534A);
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(out.end(), bytes.begin() + static_cast<std::ptrdiff_t>(end), bytes.end());
+  u32(8, out.size());
+  bytes = std::move(out);
+}
+
+}  // namespace
+
+struct GltfFile::Impl {
+  std::string path;
+  tinygltf::Model model;
+  std::vector<std::string> inputs;
+  std::vector<std::string> warnings;
+
+  Error fail(const std::string& pointer, const std::string& msg) const {
+    return make_error(ErrorCode::kInput, path + ": " + pointer + ": " + msg);
+  }
+  void warn(const std::string& msg, std::vector<std::string>& out) const { out.push_back(path + ": " + msg); }
+
+  // An index into one of the model's arrays, as found at `pointer`.
+  template <typename T>
+  std::optional<Error> check_index(int index, const std::vector<T>& array, const char* what, const std::string& pointer) const {
+    if (index >= 0 && static_cast<std::size_t>(index) < array.size()) return std::nullopt;
+    return fail(pointer, std::string(what) + " " + std::to_string(index) + " does not exist (the file has " +
+                             std::to_string(array.size()) + ")");
+  }
+
+  // The bytes [offset, offset + length) of buffer view `view`, checked.
+  Result<const unsigned char*> view_bytes(int view, std::uint64_t offset, std::uint64_t length, const std::string& pointer) const {
+    if (auto e = check_index(view, model.bufferViews, "buffer view", pointer)) return *e;
+    const tinygltf::BufferView& bv = model.bufferViews[static_cast<std::size_t>(view)];
+    const std::string bp = "/bufferViews/" + std::to_string(view);
+    if (auto e = check_index(bv.buffer, model.buffers, "buffer", bp + "/buffer")) return *e;
+    const auto& data = model.buffers[static_cast<std::size_t>(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset) {
+      return fail(bp, "bytes " + std::to_string(bv.byteOffset) + " + " + std::to_string(bv.byteLength) + " run past the " +
+                          std::to_string(data.size()) + " bytes of buffer " + std::to_string(bv.buffer));
+    }
+    if (offset > bv.byteLength || length > bv.byteLength - offset) {
+      return fail(pointer, "bytes " + std::to_string(offset) + " + " + std::to_string(length) + " run past the " +
+                               std::to_string(bv.byteLength) + " bytes of buffer view " + std::to_string(view));
+    }
+    return data.data() + bv.byteOffset + offset;
+  }
+
+  // Accessor `index` (referenced at `pointer`) as doubles, `components` per
+  // element: normalised integers mapped to [0, 1] or [-1, 1] (glTF 2.0
+  // §3.11), sparse substitutions applied. `allowed` lists the component
+  // types the attribute may have.
+  Result<std::vector<double>> read_accessor(int index, const std::string& pointer, int type, std::initializer_list<int> allowed,
+                                            bool indices = false) const {
+    if (auto e = check_index(index, model.accessors, "accessor", pointer)) return *e;
+    const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(index)];
+    const std::string ap = "/accessors/" + std::to_string(index);
+    if (a.type != type) return fail(ap + "/type", std::string("expected ") + type_name(type) + " at " + pointer + ", got " + type_name(a.type));
+    if (std::find(allowed.begin(), allowed.end(), a.componentType) == allowed.end()) {
+      return fail(ap + "/componentType", "component type " + std::to_string(a.componentType) + " is not allowed for " + pointer);
+    }
+    if (a.count == 0 || a.count > 3 * std::uint64_t{kMaxMeshVertices}) {
+      return fail(ap + "/count", "count " + std::to_string(a.count) + " is outside 1.." + std::to_string(3 * std::uint64_t{kMaxMeshVertices}));
+    }
+    const auto comp = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(type)));
+    const auto csize = static_cast<std::size_t>(tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType)));
+    std::vector<double> out(a.count * comp, 0.0);
+    const auto decode = [&](const unsigned char* p, int ctype, bool normalized) {
+      double v = 0;
+      switch (ctype) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t x; std::memcpy(&x, p, 1); v = normalized ? std::max(x / 127.0, -1.0) : x; break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { std::uint8_t x; std::memcpy(&x, p, 1); v = normalized ? x / 255.0 : x; break; }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t x; std::memcpy(&x, p, 2); v = normalized ? std::max(x / 32767.0, -1.0) : x; break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t x; std::memcpy(&x, p, 2); v = normalized ? x / 65535.0 : x; break; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t x; std::memcpy(&x, p, 4); v = x; break; }
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float x; std::memcpy(&x, p, 4); v = x; break; }
+        default: break;
+      }
+      return v;
+    };
+    const bool normalized = a.normalized && !indices;
+    if (a.bufferView >= 0) {
+      const std::size_t elem = comp * csize;
+      std::size_t stride = elem;
+      if (static_cast<std::size_t>(a.bufferView) < model.bufferViews.size()) {
+        const std::size_t s = model.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride;
+        if (s != 0 && s < elem) {
+          return fail("/bufferViews/" + std::to_string(a.bufferView) + "/byteStride",
+                      "stride " + std::to_string(s) + " is shorter than the " + std::to_string(elem) + "-byte elements of accessor " + std::to_string(index));
+        }
+        if (s != 0) stride = s;
+      }
+      auto bytes = view_bytes(a.bufferView, a.byteOffset, stride * (a.count - 1) + elem, ap);
+      if (!bytes) return bytes.error();
+      for (std::size_t i = 0; i < a.count; ++i) {
+        for (std::size_t k = 0; k < comp; ++k) out[i * comp + k] = decode(*bytes + i * stride + k * csize, a.componentType, normalized);
+      }
+    }  // else all zeros (glTF 2.0 §3.6.2.1), or a sparse accessor's base
+    if (a.sparse.isSparse) {
+      const std::string sp = ap + "/sparse";
+      const auto n = static_cast<std::size_t>(std::max(a.sparse.count, 0));
+      if (a.sparse.count <= 0 || n > a.count) return fail(sp + "/count", "must be in 1.." + std::to_string(a.count));
+      const int itype = a.sparse.indices.componentType;
+      if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+          itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+        return fail(sp + "/indices/componentType", "must be an unsigned integer type");
+      }
+      const auto isize = static_cast<std::size_t>(tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(itype)));
+      auto ib = view_bytes(a.sparse.indices.bufferView, static_cast<std::uint64_t>(std::max(a.sparse.indices.byteOffset, 0)), n * isize, sp + "/indices");
+      if (!ib) return ib.error();
+      auto vb = view_bytes(a.sparse.values.bufferView, static_cast<std::uint64_t>(std::max(a.sparse.values.byteOffset, 0)), n * comp * csize, sp + "/values");
+      if (!vb) return vb.error();
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto target = static_cast<std::uint64_t>(decode(*ib + i * isize, itype, false));
+        if (target >= a.count) return fail(sp + "/indices", "index " + std::to_string(target) + " is beyond the accessor's " + std::to_string(a.count) + " elements");
+        for (std::size_t k = 0; k < comp; ++k) out[target * comp + k] = decode(*vb + (i * comp + k) * csize, a.componentType, normalized);
+      }
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (!std::isfinite(out[i]) || std::fabs(out[i]) > 3.0e38) {
+        return fail(ap, "element " + std::to_string(i / comp) + " has a non-finite or out-of-range value");
+      }
+    }
+    return out;
+  }
+
+  // One triangle primitive's corners, appended to a soup-in-the-making.
+  struct Corners {
+    std::vector<V3> positions;
+    std::vector<V3> normals;  // empty, or one per position
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+  };
+
+  Result<Corners> decode_draco_primitive(const tinygltf::Value& ext, const std::string& pp) const {
+    const std::string ep = pp + "/extensions/KHR_draco_mesh_compression";
+    const tinygltf::Value* view = field(ext, "bufferView");
+    const tinygltf::Value* attrs = field(ext, "attributes");
+    if (!view || !view->IsInt()) return fail(ep + "/bufferView", "expected a buffer view index");
+    if (!attrs || !attrs->IsObject()) return fail(ep + "/attributes", "expected an object");
+    const int v = view->GetNumberAsInt();
+    if (auto e = check_index(v, model.bufferViews, "buffer view", ep + "/bufferView")) return *e;
+    auto bytes = view_bytes(v, 0, model.bufferViews[static_cast<std::size_t>(v)].byteLength, ep + "/bufferView");
+    if (!bytes) return bytes.error();
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(*bytes), model.bufferViews[static_cast<std::size_t>(v)].byteLength);
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok()) return fail(ep, std::string("Draco decoding failed: ") + decoded.status().error_msg());
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    const auto attribute = [&](const char* name) -> Result<const draco::PointAttribute*> {
+      const tinygltf::Value* id = field(*attrs, name);
+      if (!id) return static_cast<const draco::PointAttribute*>(nullptr);
+      const draco::PointAttribute* a = id->IsInt() ? mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id->GetNumberAsInt())) : nullptr;
+      if (!a || a->num_components() != 3) return fail(ep + "/attributes/" + name, "no 3-component Draco attribute with this id");
+      return a;
+    };
+    auto pos = attribute("POSITION");
+    if (!pos) return pos.error();
+    if (!*pos) return fail(ep + "/attributes", "no POSITION");
+    auto nrm = attribute("NORMAL");
+    if (!nrm) return nrm.error();
+    if (mesh->num_points() > kMaxMeshVertices) return fail(ep, "more than " + std::to_string(kMaxMeshVertices) + " vertices");
+    Corners c;
+    c.positions.resize(mesh->num_points());
+    if (*nrm) c.normals.resize(mesh->num_points());
+    for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
+      std::array<float, 3> p{}, n{};
+      if (!(*pos)->ConvertValue<float, 3>((*pos)->mapped_index(i), p.data()) ||
+          (*nrm && !(*nrm)->ConvertValue<float, 3>((*nrm)->mapped_index(i), n.data()))) {
+        return fail(ep, "cannot read the attributes of Draco point " + std::to_string(i.value()));
+      }
+      c.positions[i.value()] = {p[0], p[1], p[2]};
+      if (*nrm) c.normals[i.value()] = {n[0], n[1], n[2]};
+    }
+    for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
+      const auto& face = mesh->face(f);
+      c.triangles.push_back({face[0].value(), face[1].value(), face[2].value()});
+    }
+    return c;
+  }
+
+  // The triangles of primitive k of mesh m (an empty result for points and
+  // lines, with a warning).
+  Result<Corners> primitive_corners(std::size_t m, std::size_t k, std::vector<std::string>& warns) const {
+    const tinygltf::Primitive& prim = model.meshes[m].primitives[k];
+    const std::string pp = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k);
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      if (mode < 0 || mode > 6) return fail(pp + "/mode", "unknown mode " + std::to_string(mode));
+      warn(pp + ": points or lines (mode " + std::to_string(mode) + ") are not a surface; skipped", warns);
+      return Corners{};
+    }
+    if (!prim.targets.empty()) warn(pp + ": " + std::to_string(prim.targets.size()) + " morph target(s) ignored (the bake takes the base shape)", warns);
+    if (const tinygltf::Value* draco = extension(prim.extensions, "KHR_draco_mesh_compression")) {
+      return decode_draco_primitive(*draco, pp);
+    }
+    const auto pos_it = prim.attributes.find("POSITION");
+    if (pos_it == prim.attributes.end()) return fail(pp + "/attributes", "no POSITION attribute");
+    // KHR_mesh_quantization allows integer positions and normals.
+    const std::initializer_list<int> any_type{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                              TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+    auto pos = read_accessor(pos_it->second, pp + "/attributes/POSITION", TINYGLTF_TYPE_VEC3, any_type);
+    if (!pos) return pos.error();
+    Corners c;
+    const std::size_t n = pos->size() / 3;
+    for (std::size_t i = 0; i < n; ++i) c.positions.push_back({(*pos)[3 * i], (*pos)[3 * i + 1], (*pos)[3 * i + 2]});
+    if (const auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+      auto nrm = read_accessor(it->second, pp + "/attributes/NORMAL", TINYGLTF_TYPE_VEC3,
+                               {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT});
+      if (!nrm) return nrm.error();
+      if (nrm->size() != pos->size()) return fail(pp + "/attributes/NORMAL", "count differs from POSITION's " + std::to_string(n));
+      for (std::size_t i = 0; i < n; ++i) c.normals.push_back({(*nrm)[3 * i], (*nrm)[3 * i + 1], (*nrm)[3 * i + 2]});
+    }
+    std::vector<std::uint32_t> idx;
+    if (prim.indices >= 0) {
+      auto ind = read_accessor(prim.indices, pp + "/indices", TINYGLTF_TYPE_SCALAR,
+                               {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}, true);
+      if (!ind) return ind.error();
+      for (std::size_t i = 0; i < ind->size(); ++i) {
+        const double v = (*ind)[i];
+        if (v >= static_cast<double>(n)) {
+          return fail("/accessors/" + std::to_string(prim.indices), "index " + std::to_string(static_cast<std::uint64_t>(v)) + " at element " +
+                                                                        std::to_string(i) + " is beyond the " + std::to_string(n) + " vertices of POSITION");
+        }
+        idx.push_back(static_cast<std::uint32_t>(v));
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) idx.push_back(static_cast<std::uint32_t>(i));
+    }
+    // glTF 2.0 §3.7.2.1: strips alternate their winding, fans share corner 0.
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      if (idx.size() % 3 != 0) warn(pp + ": " + std::to_string(idx.size()) + " indices is not a multiple of 3; the last ones are ignored", warns);
+      for (std::size_t i = 0; i + 2 < idx.size(); i += 3) c.triangles.push_back({idx[i], idx[i + 1], idx[i + 2]});
+    } else {
+      for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_FAN) c.triangles.push_back({idx[0], idx[i + 1], idx[i + 2]});
+        else if (i % 2 == 0) c.triangles.push_back({idx[i], idx[i + 1], idx[i + 2]});
+        else c.triangles.push_back({idx[i + 1], idx[i], idx[i + 2]});
+      }
+    }
+    return c;
+  }
+
+  // Primitives -> one imported mesh. Corners at the same position (and,
+  // without `weld`, the same normal) are merged; merged normals are summed
+  // and renormalised by mesh_from_soup.
+  Result<ImportedMesh> make_mesh(const std::vector<Corners>& parts, bool weld, const std::string& pointer) const {
+    PolygonSoup soup;
+    std::map<std::array<float, 6>, std::uint32_t> index;
+    const bool normals = std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.normals.empty(); });
+    std::vector<V3> normal_sum;
+    for (const Corners& c : parts) {
+      std::vector<std::uint32_t> remap(c.positions.size());
+      for (std::size_t i = 0; i < c.positions.size(); ++i) {
+        const V3& p = c.positions[i];
+        const V3 n = normals ? c.normals[i] : V3{0, 0, 0};
+        std::array<float, 6> key{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]), 0, 0, 0};
+        if (!weld) {
+          for (std::size_t k = 0; k < 3; ++k) key[3 + k] = static_cast<float>(n[k]);
+        }
+        const auto [it, inserted] = index.emplace(key, static_cast<std::uint32_t>(soup.points.size()));
+        if (inserted) {
+          soup.points.push_back(p);
+          normal_sum.push_back({0, 0, 0});
+        }
+        if (normals) {
+          const V3 u = normalized(n);
+          for (std::size_t k = 0; k < 3; ++k) normal_sum[it->second][k] += std::isfinite(u[k]) ? u[k] : 0;
+        }
+        remap[i] = it->second;
+      }
+      for (const auto& t : c.triangles) {
+        for (std::uint32_t v : t) {
+          if (v >= remap.size()) return fail(pointer, "a Draco face refers to point " + std::to_string(v) + " of " + std::to_string(remap.size()));
+          soup.corners.push_back(remap[v]);
+        }
+        soup.add_polygon_end();
+      }
+    }
+    if (normals) soup.normals = std::move(normal_sum);
+    if (soup.points.size() > kMaxMeshVertices) return fail(pointer, "more than " + std::to_string(kMaxMeshVertices) + " vertices");
+    auto mesh = mesh_from_soup(std::move(soup));
+    if (!mesh) return fail(pointer, mesh.error().message);
+    return mesh;
+  }
+
+  // The node's local matrix (glTF 2.0 §3.5.3: matrix, or T * R * S).
+  Result<Mat4d> local_matrix(std::size_t i) const {
+    const tinygltf::Node& n = model.nodes[i];
+    const std::string np = "/nodes/" + std::to_string(i);
+    Mat4d m = kIdentity;
+    if (!n.matrix.empty()) {
+      if (n.matrix.size() != 16) return fail(np + "/matrix", "expected 16 numbers");
+      std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
+      if (m[3] != 0 || m[7] != 0 || m[11] != 0 || m[15] != 1) return fail(np + "/matrix", "not an affine transform (last row must be 0 0 0 1)");
+    } else {
+      V3 t{0, 0, 0}, s{1, 1, 1};
+      std::array<double, 4> q{0, 0, 0, 1};
+      if (!n.translation.empty() && n.translation.size() != 3) return fail(np + "/translation", "expected 3 numbers");
+      if (!n.scale.empty() && n.scale.size() != 3) return fail(np + "/scale", "expected 3 numbers");
+      if (!n.rotation.empty() && n.rotation.size() != 4) return fail(np + "/rotation", "expected 4 numbers (a quaternion x, y, z, w)");
+      std::copy(n.translation.begin(), n.translation.end(), t.begin());
+      std::copy(n.scale.begin(), n.scale.end(), s.begin());
+      std::copy(n.rotation.begin(), n.rotation.end(), q.begin());
+      const double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (!(ql > 1e-6)) return fail(np + "/rotation", "not a unit quaternion");
+      for (double& c : q) c /= ql;
+      const double x = q[0], y = q[1], z = q[2], w = q[3];
+      const std::array<double, 9> r{1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w),
+                                    2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                                    2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};
+      for (std::size_t c = 0; c < 3; ++c) {
+        for (std::size_t rr = 0; rr < 3; ++rr) m[c * 4 + rr] = r[c * 3 + rr] * s[c];
+      }
+      m[12] = t[0];
+      m[13] = t[1];
+      m[14] = t[2];
+    }
+    for (double v : m) {
+      if (!std::isfinite(v) || std::fabs(v) > 1e30) return fail(np, "non-finite or out-of-range transform");
+    }
+    return m;
+  }
+
+  std::string node_name(std::size_t i) const {
+    return model.nodes[i].name.empty() ? "node" + std::to_string(i) : model.nodes[i].name;
+  }
+
+  // Which of the model's materials maps to what (docs/scene-format.md).
+  Result<std::pair<Role, Material>> material(int index, const std::string& pointer, std::vector<std::string>& warns) const {
+    Material mat;
+    if (index < 0) return std::pair{Role::kReceiver, mat};
+    if (auto e = check_index(index, model.materials, "material", pointer)) return *e;
+    const tinygltf::Material& gm = model.materials[static_cast<std::size_t>(index)];
+    const std::string mp = "/materials/" + std::to_string(index);
+    const std::string label = "material " + std::to_string(index) + (gm.name.empty() ? "" : " '" + gm.name + "'");
+    const auto& pbr = gm.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() != 4) return fail(mp + "/pbrMetallicRoughness/baseColorFactor", "expected 4 numbers");
+    Vec3f base{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double c = pbr.baseColorFactor[k];
+      if (!(c >= 0 && c <= 1)) return fail(mp + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(k), "must be in [0, 1]");
+      base[k] = static_cast<float>(c);
+    }
+    std::vector<std::string> ignored;
+    if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (the base colour factor is used)");
+    if (gm.normalTexture.index >= 0) ignored.push_back("normalTexture");
+    if (gm.emissiveTexture.index >= 0 || (gm.emissiveFactor.size() == 3 && (gm.emissiveFactor[0] > 0 || gm.emissiveFactor[1] > 0 || gm.emissiveFactor[2] > 0))) {
+      ignored.push_back("emission");
+    }
+    if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) ignored.push_back("alphaMode " + gm.alphaMode);
+    for (const auto& [name, value] : gm.extensions) {
+      if (!kSupported.count(name)) ignored.push_back(name == "KHR_materials_dispersion" ? name + " (caustix has no dispersion yet)" : name);
+    }
+    const tinygltf::Value* transmission = extension(gm.extensions, "KHR_materials_transmission");
+    double tf = 0;
+    if (transmission) {
+      if (const tinygltf::Value* v = field(*transmission, "transmissionFactor")) {
+        if (!v->IsNumber() || !(v->GetNumberAsDouble() >= 0 && v->GetNumberAsDouble() <= 1)) {
+          return fail(mp + "/extensions/KHR_materials_transmission/transmissionFactor", "must be a number in [0, 1]");
+        }
+        tf = v->GetNumberAsDouble();
+      }
+      if (field(*transmission, "transmissionTexture")) ignored.push_back("transmissionTexture");
+    }
+    Role role = Role::kReceiver;
+    if (tf > 0) {
+      role = Role::kTransparent;
+      mat.transparent = true;
+      if (tf < 1) warn(mp + ": " + label + " transmits " + std::to_string(tf) + " of the light; caustix's glass transmits all that Fresnel lets through", warns);
+      if (base[0] < 1 || base[1] < 1 || base[2] < 1) warn(mp + ": " + label + ": the base colour's tint of transmitted light is ignored; use KHR_materials_volume's attenuation", warns);
+      mat.ior = 1.5f;  // KHR_materials_ior's default
+      if (const tinygltf::Value* ior = extension(gm.extensions, "KHR_materials_ior")) {
+        if (const tinygltf::Value* v = field(*ior, "ior")) {
+          const double x = v->IsNumber() ? v->GetNumberAsDouble() : -1;
+          if (!(x >= 1 && x <= kMaxIor)) return fail(mp + "/extensions/KHR_materials_ior/ior", "must be a number in [1, " + std::to_string(kMaxIor) + "]");
+          mat.ior = static_cast<float>(x);
+        }
+      }
+      const tinygltf::Value* volume = extension(gm.extensions, "KHR_materials_volume");
+      if (!volume) {
+        warn(mp + ": " + label + " has transmission without KHR_materials_volume, which glTF calls thin-walled; caustix makes it a solid of index " + std::to_string(mat.ior), warns);
+      } else {
+        // Beer-Lambert (KHR_materials_volume): light keeps attenuationColor
+        // after attenuationDistance, so sigma = -ln(c) / d per channel.
+        const std::string vp = mp + "/extensions/KHR_materials_volume";
+        double dist = std::numeric_limits<double>::infinity();
+        V3 color{1, 1, 1};
+        if (const tinygltf::Value* d = field(*volume, "attenuationDistance")) {
+          if (!d->IsNumber() || !(d->GetNumberAsDouble() > 0)) return fail(vp + "/attenuationDistance", "must be a number > 0");
+          dist = d->GetNumberAsDouble();
+        }
+        if (const tinygltf::Value* c = field(*volume, "attenuationColor")) {
+          if (!c->IsArray() || c->ArrayLen() != 3) return fail(vp + "/attenuationColor", "expected 3 numbers");
+          for (int k = 0; k < 3; ++k) {
+            const tinygltf::Value& x = c->Get(k);
+            if (!x.IsNumber() || !(x.GetNumberAsDouble() >= 0 && x.GetNumberAsDouble() <= 1)) {
+              return fail(vp + "/attenuationColor/" + std::to_string(k), "must be a number in [0, 1]");
+            }
+            color[static_cast<std::size_t>(k)] = x.GetNumberAsDouble();
+          }
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double sigma = std::isinf(dist) ? 0.0 : -std::log(std::max(color[k], 1e-30)) / dist;
+          mat.absorption[k] = static_cast<float>(std::min(sigma, double{kMaxCoefficient}));
+        }
+        if (field(*volume, "thicknessTexture")) ignored.push_back("thicknessTexture");
+      }
+    } else if (pbr.metallicFactor >= 0.9 && pbr.roughnessFactor <= 0.2) {
+      role = Role::kMirror;
+      mat.reflectance = base;
+    } else {
+      mat.albedo = base;
+    }
+    if (!ignored.empty()) {
+      std::string list;
+      for (const auto& s : ignored) list += (list.empty() ? "" : ", ") + s;
+      warn(mp + ": " + label + ": ignored " + list, warns);
+    }
+    return std::pair{role, mat};
+  }
+};
+
+bool is_gltf_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb";
+}
+
+GltfFile::GltfFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GltfFile::GltfFile(GltfFile&&) noexcept = default;
+GltfFile& GltfFile::operator=(GltfFile&&) noexcept = default;
+GltfFile::~GltfFile() = default;
+const std::string& GltfFile::path() const { return impl_->path; }
+const std::vector<std::string>& GltfFile::inputs() const { return impl_->inputs; }
+const std::vector<std::string>& GltfFile::warnings() const { return impl_->warnings; }
+
+Result<GltfFile> GltfFile::load(const std::string& path) {
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    return make_error(ErrorCode::kInput, path + ": " + (std::filesystem::exists(path, ec) ? "not a regular file" : "glTF file not found"));
+  }
+
+  auto bytes = read_file(path, kMaxFileBytes);
+  if (!bytes) return bytes.error();
+  without_draco_indices(*bytes);
+
+  tinygltf::TinyGLTF loader;
+  // Images are not used: accept them undecoded (TINYGLTF_NO_STB_IMAGE).
+  loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) { return true; },
+                        nullptr);
+  std::string err, warn;
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  const auto length = static_cast<unsigned int>(bytes->size());
+  // A GLB by its magic (whatever the extension), else JSON.
+  const bool ok = bytes->size() >= 4 && std::memcmp(bytes->data(), "glTF", 4) == 0
+                      ? loader.LoadBinaryFromMemory(&impl->model, &err, &warn, bytes->data(), length, base)
+                      : loader.LoadASCIIFromString(&impl->model, &err, &warn, reinterpret_cast<const char*>(bytes->data()), length, base);
+  if (!ok) {
+    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+    for (char& c : err) c = c == '\n' ? ';' : c;
+    return make_error(ErrorCode::kInput, path + ": not a valid glTF 2.0 file (tinygltf: " + (err.empty() ? "no reason given" : err) + ")");
+  }
+  std::size_t start = 0;
+  while (start < warn.size()) {
+    const std::size_t end = std::min(warn.find('\n', start), warn.size());
+    if (end > start) impl->warn("tinygltf: " + warn.substr(start, end - start), impl->warnings);
+    start = end + 1;
+  }
+  impl->inputs.push_back(path);
+  for (const tinygltf::Buffer& b : impl->model.buffers) {
+    if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) impl->inputs.push_back((std::filesystem::path(base) / b.uri).lexically_normal().string());
+  }
+  const tinygltf::Model& m = impl->model;
+  for (std::size_t i = 0; i < m.extensionsRequired.size(); ++i) {
+    if (!kSupported.count(m.extensionsRequired[i])) {
+      return impl->fail("/extensionsRequired/" + std::to_string(i),
+                        "the file requires extension " + m.extensionsRequired[i] + ", which caustix does not support");
+    }
+  }
+  for (const std::string& e : m.extensionsUsed) {
+    if (!kSupported.count(e)) impl->warn("extension " + e + " is not supported; what it adds is ignored", impl->warnings);
+  }
+  if (!m.animations.empty()) impl->warn(std::to_string(m.animations.size()) + " animation(s) ignored: the bake takes the rest pose", impl->warnings);
+  if (!m.skins.empty()) impl->warn(std::to_string(m.skins.size()) + " skin(s) ignored: skinned meshes are baked in their bind pose", impl->warnings);
+  return GltfFile(std::move(impl));
+}
+
+Result<ImportedMesh> GltfFile::node_mesh(const std::string& node, bool weld) const {
+  const Impl& im = *impl_;
+  const auto& nodes = im.model.nodes;
+  const auto it = std::find_if(nodes.begin(), nodes.end(), [&](const tinygltf::Node& n) { return n.name == node; });
+  if (it == nodes.end()) {
+    std::string names;
+    for (std::size_t i = 0; i < nodes.size() && i < 20; ++i) names += (i ? ", " : "") + im.node_name(i);
+    return make_error(ErrorCode::kInput, im.path + ": no node named '" + node + "' (nodes: " + (names.empty() ? "none" : names) +
+                                             (nodes.size() > 20 ? ", ..." : "") + ")");
+  }
+  const auto i = static_cast<std::size_t>(it - nodes.begin());
+  const std::string np = "/nodes/" + std::to_string(i);
+  if (it->mesh < 0) return im.fail(np, "node '" + node + "' has no mesh");
+  if (auto e = im.check_index(it->mesh, im.model.meshes, "mesh", np + "/mesh")) return *e;
+  const auto m = static_cast<std::size_t>(it->mesh);
+  std::vector<Impl::Corners> parts;
+  std::vector<std::string> warns;
+  for (std::size_t k = 0; k < im.model.meshes[m].primitives.size(); ++k) {
+    auto c = im.primitive_corners(m, k, warns);
+    if (!c) return c.error();
+    parts.push_back(std::move(*c));
+  }
+  auto mesh = im.make_mesh(parts, weld, "/meshes/" + std::to_string(m));
+  if (!mesh) return mesh.error();
+  for (auto& w : warns) mesh->warnings.push_back(std::move(w));
+  return mesh;
+}
+
+Result<GltfScene> GltfFile::scene() const {
+  const Impl& im = *impl_;
+  const tinygltf::Model& model = im.model;
+  GltfScene out;
+  const std::string file = std::filesystem::path(im.path).filename().string();
+
+  // Root nodes: the default scene's, else the first scene's, else every node
+  // that is no other node's child.
+  std::vector<int> roots;
+  std::string roots_ptr;
+  if (!model.scenes.empty()) {
+    std::size_t s = 0;
+    if (model.defaultScene >= 0) {
+      if (auto e = im.check_index(model.defaultScene, model.scenes, "scene", "/scene")) return *e;
+      s = static_cast<std::size_t>(model.defaultScene);
+    }
+    if (model.scenes.size() > 1) im.warn("scene " + std::to_string(s) + " of " + std::to_string(model.scenes.size()) + " imported; the others are ignored", out.warnings);
+    roots = model.scenes[s].nodes;
+    roots_ptr = "/scenes/" + std::to_string(s) + "/nodes";
+    out.scene.name = model.scenes[s].name;
+  } else {
+    std::vector<bool> child(model.nodes.size(), false);
+    for (const auto& n : model.nodes) {
+      for (int c : n.children) {
+        if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[static_cast<std::size_t>(c)] = true;
+      }
+    }
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+      if (!child[i]) roots.push_back(static_cast<int>(i));
+    }
+    roots_ptr = "/nodes";
+  }
+
+  // Depth-first, in document order, each node reached once (glTF 2.0 §3.5.4:
+  // the nodes form disjoint trees).
+  std::vector<bool> seen(model.nodes.size(), false);
+  struct Visit { std::size_t node; Mat4d world; };
+  std::vector<Visit> order;
+  std::vector<std::tuple<int, std::string, Mat4d>> stack;
+  for (std::size_t r = roots.size(); r-- > 0;) stack.emplace_back(roots[r], roots_ptr + "/" + std::to_string(r), kIdentity);
+  while (!stack.empty()) {
+    auto [n, ptr, parent] = stack.back();
+    stack.pop_back();
+    if (auto e = im.check_index(n, model.nodes, "node", ptr)) return *e;
+    const auto i = static_cast<std::size_t>(n);
+    if (seen[i]) return im.fail(ptr, "node " + std::to_string(i) + " is reached twice: a node may have one parent and no cycle");
+    seen[i] = true;
+    auto local = im.local_matrix(i);
+    if (!local) return local.error();
+    const Mat4d world = mul(parent, *local);
+    order.push_back({i, world});
+    const auto& ch = model.nodes[i].children;
+    for (std::size_t c = ch.size(); c-- > 0;) stack.emplace_back(ch[c], "/nodes/" + std::to_string(i) + "/children/" + std::to_string(c), world);
+  }
+
+  std::map<std::tuple<std::size_t, std::size_t, bool>, std::uint32_t> mesh_of;  // (mesh, primitive, weld) -> index
+  std::set<std::string> names;
+  bool camera_taken = false;
+  for (const Visit& v : order) {
+    const tinygltf::Node& n = model.nodes[v.node];
+    const std::string np = "/nodes/" + std::to_string(v.node);
+    if (n.skin >= 0) im.warn(np + ": skin ignored", out.warnings);
+    if (n.mesh >= 0) {
+      if (auto e = im.check_index(n.mesh, model.meshes, "mesh", np + "/mesh")) return *e;
+      if (!(std::fabs(det3(v.world)) > 1e-18)) return im.fail(np, "the node's world transform is singular (a zero scale?)");
+      const auto m = static_cast<std::size_t>(n.mesh);
+      const auto& prims = model.meshes[m].primitives;
+      for (std::size_t k = 0; k < prims.size(); ++k) {
+        const std::string pp = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k);
+        auto mat = im.material(prims[k].material, pp + "/material", out.warnings);
+        if (!mat) return mat.error();
+        const bool weld = is_transparent(mat->first);
+        const auto key = std::tuple{m, k, weld};
+        auto found = mesh_of.find(key);
+        if (found == mesh_of.end()) {
+          std::vector<std::string> warns;
+          auto c = im.primitive_corners(m, k, warns);
+          if (!c) return c.error();
+          for (auto& w : warns) out.warnings.push_back(std::move(w));
+          if (c->triangles.empty()) continue;  // points or lines: warned
+          auto mesh = im.make_mesh({std::move(*c)}, weld, pp);
+          if (!mesh) return mesh.error();
+          for (const auto& w : mesh->warnings) out.warnings.push_back(im.path + ": " + pp + ": " + w);
+          mesh->warnings.clear();
+          MeshInfo info;
+          info.source = file + "#" + pp;
+          found = mesh_of.emplace(key, static_cast<std::uint32_t>(out.meshes.size())).first;
+          out.scene.meshes.push_back(info);
+          out.meshes.push_back(std::move(*mesh));
+        }
+        Object o;
+        o.name = im.node_name(v.node) + (prims.size() > 1 ? "/" + std::to_string(k) : "");
+        if (names.count(o.name)) {
+          std::string unique;
+          for (int s = 2; names.count(unique = o.name + "~" + std::to_string(s)); ++s) {}
+          im.warn(np + ": object name '" + o.name + "' is taken; named '" + unique + "'", out.warnings);
+          o.name = unique;
+        }
+        names.insert(o.name);
+        o.mesh_index = found->second;
+        o.role = mat->first;
+        o.material = mat->second;
+        for (std::size_t c = 0; c < 16; ++c) o.transform[c] = static_cast<float>(v.world[c]);
+        out.scene.objects.push_back(o);
+      }
+    }
+    if (const tinygltf::Value* lp = extension(n.extensions, "KHR_lights_punctual")) {
+      const tinygltf::Value* li = field(*lp, "light");
+      const std::string lptr = np + "/extensions/KHR_lights_punctual/light";
+      if (!li || !li->IsInt()) return im.fail(lptr, "expected a light index");
+      if (auto e = im.check_index(li->GetNumberAsInt(), model.lights, "light", lptr)) return *e;
+      const tinygltf::Light& gl = model.lights[static_cast<std::size_t>(li->GetNumberAsInt())];
+      const std::string gp = "/extensions/KHR_lights_punctual/lights/" + std::to_string(li->GetNumberAsInt());
+      Light l;
+      l.name = gl.name.empty() ? im.node_name(v.node) : gl.name;
+      if (!gl.color.empty()) {
+        if (gl.color.size() != 3) return im.fail(gp + "/color", "expected 3 numbers");
+        for (std::size_t k = 0; k < 3; ++k) {
+          if (!(gl.color[k] >= 0 && gl.color[k] <= 1e6)) return im.fail(gp + "/color/" + std::to_string(k), "must be a number >= 0");
+          l.color[k] = static_cast<float>(gl.color[k]);
+        }
+      }
+      if (!(gl.intensity >= 0 && gl.intensity < 1e30)) return im.fail(gp + "/intensity", "must be a number >= 0");
+      if (gl.range > 0) im.warn(gp + ": range ignored (caustix's point lights fall off as 1/r^2 without a cut-off)", out.warnings);
+      if (gl.type == "directional") {
+        l.type = LightType::kDirectional;
+        l.direction = to_f(normalized(apply_dir(v.world, {0, 0, -1})));
+        l.irradiance = static_cast<float>(gl.intensity / kLumensPerWatt);
+      } else if (gl.type == "point" || gl.type == "spot") {
+        if (gl.type == "spot") im.warn(gp + ": spot light '" + l.name + "' imported as a point light (caustix has no cone)", out.warnings);
+        l.type = LightType::kPoint;
+        l.position = to_f({v.world[12], v.world[13], v.world[14]});
+        l.intensity = static_cast<float>(gl.intensity / kLumensPerWatt);
+      } else {
+        return im.fail(gp + "/type", "unknown light type '" + gl.type + "'");
+      }
+      out.scene.lights.push_back(l);
+    }
+    if (n.camera >= 0) {
+      if (auto e = im.check_index(n.camera, model.cameras, "camera", np + "/camera")) return *e;
+      const tinygltf::Camera& gc = model.cameras[static_cast<std::size_t>(n.camera)];
+      const std::string cp = "/cameras/" + std::to_string(n.camera);
+      if (camera_taken) {
+        im.warn(np + ": camera ignored (the first camera is used)", out.warnings);
+      } else if (gc.type != "perspective") {
+        im.warn(cp + ": " + gc.type + " camera ignored (caustix's cameras are perspective)", out.warnings);
+      } else {
+        const auto& p = gc.perspective;
+        if (!(p.yfov > 0 && p.yfov < kPi)) return im.fail(cp + "/perspective/yfov", "must be in (0, pi)");
+        if (!(p.znear > 0)) return im.fail(cp + "/perspective/znear", "must be > 0");
+        if (p.zfar != 0 && !(p.zfar > p.znear)) return im.fail(cp + "/perspective/zfar", "must be greater than znear");
+        Camera cam;
+        const V3 pos{v.world[12], v.world[13], v.world[14]};
+        const V3 fwd = normalized(apply_dir(v.world, {0, 0, -1}));
+        cam.position = to_f(pos);
+        cam.target = to_f({pos[0] + fwd[0], pos[1] + fwd[1], pos[2] + fwd[2]});
+        cam.up = to_f(normalized(apply_dir(v.world, {0, 1, 0})));
+        cam.fov_y_deg = static_cast<float>(p.yfov * 180.0 / kPi);
+        cam.near_plane = static_cast<float>(p.znear);
+        // An infinite projection (no zfar) gets a far plane 10^4 near planes out.
+        cam.far_plane = static_cast<float>(p.zfar > 0 ? p.zfar : std::max(100.0, 1e4 * p.znear));
+        out.scene.camera = cam;
+        camera_taken = true;
+      }
+    }
+  }
+  if (out.scene.objects.empty()) return im.fail(roots_ptr, "the scene has no triangle meshes");
+  return out;
+}
+
+}  // namespace caustix::bake
