@@ -72,12 +72,16 @@ constexpr float kAmbient = 0.12f;
 struct Renderer::Impl {
   std::unique_ptr<Engine> engine;
   std::vector<bool> closed;  // per mesh: closed and consistently wound
-  gl::Program receiver, irradiance, present;
+  gl::Program receiver, irradiance, present, luminance;
   gl::VertexArray empty_vao;
   Target hdr, display, irradiance_target, inscatter_target;
   gl::Texture opaque_depth;  // the receivers' depth before the glass writes its own (draw_media)
   int opaque_w = 0, opaque_h = 0;
-  float exposure = 1.0f;
+  DisplayOptions display_options;  // the last frame's
+  // The frame's log luminance with its mip chain (auto exposure).
+  gl::Texture log_luminance;
+  gl::Framebuffer log_luminance_fbo;
+  int log_luminance_w = 0, log_luminance_h = 0, log_luminance_levels = 0;
 
   const SceneDesc& scene() const { return engine->scene(); }
 
@@ -169,7 +173,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   CAUSTIX_RETURN_IF_ERROR(
       gl::build_programs({{&s.receiver, "receiver", sample_shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
                           {&s.irradiance, "irradiance", sample_shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
-                          {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl}}));
+                          {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl},
+                          {&s.luminance, "luminance", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_luminance_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
@@ -182,6 +187,10 @@ Status Renderer::render(const FrameParams& f) {
     return make_error(ErrorCode::kUsage, "image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
                                              " is outside 1..16384");
   }
+  if (!std::isfinite(f.display.exposure_ev) || std::fabs(f.display.exposure_ev) > 16.0f) {
+    return make_error(ErrorCode::kUsage, "exposure " + std::to_string(f.display.exposure_ev) + " EV is outside [-16, 16]");
+  }
+  s.display_options = f.display;
   const SceneDesc& scene = s.scene();
   const WaterLook& look = f.water;
   s.hdr.ensure(f.width, f.height, GL_RGBA32F, true);
@@ -464,16 +473,48 @@ void Renderer::set_wave_scale(float scale) { impl_->engine->set_wave_scale(scale
 
 CausticsStats Renderer::caustics_stats(bool read_gpu_counters) { return impl_->engine->stats(read_gpu_counters); }
 
+const char* to_string(ToneMap t) { return t == ToneMap::kFilmic ? "filmic" : "exponential"; }
+
+std::optional<ToneMap> parse_tone_map(const std::string& name) {
+  if (name == "filmic") return ToneMap::kFilmic;
+  if (name == "exponential") return ToneMap::kExponential;
+  return std::nullopt;
+}
+
 void Renderer::present(unsigned framebuffer, int width, int height) {
   Impl& s = *impl_;
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  glViewport(0, 0, width, height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
-  s.present.use();
-  s.present.set("u_exposure", s.exposure);
-  glBindTextureUnit(0, s.hdr.color.get());
   glBindVertexArray(s.empty_vao.get());
+  glBindTextureUnit(0, s.hdr.color.get());
+  glBindTextureUnit(1, s.hdr.color.get());  // unread without auto exposure
+  if (s.display_options.auto_exposure) {
+    // Log luminance at the frame's size, averaged down its mip chain
+    // (non-power-of-two sizes: the driver's box filter, close to the mean).
+    if (s.log_luminance_w != s.hdr.width || s.log_luminance_h != s.hdr.height) {
+      s.log_luminance_w = s.hdr.width;
+      s.log_luminance_h = s.hdr.height;
+      s.log_luminance_levels = 1 + static_cast<int>(std::floor(std::log2(std::max(s.hdr.width, s.hdr.height))));
+      s.log_luminance = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(s.log_luminance.get(), s.log_luminance_levels, GL_R32F, s.hdr.width, s.hdr.height);
+      glTextureParameteri(s.log_luminance.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+      s.log_luminance_fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(s.log_luminance_fbo.get(), GL_COLOR_ATTACHMENT0, s.log_luminance.get(), 0);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, s.log_luminance_fbo.get());
+    glViewport(0, 0, s.hdr.width, s.hdr.height);
+    s.luminance.use();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glGenerateTextureMipmap(s.log_luminance.get());
+    glBindTextureUnit(1, s.log_luminance.get());
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
+  s.present.use();
+  s.present.set("u_exposure", std::exp2(s.display_options.exposure_ev));
+  s.present.set("u_auto_exposure", s.display_options.auto_exposure ? 1 : 0);
+  s.present.set("u_last_level", static_cast<float>(std::max(0, s.log_luminance_levels - 1)));
+  s.present.set("u_tone_map", s.display_options.tone_map == ToneMap::kFilmic ? 0 : 1);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glEnable(GL_DEPTH_TEST);

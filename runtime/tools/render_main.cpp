@@ -117,6 +117,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 8))->capture_default_str();
   app.add_option("--cmap-budget", cmap.photon_budget, "caustic maps, adaptive: most photons traced per light")
       ->check(CLI::Range(1, 1 << 24))->capture_default_str();
+  // Display images (docs/display.md); EXR output stays linear.
+  DisplayOptions display;
+  std::string tone_map = to_string(display.tone_map);
+  app.add_option("--tone-map", tone_map, "display images (PNG, ...): filmic (ACES fit) or exponential (1 - e^-x); EXR stays linear")
+      ->check(CLI::IsMember({"filmic", "exponential"}))->capture_default_str();
+  app.add_option("--exposure", display.exposure_ev, "display images: exposure, stops (EV) added to the auto exposure's when both")
+      ->check(CLI::Range(-16.0f, 16.0f))->capture_default_str();
+  app.add_flag("--auto-exposure", display.auto_exposure, "display images: scale the log-average luminance to 0.18 first");
   // Shadows (issue 20: variance shadow maps, seed 003).
   ShadowOptions shadow_options;
   std::string shadow_filter = to_string(shadow_options.filter);
@@ -187,6 +195,7 @@ int main(int argc, char** argv) {
   caustics.cull = !no_cull;
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);
+  display.tone_map = *parse_tone_map(tone_map);
   // The bake preset's caustic-map defaults unless given here.
   if (app.count("--cmap-photons") == 0) cmap.photons = caustics.caustic_map.photons;
   if (app.count("--cmap-size") == 0) cmap.map_size = caustics.caustic_map.map_size;
@@ -285,7 +294,7 @@ int main(int argc, char** argv) {
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
@@ -302,7 +311,7 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;

@@ -5,7 +5,9 @@
 // move the first light (the level maps are re-derived on the GPU), W/S
 // scale the waves, C toggles culling. Water surface (seed 001): T plain /
 // textured surface, 1 refraction, 2 reflection, 3 water colour, 4 glow,
-// F approximate / exact Fresnel, , and . fewer / more W/A steps. Orbiting
+// F approximate / exact Fresnel, , and . fewer / more W/A steps. Display
+// (docs/display.md): 9 / 0 exposure down / up half a stop, A auto exposure,
+// O filmic / exponential tone curve. Orbiting
 // below the horizontal (or panning down) takes the camera under the water. The state and the frame time are in
 // the title bar and printed once a second.
 // --screenshot FILE --frames N renders N frames, saves the window and exits
@@ -64,6 +66,7 @@ struct ViewState {
   float wave_scale = 1.0f;
   float light_azimuth = 0.0f, light_elevation = 0.0f;  // first light, degrees
   bool light_moved = false;
+  caustix::runtime::DisplayOptions display;
 };
 
 }  // namespace
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Controls: left drag orbit, right drag pan, wheel zoom, Space pause waves, R reset, Esc quit.\n"
       "Water: T plain/textured, 1 refraction, 2 reflection, 3 colour, 4 glow, F Fresnel, , . W/A steps.\n"
+      "Display: 9 0 exposure -/+ 0.5 EV, A auto exposure, O filmic/exponential tone curve.\n"
       "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
       "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
@@ -157,6 +161,12 @@ int main(int argc, char** argv) {
         case GLFW_KEY_S: s->wave_scale /= 1.25f; break;
         case GLFW_KEY_LEFT: s->light_azimuth -= 5.0f; s->light_moved = true; break;
         case GLFW_KEY_RIGHT: s->light_azimuth += 5.0f; s->light_moved = true; break;
+        case GLFW_KEY_9: s->display.exposure_ev = std::max(-16.0f, s->display.exposure_ev - 0.5f); break;
+        case GLFW_KEY_0: s->display.exposure_ev = std::min(16.0f, s->display.exposure_ev + 0.5f); break;
+        case GLFW_KEY_A: s->display.auto_exposure = !s->display.auto_exposure; break;
+        case GLFW_KEY_O:
+          s->display.tone_map = s->display.tone_map == ToneMap::kFilmic ? ToneMap::kExponential : ToneMap::kFilmic;
+          break;
         case GLFW_KEY_UP: s->light_elevation = std::min(90.0f, s->light_elevation + 2.0f); s->light_moved = true; break;
         case GLFW_KEY_DOWN: s->light_elevation = std::max(1.0f, s->light_elevation - 2.0f); s->light_moved = true; break;
         default: break;
@@ -221,6 +231,7 @@ int main(int argc, char** argv) {
       frame.height = fh;
       frame.caustics = state.caustics;
       frame.water = state.look;
+      frame.display = state.display;
       if (Status st = (*renderer)->render(frame); !st) {
         rc = fail(st.error());
         break;
@@ -263,9 +274,11 @@ int main(int argc, char** argv) {
         }
         std::snprintf(title, sizeof title,
                       "caustix-view  %.2f ms/frame  | %s%s, planes %s, eps %s | light el %.0f az %.0f (re-derived in %.1f ms) | "
-                      "waves x%.2f | water %s | %s",
+                      "waves x%.2f | water %s | %s %+.1f EV%s | %s",
                       frame_ms_sum / frame_count, to_string(c.method), c.cull ? "" : " (no culling)", planes, eps,
-                      state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, water, gl_name.c_str());
+                      state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, water,
+                      to_string(state.display.tone_map), state.display.exposure_ev, state.display.auto_exposure ? " auto" : "",
+                      gl_name.c_str());
         glfwSetWindowTitle(window, title);
         std::printf("%s\n", title + 14);
         std::fflush(stdout);

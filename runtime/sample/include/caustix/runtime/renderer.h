@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -32,6 +33,26 @@
 
 namespace caustix::runtime {
 
+// The display transform of present() and read_display() (docs/display.md):
+// linear radiance times 2^exposure_ev (and, with auto_exposure, times
+// 0.18 / the frame's log-average luminance), through the tone curve, then
+// sRGB-encoded. read_hdr() and EXR output stay linear, untouched by it.
+enum class ToneMap {
+  kFilmic,       // ACES's filmic curve as fitted by Narkowicz (2015): a toe, a long shoulder
+  kExponential,  // 1 - e^-x (caustix's curve before issue 21)
+};
+struct DisplayOptions {
+  ToneMap tone_map = ToneMap::kFilmic;
+  // Stops, in [-16, 16]. Frames are in units of E0 (a white floor in full
+  // light is ~1.05 with the ambient term); -1 puts it at sRGB 0.71 under the
+  // filmic curve, leaving the shoulder to caustics (3x: 0.90, 6x: 0.96)
+  // instead of near white (0.85 at 0 EV; 0.83 under 1 - e^-x).
+  float exposure_ev = -1.0f;
+  bool auto_exposure = false;  // Reinhard et al. 2002's key: log-average luminance -> 0.18
+};
+const char* to_string(ToneMap t);
+std::optional<ToneMap> parse_tone_map(const std::string& name);  // "filmic", "exponential"
+
 struct FrameParams {
   Camera camera;
   float time = 0.0f;  // seconds, drives the waves
@@ -40,6 +61,7 @@ struct FrameParams {
   CausticsOptions caustics;
   WaterLook water;
   GlassViewOptions glass_view;  // how the view through glass is found (Engine::draw_glass)
+  DisplayOptions display;       // what present() and read_display() make of the frame
 };
 
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
@@ -127,7 +149,8 @@ class Renderer {
 
   // What the caustics passes of the last render did.
   CausticsStats caustics_stats(bool read_gpu_counters = true);
-  // Tone-mapped display image into `framebuffer` (0: the window).
+  // The last frame through its FrameParams::display transform into
+  // `framebuffer` (0: the window).
   void present(unsigned framebuffer, int width, int height);
 
   // Pixels of the last frame, top row first: linear RGBA float, and
