@@ -48,7 +48,7 @@ class Caustics : public test::GlTest {
   }
 
   static metrics::Image beauty(runtime::Renderer& r, const CausticsOptions& co, int w, int h, float time) {
-    runtime::FrameParams f{r.default_camera(), time, w, h, co, {}, {}, {}};
+    runtime::FrameParams f{r.default_camera(), time, w, h, co, {}, {}, {}, 1};
     EXPECT_TRUE(r.render(f).ok());
     const auto rgba = r.read_hdr();
     metrics::Image img{w, h, {}};

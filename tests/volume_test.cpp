@@ -214,7 +214,7 @@ TEST_F(Volume, Extremes) {
     j.erase("medium");
     auto without = make(j, "volume_beauty_clear");
     ASSERT_TRUE(with && without);
-    runtime::FrameParams f{with->default_camera(), 0.0f, 64, 48, with->engine().default_options(), {}, {}, {}};
+    runtime::FrameParams f{with->default_camera(), 0.0f, 64, 48, with->engine().default_options(), {}, {}, {}, 1};
     f.caustics.volume.enabled = false;
     ASSERT_TRUE(with->render(f).ok());
     const std::vector<float> a = with->read_hdr();

@@ -72,9 +72,13 @@ constexpr float kAmbient = 0.12f;
 struct Renderer::Impl {
   std::unique_ptr<Engine> engine;
   std::vector<bool> closed;  // per mesh: closed and consistently wound
-  gl::Program receiver, irradiance, present, luminance;
+  gl::Program receiver, irradiance, present, luminance, downsample;
   gl::VertexArray empty_vao;
   Target hdr, display, irradiance_target, inscatter_target;
+  Target resolved;      // the frame box-filtered down when supersampled
+  int supersample = 1;  // the last frame's
+  // The last frame at its output size: resolved when supersampled, else hdr.
+  const Target& frame() const { return supersample > 1 ? resolved : hdr; }
   gl::Texture opaque_depth;  // the receivers' depth before the glass writes its own (draw_media)
   int opaque_w = 0, opaque_h = 0;
   DisplayOptions display_options;  // the last frame's
@@ -174,7 +178,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
       gl::build_programs({{&s.receiver, "receiver", sample_shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
                           {&s.irradiance, "irradiance", sample_shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
                           {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl},
-                          {&s.luminance, "luminance", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_luminance_frag_glsl}}));
+                          {&s.luminance, "luminance", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_luminance_frag_glsl},
+                          {&s.downsample, "downsample", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_downsample_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
@@ -183,8 +188,14 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
 
 Status Renderer::render(const FrameParams& f) {
   Impl& s = *impl_;
-  if (f.width <= 0 || f.height <= 0 || f.width > 16384 || f.height > 16384) {
+  if (f.supersample < 1 || f.supersample > 4) {
+    return make_error(ErrorCode::kUsage, "supersample " + std::to_string(f.supersample) + " is outside 1..4");
+  }
+  // The size every pass renders at; box-filtered down to f's at the end.
+  const int ss = f.supersample, width = f.width * ss, height = f.height * ss;
+  if (f.width <= 0 || f.height <= 0 || width > 16384 || height > 16384) {
     return make_error(ErrorCode::kUsage, "image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                                             (ss > 1 ? " supersampled " + std::to_string(ss) + "x" : std::string()) +
                                              " is outside 1..16384");
   }
   if (!std::isfinite(f.display.exposure_ev) || std::fabs(f.display.exposure_ev) > 16.0f) {
@@ -193,20 +204,20 @@ Status Renderer::render(const FrameParams& f) {
   s.display_options = f.display;
   const SceneDesc& scene = s.scene();
   const WaterLook& look = f.water;
-  s.hdr.ensure(f.width, f.height, GL_RGBA32F, true);
+  s.hdr.ensure(width, height, GL_RGBA32F, true);
   CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{f.time, f.caustics}));
 
   View view;
   view.view = glm::lookAt(to_glm(f.camera.position), to_glm(f.camera.target), to_glm(f.camera.up));
   view.fov_y_deg = f.camera.fov_y_deg;
-  view.aspect = static_cast<float>(f.width) / static_cast<float>(f.height);
+  view.aspect = static_cast<float>(width) / static_cast<float>(height);
   view.near_plane = f.camera.near_plane;
   view.far_plane = f.camera.far_plane;
   const glm::mat4 view_proj = view.projection() * view.view;
   const glm::vec3 sky(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
   const WaterMedium medium = s.engine->water_medium(view, look);
 
-  PassView main{s.hdr.fbo.get(), f.width, f.height, view_proj, std::nullopt, false, false, view.eye(), sky};
+  PassView main{s.hdr.fbo.get(), width, height, view_proj, std::nullopt, false, false, view.eye(), sky};
   if (scene.water && look.textures && medium.camera_under) {  // eq. 10 on everything seen directly; the deep background is water
     main.fog = true;
     main.clear = medium.color;
@@ -215,15 +226,15 @@ Status Renderer::render(const FrameParams& f) {
   CAUSTIX_RETURN_IF_ERROR(s.draw_lit_view(main, medium));
 
   glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
-  glViewport(0, 0, f.width, f.height);
+  glViewport(0, 0, width, height);
   if (s.engine->has_media()) {
-    if (s.opaque_w != f.width || s.opaque_h != f.height) {
+    if (s.opaque_w != width || s.opaque_h != height) {
       s.opaque_depth = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(s.opaque_depth.get(), 1, GL_DEPTH_COMPONENT32F, f.width, f.height);
-      s.opaque_w = f.width;
-      s.opaque_h = f.height;
+      glTextureStorage2D(s.opaque_depth.get(), 1, GL_DEPTH_COMPONENT32F, width, height);
+      s.opaque_w = width;
+      s.opaque_h = height;
     }
-    glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, f.width, f.height, 1);
+    glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
   }
   CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky, f.glass_view));
   if (scene.water) {
@@ -238,11 +249,24 @@ Status Renderer::render(const FrameParams& f) {
     // The receivers omit diffuse shading's 1/pi (caustix.glsl); the
     // in-scatter, true radiance, is scaled alike.
     glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
-    glViewport(0, 0, f.width, f.height);
+    glViewport(0, 0, width, height);
     CAUSTIX_RETURN_IF_ERROR(s.engine->draw_media(view_proj, s.hdr.color.get(), s.opaque_depth.get(), 3.14159265f));
   }
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
+  s.supersample = ss;
+  if (ss > 1) {
+    s.resolved.ensure(f.width, f.height, GL_RGBA32F, false);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.resolved.fbo.get());
+    glViewport(0, 0, f.width, f.height);
+    glDisable(GL_DEPTH_TEST);
+    s.downsample.use();
+    s.downsample.set("u_factor", ss);
+    glBindTextureUnit(0, s.hdr.color.get());
+    glBindVertexArray(s.empty_vao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_DEPTH_TEST);
+  }
   glBindVertexArray(0);
   return gl::check_gl("frame");
 }
@@ -486,23 +510,23 @@ void Renderer::present(unsigned framebuffer, int width, int height) {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glBindVertexArray(s.empty_vao.get());
-  glBindTextureUnit(0, s.hdr.color.get());
-  glBindTextureUnit(1, s.hdr.color.get());  // unread without auto exposure
+  glBindTextureUnit(0, s.frame().color.get());
+  glBindTextureUnit(1, s.frame().color.get());  // unread without auto exposure
   if (s.display_options.auto_exposure) {
     // Log luminance at the frame's size, averaged down its mip chain
     // (non-power-of-two sizes: the driver's box filter, close to the mean).
-    if (s.log_luminance_w != s.hdr.width || s.log_luminance_h != s.hdr.height) {
-      s.log_luminance_w = s.hdr.width;
-      s.log_luminance_h = s.hdr.height;
-      s.log_luminance_levels = 1 + static_cast<int>(std::floor(std::log2(std::max(s.hdr.width, s.hdr.height))));
+    if (s.log_luminance_w != s.frame().width || s.log_luminance_h != s.frame().height) {
+      s.log_luminance_w = s.frame().width;
+      s.log_luminance_h = s.frame().height;
+      s.log_luminance_levels = 1 + static_cast<int>(std::floor(std::log2(std::max(s.frame().width, s.frame().height))));
       s.log_luminance = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(s.log_luminance.get(), s.log_luminance_levels, GL_R32F, s.hdr.width, s.hdr.height);
+      glTextureStorage2D(s.log_luminance.get(), s.log_luminance_levels, GL_R32F, s.frame().width, s.frame().height);
       glTextureParameteri(s.log_luminance.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
       s.log_luminance_fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(s.log_luminance_fbo.get(), GL_COLOR_ATTACHMENT0, s.log_luminance.get(), 0);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, s.log_luminance_fbo.get());
-    glViewport(0, 0, s.hdr.width, s.hdr.height);
+    glViewport(0, 0, s.frame().width, s.frame().height);
     s.luminance.use();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glGenerateTextureMipmap(s.log_luminance.get());
@@ -535,21 +559,21 @@ void flip_rows(std::vector<T>& px, int width, int height, int channels) {
 
 std::vector<float> Renderer::read_hdr() {
   Impl& s = *impl_;
-  std::vector<float> px(static_cast<std::size_t>(s.hdr.width) * static_cast<std::size_t>(s.hdr.height) * 4);
+  std::vector<float> px(static_cast<std::size_t>(s.frame().width) * static_cast<std::size_t>(s.frame().height) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(s.hdr.color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
-  flip_rows(px, s.hdr.width, s.hdr.height, 4);
+  glGetTextureImage(s.frame().color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
+  flip_rows(px, s.frame().width, s.frame().height, 4);
   return px;
 }
 
 std::vector<std::uint8_t> Renderer::read_display() {
   Impl& s = *impl_;
-  s.display.ensure(s.hdr.width, s.hdr.height, GL_RGBA8, false);
-  present(s.display.fbo.get(), s.hdr.width, s.hdr.height);
-  std::vector<std::uint8_t> px(static_cast<std::size_t>(s.hdr.width) * static_cast<std::size_t>(s.hdr.height) * 4);
+  s.display.ensure(s.frame().width, s.frame().height, GL_RGBA8, false);
+  present(s.display.fbo.get(), s.frame().width, s.frame().height);
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(s.frame().width) * static_cast<std::size_t>(s.frame().height) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(s.display.color.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(px.size()), px.data());
-  flip_rows(px, s.hdr.width, s.hdr.height, 4);
+  flip_rows(px, s.frame().width, s.frame().height, 4);
   return px;
 }
 

@@ -125,6 +125,9 @@ int main(int argc, char** argv) {
   app.add_option("--exposure", display.exposure_ev, "display images: exposure, stops (EV) added to the auto exposure's when both")
       ->check(CLI::Range(-16.0f, 16.0f))->capture_default_str();
   app.add_flag("--auto-exposure", display.auto_exposure, "display images: scale the log-average luminance to 0.18 first");
+  int supersample = 2;
+  app.add_option("--supersample", supersample, "antialiasing: render N x N samples per pixel and box-filter them (1: off)")
+      ->check(CLI::Range(1, 4))->capture_default_str();
   // Shadows (issue 20: variance shadow maps, seed 003).
   ShadowOptions shadow_options;
   std::string shadow_filter = to_string(shadow_options.filter);
@@ -294,7 +297,7 @@ int main(int argc, char** argv) {
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
@@ -311,7 +314,7 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;

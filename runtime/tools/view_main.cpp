@@ -7,7 +7,7 @@
 // textured surface, 1 refraction, 2 reflection, 3 water colour, 4 glow,
 // F approximate / exact Fresnel, , and . fewer / more W/A steps. Display
 // (docs/display.md): 9 / 0 exposure down / up half a stop, A auto exposure,
-// O filmic / exponential tone curve. Orbiting
+// O filmic / exponential tone curve, X supersampling 1x / 2x / 3x. Orbiting
 // below the horizontal (or panning down) takes the camera under the water. The state and the frame time are in
 // the title bar and printed once a second.
 // --screenshot FILE --frames N renders N frames, saves the window and exits
@@ -67,6 +67,7 @@ struct ViewState {
   float light_azimuth = 0.0f, light_elevation = 0.0f;  // first light, degrees
   bool light_moved = false;
   caustix::runtime::DisplayOptions display;
+  int supersample = 1;
 };
 
 }  // namespace
@@ -80,7 +81,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Controls: left drag orbit, right drag pan, wheel zoom, Space pause waves, R reset, Esc quit.\n"
       "Water: T plain/textured, 1 refraction, 2 reflection, 3 colour, 4 glow, F Fresnel, , . W/A steps.\n"
-      "Display: 9 0 exposure -/+ 0.5 EV, A auto exposure, O filmic/exponential tone curve.\n"
+      "Display: 9 0 exposure -/+ 0.5 EV, A auto exposure, O filmic/exponential tone curve, X supersampling.\n"
       "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
       "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
   app.add_option("scene", in_path, "baked scene (.cxb)")->required();
@@ -163,6 +164,7 @@ int main(int argc, char** argv) {
         case GLFW_KEY_RIGHT: s->light_azimuth += 5.0f; s->light_moved = true; break;
         case GLFW_KEY_9: s->display.exposure_ev = std::max(-16.0f, s->display.exposure_ev - 0.5f); break;
         case GLFW_KEY_0: s->display.exposure_ev = std::min(16.0f, s->display.exposure_ev + 0.5f); break;
+        case GLFW_KEY_X: s->supersample = s->supersample % 3 + 1; break;
         case GLFW_KEY_A: s->display.auto_exposure = !s->display.auto_exposure; break;
         case GLFW_KEY_O:
           s->display.tone_map = s->display.tone_map == ToneMap::kFilmic ? ToneMap::kExponential : ToneMap::kFilmic;
@@ -232,6 +234,7 @@ int main(int argc, char** argv) {
       frame.caustics = state.caustics;
       frame.water = state.look;
       frame.display = state.display;
+      frame.supersample = state.supersample;
       if (Status st = (*renderer)->render(frame); !st) {
         rc = fail(st.error());
         break;
@@ -274,11 +277,11 @@ int main(int argc, char** argv) {
         }
         std::snprintf(title, sizeof title,
                       "caustix-view  %.2f ms/frame  | %s%s, planes %s, eps %s | light el %.0f az %.0f (re-derived in %.1f ms) | "
-                      "waves x%.2f | water %s | %s %+.1f EV%s | %s",
+                      "waves x%.2f | water %s | %s %+.1f EV%s, %dx AA | %s",
                       frame_ms_sum / frame_count, to_string(c.method), c.cull ? "" : " (no culling)", planes, eps,
                       state.light_elevation, state.light_azimuth, rederive_ms, state.wave_scale, water,
                       to_string(state.display.tone_map), state.display.exposure_ev, state.display.auto_exposure ? " auto" : "",
-                      gl_name.c_str());
+                      state.supersample, gl_name.c_str());
         glfwSetWindowTitle(window, title);
         std::printf("%s\n", title + 14);
         std::fflush(stdout);

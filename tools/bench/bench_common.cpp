@@ -34,8 +34,9 @@ Result<Session> open_scene(const std::string& cxb) {
 
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light, const runtime::WaterLook& look,
-                               const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view) {
-  runtime::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}};
+                               const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view,
+                               int supersample) {
+  runtime::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {
     f.time = static_cast<float>(i) / 30.0f;

@@ -59,10 +59,10 @@ struct FrameTimes {
 // move_light the first light turns 2 degrees about the vertical each frame
 // (its level maps are re-derived on the GPU every frame). The camera is the
 // scene's unless given; `look` is the water surface's, `glass_view` how the
-// view through glass is found.
+// view through glass is found, `supersample` the antialiasing factor.
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light = false, const runtime::WaterLook& look = {},
                                const std::optional<Camera>& camera = std::nullopt,
-                               const runtime::GlassViewOptions& glass_view = {});
+                               const runtime::GlassViewOptions& glass_view = {}, int supersample = 1);
 
 }  // namespace caustix::bench

@@ -28,7 +28,8 @@ namespace {
 
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
-           std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light) {
+           std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light,
+           int supersample) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -38,7 +39,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
-  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, {}, std::nullopt, glass_view);
+  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, {}, std::nullopt, glass_view, supersample);
   if (!times) return cli::fail("caustix-bench", times.error());
   const runtime::CausticsStats cs = r->caustics_stats();
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
@@ -89,7 +90,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
   std::uint32_t planes = 0, csize = 0, gsize = 0;
-  int warmup = 3, count = 10, wframes = 5;
+  int warmup = 3, count = 10, wframes = 5, supersample = 1;
   bool no_cull = false, header = false, move_light = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr;
 
@@ -115,6 +116,8 @@ struct RuntimeModes final : Modes {
     fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
     fr->add_option("--cmap-adaptive", cmap_adaptive, "caustic maps: adaptive traversal levels (0: uniform grid)")->check(CLI::Range(0, 8))->capture_default_str();
     fr->add_option("--cmap-budget", cmap_budget, "caustic maps, adaptive: most photons per light")->check(CLI::Range(1, 1 << 24))->capture_default_str();
+    fr->add_option("--supersample", supersample, "antialiasing: N x N samples per pixel (the renderer's FrameParams::supersample)")
+        ->check(CLI::Range(1, 4))->capture_default_str();
     fr->add_option("--label", label, "first CSV column");
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
@@ -158,7 +161,7 @@ struct RuntimeModes final : Modes {
     co.caustic_map.photon_budget = cmap_budget;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);
-    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light);
+    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample);
   }
 };
 

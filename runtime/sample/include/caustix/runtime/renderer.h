@@ -62,6 +62,11 @@ struct FrameParams {
   WaterLook water;
   GlassViewOptions glass_view;  // how the view through glass is found (Engine::draw_glass)
   DisplayOptions display;       // what present() and read_display() make of the frame
+  // Antialiasing by supersampling (docs/display.md): every pass runs at
+  // supersample^2 the pixels and the frame is box-filtered down to
+  // width x height (linear, so read_hdr() and EXR output are antialiased
+  // too). 1..4; the cost grows with its square.
+  int supersample = 1;
 };
 
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
