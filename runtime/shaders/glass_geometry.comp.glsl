@@ -10,8 +10,8 @@
 // (as for water, docs/caustics.md). Three primitives per (triangle,
 // plane), p = (plane * triangles + t) * 3 + slot: slot 0 the triangle's
 // volume, or, where the triangle is torn or some corners pass no light, one
-// corner beam per slot (below). Each: (q0, q1), (q2, -, reached), (rgb
-// intensity, -), d0, d1, d2.
+// corner beam per slot (below). Each: (q0, q1), (q2, S0 in texels or -1 for
+// a corner beam, reached), (rgb intensity, -), d0, d1, d2.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };
@@ -137,7 +137,10 @@ void main() {
   float cos_delta = max(-dot(normalize(mean_dir), u_V), 1e-3);
   vec3 intensity = e_in * flux * colour / (max(s0, flux / u_max_magnification) * cos_delta);
   prims[6u * p] = vec4(q[0], q[1]);
-  prims[6u * p + 1u] = vec4(q[2], 0.0, 1.0);
+  // z: the intersection triangle's area in texels for a whole triangle
+  // (glass_vertex_intensity.comp weighs its one-rings by it), -1 for a
+  // corner beam (drawn with its own constant intensity).
+  prims[6u * p + 1u] = vec4(q[2], corner < 0 ? max(s0 / texel_area, 1e-12) : -1.0, 1.0);
   prims[6u * p + 2u] = vec4(intensity, 0.0);
   prims[6u * p + 3u] = vec4(dir[0], 0.0);
   prims[6u * p + 4u] = vec4(dir[1], 0.0);

@@ -1,9 +1,12 @@
 // Illumination textures (seed 002 §4.2, eq. 3; prefixed with #version,
 // PRIM_STRIDE 6 and caustics_coverage.glsl): each texel gets the
-// intersection triangle's intensity times the exact fraction of the texel
-// it covers, times cos(gamma) per texel from the target's normal map and
-// the transmitted direction interpolated across the triangle.
+// intersection triangle's intensity -- with glass_smooth, for a whole
+// triangle its corners' intensities interpolated at the texel centre
+// (glass_corner_intensity.comp) -- times the exact fraction of the texel it
+// covers, times cos(gamma) per texel from the target's normal map and the
+// transmitted direction interpolated across the triangle.
 layout(binding = 0) uniform sampler2D u_target;  // xyz: world normal of the first surface, w: frame V (-1e30: none)
+uniform int u_smooth;  // CausticsOptions::glass_smooth
 
 out vec4 o_intensity;
 
@@ -22,5 +25,12 @@ void main() {
   bary /= max(bary.x + bary.y + bary.z, 1e-12);
   vec3 d = normalize(bary.x * prims[6 * v_prim + 3].xyz + bary.y * prims[6 * v_prim + 4].xyz + bary.z * prims[6 * v_prim + 5].xyz);
   float cos_gamma = max(dot(normalize(target.xyz), -d), 0.0);
-  o_intensity = vec4(prims[6 * v_prim + 2].rgb * covered * cos_gamma, 1.0);
+  vec3 intensity = prims[6 * v_prim + 2].rgb;
+  if (u_smooth != 0 && prims[6 * v_prim + 1].z > 0.0) {
+    // Corner ratios to the triangle's own intensity, scaled to keep its
+    // flux (the mean of a linear function over a triangle is its corners').
+    vec3 c = vec3(prims[6 * v_prim + 3].w, prims[6 * v_prim + 4].w, prims[6 * v_prim + 5].w);
+    intensity *= dot(bary, c) * 3.0 / max(c.x + c.y + c.z, 1e-12);
+  }
+  o_intensity = vec4(intensity * covered * cos_gamma, 1.0);
 }

@@ -75,6 +75,9 @@ int main(int argc, char** argv) {
                  "glass: illumination texture size (S x S); default: the bake preset's, else " +
                      std::to_string(built_in.glass_map_size))
       ->check(CLI::Range(1, 8192));
+  bool glass_flat = false;
+  app.add_flag("--glass-flat", glass_flat,
+               "glass (table): one intensity per intersection triangle, as seed 002's eq. 3 (default: interpolated from the corners; docs/glass.md)");
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   // Image-space caustic maps (seed 003; docs/caustic-maps.md).
   std::string glass_method = to_string(built_in.glass_method);
@@ -195,6 +198,7 @@ int main(int argc, char** argv) {
   if (caustics_size > 0) caustics.map_size = caustics_size;
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
+  caustics.glass_smooth = !glass_flat;
   caustics.cull = !no_cull;
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);

@@ -35,6 +35,9 @@ struct GlassEngine::Impl {
     LightTransportTable params;  // words dropped after upload
     std::uint32_t vertices = 0, triangles = 0;
     gl::Buffer table, rays;
+    // Each vertex's one-ring of triangles (CSR): offsets (vertices + 1),
+    // triangle indices (glass_corner_intensity.comp).
+    gl::Buffer ring_offsets, ring_triangles;
   };
   struct Target {
     std::uint32_t object = 0, light = 0;
@@ -59,7 +62,7 @@ struct GlassEngine::Impl {
   std::vector<Glass> glass;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, geometry, target_program, illumination, surface, back_faces, nearby;
+  gl::Program rays, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
   // (world position, outward normal), the size of the scene copy.
   gl::Texture back_position, back_normal, back_depth;
@@ -202,6 +205,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.rays, "glass_rays", rays_src.c_str()},
        {&s.geometry, "glass_geometry", shaders::k_glass_geometry_comp_glsl},
+       {&s.corner_intensity, "glass_corner_intensity", shaders::k_glass_corner_intensity_comp_glsl},
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
        {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
@@ -220,6 +224,21 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     glNamedBufferStorage(g.table.get(), static_cast<GLsizeiptr>(t.words.size() * 4), t.words.data(), 0);
     g.rays = gl::make_buffer();
     glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+    // One-rings from the drawn index buffer (the order the LTT indexes).
+    std::vector<std::uint32_t> idx(static_cast<std::size_t>(g.mesh->index_count));
+    glGetNamedBufferSubData(g.mesh->indices.get(), 0, static_cast<GLsizeiptr>(idx.size() * 4), idx.data());
+    std::vector<std::uint32_t> offsets(std::size_t{g.vertices} + 1, 0), ring(idx.size());
+    for (std::uint32_t v : idx) {
+      if (v >= g.vertices) return make_error(ErrorCode::kInternal, "glass mesh index beyond its transport table's vertices");
+      ++offsets[v + 1];
+    }
+    for (std::size_t v = 0; v < g.vertices; ++v) offsets[v + 1] += offsets[v];
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t k = 0; k < idx.size(); ++k) ring[fill[idx[k]]++] = static_cast<std::uint32_t>(k / 3);
+    g.ring_offsets = gl::make_buffer();
+    glNamedBufferStorage(g.ring_offsets.get(), static_cast<GLsizeiptr>(offsets.size() * 4), offsets.data(), 0);
+    g.ring_triangles = gl::make_buffer();
+    glNamedBufferStorage(g.ring_triangles.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(ring.size(), 1) * 4), ring.data(), 0);
     s.glass.push_back(std::move(g));
   }
   // A target per (opaque object, light): every light's textures stay valid
@@ -373,7 +392,18 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, t.primitives[gi].get());
       glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      // Smooth caustics: each whole triangle's corner intensities.
+      if (co.glass_smooth) {
+        s.corner_intensity.use();
+        s.corner_intensity.set("u_triangle_count", g.triangles);
+        s.corner_intensity.set("u_plane_count", planes);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.ring_offsets.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.ring_triangles.get());
+        glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      }
       s.illumination.use();
+      s.illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
       s.illumination.set("u_map_size", static_cast<float>(size));
       glBindTextureUnit(0, t.target.get());
       glBindVertexArray(s.empty_vao.get());
@@ -447,7 +477,8 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
   for (const Impl::Glass& g : impl_->glass) {
-    b += std::uint64_t{g.vertices} * (std::uint64_t{g.params.resolution} * g.params.resolution * 16 + 48);
+    b += std::uint64_t{g.vertices} * (std::uint64_t{g.params.resolution} * g.params.resolution * 16 + 48 + 4) +
+         std::uint64_t{g.triangles} * 12 + 4;  // table, rays, one-rings
   }
   for (const Impl::Target& t : impl_->targets) {
     b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
