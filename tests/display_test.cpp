@@ -38,12 +38,17 @@ class Display : public test::GlTest {
     r_ = test::bake_and_create(test::kScenes + "glass_ball.json");
     ASSERT_TRUE(r_);
   }
-  // Renders at w x h with `d`; the linear and the display pixels.
-  void frame(int w, int h, const DisplayOptions& d, std::vector<float>& hdr, std::vector<std::uint8_t>& out) {
+  // The scene's own view at w x h.
+  FrameParams params(int w, int h) const {
     FrameParams f;
     f.camera = r_->default_camera();
     f.width = w;
     f.height = h;
+    return f;
+  }
+  // Renders at w x h with `d`; the linear and the display pixels.
+  void frame(int w, int h, const DisplayOptions& d, std::vector<float>& hdr, std::vector<std::uint8_t>& out) {
+    FrameParams f = params(w, h);
     f.display = d;
     ASSERT_TRUE(r_->render(f).ok());
     hdr = r_->read_hdr();
@@ -139,10 +144,7 @@ TEST_F(Display, SupersamplingSmoothsStairSteps) {
   const int w = 320, h = 200;
   const double sky = 0.2126 * runtime::kSkyColor[0] + 0.7152 * runtime::kSkyColor[1] + 0.0722 * runtime::kSkyColor[2];
   const auto staircase = [&](int ss) {
-    FrameParams f;
-    f.camera = r_->default_camera();
-    f.width = w;
-    f.height = h;
+    FrameParams f = params(w, h);
     f.supersample = ss;
     EXPECT_TRUE(r_->render(f).ok());
     const std::vector<float> hdr = r_->read_hdr();
@@ -179,10 +181,7 @@ TEST_F(Display, SupersamplingSmoothsStairSteps) {
 
 TEST_F(Display, AbsurdKnobsAreRefused) {
   for (float ev : {std::nanf(""), 16.5f, -1e30f}) {
-    FrameParams f;
-    f.camera = r_->default_camera();
-    f.width = 8;
-    f.height = 8;
+    FrameParams f = params(8, 8);
     f.display.exposure_ev = ev;
     const Status st = r_->render(f);
     ASSERT_FALSE(st.ok()) << ev;
@@ -190,10 +189,7 @@ TEST_F(Display, AbsurdKnobsAreRefused) {
     EXPECT_NE(st.error().message.find("exposure"), std::string::npos);
   }
   for (int ss : {0, 5}) {
-    FrameParams f;
-    f.camera = r_->default_camera();
-    f.width = 8;
-    f.height = 8;
+    FrameParams f = params(8, 8);
     f.supersample = ss;
     const Status st = r_->render(f);
     ASSERT_FALSE(st.ok()) << ss;
