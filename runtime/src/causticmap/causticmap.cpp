@@ -30,10 +30,7 @@ bool active_caster(const Object& o, GlassMethod method) {
 gl::Texture make_map(int size, GLenum format, GLenum filter) {
   gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
   glTextureStorage2D(t.get(), 1, format, size, size);
-  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
-  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl::set_sampling(t.get(), filter);
   return t;
 }
 

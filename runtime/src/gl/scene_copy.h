@@ -24,10 +24,7 @@ class SceneCopy {
       depth_ = make_texture(GL_TEXTURE_2D);
       glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
       for (GLuint tex : {color_.get(), depth_.get()}) {
-        glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        gl::set_sampling(tex, GL_NEAREST);
       }
       w_ = w;
       h_ = h;

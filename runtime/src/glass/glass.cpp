@@ -108,10 +108,7 @@ struct GlassEngine::Impl {
       back_depth = gl::make_texture(GL_TEXTURE_2D);
       glTextureStorage2D(back_depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
       for (GLuint tex : {back_position.get(), back_normal.get()}) {
-        glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        gl::set_sampling(tex, GL_NEAREST);
       }
       back_fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT0, back_position.get(), 0);
@@ -172,10 +169,7 @@ struct GlassEngine::Impl {
     t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(t.illumination.get(), 1, GL_RGBA32F, size, size, static_cast<GLsizei>(planes));
     for (GLuint tex : {t.target.get(), t.illumination.get()}) {
-      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      gl::set_sampling(tex, GL_LINEAR);
     }
     glTextureParameteri(t.target.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t.target.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);

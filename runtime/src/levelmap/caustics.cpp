@@ -488,10 +488,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     const auto ps = static_cast<GLsizei>(lm.map_size);
     glTextureStorage2D(m.position_map.get(), 1, GL_R32F, ps, ps);
     glTextureSubImage2D(m.position_map.get(), 0, 0, 0, ps, ps, GL_RED, GL_FLOAT, v.data());
-    glTextureParameteri(m.position_map.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(m.position_map.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(m.position_map.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl::set_sampling(m.position_map.get(), GL_NEAREST);
     s.build_depth_tiles(m);
     m.command = gl::make_buffer();
     glNamedBufferStorage(m.command.get(), 44, nullptr, GL_DYNAMIC_STORAGE_BIT);

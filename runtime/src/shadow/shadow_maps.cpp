@@ -28,10 +28,7 @@ gl::Texture make_shadow_texture(GLenum target, int size) {
 gl::Texture make_moments_texture(int size) {
   gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
   glTextureStorage2D(t.get(), 1, GL_RG32F, size, size);
-  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl::set_sampling(t.get(), GL_LINEAR);
   return t;
 }
 

@@ -53,10 +53,7 @@ WaterView::Target WaterView::make_target(int w, int h) {
   auto texture = [&](GLenum format, GLenum filter) {
     gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(t.get(), 1, format, w, h);
-    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
-    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
-    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl::set_sampling(t.get(), filter);
     return t;
   };
   Target t;

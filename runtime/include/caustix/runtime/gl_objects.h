@@ -55,6 +55,8 @@ using Query = Handle<delete_query>;
 Buffer make_buffer();
 VertexArray make_vertex_array();
 Texture make_texture(GLenum target);
+// `filter` for minification and magnification, clamped to the edge in s and t.
+void set_sampling(GLuint texture, GLenum filter);
 Framebuffer make_framebuffer();
 Query make_query(GLenum target);
 
