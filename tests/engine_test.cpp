@@ -20,6 +20,7 @@
 #include "caustix/runtime/engine.h"
 #include "caustix/runtime/gl_objects.h"
 #include "caustix/runtime/version.h"
+#include "caustix/runtime/water_sim.h"
 #include "gl_fixture.h"
 
 namespace caustix {
@@ -289,6 +290,20 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       glTextureStorage2D(tex.get(), 1, GL_R32F, static_cast<GLsizei>(grid->columns), static_cast<GLsizei>(grid->rows));
       expect_state_kept("set_water_heights_texture", [&] { ASSERT_TRUE(engine->set_water_heights_texture(tex.get()).ok()); });
       expect_state_kept("update (heights)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
+      // The interactive water (water_sim.h) keeps the same promise.
+      std::unique_ptr<runtime::WaterSimulation> sim;
+      expect_state_kept("WaterSimulation::create", [&] {
+        auto created = runtime::WaterSimulation::create(*grid);
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        sim = std::move(*created);
+      });
+      const std::uint32_t pushed[] = {0};
+      expect_state_kept("WaterSimulation::push", [&] { ASSERT_TRUE(sim->push(*engine, pushed).ok()); });
+      expect_state_kept("WaterSimulation::push (again)", [&] { ASSERT_TRUE(sim->push(*engine, pushed).ok()); });
+      expect_state_kept("WaterSimulation::add_ripple", [&] { ASSERT_TRUE(sim->add_ripple(0, 0, 0.5f, 0.01f).ok()); });
+      expect_state_kept("WaterSimulation::step", [&] { ASSERT_TRUE(sim->step(1.0f / 60).ok()); });
+      expect_state_kept("WaterSimulation::apply", [&] { ASSERT_TRUE(sim->apply(*engine).ok()); });
+      expect_state_kept("WaterSimulation::stats", [&] { EXPECT_TRUE(sim->stats().finite); });
     }
     // bind() changes exactly the block's binding point and its nine units.
     const Snapshot before = snapshot();
