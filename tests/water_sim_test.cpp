@@ -59,6 +59,7 @@ TEST_F(WaterSim, StandingWaveHasTheWaveEquationsPeriodAndDamping) {
     WaterSimOptions o;
     o.wave_speed = c;
     o.damping = damping;
+    o.short_wave_damping = 0;
     o.max_substeps = 100000;
     auto sim = make(channel(n), o);
     ASSERT_TRUE(sim);
@@ -97,6 +98,41 @@ TEST_F(WaterSim, StandingWaveHasTheWaveEquationsPeriodAndDamping) {
   }
 }
 
+// Short-wave damping (WaterSimOptions::short_wave_damping): the channel's
+// shortest standing mode, cos(pi (n - 1)(i + 1/2) / n) (two spacings), loses
+// energy at 2 x rate (amplitude at rate x sin^2(pi (n - 1) / 2n) ~ rate);
+// the longest mode (wavelength 2 n spacings) keeps all but
+// 2 rate sin^2(pi / 2n) t of it.
+TEST_F(WaterSim, ShortWaveDampingTakesTheShortestWavesAtItsRate) {
+  const std::uint32_t n = 64;
+  for (const std::uint32_t m : {n - 1, 1u}) {
+    WaterSimOptions o;
+    o.wave_speed = 1.0f;
+    o.damping = 0.0f;
+    o.short_wave_damping = 4.0f;
+    o.max_substeps = 100000;
+    auto sim = make(channel(n), o);
+    ASSERT_TRUE(sim);
+    std::vector<float> h(std::size_t{n} * 4);
+    for (std::size_t k = 0; k < h.size(); ++k) {
+      h[k] = 0.01f * static_cast<float>(std::cos(std::numbers::pi * m * (static_cast<double>(k % n) + 0.5) / n));
+    }
+    ASSERT_TRUE(sim->set_heights(h).ok());
+    ASSERT_TRUE(sim->step(1e-3f).ok());
+    const double e0 = sim->stats().energy;
+    ASSERT_TRUE(sim->step(0.5f).ok());
+    const double t = sim->stats().time - 1e-3;
+    const double s2 = std::pow(std::sin(std::numbers::pi * m / (2.0 * n)), 2);
+    // The diffusion is explicit: each substep dt scales the mode's heights
+    // by 1 - dt nu lambda (nu lambda = 2 rate s2), a little more than
+    // e^(-dt nu lambda) (4 % at these steps); the energy follows at that rate.
+    const double dt = t / static_cast<double>(sim->stats().substeps - 1);
+    const double rate = -std::log(1 - dt * 2 * o.short_wave_damping * s2) / dt;
+    SCOPED_TRACE("mode " + std::to_string(m));
+    EXPECT_NEAR(std::log(sim->stats().energy / e0), -rate * t, 0.05 * 2 * o.short_wave_damping * t);
+  }
+}
+
 // A ripple at the centre of a 6 m basin: after t its leading front (the
 // farthest vertex moved by more than 1 % of the ripple's amplitude) is at
 // R + c t, to within two grid spacings (the raised cosine's foot and the
@@ -107,6 +143,7 @@ TEST_F(WaterSim, RippleFrontRunsAtTheWaveSpeed) {
   WaterSimOptions o;
   o.wave_speed = 0.6f;
   o.damping = 0.0f;
+  o.short_wave_damping = 0;
   o.max_substeps = 100000;
   auto sim = make(WaterGrid{n, n, -half, -half, half, half, 1.0f}, o);
   ASSERT_TRUE(sim);
@@ -134,14 +171,15 @@ TEST_F(WaterSim, RippleFrontRunsAtTheWaveSpeed) {
 // An hour of undamped water (360 steps of 10 s, 68 000 substeps at Courant
 // number 0.5): the scheme's invariant (WaterSimStats) stays constant to
 // 0.1 % (float rounding over 68 000 steps), the energy stays within the
-// bounds the invariant puts on it (a factor 1 -+ c dt sqrt(2) / dx, here
-// 1 -+ 0.71: it trades energy with the half-step lag, and must not grow
+// bounds the invariant puts on it (a factor 1 -+ c dt sqrt(2) / dx at most,
+// here 1 -+ 0.71: it trades energy with the half-step lag, and must not grow
 // beyond), the volume is conserved and every value stays finite. Then, with
 // damping, the energy falls as exp(-gamma t).
 TEST_F(WaterSim, AnHourOfUndampedWaterStaysBoundedAndDampingDecaysIt) {
   const std::uint32_t n = 64;
   WaterSimOptions o;
   o.damping = 0.0f;
+  o.short_wave_damping = 0;
   o.max_substeps = 100000;
   auto sim = make(WaterGrid{n, n, -2, -2, 2, 2, 2}, o);
   ASSERT_TRUE(sim);
@@ -307,6 +345,9 @@ TEST_F(WaterSim, BadOptionsAndArgumentsAreRefusedByName) {
   o = {};
   o.courant = 0.8f;
   refused(o, "courant");
+  o = {};
+  o.short_wave_damping = 11;
+  refused(o, "short_wave_damping");
   o = {};
   o.max_substeps = 0;
   refused(o, "max_substeps");

@@ -27,6 +27,7 @@ std::optional<std::string> check_options(const WaterSimOptions& o) {
   if (!in(o.wave_speed, 0.01f, 100.0f)) return "wave_speed " + std::to_string(o.wave_speed) + " m/s is outside [0.01, 100]";
   if (!in(o.damping, 0.0f, 1000.0f) || o.damping >= 1000.0f) return "damping " + std::to_string(o.damping) + " 1/s is outside [0, 1000)";
   if (!in(o.courant, 0.0f, 0.7f) || o.courant <= 0.0f) return "courant " + std::to_string(o.courant) + " is outside (0, 0.7]";
+  if (!in(o.short_wave_damping, 0.0f, 10.0f)) return "short_wave_damping " + std::to_string(o.short_wave_damping) + " 1/s is outside [0, 10]";
   if (o.max_substeps < 1 || o.max_substeps > 100000) return "max_substeps " + std::to_string(o.max_substeps) + " is outside [1, 100000]";
   return std::nullopt;
 }
@@ -50,6 +51,9 @@ struct WaterSimulation::Impl {
   float last_dt = 0;  // the last substep (WaterSimStats::invariant)
 
   std::size_t count() const { return std::size_t{nx} * nz; }
+  // Square cells (to 1 %) take the nine-point stencil (water_sim_step.comp).
+  bool isotropic() const { return std::abs(dx / dz - 1.0f) < 0.01f; }
+  float diffusion() const { return options.short_wave_damping * 0.5f * std::min(dx, dz) * std::min(dx, dz); }
   GLsizeiptr bytes() const { return static_cast<GLsizeiptr>(count() * 4); }
   void dispatch() const { glDispatchCompute((nx + 7) / 8, (nz + 7) / 8, 1); }
   gl::StateGuard guard() const { return gl::StateGuard({0, 1}); }
@@ -93,6 +97,7 @@ Result<std::unique_ptr<WaterSimulation>> WaterSimulation::create(const WaterGrid
                                               {&s.displace, "water_sim_displace", shaders::k_water_sim_displace_comp_glsl}}));
   for (const gl::Program* p : {&s.step, &s.ripple, &s.displace}) glProgramUniform2ui(p->id(), p->loc("u_vertices"), s.nx, s.nz);
   s.step.set("u_inv_d2", glm::vec2(1.0f / (s.dx * s.dx), 1.0f / (s.dz * s.dz)));
+  glProgramUniform1i(s.step.id(), s.step.loc("u_isotropic"), s.isotropic() ? 1 : 0);
   s.ripple.set("u_origin", glm::vec2(grid.x0, grid.z0));
   s.ripple.set("u_spacing", glm::vec2(s.dx, s.dz));
   s.push.set("u_extent", glm::vec4(grid.x0 - 0.5f * s.dx, grid.z0 - 0.5f * s.dz, grid.x1 + 0.5f * s.dx, grid.z1 + 0.5f * s.dz));
@@ -160,7 +165,9 @@ Status WaterSimulation::step(float dt) {
   const WaterSimOptions& o = s.options;
   // Courant number c dt / d <= courant on the finer spacing (the 2D
   // five-point scheme is stable up to 1/sqrt(2)).
-  const double max_dt = o.courant * std::min(s.dx, s.dz) / o.wave_speed;
+  double max_dt = o.courant * std::min(s.dx, s.dz) / o.wave_speed;
+  // The explicit diffusion is stable while dt nu 8 / d^2 <= 2: rate dt <= 1/2.
+  if (o.short_wave_damping > 0.0f) max_dt = std::min(max_dt, 0.5 / o.short_wave_damping);
   const auto wanted = static_cast<std::uint64_t>(std::ceil(dt / max_dt));
   const std::uint32_t n = static_cast<std::uint32_t>(std::clamp<std::uint64_t>(wanted, 1, o.max_substeps));
   const float sub = static_cast<float>(std::min<double>(dt / static_cast<double>(n), max_dt));
@@ -169,6 +176,7 @@ Status WaterSimulation::step(float dt) {
   s.step.set("u_dt", sub);
   s.step.set("u_c2", o.wave_speed * o.wave_speed);
   s.step.set("u_damping", o.damping);
+  s.step.set("u_diffusion", s.diffusion());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.velocities.get());
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -263,8 +271,25 @@ WaterSimStats WaterSimulation::stats() const {
   st.time = s.time;
   st.substeps = s.substeps;
   const double area = double{s.dx} * s.dz, c2 = double{s.options.wave_speed} * s.options.wave_speed;
-  double kinetic = 0, potential = 0, volume = 0, cross = 0;
+  // The step's Laplacian (water_sim_step.comp), in double precision.
+  auto h_at = [&](long i, long j) {
+    i = std::clamp(i, 0L, static_cast<long>(s.nx) - 1);
+    j = std::clamp(j, 0L, static_cast<long>(s.nz) - 1);
+    return double{h[static_cast<std::size_t>(j) * s.nx + static_cast<std::size_t>(i)]};
+  };
   const double inv_dx2 = 1.0 / (double{s.dx} * s.dx), inv_dz2 = 1.0 / (double{s.dz} * s.dz);
+  auto laplacian = [&](long i, long j) {
+    const double c = h_at(i, j);
+    if (s.isotropic()) {
+      const double edges = h_at(i + 1, j) + h_at(i - 1, j) + h_at(i, j + 1) + h_at(i, j - 1) - 4 * c;
+      const double corners = h_at(i + 1, j + 1) + h_at(i - 1, j + 1) + h_at(i + 1, j - 1) + h_at(i - 1, j - 1) - 4 * c;
+      return (4 * edges + corners) * std::sqrt(inv_dx2 * inv_dz2) / 6;
+    }
+    return (h_at(i + 1, j) + h_at(i - 1, j) - 2 * c) * inv_dx2 + (h_at(i, j + 1) + h_at(i, j - 1) - 2 * c) * inv_dz2;
+  };
+  // Energy: sum v^2 / 2 + c^2 |grad h|^2 / 2 with the discrete
+  // sum |grad h|^2 = -sum h lap(h) (the Laplacian is symmetric).
+  double kinetic = 0, potential = 0, volume = 0, cross = 0;
   for (GLuint j = 0; j < s.nz; ++j) {
     for (GLuint i = 0; i < s.nx; ++i) {
       const std::size_t k = std::size_t{j} * s.nx + i;
@@ -272,21 +297,8 @@ WaterSimStats WaterSimulation::stats() const {
       volume += h[k];
       kinetic += double{v[k]} * v[k];
       st.max_abs_height = std::max(st.max_abs_height, std::abs(double{h[k]}));
-      // |grad h|^2 over the edges between vertices, and the step's
-      // flux-form Laplacian (water_sim_step.comp).
-      double lap = 0;
-      if (i + 1 < s.nx) {
-        const double d = double{h[k + 1]} - h[k];
-        potential += d * d * inv_dx2;
-        lap += d * inv_dx2;
-      }
-      if (j + 1 < s.nz) {
-        const double d = double{h[k + s.nx]} - h[k];
-        potential += d * d * inv_dz2;
-        lap += d * inv_dz2;
-      }
-      if (i > 0) lap += (double{h[k - 1]} - h[k]) * inv_dx2;
-      if (j > 0) lap += (double{h[k - s.nx]} - h[k]) * inv_dz2;
+      const double lap = laplacian(i, j);
+      potential -= h[k] * lap;
       cross += v[k] * (-c2 * lap);
     }
   }

@@ -3,12 +3,14 @@
 // (issue 21; docs/water-simulation.md). A height field on the GPU, one
 // height and one vertical velocity per vertex of the scene's water grid
 // (Engine::water_grid()), advanced by the linear wave equation
-//     dv/dt = c^2 lap(h) - gamma v,    dh/dt = v
+//     dv/dt = c^2 lap(h) - gamma v,    dh/dt = v (+ nu lap(h), below)
 // with semi-implicit (symplectic) Euler steps: v first, then h from the new
 // v; damping implicit, v <- (v + dt c^2 lap h) / (1 + gamma dt). The
-// Laplacian is written as fluxes between neighbouring vertices and the grid's
-// border has none (reflecting walls: the pool's), so the water's volume
-// sum(h) dA is conserved exactly up to float rounding. Each step() splits
+// Laplacian (nine-point isotropic on square cells, else five-point) is
+// written as fluxes between neighbouring vertices, and beyond the grid's
+// border it reads the mirror image across a wall half a spacing out
+// (reflecting walls: the pool's), so the water's volume sum(h) dA is
+// conserved up to float rounding. Each step() splits
 // its dt into substeps at Courant number c dt / min(dx, dz) <= `courant`
 // (the scheme is stable up to 1/sqrt(2)); without damping the discrete
 // energy stays bounded (tests/water_sim_test.cpp runs an hour).
@@ -47,6 +49,13 @@ struct WaterSimOptions {
   float wave_speed = 0.6f;
   // gamma, 1/s (>= 0, < 1000): amplitudes decay as exp(-gamma t / 2).
   float damping = 0.3f;
+  // 1/s (0 .. 10): how fast the shortest waves the grid holds die out.
+  // The heights diffuse, dh/dt += nu lap(h) with nu = rate d^2 / 2 (d the
+  // finer spacing), so a wave of wavelength L along the grid loses
+  // amplitude at rate sin^2(pi d / L): all of `rate` at two spacings, 9.5 %
+  // of it at ten, 0.4 % at fifty. Short waves are what the grid gets wrong
+  // (they lag and leave a checkerboard wake); 0 keeps the scheme undamped.
+  float short_wave_damping = 4.0f;
   // Substep size as a Courant number c dt / min(dx, dz), in (0, 0.7].
   float courant = 0.5f;
   // At most this many substeps per step() (1 .. 100000): a longer dt is cut
@@ -56,11 +65,12 @@ struct WaterSimOptions {
 
 struct WaterSimStats {
   double volume = 0;          // sum(h) dA, m^3 (relative to the rest level)
-  // Per unit density, m^5/s^2: sum (v^2 + c^2 |grad h|^2) dA / 2, the
-  // gradient over the edges between vertices. Semi-implicit Euler trades it
-  // back and forth with the heights' half-step lag, by up to c dt
-  // sqrt(1/dx^2 + 1/dz^2) of itself; what it conserves exactly (without
-  // damping, up to float rounding) is
+  // Per unit density, m^5/s^2: sum (v^2 + c^2 |grad h|^2) dA / 2, with
+  // the step's own sum |grad h|^2 = -sum h lap(h). Semi-implicit Euler
+  // trades it back and forth with the heights' half-step lag, by at most
+  // c dt sqrt(lambda_max) / 2 of itself (lambda_max <= 8 / d^2: 0.71 at
+  // Courant number 0.5); what it conserves exactly (without damping and
+  // short-wave damping, up to float rounding) is
   //   invariant = energy - (dt / 2) sum v (K h) dA,  K h = -c^2 lap(h),
   // dt the last substep.
   double energy = 0;
