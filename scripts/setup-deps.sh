@@ -18,6 +18,8 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libxxhash-dev libzstd-dev libtbb-dev
   # glTF 2.0 input (bake/src/gltf_import.cpp)
   libtinygltf-dev
+  # Dear ImGui: caustix-view's panel (the GLFW and OpenGL 3 back ends are compiled from its sources)
+  libimgui-dev
   # Embree: only caustix-bench raycast, measured against CGAL's AABB tree
   libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots

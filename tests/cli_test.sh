@@ -157,6 +157,18 @@ if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s "-screen 0 640x480x24" "$view" "$tmp/a.cxb" --size 320x240 --frames 3 --screenshot "$tmp/shot.png" >"$tmp/vout" 2>&1
   check "viewer screenshot under Xvfb" 0 $?
   iinfo "$tmp/shot.png" >"$tmp/info" 2>&1; contains "screenshot size" "$tmp/info" "320 x  240"
+  # The panel (Dear ImGui) is in the screenshot, and the interactive water
+  # runs with a ripple dropped: the panel's corner differs from --no-ui's.
+  xvfb-run -a -s "-screen 0 800x600x24" "$view" "$tmp/a.cxb" --size 640x480 --frames 4 --simulate --ripple 0.3,0.2 \
+    --screenshot "$tmp/ui.png" >"$tmp/vout" 2>&1
+  check "viewer with panel and interactive water" 0 $?
+  xvfb-run -a -s "-screen 0 800x600x24" "$view" "$tmp/a.cxb" --size 640x480 --frames 4 --simulate --ripple 0.3,0.2 \
+    --no-ui --screenshot "$tmp/noui.png" >"$tmp/vout" 2>&1
+  check "viewer without panel" 0 $?
+  oiiotool "$tmp/ui.png" --cut 200x150+20+40 -o "$tmp/ui_corner.png" && oiiotool "$tmp/noui.png" --cut 200x150+20+40 -o "$tmp/noui_corner.png"
+  idiff -fail 0.05 -failpercent 20 "$tmp/ui_corner.png" "$tmp/noui_corner.png" >/dev/null 2>&1
+  check "the panel is drawn (its corner differs from --no-ui)" 2 $?
+  "$view" "$tmp/a.cxb" --ripple 1,2,3 --frames 1 --screenshot "$tmp/s.png" 2>"$tmp/err"; check "viewer bad --ripple" 2 $?
 else
   failed=$((failed + 1)); echo "FAIL: xvfb-run missing (scripts/setup-deps.sh installs it)"
 fi

@@ -7,6 +7,7 @@
 // water surface and the glass.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -86,6 +87,32 @@ struct Renderer::Impl {
   gl::Texture log_luminance;
   gl::Framebuffer log_luminance_fbo;
   int log_luminance_w = 0, log_luminance_h = 0, log_luminance_levels = 0;
+
+  // Pass timing: kSlots frames of PassTimes::kCount + 1 timestamps in
+  // flight, read back when available.
+  static constexpr int kSlots = 3;
+  bool timing = false;
+  std::array<std::array<gl::Query, PassTimes::kCount + 1>, kSlots> stamps;
+  std::array<bool, kSlots> pending{};
+  int slot = 0;
+  PassTimes times;
+  void stamp(int k) {
+    if (timing) glQueryCounter(stamps[static_cast<std::size_t>(slot)][static_cast<std::size_t>(k)].get(), GL_TIMESTAMP);
+  }
+  void collect() {
+    for (int i = 0; i < kSlots; ++i) {
+      if (!pending[static_cast<std::size_t>(i)]) continue;
+      auto& q = stamps[static_cast<std::size_t>(i)];
+      GLint ready = 0;
+      glGetQueryObjectiv(q[PassTimes::kCount].get(), GL_QUERY_RESULT_AVAILABLE, &ready);
+      if (!ready) continue;
+      GLuint64 t[PassTimes::kCount + 1];
+      for (std::size_t k = 0; k <= PassTimes::kCount; ++k) glGetQueryObjectui64v(q[k].get(), GL_QUERY_RESULT, &t[k]);
+      for (std::size_t k = 0; k < PassTimes::kCount; ++k) times.ms[k] = static_cast<float>(static_cast<double>(t[k + 1] - t[k]) * 1e-6);
+      times.valid = true;
+      pending[static_cast<std::size_t>(i)] = false;
+    }
+  }
 
   const SceneDesc& scene() const { return engine->scene(); }
 
@@ -205,7 +232,14 @@ Status Renderer::render(const FrameParams& f) {
   const SceneDesc& scene = s.scene();
   const WaterLook& look = f.water;
   s.hdr.ensure(width, height, GL_RGBA32F, true);
+  if (s.timing) {
+    s.collect();
+    // A slot still waiting is overwritten (its frame's times are lost).
+    s.slot = (s.slot + 1) % Impl::kSlots;
+  }
+  s.stamp(0);
   CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{f.time, f.caustics}));
+  s.stamp(1);
 
   View view;
   view.view = glm::lookAt(to_glm(f.camera.position), to_glm(f.camera.target), to_glm(f.camera.up));
@@ -224,6 +258,7 @@ Status Renderer::render(const FrameParams& f) {
   }
   glDisable(GL_CULL_FACE);
   CAUSTIX_RETURN_IF_ERROR(s.draw_lit_view(main, medium));
+  s.stamp(2);
 
   glBindFramebuffer(GL_FRAMEBUFFER, s.hdr.fbo.get());
   glViewport(0, 0, width, height);
@@ -237,6 +272,7 @@ Status Renderer::render(const FrameParams& f) {
     glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
   }
   CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky, f.glass_view));
+  s.stamp(3);
   if (scene.water) {
     Status inner = Status::success();
     CAUSTIX_RETURN_IF_ERROR(s.engine->draw_water(view, look, [&](const WaterPass& p) {
@@ -245,6 +281,7 @@ Status Renderer::render(const FrameParams& f) {
     }));
     CAUSTIX_RETURN_IF_ERROR(inner);
   }
+  s.stamp(4);
   if (s.engine->has_media()) {
     // The receivers omit diffuse shading's 1/pi (caustix.glsl); the
     // in-scatter, true radiance, is scaled alike.
@@ -252,6 +289,7 @@ Status Renderer::render(const FrameParams& f) {
     glViewport(0, 0, width, height);
     CAUSTIX_RETURN_IF_ERROR(s.engine->draw_media(view_proj, s.hdr.color.get(), s.opaque_depth.get(), 3.14159265f));
   }
+  s.stamp(5);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   s.supersample = ss;
@@ -268,6 +306,8 @@ Status Renderer::render(const FrameParams& f) {
     glEnable(GL_DEPTH_TEST);
   }
   glBindVertexArray(0);
+  s.stamp(6);
+  if (s.timing) s.pending[static_cast<std::size_t>(s.slot)] = true;
   return gl::check_gl("frame");
 }
 
@@ -503,6 +543,34 @@ std::optional<ToneMap> parse_tone_map(const std::string& name) {
   if (name == "filmic") return ToneMap::kFilmic;
   if (name == "exponential") return ToneMap::kExponential;
   return std::nullopt;
+}
+
+const char* PassTimes::name(int pass) {
+  static const char* const names[kCount] = {"light side", "receivers", "glass", "water", "media", "resolve"};
+  return pass >= 0 && pass < kCount ? names[pass] : "?";
+}
+
+float PassTimes::total_ms() const {
+  float t = 0;
+  for (float m : ms) t += m;
+  return t;
+}
+
+void Renderer::set_pass_timing(bool enabled) {
+  Impl& s = *impl_;
+  if (enabled && !s.timing) {
+    for (auto& slot : s.stamps) {
+      for (auto& q : slot) q = gl::make_query(GL_TIMESTAMP);
+    }
+    s.pending.fill(false);
+  }
+  s.timing = enabled;
+}
+
+PassTimes Renderer::pass_times() {
+  Impl& s = *impl_;
+  if (s.timing) s.collect();
+  return s.times;
 }
 
 void Renderer::present(unsigned framebuffer, int width, int height) {

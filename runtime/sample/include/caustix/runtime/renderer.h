@@ -120,6 +120,20 @@ struct InscatterImage {
   VolumeStats stats;       // of the photon marching behind it
 };
 
+// GPU time of the stages of one render() (GL_TIMESTAMP queries), for
+// viewers and profiling: the light side (Engine::update: water, shadow
+// maps, caustics maps, glass illumination, caustic maps, media photons),
+// the receivers (with the water's refraction and reflection textures
+// drawn inside draw_water, counted there), the glass, the water surface,
+// the media and the supersampling resolve.
+struct PassTimes {
+  static constexpr int kCount = 6;
+  static const char* name(int pass);  // "light side", "receivers", "glass", "water", "media", "resolve"
+  bool valid = false;                 // a frame's queries have been read
+  float ms[kCount] = {};
+  float total_ms() const;
+};
+
 // The sky's linear colour: the beauty image's background.
 inline constexpr float kSkyColor[3] = {0.42f, 0.58f, 0.78f};
 
@@ -151,6 +165,12 @@ class Renderer {
 
   // Waits until the GPU has finished every command (for timing).
   void finish();
+
+  // Per-stage GPU times, measured when enabled (off by default: the
+  // queries cost a little). Results arrive a frame or two late (no stall):
+  // pass_times() is the latest frame whose queries have completed.
+  void set_pass_timing(bool enabled);
+  PassTimes pass_times();
 
   // What the caustics passes of the last render did.
   CausticsStats caustics_stats(bool read_gpu_counters = true);
