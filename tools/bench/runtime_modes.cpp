@@ -92,7 +92,8 @@ struct RuntimeModes final : Modes {
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   bool no_cull = false, header = false, move_light = false;
-  CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr;
+  CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr;
+  std::string sim_scene;
 
   explicit RuntimeModes(CLI::App& app) {
     fr = app.add_subcommand("frames", "ms per frame of the runtime on a baked scene (one CSV line)");
@@ -132,11 +133,16 @@ struct RuntimeModes final : Modes {
     wa->add_option("--size", wsize, "frame size WxH")->capture_default_str();
     wa->add_option("--frames", wframes, "frames measured per setting (median)")->check(CLI::Range(1, 1000))->capture_default_str();
     wa->add_option("--csv", csv, "also write the table as CSV");
+    ws = app.add_subcommand("water-sim", "ms per 60 Hz frame of the interactive water (docs/water-simulation.md) by grid size, and its parts on a scene");
+    ws->add_option("scene", sim_scene, "baked scene with water (.cxb); without it only the grid sweep runs");
+    ws->add_option("--frames", wframes, "frames measured per row (median)")->check(CLI::Range(1, 10000))->capture_default_str();
+    ws->add_option("--csv", csv, "also write the table as CSV");
   }
 
-  bool chosen() const override { return *fr || *me || *wa; }
+  bool chosen() const override { return *fr || *me || *wa || *ws; }
 
   int run() override {
+    if (*ws) return water_sim_cost(sim_scene, wframes, csv);
     int w = 0, h = 0;
     if (!cli::parse_size(*wa ? wsize : fsize, w, h)) {
       return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));

@@ -1,10 +1,13 @@
 #include "water.h"
 
+#include <epoxy/gl.h>
+
 #include <cstdio>
 #include <functional>
 
 #include "bench_common.h"
 #include "caustix/common/cli.h"
+#include "caustix/runtime/water_sim.h"
 
 namespace caustix::bench {
 
@@ -66,6 +69,81 @@ int water_effects(const std::string& cxb, int width, int height, int warmup, int
                   renderer.c_str());
     out.row(line);
   }
+  return kExitOk;
+}
+
+namespace {
+
+// Median milliseconds of `count` calls of `f`, each followed by glFinish,
+// after two unmeasured ones.
+template <typename F>
+Result<double> time_calls(int count, F&& f) {
+  std::vector<double> ms;
+  for (int i = -2; i < count; ++i) {
+    const auto t0 = Clock::now();
+    CAUSTIX_RETURN_IF_ERROR(f());
+    glFinish();
+    if (i >= 0) ms.push_back(ms_since(t0));
+  }
+  return median(ms);
+}
+
+}  // namespace
+
+int water_sim_cost(const std::string& cxb, int frames, const std::string& csv) {
+  auto fail = [](const Error& e) { return cli::fail("caustix-bench", e); };
+  std::optional<Session> session;
+  std::unique_ptr<runtime::HeadlessContext> own;
+  if (!cxb.empty()) {
+    auto s = open_scene(cxb);
+    if (!s) return fail(s.error());
+    session.emplace(std::move(*s));
+  } else {
+    auto c = runtime::HeadlessContext::create();
+    if (!c) return fail(c.error());
+    own = std::move(*c);
+  }
+  const std::string renderer = session ? session->context->description() : own->description();
+  CsvOut out(csv, "scene,grid,part,median_ms,substeps_per_frame,renderer");
+  auto row = [&](const std::string& scene, const std::string& grid, const std::string& part, double ms, double substeps) {
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,%s,%s,%.3f,%.2f,\"%s\"", scene.c_str(), grid.c_str(), part.c_str(), ms, substeps, renderer.c_str());
+    out.row(line);
+  };
+  for (const std::uint32_t n : {64u, 128u, 256u, 512u, 1024u}) {
+    auto sim = runtime::WaterSimulation::create(runtime::WaterGrid{n, n, -2, -2, 2, 2, 0});
+    if (!sim) return fail(sim.error());
+    (void)(*sim)->add_ripple(0, 0, 0.3f, 0.02f);
+    auto ms = time_calls(frames, [&] { return (*sim)->step(1.0f / 60.0f); });
+    if (!ms) return fail(ms.error());
+    const auto st = (*sim)->stats();
+    row("-", std::to_string(n) + "x" + std::to_string(n), "step", *ms, static_cast<double>(st.substeps) / (frames + 2));
+  }
+  if (!session) return kExitOk;
+  runtime::Renderer& r = *session->renderer;
+  runtime::Engine& e = r.engine();
+  const auto grid = e.water_grid();
+  if (!grid) return fail(make_error(ErrorCode::kUsage, cxb + ": the scene has no water"));
+  const std::string scene = r.scene().name, size = std::to_string(grid->columns) + "x" + std::to_string(grid->rows);
+  auto sim = runtime::WaterSimulation::create(*grid);
+  if (!sim) return fail(sim.error());
+  std::vector<std::uint32_t> bodies(r.scene().objects.size());
+  for (std::uint32_t i = 0; i < bodies.size(); ++i) bodies[i] = i;
+  const runtime::FrameUpdate update{0.0f, runtime::default_caustics_options(r.scene())};
+  auto waves = time_calls(frames, [&] { return e.update(update); });
+  if (!waves) return fail(waves.error());
+  auto step = time_calls(frames, [&] { return (*sim)->step(1.0f / 60.0f); });
+  auto push = time_calls(frames, [&] { return (*sim)->push(e, bodies); });
+  auto apply = time_calls(frames, [&] { return (*sim)->apply(e); });
+  auto simulated = time_calls(frames, [&] { return e.update(update); });
+  for (const auto* t : {&step, &push, &apply, &simulated}) {
+    if (!*t) return fail(t->error());
+  }
+  row(scene, size, "step", *step, 0);
+  row(scene, size, "push (" + std::to_string(bodies.size()) + " objects)", *push, 0);
+  row(scene, size, "apply", *apply, 0);
+  row(scene, size, "light side with the wave list", *waves, 0);
+  row(scene, size, "light side with simulated water", *simulated, 0);
   return kExitOk;
 }
 
