@@ -30,6 +30,7 @@ layout(binding = 1) uniform sampler2D u_refr_depth;
 layout(binding = 2) uniform sampler2D u_refl_color;
 
 uniform int u_steps;
+uniform int u_max_steps;  // W/A iterations past u_steps until converged
 uniform int u_refraction;
 uniform int u_reflection;
 uniform int u_colour;
@@ -56,14 +57,51 @@ float view_z(vec2 uv) {
   return -u_refr_depth_ab.y / ((2.0 * d - 1.0) + u_refr_depth_ab.x);
 }
 
+// The reference for the W/A iteration: march the same ray through the same
+// depth texture in steps of 1/`divisions` of the depth under U (at most
+// `limit` of them), then bisect `bisections` times. The W/A iteration falls
+// back on a coarse one where it has not converged.
+vec3 march_lookup(vec3 u, vec3 r, int divisions, int limit, int bisections) {
+  float dv = length(u * (view_z(refr_uv(u)) / u.z) - u);
+  float ds = max(dv, 1e-4) / float(divisions);
+  float s0 = 0.0, s1 = -1.0;
+  for (int i = 1; i <= limit; ++i) {
+    vec3 p = u + float(i) * ds * r;
+    if (p.z > -1e-6) break;
+    if (abs(p.z) >= abs(view_z(refr_uv(p)))) {
+      s1 = float(i) * ds;
+      break;
+    }
+    s0 = float(i) * ds;
+  }
+  if (s1 < 0.0) return u + s0 * r;
+  for (int i = 0; i < bisections; ++i) {
+    float sm = 0.5 * (s0 + s1);
+    vec3 p = u + sm * r;
+    if (abs(p.z) >= abs(view_z(refr_uv(p)))) s1 = sm; else s0 = sm;
+  }
+  return u + s1 * r;
+}
+
+vec3 exact_lookup(vec3 u, vec3 r) { return march_lookup(u, r, 256, 8192, 24); }
+
 // §7.1: where the ray u + s r (refraction-camera view space) meets the
 // depth texture. Returns W (xyz) and |A - W| (w); a_out is A, the point of
 // the depth texture on the camera ray through W.
-vec4 wa_iteration(vec3 u, vec3 r, int steps, out vec3 a_out) {
+//
+// `steps` iterations always run (the paper's fixed count); with
+// max_steps > steps they go on while the best miss |A - W| is over half a
+// texel's footprint at W: at grazing angles (the far floor through waves)
+// three iterations stop short, and where the last one switches between
+// converged and not the floor jumps at a seam (issue 21).
+vec4 wa_iteration(vec3 u, vec3 r, int steps, int max_steps, out vec3 a_out) {
   vec3 w_best = u, a_best = u;
   float best = 1e30;
   vec3 wi = u, ai = u;  // W_0 = A_0 = U
-  for (int i = 0; i < steps; ++i) {
+  // A texel's footprint per metre of depth: 2 / (size * P[1][1]).
+  float texel = 2.0 / (float(textureSize(u_refr_depth, 0).x) * u_refr_proj[1][1]);
+  for (int i = 0; i < max(steps, max_steps); ++i) {
+    if (i >= steps && best <= 0.5 * texel * abs(w_best.z)) break;
     if (wi.z > -1e-6) break;  // behind the refraction camera
     vec3 an = wi * (view_z(refr_uv(wi)) / wi.z);  // A_(i+1)
     float dist = length(an - wi);
@@ -89,32 +127,22 @@ vec4 wa_iteration(vec3 u, vec3 r, int steps, out vec3 a_out) {
     ai = an;
     wi = wn;
   }
+  // Not converged within max_steps (rays that graze the floor far away,
+  // or pass a depth edge): a coarse march with bisection instead.
+  if (max_steps > steps && best > 0.5 * texel * abs(w_best.z)) {
+    vec3 w = march_lookup(u, r, 16, 512, 10);
+    if (w.z < -1e-6) {
+      vec3 a = w * (view_z(refr_uv(w)) / w.z);
+      float miss = length(a - w);
+      if (miss < best) {
+        best = miss;
+        w_best = w;
+        a_best = a;
+      }
+    }
+  }
   a_out = a_best;
   return vec4(w_best, best);
-}
-
-// The reference for the W/A iteration: march the same ray through the same
-// depth texture in steps of 1/256 of the depth under U, then bisect.
-vec3 exact_lookup(vec3 u, vec3 r) {
-  float dv = length(u * (view_z(refr_uv(u)) / u.z) - u);
-  float ds = max(dv, 1e-4) / 256.0;
-  float s0 = 0.0, s1 = -1.0;
-  for (int i = 1; i <= 8192; ++i) {
-    vec3 p = u + float(i) * ds * r;
-    if (p.z > -1e-6) break;
-    if (abs(p.z) >= abs(view_z(refr_uv(p)))) {
-      s1 = float(i) * ds;
-      break;
-    }
-    s0 = float(i) * ds;
-  }
-  if (s1 < 0.0) return u + s0 * r;
-  for (int i = 0; i < 24; ++i) {
-    float sm = 0.5 * (s0 + s1);
-    vec3 p = u + sm * r;
-    if (abs(p.z) >= abs(view_z(refr_uv(p)))) s1 = sm; else s0 = sm;
-  }
-  return u + s1 * r;
 }
 
 void main() {
@@ -139,7 +167,7 @@ void main() {
     vec3 r = u_refraction != 0 ? refract(-e, n, 1.0 / u_ior) : -e;
     vec3 r1 = normalize(mat3(u_refr_view) * r);
     vec3 a;
-    vec4 w = wa_iteration(u1, r1, u_steps, a);
+    vec4 w = wa_iteration(u1, r1, u_steps, u_max_steps, a);
     lookup = refr_uv(w.xyz);
     residual = w.w;
     if (u_debug == 3) lookup = refr_uv(exact_lookup(u1, r1));

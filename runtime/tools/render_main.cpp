@@ -173,8 +173,12 @@ int main(int argc, char** argv) {
   app.add_option("--fresnel-q", look.fresnel_q, "water: q of eq. 7")->check(CLI::Range(0.1f, 100.0f))->capture_default_str();
   app.add_option("--water-steps", look.steps, "water: W/A iterations of the refracted lookup (§7.1)")
       ->check(CLI::Range(1, 64))->capture_default_str();
-  app.add_option("--water-texture", look.texture_size, "water: refraction/reflection texture size (N x N)")
-      ->check(CLI::Range(1, 8192))->capture_default_str();
+  app.add_option("--water-texture", look.texture_size,
+                 "water: refraction/reflection texture size (N x N); 0: a texel per pixel over the extended field of view")
+      ->check(CLI::Range(0, 8192))->capture_default_str();
+  app.add_option("--water-max-steps", look.max_steps,
+                 "water: W/A iterations continue past --water-steps up to this many until converged (<= steps: the paper's fixed count)")
+      ->check(CLI::Range(1, 64))->capture_default_str();
   app.add_option("--fov-ext", look.fov_ext, "water: field-of-view extension of the textures (fig. 5)")
       ->check(CLI::Range(1.0f, 4.0f))->capture_default_str();
   // Interactive water (docs/water-simulation.md): the height field instead of the wave list.

@@ -267,8 +267,10 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
     ImGui::Checkbox("glow", &w.glow);
     combo("Fresnel", w.fresnel, {{FresnelMode::kApprox, "approximate (eq. 7-8)"}, {FresnelMode::kExact, "exact"}});
     ImGui::SliderInt("W/A steps", &w.steps, 1, 16);
-    int size = w.texture_size;
-    if (ImGui::SliderInt("texture size", &size, 64, 2048, "%d", ImGuiSliderFlags_Logarithmic)) w.texture_size = size;
+    ImGui::SliderInt("W/A steps at most", &w.max_steps, 1, 64);
+    bool auto_size = w.texture_size == 0;
+    if (ImGui::Checkbox("texture size: a texel per pixel", &auto_size)) w.texture_size = auto_size ? 0 : 512;
+    if (!auto_size) ImGui::SliderInt("texture size", &w.texture_size, 64, 4096, "%d", ImGuiSliderFlags_Logarithmic);
     ImGui::SliderFloat("FOV extension", &w.fov_ext, 1.0f, 4.0f);
     ImGui::SliderFloat("wave scale", &st.wave_scale, 0.0f, 4.0f);
   }

@@ -573,9 +573,9 @@ WaterMedium Engine::water_medium(const View& view, const WaterLook& look) const 
 Status Engine::draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene) {
   Impl& s = *impl_;
   if (!s.water) return usage("draw_water: the scene has no water");
-  if (look.steps < 1 || look.steps > 64 || look.texture_size < 1 || look.texture_size > 8192 ||
-      !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
-    return usage("draw_water: water look: steps must be 1..64, texture size 1..8192, FOV_ext 1..4");
+  if (look.steps < 1 || look.steps > 64 || look.max_steps < 1 || look.max_steps > 64 || look.texture_size < 0 ||
+      look.texture_size > 8192 || !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
+    return usage("draw_water: water look: steps and max_steps must be 1..64, texture size 0 (auto) or 1..8192, FOV_ext 1..4");
   }
   if (!(view.aspect > 0.0f) || !(view.near_plane > 0.0f) || !(view.far_plane > view.near_plane) || !(view.fov_y_deg > 0.0f && view.fov_y_deg < 180.0f)) {
     return usage("draw_water: the view needs aspect > 0, 0 < near < far and a field of view in (0, 180) degrees");
@@ -606,7 +606,12 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   if (textured) {
     // Seed 001's two textures (§5.1-5.2), drawn by the application.
     cams = water_cameras(main, view.fov_y_deg, view.aspect, view.near_plane, view.far_plane, *s.scene.water, look);
-    s.water_view->ensure_targets(look.texture_size);
+    int size = look.texture_size;
+    if (size == 0) {  // auto: a texel per pixel across the extended field of view
+      const float pixels = look.fov_ext * static_cast<float>(std::max(viewport[2], viewport[3]));
+      size = std::clamp((static_cast<int>(std::ceil(pixels)) + 63) / 64 * 64, 64, 4096);
+    }
+    s.water_view->ensure_targets(size);
     const int n = s.water_view->size();
     const glm::vec3 refr_clear = cams->under ? look.sky : medium.color;
     // From below, the mirrored texture shows the water's inside, fogged

@@ -96,6 +96,7 @@ void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, cons
   s.set("u_refr_depth_ab", glm::vec2(c.refraction.proj[2][2], c.refraction.proj[3][2]));
   s.set("u_refl_view_proj", c.reflection.proj * c.reflection.view);
   s.set("u_steps", look.steps);
+  s.set("u_max_steps", look.max_steps);
   s.set("u_refraction", look.refraction ? 1 : 0);
   s.set("u_reflection", look.reflection ? 1 : 0);
   s.set("u_colour", look.colour ? 1 : 0);

@@ -32,7 +32,18 @@ struct WaterLook {
   bool glow = true;        // §9.3
   FresnelMode fresnel = FresnelMode::kApprox;
   int steps = 3;              // W/A iterations (§7.1; the paper could afford 3)
-  int texture_size = 512;     // refraction and reflection textures, square (table 3: 256..1024)
+  // W/A iterations go on past `steps`, up to this many (1..64), while the
+  // best miss |A - W| exceeds half a refraction texel at W. At grazing
+  // angles three stop short and the floor seen through waves jumps at a
+  // seam where the iteration switches between converged and not (issue
+  // 21; docs/water.md). <= steps: the paper's fixed count.
+  int max_steps = 16;
+  // Refraction and reflection textures, square (table 3: 256..1024). 0:
+  // as many texels as the viewport has pixels across the extended field of
+  // view (fov_ext x its larger side, rounded up to a multiple of 64, at most
+  // 4096): the floor's edges seen through the water are no longer
+  // stair-stepped by texels bigger than the pixels (issue 21).
+  int texture_size = 0;
   float fov_ext = 1.5f;       // FOV_ext (fig. 5, table 1)
   float fresnel_q = 5.0f;     // q of eq. 7 (table 1)
   float reflect_scale = 1.0f; // c of eq. 6 (table 1; metres)
