@@ -280,6 +280,10 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
                         .ok());
       });
       EXPECT_EQ(calls, 2);  // refraction and reflection textures
+      expect_state_kept("draw_water (scene depth: hidden glints do not glow)", [&] {
+        ASSERT_TRUE(engine->draw_water(test_view(), look, [&](const runtime::WaterPass&) {}, depth_.get()).ok());
+      });
+      EXPECT_EQ(code_of(engine->draw_water(test_view(), look, nullptr, color_.get())), ErrorCode::kUsage) << "not a depth texture";
       look.textures = false;
       expect_state_kept("draw_water (plain)", [&] { ASSERT_TRUE(engine->draw_water(test_view(), look, nullptr).ok()); });
       const auto grid = engine->water_grid();

@@ -278,7 +278,7 @@ Status Renderer::render(const FrameParams& f) {
     CAUSTIX_RETURN_IF_ERROR(s.engine->draw_water(view, look, [&](const WaterPass& p) {
       const PassView v{p.framebuffer, p.size, p.size, p.view_proj, p.clip_plane, p.mirrored, p.fog, p.eye, glm::vec3(0.0f), true};
       if (inner.ok()) inner = s.draw_lit_view(v, medium);
-    }));
+    }, s.hdr.depth.get()));
     CAUSTIX_RETURN_IF_ERROR(inner);
   }
   s.stamp(4);

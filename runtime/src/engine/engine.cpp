@@ -570,9 +570,11 @@ std::string Engine::glsl_include() const { return impl_->lighting_prefix(); }
 
 WaterMedium Engine::water_medium(const View& view, const WaterLook& look) const { return impl_->medium(view.eye(), look); }
 
-Status Engine::draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene) {
+Status Engine::draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene,
+                          unsigned scene_depth) {
   Impl& s = *impl_;
   if (!s.water) return usage("draw_water: the scene has no water");
+  if (scene_depth != 0) CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_water", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   if (look.steps < 1 || look.steps > 64 || look.max_steps < 1 || look.max_steps > 64 || look.texture_size < 0 ||
       look.texture_size > 8192 || !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
     return usage("draw_water: water look: steps and max_steps must be 1..64, texture size 0 (auto) or 1..8192, FOV_ext 1..4");
@@ -585,6 +587,16 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   int viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
   glGetIntegerv(GL_VIEWPORT, viewport);
+  if (scene_depth != 0) {
+    GLint w = 0, h = 0;
+    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &h);
+    if (w < viewport[0] + viewport[2] || h < viewport[1] + viewport[3]) {
+      return usage("draw_water: scene depth is " + std::to_string(w) + "x" + std::to_string(h) +
+                   ", smaller than the viewport's far corner " + std::to_string(viewport[0] + viewport[2]) + "x" +
+                   std::to_string(viewport[1] + viewport[3]));
+    }
+  }
 
   ViewCamera main;
   main.view = view.view;
@@ -664,7 +676,7 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
     const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, s.scene.water->ior, medium.color, medium.k, sun_dir, sun_color};
     s.water_view->draw_surface(sp, look, [&]() { s.water->draw(); });
     if (look.glow && look.debug == WaterDebug::kNone && !cams->under && sun_color != glm::vec3(0.0f)) {
-      s.water_view->draw_glow(sp, static_cast<GLuint>(target_fbo), viewport, [&]() { s.water->draw(); });
+      s.water_view->draw_glow(sp, look, static_cast<GLuint>(target_fbo), viewport, scene_depth, [&]() { s.water->draw(); });
     }
   } else {
     glEnable(GL_BLEND);

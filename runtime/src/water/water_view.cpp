@@ -115,8 +115,8 @@ void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, cons
   draw_water();
 }
 
-void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, const int viewport[4],
-                          const std::function<void()>& draw_water) {
+void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint target_fbo, const int viewport[4],
+                          GLuint scene_depth, const std::function<void()>& draw_water) {
   const int width = viewport[2], height = viewport[3];
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
@@ -138,6 +138,11 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, const int v
   highlight_.set("u_eye", p.eye);
   highlight_.set("u_sun_direction", p.sun_direction);
   highlight_.set("u_sun_color", p.sun_color);
+  highlight_.set("u_scene_depth_bound", scene_depth != 0 ? 1 : 0);
+  highlight_.set("u_glow_size", glm::vec2(static_cast<float>(w), static_cast<float>(h)));
+  highlight_.set("u_viewport", glm::vec4(static_cast<float>(viewport[0]), static_cast<float>(viewport[1]),
+                                         static_cast<float>(width), static_cast<float>(height)));
+  if (scene_depth != 0) glBindTextureUnit(0, scene_depth);
   draw_water();
 
   glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
@@ -146,6 +151,7 @@ void WaterView::draw_glow(const SurfaceParams& p, GLuint target_fbo, const int v
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
   glow_.use();
+  glow_.set("u_star", look.glow_star ? 1 : 0);
   glBindTextureUnit(0, glow_target_.color.get());
   glBindVertexArray(empty_vao_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);

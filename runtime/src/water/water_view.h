@@ -61,9 +61,10 @@ class WaterView {
   // The surface, opaque, into the bound framebuffer (depth-tested against
   // the scene). `draw_water` issues the grid's draw call.
   void draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const;
-  // §9.3: the highlight at a quarter of the frame's size, spread over the
-  // diagonals and added to `target_fbo` over `viewport` (x, y, w, h).
-  void draw_glow(const SurfaceParams& p, GLuint target_fbo, const int viewport[4],
+  // §9.3: the highlight at a quarter of the frame's size, spread over a
+  // disc (or the paper's diagonals: look.glow_star) and added to `target_fbo` over `viewport` (x, y, w, h).
+  // `scene_depth` (0: none) hides glints behind the scene.
+  void draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint target_fbo, const int viewport[4], GLuint scene_depth,
                  const std::function<void()>& draw_water);
 
   std::uint64_t gpu_bytes() const;

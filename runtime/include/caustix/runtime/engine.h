@@ -285,9 +285,15 @@ class Engine {
   // refraction and reflection textures (see WaterPass); with
   // look.textures false, or no callback, the plain surface (sky
   // reflection, Fresnel) is drawn instead. With look.glow the glow of §9.3
-  // is added to the bound framebuffer's colour. kUsage without water in the
-  // scene or with a bad look.
-  Status draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene);
+  // is added to the bound framebuffer's colour; given `scene_depth` (a 2D
+  // GL_DEPTH_COMPONENT32F texture holding the depth the surface is tested
+  // against, in the framebuffer's pixels: typically its depth attachment,
+  // read at the viewport's pixels while the glow's own target is bound) it
+  // comes only from glints the scene does not hide, else also from glints
+  // behind objects. kUsage without water in the scene or with
+  // a bad look.
+  Status draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene,
+                    unsigned scene_depth = 0);
   WaterMedium water_medium(const View& view, const WaterLook& look) const;
   // The transparent objects as glass into the bound framebuffer: what is
   // seen through them by `options.method` (GlassView: view rays through the

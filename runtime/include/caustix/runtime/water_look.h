@@ -30,6 +30,9 @@ struct WaterLook {
   bool reflection = true;  // §5.2/§7.3: reflection texture; off: no reflection
   bool colour = true;      // eq. 4-5 (and eq. 10 under water): attenuation towards the water colour
   bool glow = true;        // §9.3
+  // The glow's 13 taps on the two diagonals of a 7x7 grid, as §9.3 has
+  // them: every isolated glint glows as an X. false: on a disc (round).
+  bool glow_star = false;
   FresnelMode fresnel = FresnelMode::kApprox;
   int steps = 3;              // W/A iterations (§7.1; the paper could afford 3)
   // W/A iterations go on past `steps`, up to this many (1..64), while the
