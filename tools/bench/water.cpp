@@ -66,7 +66,7 @@ int water_effects(const std::string& cxb, int width, int height, int warmup, int
                          row.under ? std::optional<Camera>(below) : std::nullopt);
     if (!t) return cli::fail("caustix-bench", t.error());
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%s,%dx%d,%.2f,%.2f,%.2f,\"%s\"", r.scene().name.c_str(), row.name.c_str(), width,
+    std::snprintf(line, sizeof line, "%s,\"%s\",%dx%d,%.2f,%.2f,%.2f,\"%s\"", r.scene().name.c_str(), row.name.c_str(), width,
                   height, t->median_ms, t->min_ms, static_cast<double>(r.caustics_stats(false).gpu_bytes) / 1e6,
                   renderer.c_str());
     out.row(line);
