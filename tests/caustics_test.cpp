@@ -175,6 +175,70 @@ TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
   }
 }
 
+// Issue 21's moire in caustic lines: eq. 4-18 gives each water triangle
+// one irradiance, so the caustics are a mosaic of the water grid (3 cm
+// cells in thesis_sphere) that beats against the pixels. A patch of
+// thesis_sphere's floor (1 m^2, no shadow), 256^2 pixels, caustics map
+// 2048^2, against the same scene with a water grid 4x finer: the
+// high-frequency content of the difference, mean |d - box3(d)| / mean E
+// (the mosaic's edges), falls with the corners interpolated (water_smooth;
+// measured 0.107 -> 0.091), the relative L1 falls by more than 15 %
+// (measured 14.8 % -> 11.2 %), and the power stays within 0.5 %.
+TEST_F(Caustics, SmoothCausticsRemoveTheWaterGridsMosaic) {
+  auto coarse = renderer(scene("thesis_sphere"));
+  nlohmann::json fine_scene = scene("thesis_sphere");
+  fine_scene["water"]["grid"]["cells"] = {512, 512};
+  auto fine = renderer(fine_scene);
+  ASSERT_TRUE(coarse && fine);
+  IrradianceRequest q{"floor", 0.9f, 0.9f, 1.9f, 1.9f, 256, 256, 0.7f, {}};
+  q.pixel_samples = 2;
+  q.caustics = runtime::default_caustics_options(coarse->scene());
+  q.caustics.map_size = 2048;
+  // High-frequency content of img - base: mean |d - box3(d)| over mean base.
+  auto high_frequency = [](const metrics::Image& img, const metrics::Image& base) {
+    const int w = img.width, h = img.height;
+    auto d = [&](int x, int y) {
+      const std::size_t i = 3 * (static_cast<std::size_t>(y) * w + x) + 1;
+      return double{img.rgb[i]} - base.rgb[i];
+    };
+    double hf = 0, sum = 0;
+    for (int y = 1; y + 1 < h; ++y) {
+      for (int x = 1; x + 1 < w; ++x) {
+        double box = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) box += d(x + dx, y + dy) / 9.0;
+        }
+        hf += std::abs(d(x, y) - box);
+        sum += base.rgb[3 * (static_cast<std::size_t>(y) * w + x) + 1];
+      }
+    }
+    return hf / sum;
+  };
+  auto power = [](const metrics::Image& img) {
+    double p = 0;
+    for (std::size_t i = 1; i < img.rgb.size(); i += 3) p += img.rgb[i];
+    return p;
+  };
+  q.caustics.water_smooth = false;
+  const auto flat_img = irradiance(*coarse, q);
+  q.caustics.water_smooth = true;
+  const auto smooth_img = irradiance(*coarse, q);
+  q.caustics.water_smooth = false;
+  const auto truth = irradiance(*fine, q);
+  const double p_flat = power(flat_img), p_smooth = power(smooth_img);
+  const double hf_flat = high_frequency(flat_img, truth), hf_smooth = high_frequency(smooth_img, truth);
+  const double l1_flat = metrics::relative_l1(flat_img, truth), l1_smooth = metrics::relative_l1(smooth_img, truth);
+  std::cout << "mosaic: high frequency of the difference from the finer grid " << hf_flat << " -> " << hf_smooth << ", power "
+            << p_flat << " -> " << p_smooth << ", L1 against the finer grid " << l1_flat << " -> " << l1_smooth << "\n";
+  ::testing::Test::RecordProperty("hf_flat", std::to_string(hf_flat));
+  ::testing::Test::RecordProperty("hf_smooth", std::to_string(hf_smooth));
+  ::testing::Test::RecordProperty("l1_flat", std::to_string(l1_flat));
+  ::testing::Test::RecordProperty("l1_smooth", std::to_string(l1_smooth));
+  EXPECT_LT(hf_smooth, 0.9 * hf_flat);
+  EXPECT_NEAR(p_smooth / p_flat, 1.0, 0.005);
+  EXPECT_LT(l1_smooth, 0.85 * l1_flat);
+}
+
 TEST_F(Caustics, SeveralLightsAddUp) {
   auto both = scene("flat_pool");
   both["water"]["waves"] = {{{"amplitude", 0.05}, {"wavelength", 0.9}, {"direction", {1, 0.4}}}};

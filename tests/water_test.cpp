@@ -60,15 +60,23 @@ std::vector<float> render(runtime::Renderer& r, const Camera& c, int w, int h, c
 // camera 4 m above the water. The ray that meets the edge leaves the camera
 // at tan(theta_i) = r / 4 and satisfies r + 1.98 tan(theta_t) = 2, with
 // sin(theta_t) = sin(theta_i) / 1.33.
-TEST_F(Water, FlatWaterApparentDepthWithinAPixel) {
+// flat_pool lit straight down with a dark plate on its floor, x in [2, 4]
+// m (its near edge at x = 2 m), 2 cm thick, turned `turn_deg` about its
+// centre's vertical.
+std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string& tag) {
   nlohmann::json j = test::canonical_scene("flat_pool");
   j["lights"][0]["direction"] = {0.0, -1.0, 0.0};
   j["objects"].push_back({{"name", "plate"},
                           {"mesh", test::kScenes + "../meshes/box.obj"},
                           {"role", "receiver"},
                           {"material", {{"albedo", 0.1}}},
-                          {"transform", {{"translate", {3.0, 0.01, 0.0}}, {"scale", {2.0, 0.02, 2.0}}}}});
-  auto r = test::bake_and_create(test::write_scene(j, "water_apparent"));
+                          {"transform",
+                           {{"translate", {3.0, 0.01, 0.0}}, {"rotate_deg", {0.0, turn_deg, 0.0}}, {"scale", {2.0, 0.02, 2.0}}}}});
+  return test::bake_and_create(test::write_scene(j, tag));
+}
+
+TEST_F(Water, FlatWaterApparentDepthWithinAPixel) {
+  auto r = plate_pool(0.0, "water_apparent");
   ASSERT_TRUE(r);
   const int w = 640, h = 480;
   const float fov = 60.0f;
@@ -213,14 +221,7 @@ TEST_F(Water, ConvergedIterationRemovesTheGrazingSeam) {
 // (3.75 pixels per texel at FOV_ext 1.5) against the default, a texel per
 // pixel.
 TEST_F(Water, TexelPerPixelRefractionHasNoStairSteps) {
-  nlohmann::json j = test::canonical_scene("flat_pool");
-  j["lights"][0]["direction"] = {0.0, -1.0, 0.0};
-  j["objects"].push_back({{"name", "plate"},
-                          {"mesh", test::kScenes + "../meshes/box.obj"},
-                          {"role", "receiver"},
-                          {"material", {{"albedo", 0.1}}},
-                          {"transform", {{"translate", {3.0, 0.01, 0.0}}, {"rotate_deg", {0.0, 15.0, 0.0}}, {"scale", {2.0, 0.02, 2.0}}}}});
-  auto r = test::bake_and_create(test::write_scene(j, "water_stairs"));
+  auto r = plate_pool(15.0, "water_stairs");
   ASSERT_TRUE(r);
   const int w = 1280, h = 960;
   // The plate turned 15 degrees, so that its edge runs across the texel grid.

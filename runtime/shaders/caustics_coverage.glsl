@@ -2,9 +2,9 @@
 // exact area of the intersection triangle inside this fragment's texel, by
 // clipping the texel square against the triangle's three edges
 // (Sutherland-Hodgman; at most 7 vertices).
-// PRIM_STRIDE: vec4s per primitive (3 for water caustics, 6 for glass).
+// PRIM_STRIDE: vec4s per primitive (4 for water caustics, 6 for glass).
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 3
+#define PRIM_STRIDE 4
 #endif
 flat in int v_prim;
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
@@ -43,6 +43,12 @@ float tent_integral(float t, float tc, float h) {
   return 0.5 * h * (tc + (t - tc) * (2.0 - t - tc) / max(1.0 - tc, 1e-30));
 }
 
+// The centroid of the part of the triangle inside the texel, set by
+// texel_coverage_shifted, in the triangle's own texel coordinates (those of
+// v_q0..v_q2, before the shift): a linear function's integral over the
+// part is its area times the function there (corner_factor).
+vec2 g_centroid;
+
 // a, b, c relative to the texel's corner: the texel is [0, 1]^2.
 float sliver_coverage(vec2 a, vec2 b, vec2 c) {
   vec2 d = b - a;
@@ -62,6 +68,7 @@ float sliver_coverage(vec2 a, vec2 b, vec2 c) {
     }
   }
   if (t1 <= t0) return 0.0;
+  g_centroid = a + d * (0.5 * (t0 + t1));  // relative to the corner; the caller adds it
   return sqrt(len2) * (tent_integral(t1, tc, h) - tent_integral(t0, tc, h));
 }
 
@@ -81,8 +88,13 @@ float texel_coverage_shifted(vec2 shift) {
     float l01 = dot(e01, e01), l12 = dot(e12, e12), l20 = dot(e20, e20), longest = l01;
     if (l12 > longest) { a = q1; b = q2; c = q0; longest = l12; }
     if (l20 > longest) { a = q2; b = q0; c = q1; longest = l20; }
-    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) return sliver_coverage(a, b, c);
+    if (abs(cross2(b - a, c - a)) < kSliver * sqrt(longest)) {
+      float area = sliver_coverage(a, b, c);
+      g_centroid += lo;
+      return area;
+    }
   }
+  g_centroid = lo + vec2(0.5);
   vec2 tri[3] = vec2[3](q0, q1, q2);
   if (cross2(q1 - q0, q2 - q0) < 0.0) tri = vec2[3](q0, q2, q1);  // counter-clockwise
   // Fast paths: the texel wholly inside every edge, or wholly outside one.
@@ -115,8 +127,32 @@ float texel_coverage_shifted(vec2 shift) {
     n = m;
   }
   float twice = 0.0;
-  for (int i = 0; i < n; ++i) twice += cross2(poly[i], poly[(i + 1) % n]);
+  vec2 moment = vec2(0.0);
+  for (int i = 0; i < n; ++i) {
+    float c = cross2(poly[i], poly[(i + 1) % n]);
+    twice += c;
+    moment += (poly[i] + poly[(i + 1) % n]) * c;
+  }
+  if (twice > 0.0) g_centroid = lo + moment / (3.0 * twice);
   return 0.5 * max(twice, 0.0);
 }
 
 float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }
+
+#if PRIM_STRIDE == 4
+// Water caustics (caustics_geometry.comp's fourth vec4): the factor on the
+// triangle's irradiance over the part texel_coverage*() just measured -- its
+// corners' ratios interpolated at that part's centroid (barycentric: exact
+// for the part's mean of the linear interpolant), over their mean, so that
+// the triangle keeps its flux; 1 where the triangle keeps the constant.
+float corner_factor() {
+  vec4 c = prims[PRIM_STRIDE * v_prim + 3];
+  if (c.w <= 0.0) return 1.0;
+  vec2 x = g_centroid;
+  float twice = cross2(v_q1 - v_q0, v_q2 - v_q0);
+  if (abs(twice) <= 1e-12) return 1.0;
+  vec3 bary = max(vec3(cross2(v_q1 - x, v_q2 - x), cross2(v_q2 - x, v_q0 - x), cross2(v_q0 - x, v_q1 - x)) / twice, 0.0);
+  bary /= max(bary.x + bary.y + bary.z, 1e-12);
+  return dot(bary, c.xyz) * 3.0 / max(c.x + c.y + c.z, 1e-12);
+}
+#endif

@@ -17,7 +17,8 @@ layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
 layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };
-// Per primitive: (q0, q1), (q2, irradiance, reached), (plane offset, eps, s_u, s_w).
+// Per primitive: (q0, q1), (q2, irradiance, reached), (plane offset, eps, s_u, s_w),
+// (c0, c1, c2, smooth): the corners' irradiance over the triangle's (below).
 // s_u, s_w: the beam's mean direction of travel d as (d.U / d.V, d.W / d.V),
 // so that a receiver with normal n gets I_c (n.V + s_u n.U + s_w n.W) = I_c
 // n.d / V.d (beyond the thesis, whose casting takes n.V: under waves the
@@ -33,6 +34,44 @@ uniform int u_pairs;      // list holds (volume, plane) pairs; else volumes and 
 uniform int u_plane;
 uniform float u_max_magnification;
 uniform float u_map_size;
+uniform uvec2 u_grid;     // water grid vertices along x and z (index j * u_grid.x + i)
+uniform int u_smooth;     // CausticsOptions::water_smooth
+
+// Where vertex j's refracted ray meets the plane at v = plane_v, in metres
+// along (U, W); w < 0 where it does not (no ray, or the plane above it).
+vec3 on_plane(uint j, float plane_v) {
+  vec3 rel = positions[j].xyz - u_origin;
+  vec4 dir = refracted[j];
+  float s = (dot(rel, u_V) - plane_v) / -dot(dir.xyz, u_V);
+  vec3 pt = rel + s * dir.xyz;
+  return vec3(dot(pt, u_U), dot(pt, u_W), dir.w > 0.0 && s >= 0.0 ? 1.0 : -1.0);
+}
+
+// Smooth caustics (issue 21: moire in caustic lines). Eq. 4-18 gives each
+// water triangle one irradiance, so the caustics map is a mosaic of the
+// water grid's triangles, and the mosaic beats against the pixels. A
+// corner's irradiance is estimated from the grid around its vertex instead:
+// the triangle's flux per unit water area times the ratio of the water's
+// local area to its image's on the plane, both from central differences
+// (one-sided at the border), with the triangle's magnification clamp. The
+// corners' ratios to the triangle's own irradiance go to the fragment
+// shaders, which interpolate them and rescale so that the triangle keeps
+// its flux exactly (the mean of a linear function over a triangle is its
+// corners'). Triangles at folds (a ratio beyond 10x either way) keep the
+// paper's constant: interpolating across a fold would smear its line.
+float corner_ratio(uint j, float plane_v, float flux_per_area, float beam_per_area, float irradiance) {
+  uint gx = u_grid.x, ix = j % gx, iz = j / gx;
+  uint xm = ix > 0u ? j - 1u : j, xp = ix + 1u < gx ? j + 1u : j;
+  uint zm = iz > 0u ? j - gx : j, zp = iz + 1u < u_grid.y ? j + gx : j;
+  vec3 a = on_plane(xm, plane_v), b = on_plane(xp, plane_v), c = on_plane(zm, plane_v), d = on_plane(zp, plane_v);
+  if (min(min(a.z, b.z), min(c.z, d.z)) < 0.0) return -1.0;
+  vec2 du = b.xy - a.xy, dw = d.xy - c.xy;
+  float plane_area = abs(du.x * dw.y - du.y * dw.x);
+  float water_area = length(cross(positions[xp].xyz - positions[xm].xyz, positions[zp].xyz - positions[zm].xyz));
+  if (water_area <= 0.0) return -1.0;
+  float e = flux_per_area * water_area / max(plane_area, beam_per_area * water_area / u_max_magnification);
+  return e / max(irradiance, 1e-30);
+}
 
 void main() {
   uint p = gl_GlobalInvocationID.x;
@@ -58,7 +97,19 @@ void main() {
   float area = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y));
   vec2 f = flux[t];
   float irradiance = f.x / max(area * texel_area, f.y / u_max_magnification);
-  prims[3u * p] = vec4(q[0], q[1]);
-  prims[3u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
-  prims[3u * p + 2u] = vec4(plane, slopes);
+  vec4 corners = vec4(1.0, 1.0, 1.0, 0.0);
+  if (u_smooth != 0 && reached && irradiance > 0.0) {
+    uint i0 = indices[3u * t], i1 = indices[3u * t + 1u], i2 = indices[3u * t + 2u];
+    float water_tri = 0.5 * length(cross(positions[i1].xyz - positions[i0].xyz, positions[i2].xyz - positions[i0].xyz));
+    if (water_tri > 0.0) {
+      vec3 c = vec3(corner_ratio(i0, plane.x, f.x / water_tri, f.y / water_tri, irradiance),
+                    corner_ratio(i1, plane.x, f.x / water_tri, f.y / water_tri, irradiance),
+                    corner_ratio(i2, plane.x, f.x / water_tri, f.y / water_tri, irradiance));
+      if (min(min(c.x, c.y), c.z) >= 0.1 && max(max(c.x, c.y), c.z) <= 10.0) corners = vec4(c, 1.0);
+    }
+  }
+  prims[4u * p] = vec4(q[0], q[1]);
+  prims[4u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
+  prims[4u * p + 2u] = vec4(plane, slopes);
+  prims[4u * p + 3u] = corners;
 }

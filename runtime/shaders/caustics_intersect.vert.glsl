@@ -9,7 +9,7 @@
 // touches gets a fragment, and the fragment shader deposits the irradiance
 // times the exact area of the triangle inside the texel.
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 3  // vec4s per primitive (glass: 6, defined by the renderer)
+#define PRIM_STRIDE 4  // vec4s per primitive (glass: 6, defined by the renderer)
 #endif
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 

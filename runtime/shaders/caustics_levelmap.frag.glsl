@@ -51,7 +51,9 @@ void main() {
     }
   }
   if (inside == 0.0) discard;
-  float covered = texel_coverage_shifted(depth / inside * v_slopes * u_texels_per_metre);
+  vec2 shift = depth / inside * v_slopes * u_texels_per_metre;
+  float covered = texel_coverage_shifted(shift);
   if (covered <= 0.0) discard;
+  covered *= corner_factor();  // smooth caustics (caustics_coverage.glsl)
   o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * covered * (inside / surface));
 }

@@ -13,5 +13,6 @@ void main() {
   if (texelFetch(u_slices, ivec3(ivec2(gl_FragCoord.xy), u_slice), 0).r < 0.5) discard;
   float covered = texel_coverage();
   if (covered <= 0.0) discard;
+  covered *= corner_factor();  // smooth caustics (caustics_coverage.glsl)
   o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * covered);
 }

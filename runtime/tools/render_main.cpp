@@ -80,6 +80,9 @@ int main(int argc, char** argv) {
   bool glass_flat = false;
   app.add_flag("--glass-flat", glass_flat,
                "glass (table): one intensity per intersection triangle, as seed 002's eq. 3 (default: interpolated from the corners; docs/glass.md)");
+  bool caustics_flat = false;
+  app.add_flag("--caustics-flat", caustics_flat,
+               "water caustics: one irradiance per water triangle, as seed 000's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
   // Image-space caustic maps (seed 003; docs/caustic-maps.md).
   std::string glass_method = to_string(built_in.glass_method);
@@ -221,6 +224,7 @@ int main(int argc, char** argv) {
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.glass_smooth = !glass_flat;
+  caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);

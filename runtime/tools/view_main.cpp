@@ -232,6 +232,7 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
     if (c.epsilon) ImGui::SliderFloat("epsilon (m)", &*c.epsilon, 1e-4f, 0.5f, "%.4f", ImGuiSliderFlags_Logarithmic);
     pow2_combo("caustics map", c.map_size, 64, 4096);
     ImGui::Checkbox("cull illumination volumes", &c.cull);
+    ImGui::Checkbox("smooth water caustics", &c.water_smooth);
     slider_u32("photons (splat)", c.photons, 16, 4096, ImGuiSliderFlags_Logarithmic);
   }
   if (ImGui::CollapsingHeader("Glass and mirrors")) {

@@ -15,7 +15,7 @@ constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile 
 // Most primitives one map may list: 4 M ((volume, plane) pairs; 224 MB with
 // their geometry).
 constexpr std::uint64_t kMaxPrimitives = 4u << 20;
-constexpr GLsizeiptr kPrimitiveBytes = 48;  // three vec4, caustics_geometry.comp
+constexpr GLsizeiptr kPrimitiveBytes = 64;  // four vec4, caustics_geometry.comp
 
 struct MapGpu {
   LevelMap* lm = nullptr;
@@ -357,6 +357,8 @@ struct CausticsEngine::Impl {
     set_frame(geometry, f);
     geometry.set("u_pairs", pairs ? 1 : 0);
     geometry.set("u_max_magnification", o.max_magnification);
+    geometry.set("u_smooth", o.water_smooth ? 1 : 0);
+    glProgramUniform2ui(geometry.id(), geometry.loc("u_grid"), water->water().cells[0] + 1, water->water().cells[1] + 1);
     geometry.set("u_map_size", static_cast<float>(m.caustics_size));
 
     glDisable(GL_DEPTH_TEST);

@@ -142,6 +142,14 @@ struct CausticsOptions {
   // spokes or steps from a faceted mesh (the glass ball's shadow ring:
   // ring spread 0.089 -> 0.023). false: eq. 3 as the paper has it.
   bool glass_smooth = true;
+  // Water caustics: each intersection triangle's irradiance interpolated
+  // from its corners' (estimated from the water grid around each vertex by
+  // central differences) and scaled to keep eq. 4-18's flux, instead of one
+  // constant per water triangle: no mosaic of the water grid beating
+  // against the pixels (moire in caustic lines; issue 21). Triangles at
+  // folds (corners beyond 10x the triangle's) keep the constant. false:
+  // seed 000's eq. 4-18 as written.
+  bool water_smooth = true;
   VolumeOptions volume;
   GlassMethod glass_method = GlassMethod::kTable;
   CausticMapOptions caustic_map;
