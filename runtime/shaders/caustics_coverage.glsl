@@ -38,6 +38,11 @@ float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 // of the light at 4096^2 on a wave of slope 0.5 (docs/robustness.md).
 const float kSliver = 1.0 / 16.0;
 
+// The tent's height at t.
+float tent_height(float t, float tc, float h) {
+  return t <= tc ? (tc > 0.0 ? h * t / tc : h) : h * (1.0 - t) / max(1.0 - tc, 1e-30);
+}
+
 float tent_integral(float t, float tc, float h) {
   if (t <= tc) return tc > 0.0 ? 0.5 * h * t * t / tc : 0.0;
   return 0.5 * h * (tc + (t - tc) * (2.0 - t - tc) / max(1.0 - tc, 1e-30));
@@ -68,7 +73,24 @@ float sliver_coverage(vec2 a, vec2 b, vec2 c) {
     }
   }
   if (t1 <= t0) return 0.0;
-  g_centroid = a + d * (0.5 * (t0 + t1));  // relative to the corner; the caller adds it
+  // The centroid of the piece (relative to the corner; the caller adds it):
+  // over each linear part of the tent, a trapezoid standing on the spine
+  // with heights h0 -> h1 over [ta, tb] has its centroid at
+  // ta + (tb - ta)(h0 + 2 h1) / (3 (h0 + h1)) along the spine and
+  // (h0^2 + h0 h1 + h1^2) / (3 (h0 + h1)) off it, towards c.
+  float mass = 0.0, along = 0.0, off = 0.0;
+  for (int part = 0; part < 2; ++part) {
+    float ta = part == 0 ? t0 : max(t0, tc), tb = part == 0 ? min(t1, tc) : t1;
+    if (tb <= ta) continue;
+    float h0 = tent_height(ta, tc, h), h1 = tent_height(tb, tc, h), sum = h0 + h1;
+    if (sum <= 0.0) continue;
+    float m = 0.5 * sum * (tb - ta);
+    mass += m;
+    along += m * (ta + (tb - ta) * (h0 + 2.0 * h1) / (3.0 * sum));
+    off += m * (h0 * h0 + h0 * h1 + h1 * h1) / (3.0 * sum);
+  }
+  vec2 toward_c = cross2(d, c - a) >= 0.0 ? vec2(-d.y, d.x) : vec2(d.y, -d.x);
+  g_centroid = mass > 0.0 ? a + d * (along / mass) + normalize(toward_c) * (off / mass) : a + d * (0.5 * (t0 + t1));
   return sqrt(len2) * (tent_integral(t1, tc, h) - tent_integral(t0, tc, h));
 }
 
