@@ -227,7 +227,7 @@ TEST_F(Extremes, SteepWavesConserveEnergyAndStayBounded) {
     // Whole periods along x and a whole row of water-grid cells along z
     // (0.75 m): smooth caustics keep each water triangle's flux exactly
     // but move it within the triangle pair of a cell (docs/caustics.md).
-    runtime::IrradianceRequest q{"floor", -1, 0.0f, 1, 0.75f, w, 16, 0.0f, {}};
+    runtime::IrradianceRequest q{"floor", -1, 0.0f, 1, 0.75f, w, 4, 0.0f, {}};
     q.caustics.map_size = 2048;
     auto img = r->render_irradiance(q);
     ASSERT_TRUE(img.ok()) << img.error().message;

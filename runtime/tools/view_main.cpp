@@ -102,7 +102,7 @@ struct ViewState {
   glm::vec3 drag_delta{0.0f};      // accumulated, applied once per frame
   // The camera of the last frame, for picking.
   glm::mat4 view_proj{1.0f};
-  int fb_width = 1, fb_height = 1, win_width = 1, win_height = 1;
+  int win_width = 1, win_height = 1;
 };
 
 // The world ray under the cursor (window coordinates).
