@@ -12,9 +12,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "bake_fixture.h"
+#include "caustix/formats/spectrum.h"
 #include "caustix/runtime/renderer.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
@@ -27,7 +30,8 @@ namespace {
 using test::kPi;
 
 struct Floor {
-  std::vector<float> e;  // irradiance / E0, row-major, row 0 at z0
+  std::vector<float> e;  // irradiance / E0 (red), row-major, row 0 at z0
+  std::vector<float> rgb;  // all three channels
   runtime::CausticMapStats stats;
   int n = 0;
   double x0 = 0, z0 = 0, pix = 0;
@@ -50,28 +54,35 @@ runtime::CausticsOptions caustic_maps() {
 
 class CausticMap : public test::GlTest {
  protected:
-  static Floor render(const nlohmann::json& j, int n, double half, const runtime::CausticsOptions& o = caustic_maps()) {
-    auto scene = test::bake_and_load(test::write_scene(j, "caustic_map_test"));
-    EXPECT_TRUE(scene.has_value()) << "bake or load failed";
-    auto r = runtime::Renderer::create(*scene);
-    EXPECT_TRUE(r.ok()) << r.error().message;
+  static Floor render(const nlohmann::json& j, int n, double half, const runtime::CausticsOptions& o = caustic_maps(),
+                      double cx = 0) {
+    auto r = test::bake_and_create(test::write_scene(j, "caustic_map_test"));
+    EXPECT_TRUE(r) << "bake or load failed";
+    return r ? render(*r, n, half, o, cx) : Floor{};
+  }
+  // The floor's irradiance over [cx - half, cx + half] x [-half, half].
+  static Floor render(runtime::Renderer& r, int n, double half, const runtime::CausticsOptions& o, double cx = 0) {
     runtime::IrradianceRequest q;
     q.receiver = "floor";
-    q.x0 = q.z0 = static_cast<float>(-half);
-    q.x1 = q.z1 = static_cast<float>(half);
+    q.x0 = static_cast<float>(cx - half);
+    q.x1 = static_cast<float>(cx + half);
+    q.z0 = static_cast<float>(-half);
+    q.z1 = static_cast<float>(half);
     q.width = q.height = n;
     q.caustics = o;
-    auto img = (*r)->render_irradiance(q);
+    auto img = r.render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
     Floor f;
     f.n = n;
-    f.x0 = f.z0 = -half;
+    f.x0 = cx - half;
+    f.z0 = -half;
+    f.rgb = img->rgb;
     f.pix = 2 * half / n;
     for (std::size_t i = 0; i < img->rgb.size(); i += 3) {
       EXPECT_TRUE(std::isfinite(img->rgb[i]));
       f.e.push_back(img->rgb[i]);
     }
-    f.stats = (*r)->engine().caustic_map_stats();
+    f.stats = r.engine().caustic_map_stats();
     return f;
   }
 };
@@ -115,9 +126,9 @@ double nephroid_cusp_x(double R, double H, double a, double x0, double pix, int 
 
 // The ball-lens checks of issue 20's targets on one image: flux, focal
 // spot, R50 and encircled power within 10 % at r >= 2 cm.
-void expect_ball_lens(const Floor& f, int n, double half, const char* label) {
+void expect_ball_lens(const Floor& f, int n, double half, const char* label, double ior = 1.5) {
   const double pix = 2 * half / n;
-  const test::BallLensFloor b = test::ball_lens_floor(f.e, n, half);
+  const test::BallLensFloor b = test::ball_lens_floor(f.e, n, half, ior);
   EXPECT_NEAR(b.transmitted / b.expected, 1.0, 0.05) << label << ": transmitted " << b.transmitted << " expected " << b.expected;
   EXPECT_LT(std::hypot(b.peak_x, b.peak_z), 1.5 * pix) << label << ": peak at (" << b.peak_x << ", " << b.peak_z << ")";
   EXPECT_NEAR(b.m50, b.r50, std::max(2 * pix, 0.1 * b.r50)) << label;
@@ -392,6 +403,119 @@ TEST_F(CausticMap, Extremes) {
     // (0.83 of what it intercepts, the Fresnel losses of a ball lens).
     if (p == 1) EXPECT_LE(f.stats.landed_power, 1.03);
     if (p > 1) EXPECT_NEAR(f.stats.landed_power / (0.25 * kPi), 0.83, 0.02) << "photons " << p;
+  }
+}
+
+
+// Dispersion (issue 22): monochromatic images of the dispersive ball lens
+// at the F, d and C lines against the exact trace of a sphere of that
+// wavelength's index (flux, focal spot, R50, encircled power within 10 %);
+// the focus moves by f(n_F) - f(n_C) = -2.45 cm around the floor, which
+// the exact R50s at the floor tell apart.
+TEST_F(CausticMap, DispersiveBallLensPerWavelength) {
+  const int n = 512;
+  const double half = 2.0;
+  const nlohmann::json j = test::canonical_scene("dispersive_ball");
+  const float dispersion = j["objects"][1]["material"]["dispersion"];
+  auto r = test::bake_and_create(test::write_scene(j, "caustic_map_test"));
+  ASSERT_TRUE(r);
+  std::vector<test::BallLensFloor> got;
+  for (const float nm : {kWavelengthF, kWavelengthD, kWavelengthC}) {
+    runtime::CausticsOptions o = caustic_maps();
+    o.wavelength_nm = nm;
+    const double ior = index_at(1.5f, dispersion, nm);
+    const Floor f = render(*r, n, half, o);
+    ASSERT_TRUE(f.stats.active);
+    EXPECT_EQ(f.stats.wavelengths, 1u);
+    const std::string label = std::to_string(nm) + " nm, n = " + std::to_string(ior);
+    expect_ball_lens(f, n, half, label.c_str(), ior);
+    got.push_back(test::ball_lens_floor(f.e, n, half, ior));
+    const double focus = ior * 1.0 / (4 * (ior - 1));
+    std::printf("[dispersive_ball] %.2f nm: n %.5f, paraxial focus %.4f m below the centre, exact R50 on the floor %.4f m\n", nm, ior,
+                focus, got.back().r50);
+  }
+  // The check tells the wavelengths apart: the F line's image against the
+  // C line's exact pattern (and back) misses by more than its 10 %.
+  for (const auto& [a, b] : {std::pair{0, 2}, std::pair{2, 0}}) {
+    const double ratio = test::encircled(got[a].measured, 0.02) / test::encircled(got[b].exact, 0.02);
+    std::printf("[dispersive_ball] image %d against exact %d: encircled power within 2 cm %+.1f %%\n", a, b, 100 * (ratio - 1));
+    EXPECT_GT(std::fabs(ratio - 1), 0.15);
+  }
+}
+
+// The RGB image of the dispersive ball: each channel keeps the light the
+// d line's image has (the weights sum to 1 per channel; the index moves
+// Fresnel by < 0.1 %), the fringes are coloured, and one wavelength is
+// exactly the ball without dispersion (bit-identical), which traces one
+// whatever the count asks.
+TEST_F(CausticMap, DispersiveBallRgbKeepsEnergyAndOneWavelengthIsTheDLine) {
+  const int n = 256;
+  const double half = 2.0;
+  runtime::CausticsOptions o = caustic_maps();
+  o.wavelengths = 8;
+  auto r = test::bake_and_create(test::write_scene(test::canonical_scene("dispersive_ball"), "caustic_map_test"));
+  ASSERT_TRUE(r);
+  const Floor rgb = render(*r, n, half, o);
+  EXPECT_EQ(rgb.stats.wavelengths, 8u);
+  const Floor plain = render(test::canonical_scene("glass_ball"), n, half, o);
+  EXPECT_EQ(plain.stats.wavelengths, 1u);
+  o.wavelengths = 1;
+  const Floor one = render(*r, n, half, o);
+  EXPECT_EQ(one.rgb, plain.rgb);
+  double sum[3] = {0, 0, 0}, sum_plain[3] = {0, 0, 0}, fringe = 0;
+  for (std::size_t i = 0; i < rgb.rgb.size(); i += 3) {
+    for (int c = 0; c < 3; ++c) {
+      sum[c] += rgb.rgb[i + c];
+      sum_plain[c] += plain.rgb[i + c];
+    }
+    EXPECT_EQ(plain.rgb[i], plain.rgb[i + 2]);
+    const double r = rgb.rgb[i], b = rgb.rgb[i + 2];
+    if (r + b > 0.5) fringe = std::max(fringe, std::fabs(b - r) / (r + b));
+  }
+  for (int c = 0; c < 3; ++c) {
+    std::printf("[dispersive_ball, 8 wavelengths] channel %d: floor flux %.5f vs %.5f without dispersion\n", c, sum[c], sum_plain[c]);
+    EXPECT_NEAR(sum[c] / sum_plain[c], 1.0, 0.002) << "channel " << c;
+  }
+  std::printf("[dispersive_ball, 8 wavelengths] largest |B - R| / (R + B) %.3f\n", fringe);
+  EXPECT_GT(fringe, 0.1);
+}
+
+// A prism's deviation per wavelength against Snell: the band of light that
+// entered the slope ends where the ray entering at the slope's lower edge
+// lands, 0.5 m + prism_floor_shift(n(lambda)); at 400, 587.56 and 700 nm
+// the half-level edge lies within 3 mm (1.5 texels of a 2048 caustic map
+// over the 4 m floor) of it, the colours 17 mm apart.
+TEST_F(CausticMap, PrismDeviationPerWavelength) {
+  const nlohmann::json j = test::canonical_scene("prism");
+  const float dispersion = j["objects"][1]["material"]["dispersion"];
+  const int n = 200;
+  const double half = 0.1, cx = 0.4, pix = 2 * half / n;
+  runtime::CausticsOptions o = caustic_maps();
+  o.caustic_map.map_size = 2048;
+  auto r = test::bake_and_create(test::write_scene(j, "caustic_map_test"));
+  ASSERT_TRUE(r);
+  for (const float nm : {400.0f, kWavelengthD, 700.0f}) {
+    o.wavelength_nm = nm;
+    const Floor f = render(*r, n, half, o, cx);
+    // Rows |z| < 5 cm; the band's level over x in [0.31, 0.36].
+    std::vector<double> p(static_cast<std::size_t>(n), 0.0);
+    for (int i = n / 4; i < 3 * n / 4; ++i) {
+      for (int k = 0; k < n; ++k) p[static_cast<std::size_t>(k)] += f.e[static_cast<std::size_t>(i) * n + k] / (n / 2);
+    }
+    double level = 0;
+    for (int k = 10; k < 60; ++k) level += p[static_cast<std::size_t>(k)] / 50;
+    double edge = 0;
+    for (int k = 60; k + 1 < n; ++k) {
+      const double a = p[static_cast<std::size_t>(k)], b = p[static_cast<std::size_t>(k + 1)];
+      if (a >= level / 2 && b < level / 2) {
+        edge = f.x0 + (k + 0.5 + (a - level / 2) / (a - b)) * pix;
+        break;
+      }
+    }
+    const double ior = index_at(1.5f, dispersion, nm);
+    const double want = 0.5 + test::prism_floor_shift(ior);
+    std::printf("[prism] %.2f nm: n %.4f, band E/E0 %.4f, edge %.4f m (Snell %.4f m)\n", nm, ior, level, edge, want);
+    EXPECT_NEAR(edge, want, 0.003) << nm << " nm";
   }
 }
 

@@ -89,6 +89,19 @@ inline double encircled(const std::vector<Landing>& l, double r) {
   return sum;
 }
 
+// The wedge prism of assets/meshes/prism.obj (slope normal (1, 2, 0)/sqrt 5,
+// bottom at y = 0.3) under a sun straight down: light entering the slope
+// and leaving through the bottom lands shifted along x by this (negative:
+// towards the thick end) on the floor y = 0; Snell at both faces.
+inline double prism_floor_shift(double n) {
+  const double eta = 1 / n, s5 = std::sqrt(5.0);
+  const double n1[2] = {1 / s5, 2 / s5};
+  const double cos1 = n1[1], cos1t = std::sqrt(1 - eta * eta * (1 - cos1 * cos1));
+  const double d1[2] = {(eta * cos1 - cos1t) * n1[0], -eta + (eta * cos1 - cos1t) * n1[1]};
+  const double sin2t = d1[0] / eta;  // out of the bottom: the tangential part scaled by n
+  return 0.3 * sin2t / std::sqrt(1 - sin2t * sin2t);
+}
+
 // glass_ball's floor image (E/E0, n x n pixels over |x|, |z| < half, row 0
 // at z = -half) against the exact trace: the light through the ball that
 // lands on the floor (everything minus the direct light outside the ball's
@@ -100,10 +113,10 @@ struct BallLensFloor {
   double m50 = 0, r50 = 0;
   std::vector<Landing> measured, exact;  // for encircled()
 };
-inline BallLensFloor ball_lens_floor(const std::vector<float>& e, int n, double half) {
+inline BallLensFloor ball_lens_floor(const std::vector<float>& e, int n, double half, double ior = 1.5) {
   BallLensFloor b;
   const double pix = 2 * half / n;
-  for (const auto& l : ball_lens(0.5, 0.75, 1.5, 20000)) {
+  for (const auto& l : ball_lens(0.5, 0.75, ior, 20000)) {
     if (l.rho < half) b.exact.push_back(l);
   }
   for (const auto& l : b.exact) b.expected += l.weight;

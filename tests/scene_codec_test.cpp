@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 
+#include "caustix/formats/light_transport.h"
 #include "caustix/formats/scene.h"
 #include "cxb_test_util.h"
 
@@ -358,6 +361,71 @@ TEST(SceneCodec, MirrorsAreStoredAndValidated) {
   auto pc = cxb::read_container(plain.data(), plain.size());
   ASSERT_TRUE(pc.ok());
   EXPECT_TRUE(pc->find(cxb::kTagMirrors).empty());
+}
+
+// Dispersion (issue 22): the water's and a transparent object's survive in
+// the DISP chunk (required: a reader that ignored it would render no
+// colour fringes); out-of-range values are refused by name; a record for
+// an object that is not transparent is refused with the chunk named; a
+// scene without dispersion has no DISP chunk, so its bytes are unchanged.
+TEST(SceneCodec, DispersionIsStoredAndValidated) {
+  SceneDesc s = full_scene();
+  Object lens = s.objects[0];
+  lens.name = "lens";
+  lens.role = Role::kTransparent;
+  lens.transform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
+  lens.material.dispersion = 0.9f;
+  s.objects.push_back(lens);
+  // Without media: a scene that scatters would need index grids too.
+  s.medium.reset();
+  s.water->scattering = {};
+  s.objects[0].material.scattering = {};
+  s.objects[1].material.scattering = {};
+  s.water->dispersion = 0.36f;
+  // The smallest table decode accepts: the codec does not look into it.
+  LightTransportTable table;
+  table.object = 1;
+  table.resolution = kMinTransportResolution;
+  table.max_bounces = 1;
+  table.vertex_count = 3;
+  table.words.assign(std::size_t{3} * table.resolution * table.resolution * 4, 0);
+  const std::vector<LightTransportTable> tables{table};
+  auto b = encode_scene(s, {{0}}, {}, {}, tables);
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.objects[1].material.dispersion, 0.9f);
+  EXPECT_EQ(d->scene.objects[0].material.dispersion, 0.0f);
+  EXPECT_EQ(d->scene.water->dispersion, 0.36f);
+
+  SceneDesc bad = s;
+  bad.objects[1].material.dispersion = 25.0f;
+  d = decode(encode_scene(bad, {{0}}, {}, {}, tables));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/1/material/dispersion"), std::string::npos) << d.error().message;
+  bad = s;
+  bad.water->dispersion = std::numeric_limits<float>::quiet_NaN();
+  d = decode(encode_scene(bad, {{0}}, {}, {}, tables));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/water/dispersion"), std::string::npos) << d.error().message;
+
+  // The record's object index (after the water's f32 and the count) turned
+  // to object 0, a receiver.
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t disp = c->find(cxb::kTagDispersion).at(0);
+  EXPECT_TRUE(c->chunks()[disp].flags & cxb::kChunkRequired);
+  const std::uint32_t zero = 0;
+  std::memcpy(b.data() + c->chunks()[disp].offset + 8, &zero, 4);
+  test::reseal_payload(b, disp);
+  d = decode(b);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'DISP'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("not transparent"), std::string::npos) << d.error().message;
+
+  auto plain = encode_scene(full_scene(), {{0}});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagDispersion).empty());
 }
 
 }  // namespace

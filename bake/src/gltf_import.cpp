@@ -14,6 +14,7 @@
 #include <draco/compression/decode.h>
 
 #include "caustix/bake/gltf_import.h"
+#include "caustix/formats/spectrum.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +44,8 @@ constexpr double kLumensPerWatt = 683.0;
 constexpr std::uint64_t kMaxFileBytes = std::uint64_t{2} << 30;
 // Extensions whose content caustix uses.
 const std::set<std::string> kSupported{"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_materials_transmission",
-                                       "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual"};
+                                       "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion",
+                                       "KHR_lights_punctual"};
 
 Mat4d mul(const Mat4d& a, const Mat4d& b) {
   Mat4d r{};
@@ -483,7 +485,7 @@ struct GltfFile::Impl {
     }
     if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) ignored.push_back("alphaMode " + gm.alphaMode);
     for (const auto& [name, value] : gm.extensions) {
-      if (!kSupported.count(name)) ignored.push_back(name == "KHR_materials_dispersion" ? name + " (caustix has no dispersion yet)" : name);
+      if (!kSupported.count(name)) ignored.push_back(name);
     }
     const tinygltf::Value* transmission = extension(gm.extensions, "KHR_materials_transmission");
     double tf = 0;
@@ -508,6 +510,16 @@ struct GltfFile::Impl {
           const double x = v->IsNumber() ? v->GetNumberAsDouble() : -1;
           if (!(x >= 1 && x <= kMaxIor)) return fail(mp + "/extensions/KHR_materials_ior/ior", "must be a number in [1, " + std::to_string(kMaxIor) + "]");
           mat.ior = static_cast<float>(x);
+        }
+      }
+      if (const tinygltf::Value* disp = extension(gm.extensions, "KHR_materials_dispersion")) {
+        // Same meaning as caustix's "dispersion": 20 / Abbe number, 0 none.
+        if (const tinygltf::Value* v = field(*disp, "dispersion")) {
+          const double x = v->IsNumber() ? v->GetNumberAsDouble() : -1;
+          if (!(x >= 0 && x <= kMaxDispersion)) {
+            return fail(mp + "/extensions/KHR_materials_dispersion/dispersion", "must be a number in [0, " + std::to_string(kMaxDispersion) + "]");
+          }
+          mat.dispersion = static_cast<float>(x);
         }
       }
       const tinygltf::Value* volume = extension(gm.extensions, "KHR_materials_volume");

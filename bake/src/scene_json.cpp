@@ -209,12 +209,16 @@ bool parse_scattering(Walker& w, const json& v, const std::string& ptr, Scatteri
 
 bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
+  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "dispersion", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
   if (const json* j = Walker::optional_member(v, "ior")) {
     if (!w.number(*j, ptr + "/ior", out.ior)) return false;
     if (!out.transparent) w.warn(ptr + "/ior", "\"ior\" has no effect on an opaque material");
+  }
+  if (const json* j = Walker::optional_member(v, "dispersion")) {
+    if (!w.number(*j, ptr + "/dispersion", out.dispersion)) return false;
+    if (!out.transparent) w.warn(ptr + "/dispersion", "\"dispersion\" has no effect on an opaque material");
   }
   if (const json* j = Walker::optional_member(v, "absorption")) {
     if (!w.scalar_or_vec3(*j, ptr + "/absorption", out.absorption)) return false;
@@ -419,11 +423,12 @@ bool parse_water(Walker& w, const json& root, SceneDesc& scene) {
   if (!wj) return true;
   const std::string ptr = "/water";
   if (!w.object(*wj, ptr)) return false;
-  w.check_fields(*wj, ptr, {"level", "ior", "absorption", "scattering", "phase", "anisotropy", "grid", "waves"});
+  w.check_fields(*wj, ptr, {"level", "ior", "dispersion", "absorption", "scattering", "phase", "anisotropy", "grid", "waves"});
   Water water;
   const json* level = w.member(*wj, ptr, "level");
   if (!level || !w.number(*level, ptr + "/level", water.level)) return false;
   if (const json* j = Walker::optional_member(*wj, "ior"); j && !w.number(*j, ptr + "/ior", water.ior)) return false;
+  if (const json* j = Walker::optional_member(*wj, "dispersion"); j && !w.number(*j, ptr + "/dispersion", water.dispersion)) return false;
   if (const json* j = Walker::optional_member(*wj, "absorption"); j && !w.scalar_or_vec3(*j, ptr + "/absorption", water.absorption)) return false;
   if (!parse_scattering(w, *wj, ptr, water.scattering)) return false;
   if (const json* g = Walker::optional_member(*wj, "grid")) {

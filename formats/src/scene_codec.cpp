@@ -162,6 +162,24 @@ std::vector<std::uint8_t> encode_mirrors(const SceneDesc& s) {
   return w.take();
 }
 
+// DISP (issue 22): f32 water dispersion (0 without water); u32 count; per
+// transparent object with dispersion > 0, in object order: u32 object
+// index, f32 dispersion.
+std::vector<std::uint8_t> encode_dispersion(const SceneDesc& s) {
+  ByteWriter w;
+  w.f32(s.water ? s.water->dispersion : 0.0f);
+  std::vector<std::uint32_t> listed;
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    if (is_transparent(s.objects[i].role) && s.objects[i].material.dispersion > 0) listed.push_back(i);
+  }
+  w.u32(static_cast<std::uint32_t>(listed.size()));
+  for (std::uint32_t i : listed) {
+    w.u32(i);
+    w.f32(s.objects[i].material.dispersion);
+  }
+  return w.take();
+}
+
 bool has_mirrors(const SceneDesc& s) {
   return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_mirror(o.role); });
 }
@@ -341,6 +359,28 @@ bool decode_mirrors(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
+  float water = 0;
+  if (!d.f32(water, "water dispersion")) return false;
+  if (s.water) {
+    s.water->dispersion = water;
+  } else if (water != 0) {
+    return d.fail("water dispersion without a 'WATR' chunk");
+  }
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 8, "dispersive object")) return false;
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t obj = 0;
+    if (!d.u32(obj, "dispersive object index")) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
+      return d.fail("dispersive object index " + std::to_string(obj) + " is out of range, out of order or not transparent");
+    }
+    prev = obj;
+    if (!d.f32(s.objects[obj].material.dispersion, "object dispersion")) return false;
+  }
+  return d.finish();
+}
+
 Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }
 
 }  // namespace
@@ -358,6 +398,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (scene.water) w.add_chunk(cxb::kTagWater, cxb::kChunkRequired, encode_water(*scene.water));
   if (scene.medium || scene_scatters(scene)) w.add_chunk(cxb::kTagMedia, cxb::kChunkRequired, encode_media(scene));
   if (has_mirrors(scene)) w.add_chunk(cxb::kTagMirrors, cxb::kChunkRequired, encode_mirrors(scene));
+  if (scene_disperses(scene)) w.add_chunk(cxb::kTagDispersion, cxb::kChunkRequired, encode_dispersion(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -418,6 +459,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagMirrors, **mirr, [&](ChunkDecoder& d) { return decode_mirrors(d, s); }));
   } else if (has_mirrors(s)) {
     return container_error("the scene has mirrors but no 'MIRR' chunk");
+  }
+  auto disp = single(cxb::kTagDispersion, false);
+  if (!disp) return disp.error();
+  if (*disp) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagDispersion, **disp, [&](ChunkDecoder& d) { return decode_dispersion(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

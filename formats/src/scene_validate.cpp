@@ -5,6 +5,7 @@
 #include <set>
 
 #include "caustix/formats/scene.h"
+#include "caustix/formats/spectrum.h"
 
 namespace caustix {
 namespace {
@@ -105,6 +106,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     }
     if (o.material.transparent || is_transparent(o.role)) {
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");
+      c.range(o.material.dispersion, 0.0f, kMaxDispersion, p + "/material/dispersion", "must be in [0, 20] (20 / Abbe number)");
       c.expect(o.material.transparent, p + "/material",
                "an object with role transparent or both needs a transparent material");
       c.coefficients(o.material.absorption, p + "/material/absorption");
@@ -147,6 +149,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     const Water& w = *s.water;
     c.expect(finite(w.level), "/water/level", "must be finite");
     c.range(w.ior, 1.0f, kMaxIor, "/water/ior", "must be in [1, 10]");
+    c.range(w.dispersion, 0.0f, kMaxDispersion, "/water/dispersion", "must be in [0, 20] (20 / Abbe number)");
     c.coefficients(w.absorption, "/water/absorption");
     c.scattering(w.scattering, "/water");
     for (std::uint32_t n : w.cells) {
@@ -230,6 +233,14 @@ bool scene_scatters(const SceneDesc& s) {
   if (s.water && s.water->scattering.scatters()) return true;
   for (const Object& o : s.objects) {
     if (is_transparent(o.role) && o.material.scattering.scatters()) return true;
+  }
+  return false;
+}
+
+bool scene_disperses(const SceneDesc& s) {
+  if (s.water && s.water->dispersion > 0) return true;
+  for (const Object& o : s.objects) {
+    if (is_transparent(o.role) && o.material.dispersion > 0) return true;
   }
   return false;
 }

@@ -84,6 +84,15 @@ int main(int argc, char** argv) {
   app.add_flag("--caustics-flat", caustics_flat,
                "water caustics: one irradiance per water triangle, as seed 000's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
+  // Dispersion (issue 22; docs/dispersion.md).
+  std::uint32_t wavelengths = built_in.wavelengths;
+  app.add_option("--wavelengths", wavelengths,
+                 "dispersion: wavelengths the caustic maps trace in a scene with dispersion (equal bins of 380-780 nm; 1: the d line only)")
+      ->check(CLI::Range(1u, kMaxWavelengths))->capture_default_str();
+  float wavelength = 0;
+  app.add_option("--wavelength", wavelength,
+                 "dispersion: a monochromatic image, every index at this wavelength in nm (the light's own colour, weight 1)")
+      ->check(CLI::Range(kMinWavelength, kMaxWavelength));
   // Image-space caustic maps (seed 003; docs/caustic-maps.md).
   std::string glass_method = to_string(built_in.glass_method);
   CausticMapOptions cmap;
@@ -226,6 +235,8 @@ int main(int argc, char** argv) {
   caustics.glass_smooth = !glass_flat;
   caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;
+  caustics.wavelengths = wavelengths;
+  if (app.count("--wavelength") != 0) caustics.wavelength_nm = wavelength;
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);
   display.tone_map = *parse_tone_map(tone_map);
@@ -348,7 +359,8 @@ int main(int argc, char** argv) {
     const std::vector<std::pair<std::string, std::string>> attributes{
         {"caustix:region", rect}, {"caustix:receiver", receiver}, {"caustix:e0", std::to_string(img->e0)},
         {"caustix:method", method}, {"caustix:time", std::to_string(q.time)},
-        {"caustix:pixel_samples", std::to_string(q.pixel_samples)}};
+        {"caustix:pixel_samples", std::to_string(q.pixel_samples)},
+        {"caustix:wavelength", caustics.wavelength_nm ? std::to_string(*caustics.wavelength_nm) : "rgb"}};
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {

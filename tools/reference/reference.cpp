@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "caustix/formats/spectrum.h"
 #include "world.h"
 
 namespace caustix::reference {
@@ -63,6 +64,7 @@ Result<Image> trace(const Request& q) {
   // Emission plane y_top: above the highest wave, or the highest object
   // when there is no water.
   const Water* water = scene.water ? &*scene.water : nullptr;
+  const bool disperses = scene_disperses(scene) || q.wavelength_nm > 0;
   const Water flat{};
   const Surface surface{water ? *water : flat, q.time};
   const double y_top = water ? water->level + surface.amplitude_sum() + 1e-3 : y_objects + 1e-3;
@@ -86,7 +88,8 @@ Result<Image> trace(const Request& q) {
       return project_boxes(boxes, light, y_top);
     }
     Rect win{water->extent[0], water->extent[1], water->extent[2], water->extent[3]};
-    if (light.type != LightType::kDirectional || has_glass) return win;
+    // Dispersion bends each wavelength its own way: the whole water.
+    if (light.type != LightType::kDirectional || has_glass || disperses) return win;
     const Vec3d l = normalize({light.direction[0], light.direction[1], light.direction[2]});
     const auto t0 = refract(l, {0, 1, 0}, 1.0 / water->ior);
     if (!t0 || l[1] >= 0) return win;
@@ -174,6 +177,13 @@ Result<Image> trace(const Request& q) {
           flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
         }
         std::array<double, 3> rgb{flux * light.color[0], flux * light.color[1], flux * light.color[2]};
+        double nm = q.wavelength_nm;
+        if (nm <= 0 && disperses) {
+          nm = kMinWavelength + (kMaxWavelength - kMinWavelength) * u01(rng);
+          const auto w = rgb_density(nm);
+          for (std::size_t c = 0; c < 3; ++c) rgb[c] *= (kMaxWavelength - kMinWavelength) * w[c];
+        }
+        const double n_water = water ? (nm > 0 ? double{index_at(water->ior, water->dispersion, static_cast<float>(nm))} : double{water->ior}) : 1.0;
         bool in_water = false;
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
@@ -183,7 +193,7 @@ Result<Image> trace(const Request& q) {
             const auto s = surface.intersect(origin, dir);
             if (s && (!h || *s < h->distance + eps)) {
               origin = add(origin, dir, *s);
-              const auto entry = surface.enter(origin, dir);
+              const auto entry = surface.enter(origin, dir, n_water);
               if (!entry) break;
               for (double& c : rgb) c *= entry->transmittance;
               dir = entry->dir;
@@ -229,7 +239,7 @@ Result<Image> trace(const Request& q) {
           }
           // A glass interface.
           origin = p;
-          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? double{water->ior} : 1.0, inside, u01(rng));
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm);
         }
       }
     }

@@ -42,6 +42,13 @@ struct Request {
   std::uint32_t batches = 8;
   std::uint64_t seed = 1;
   double glass_crease_deg = 30.0;  // as caustix-bake --glass-crease
+  // Dispersion (issue 22): > 0, every photon at this wavelength (nm) with
+  // weight 1 (a monochromatic image). 0: in a scene with dispersion each
+  // photon draws its wavelength uniformly from 380-780 nm and carries 400 nm
+  // times the CIE-to-linear-sRGB density there (spectrum.h rgb_density: an
+  // unbiased estimate of the spectral integral); without dispersion every
+  // photon is at n_d and the random sequence is the one it always was.
+  double wavelength_nm = 0;
 };
 
 struct Image {

@@ -6,6 +6,7 @@
 
 #include "caustix/common/cli.h"
 #include "caustix/runtime/image_output.h"
+#include "caustix/formats/spectrum.h"
 #include "reference.h"
 
 int main(int argc, char** argv) {
@@ -40,6 +41,10 @@ int main(int argc, char** argv) {
   app.add_option("--glass-crease", q.glass_crease_deg,
                  "transparent meshes: edges sharper than this (degrees) keep each face's own normal (as caustix-bake --glass-crease)")
       ->check(CLI::Range(0.0, 180.0))->capture_default_str();
+  app.add_option("--wavelength", q.wavelength_nm,
+                 "dispersion: every photon at this wavelength in nm, weight 1 (a monochromatic image); default: in a scene with "
+                 "dispersion each photon draws its wavelength from 380-780 nm (the RGB image is the spectral integral)")
+      ->check(CLI::Range(double{kMinWavelength}, double{kMaxWavelength}));
   if (auto rc = cli::parse(app, "caustix-reference", argc, argv)) return *rc;
   if (!inscatter && q.receiver.empty()) {
     return cli::fail("caustix-reference", make_error(ErrorCode::kUsage, "give --irradiance RECEIVER or --inscatter"));
@@ -90,6 +95,7 @@ int main(int argc, char** argv) {
                                              {{"caustix:region", rect}, {"caustix:receiver", q.receiver},
                                               {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", "reference"},
                                               {"caustix:time", std::to_string(q.time)},
+                                              {"caustix:wavelength", q.wavelength_nm > 0 ? std::to_string(q.wavelength_nm) : "rgb"},
                                               {"caustix:relative_noise", std::to_string(img->relative_noise)}});
       !st) {
     return cli::fail("caustix-reference", st.error());

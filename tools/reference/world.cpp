@@ -4,6 +4,7 @@
 
 #include "caustix/bake/glass_refine.h"
 #include "caustix/bake/mesh_import.h"
+#include "caustix/formats/spectrum.h"
 
 namespace caustix::reference {
 
@@ -69,12 +70,15 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 }
 
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
-                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01) {
+                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm) {
   const std::uint32_t obj = world.owner[triangle];
   // Entering or leaving object `obj`. Indices on both sides from the glass
   // the photon is in.
   const bool entering = dot(dir, world.geo_normal[triangle]) < 0;
-  const auto ior = [&](std::uint32_t k) { return double{scene.objects[k].material.ior}; };
+  const auto ior = [&](std::uint32_t k) {
+    const Material& m = scene.objects[k].material;
+    return double{nm > 0 ? index_at(m.ior, m.dispersion, static_cast<float>(nm)) : m.ior};
+  };
   const auto pos_in = std::find(inside.begin(), inside.end(), obj);
   const double n1 = inside.empty() ? n_outside : ior(inside.back());
   // The medium beyond: the entered glass; on leaving, the one entered

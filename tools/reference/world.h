@@ -65,19 +65,21 @@ struct Surface {
   // A photon meeting the surface at `hit` along `dir` refracts into the
   // water with Snell (eq. 2-8) and the exact unpolarised Fresnel
   // transmittance at the true normal (the reflected part leaves for the
-  // sky); nothing when it cannot enter.
+  // sky); nothing when it cannot enter. `ior`: the water's index at the
+  // photon's wavelength (0: its n_d).
   struct Entry {
     Vec3d dir;
     double transmittance;
   };
-  std::optional<Entry> enter(const Vec3d& hit, const Vec3d& dir) const {
+  std::optional<Entry> enter(const Vec3d& hit, const Vec3d& dir, double ior = 0) const {
+    if (ior <= 0) ior = w.ior;
     double gx = 0, gz = 0;
     height(hit[0], hit[2], &gx, &gz);
     const Vec3d nrm = normalize({-gx, 1, -gz});
     const double cos_i = -dot(dir, nrm);
-    const auto t = refract(dir, nrm, 1.0 / w.ior);
+    const auto t = refract(dir, nrm, 1.0 / ior);
     if (cos_i <= 0 || !t) return std::nullopt;
-    return Entry{normalize(*t), fresnel_transmittance(cos_i, 1.0 / w.ior)};
+    return Entry{normalize(*t), fresnel_transmittance(cos_i, 1.0 / ior)};
   }
   // First crossing of the ray o + s d (going down) with the surface:
   // bracketed by steps short against the shortest wavelength, then bisected.
@@ -131,9 +133,11 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 // unpolarised Fresnel transmittance (total internal reflection: reflects),
 // keeping its flux, so estimates stay unbiased. `inside` lists the glass
 // objects it is in (overlapping shells of one material are one solid);
-// n_outside is the index around the glass. Returns the new direction.
+// n_outside is the index around the glass; nm the photon's wavelength
+// (dispersion, issue 22: each glass's index at it; 0: every index n_d).
+// Returns the new direction.
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
-                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01);
+                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm = 0);
 
 // Bounding rectangle on the plane y = y_top of the points that reach the
 // boxes along the light: parallel projection for a directional light,

@@ -72,8 +72,10 @@ struct CausticMapEngine::Impl {
     std::uint32_t levels = 0, budget = 0;
     gl::Buffer pyramid, cells, state;
     std::array<int, 9> offsets{};
-    gl::Query capture_q, photon_q, splat_q;
+    gl::Query capture_q;
+    std::vector<gl::Query> photon_q, splat_q;  // one per traced wavelength
     bool valid = false, timed = false;
+    std::uint32_t wavelengths = 1;  // traced by the last update
     Binding binding;
     std::uint64_t bytes = 0;
   };
@@ -337,11 +339,16 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     return m;
   };
 
-  if (!pl.capture_q.get()) {
-    pl.capture_q = gl::make_query(GL_TIME_ELAPSED);
-    pl.photon_q = gl::make_query(GL_TIME_ELAPSED);
-    pl.splat_q = gl::make_query(GL_TIME_ELAPSED);
+  // Dispersion (issue 22): the photons and their splats once per traced
+  // wavelength, every glass index at n(lambda) and each photon's power
+  // times its bin's RGB weights; the splats add up in the one map.
+  const std::vector<WavelengthSample> waves = traced_wavelengths(scene, options);
+  if (!pl.capture_q.get()) pl.capture_q = gl::make_query(GL_TIME_ELAPSED);
+  while (pl.photon_q.size() < waves.size()) {
+    pl.photon_q.push_back(gl::make_query(GL_TIME_ELAPSED));
+    pl.splat_q.push_back(gl::make_query(GL_TIME_ELAPSED));
   }
+  pl.wavelengths = static_cast<std::uint32_t>(waves.size());
   glBeginQuery(GL_TIME_ELAPSED, pl.capture_q.get());
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -380,64 +387,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glDepthFunc(GL_LESS);
   glEndQuery(GL_TIME_ELAPSED);
 
-  // Photons: the adaptive traversal's leaves, or the whole grid.
-  glBeginQuery(GL_TIME_ELAPSED, pl.photon_q.get());
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-  if (adaptive) s.traverse(pl);
-  const gl::Program& p = s.photons;
-  p.use();
-  p.set("u_photons", side);
-  p.set("u_adaptive", adaptive ? 1 : 0);
-  glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
-  p.set("u_budget", static_cast<unsigned>(pl.budget));
-  p.set("u_u", f.u);
-  p.set("u_v", f.v);
-  p.set("u_w", f.w);
-  p.set("u_caster_origin", f.caster_origin);
-  p.set("u_caster_half", f.caster_half);
-  p.set("u_map_origin", f.origin);
-  p.set("u_map_half", f.map_half);
-  p.set("u_light_type", directional ? 1 : 2);
-  p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
-  p.set("u_light_pos", to_glm(light.position));
-  p.set("u_light_power", directional ? light.irradiance : light.intensity);
-  p.set("u_iterations", static_cast<int>(o.iterations));
-  p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
-  p.set("u_bounces", static_cast<int>(o.bounces));
-  p.set("u_mirrors", std::any_of(scene.objects.begin(), scene.objects.end(), [](const Object& obj) { return is_mirror(obj.role); }) ? 1 : 0);
-  p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
-  p.set("u_edge_cos", o.edge_cos);
-  p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
-  const float diagonal = glm::length(hi - lo);
-  p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
-  // A landing point must lie on the receiver texel it projects into: within
-  // two texels' run along V on a surface tilted up to 75 degrees.
-  const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
-  p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
-  glBindTextureUnit(0, pl.front_pos.get());
-  glBindTextureUnit(1, pl.front_nrm.get());
-  glBindTextureUnit(2, pl.back_pos.get());
-  glBindTextureUnit(3, pl.back_nrm.get());
-  glBindTextureUnit(4, pl.receivers.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s.materials.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.counters.get());
-  if (adaptive) {
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
-    glDispatchComputeIndirect(kPhotonDispatchOffset);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-  } else {
-    // The adaptive blocks are not read; any buffer keeps them bound.
-    for (GLuint b : {3u, 4u, 5u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, s.counters.get());
-    const GLuint groups = static_cast<GLuint>((side + 7) / 8);
-    glDispatchCompute(groups, groups, 1);
-  }
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  glEndQuery(GL_TIME_ELAPSED);
-
-  // Splats into the caustic map (one pass), or into one texel each and a
-  // separable blur (two passes).
-  glBeginQuery(GL_TIME_ELAPSED, pl.splat_q.get());
+  if (adaptive) s.traverse(pl);  // over the casters' coverage, the same at every wavelength
   const float sigma = o.splat_sigma;
   const bool two_pass = o.two_pass && sigma > 0;
   GLuint target = pl.map.get();
@@ -446,55 +397,126 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     const float clear[4] = {0, 0, 0, 0};
     glClearTexImage(target, 0, GL_RGBA, GL_FLOAT, clear);
   }
-  glDisable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glEnable(GL_PROGRAM_POINT_SIZE);
-  glBindVertexArray(s.empty_vao.get());
-  const auto draw_photons = [&] {
-    if (adaptive) {
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
-      glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    } else {
-      glDrawArrays(GL_POINTS, 0, side * side);
+  const float diagonal = glm::length(hi - lo);
+  // A landing point must lie on the receiver texel it projects into: within
+  // two texels' run along V on a surface tilted up to 75 degrees.
+  const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
+  for (std::size_t k = 0; k < waves.size(); ++k) {
+    if (waves.size() > 1 || options.wavelength_nm) {
+      for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+        const Material& m = scene.objects[i].material;
+        s.material_data[8 * i + 1] = index_at(m.ior, m.dispersion, waves[k].nm);
+      }
+      glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
     }
-  };
-  // Adaptive one-pass splats size themselves by the landed photons'
-  // density: count them first.
-  const bool variable = adaptive && !two_pass;
-  if (variable) {
-    const int dside = std::max(1, size / kDensityBlock);
-    const float no_photons[4] = {0, 0, 0, 0};
-    glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, no_photons);
-    glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.density.get(), 0);
+    // Photons: the adaptive traversal's leaves, or the whole grid.
+    glBeginQuery(GL_TIME_ELAPSED, pl.photon_q[k].get());
+    const gl::Program& p = s.photons;
+    p.use();
+    p.set("u_photons", side);
+    p.set("u_adaptive", adaptive ? 1 : 0);
+    glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
+    p.set("u_budget", static_cast<unsigned>(pl.budget));
+    p.set("u_u", f.u);
+    p.set("u_v", f.v);
+    p.set("u_w", f.w);
+    p.set("u_caster_origin", f.caster_origin);
+    p.set("u_caster_half", f.caster_half);
+    p.set("u_map_origin", f.origin);
+    p.set("u_map_half", f.map_half);
+    p.set("u_light_type", directional ? 1 : 2);
+    p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
+    p.set("u_light_pos", to_glm(light.position));
+    p.set("u_light_power", directional ? light.irradiance : light.intensity);
+    p.set("u_weight", glm::vec3(waves[k].rgb[0], waves[k].rgb[1], waves[k].rgb[2]));
+    p.set("u_iterations", static_cast<int>(o.iterations));
+    p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
+    p.set("u_bounces", static_cast<int>(o.bounces));
+    p.set("u_mirrors", std::any_of(scene.objects.begin(), scene.objects.end(), [](const Object& obj) { return is_mirror(obj.role); }) ? 1 : 0);
+    p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
+    p.set("u_edge_cos", o.edge_cos);
+    p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
+    p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
+    p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
+    glBindTextureUnit(0, pl.front_pos.get());
+    glBindTextureUnit(1, pl.front_nrm.get());
+    glBindTextureUnit(2, pl.back_pos.get());
+    glBindTextureUnit(3, pl.back_nrm.get());
+    glBindTextureUnit(4, pl.receivers.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s.materials.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.counters.get());
+    if (adaptive) {
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+      glDispatchComputeIndirect(kPhotonDispatchOffset);
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    } else {
+      // The adaptive blocks are not read; any buffer keeps them bound.
+      for (GLuint b : {3u, 4u, 5u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, s.counters.get());
+      const GLuint groups = static_cast<GLuint>((side + 7) / 8);
+      glDispatchCompute(groups, groups, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glEndQuery(GL_TIME_ELAPSED);
+
+    // Splats into the caustic map (one pass), or into one texel each and a
+    // separable blur (two passes).
+    glBeginQuery(GL_TIME_ELAPSED, pl.splat_q[k].get());
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glBindVertexArray(s.empty_vao.get());
+    const auto draw_photons = [&] {
+      if (adaptive) {
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
+        glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+      } else {
+        glDrawArrays(GL_POINTS, 0, side * side);
+      }
+    };
+    // Adaptive one-pass splats size themselves by the landed photons'
+    // density: count them first.
+    const bool variable = adaptive && !two_pass;
+    if (variable) {
+      const int dside = std::max(1, size / kDensityBlock);
+      const float no_photons[4] = {0, 0, 0, 0};
+      glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, no_photons);
+      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.density.get(), 0);
+      glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+      glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+      glViewport(0, 0, dside, dside);
+      glBlendFunc(GL_ONE, GL_ONE);
+      s.density.use();
+      draw_photons();
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+    glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
     glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-    glViewport(0, 0, dside, dside);
-    glBlendFunc(GL_ONE, GL_ONE);
-    s.density.use();
+    glViewport(0, 0, size, size);
+    glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
+    s.splat.use();
+    s.splat.set("u_size", static_cast<float>(size));
+    s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
+    s.splat.set("u_max_radius", s.max_splat_radius);
+    s.splat.set("u_variable", variable ? 1 : 0);
+    s.splat.set("u_block", static_cast<float>(kDensityBlock));
+    s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
+    s.splat.set("u_v", f.v);
+    glBindTextureUnit(0, pl.receivers.get());
+    glBindTextureUnit(1, pl.density.get());
     draw_photons();
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glDisable(GL_BLEND);
+    if (k + 1 < waves.size()) {
+      glEndQuery(GL_TIME_ELAPSED);
+      // The next wavelength's photons overwrite the buffer these splats read.
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
   }
-  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
-  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
-  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-  glViewport(0, 0, size, size);
-  glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
-  s.splat.use();
-  s.splat.set("u_size", static_cast<float>(size));
-  s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
-  s.splat.set("u_max_radius", s.max_splat_radius);
-  s.splat.set("u_variable", variable ? 1 : 0);
-  s.splat.set("u_block", static_cast<float>(kDensityBlock));
-  s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
-  s.splat.set("u_v", f.v);
-  glBindTextureUnit(0, pl.receivers.get());
-  glBindTextureUnit(1, pl.density.get());
-  draw_photons();
-  glDisable(GL_PROGRAM_POINT_SIZE);
-  glDisable(GL_BLEND);
   if (two_pass) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     s.blur.use();
@@ -540,7 +562,10 @@ void CausticMapEngine::reset_stats() { glClearNamedBufferData(impl_->counters.ge
 CausticMapStats CausticMapEngine::stats(bool read) {
   CausticMapStats st;
   st.gpu_bytes = gpu_bytes();
-  for (const auto& pl : impl_->lights) st.active = st.active || pl.valid;
+  for (const auto& pl : impl_->lights) {
+    st.active = st.active || pl.valid;
+    if (pl.valid) st.wavelengths = std::max(st.wavelengths, pl.wavelengths);
+  }
   if (!read || !st.active) return st;
   std::uint32_t c[kCounters] = {};
   glGetNamedBufferSubData(impl_->counters.get(), 0, sizeof(c), c);
@@ -571,13 +596,16 @@ CausticMapStats CausticMapEngine::stats(bool read) {
       if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];
     }
     if (pl.timed) {
-      GLuint64 ns[3] = {};
-      glGetQueryObjectui64v(pl.capture_q.get(), GL_QUERY_RESULT, &ns[0]);
-      glGetQueryObjectui64v(pl.photon_q.get(), GL_QUERY_RESULT, &ns[1]);
-      glGetQueryObjectui64v(pl.splat_q.get(), GL_QUERY_RESULT, &ns[2]);
-      st.capture_ms = static_cast<double>(ns[0]) * 1e-6;
-      st.photon_ms = static_cast<double>(ns[1]) * 1e-6;
-      st.splat_ms = static_cast<double>(ns[2]) * 1e-6;
+      GLuint64 ns = 0;
+      glGetQueryObjectui64v(pl.capture_q.get(), GL_QUERY_RESULT, &ns);
+      st.capture_ms = static_cast<double>(ns) * 1e-6;
+      st.photon_ms = st.splat_ms = 0;
+      for (std::uint32_t k = 0; k < pl.wavelengths; ++k) {
+        glGetQueryObjectui64v(pl.photon_q[k].get(), GL_QUERY_RESULT, &ns);
+        st.photon_ms += static_cast<double>(ns) * 1e-6;
+        glGetQueryObjectui64v(pl.splat_q[k].get(), GL_QUERY_RESULT, &ns);
+        st.splat_ms += static_cast<double>(ns) * 1e-6;
+      }
     }
   }
   return st;

@@ -1,6 +1,8 @@
 #include "caustix/runtime/caustics_options.h"
 
+#include <cmath>
 #include <initializer_list>
+#include <string>
 
 namespace caustix::runtime {
 namespace {
@@ -64,6 +66,37 @@ CausticsOptions default_caustics_options(const SceneDesc& scene) {
   CausticsOptions o;
   if (scene.render) apply_render_defaults(o, *scene.render);
   return o;
+}
+
+std::vector<WavelengthSample> traced_wavelengths(const SceneDesc& scene, const CausticsOptions& o) {
+  if (o.wavelength_nm) return {WavelengthSample{*o.wavelength_nm, {1, 1, 1}}};
+  return wavelength_samples(scene_disperses(scene) ? o.wavelengths : 1);
+}
+
+float water_index(const Water& water, const CausticsOptions& o) {
+  return o.wavelength_nm ? index_at(water.ior, water.dispersion, *o.wavelength_nm) : water.ior;
+}
+
+Status check_wavelengths(const SceneDesc& scene, const CausticsOptions& o) {
+  if (o.wavelengths < 1 || o.wavelengths > kMaxWavelengths) {
+    return make_error(ErrorCode::kUsage, "caustics options: wavelengths must be 1.." + std::to_string(kMaxWavelengths) + ", got " +
+                                             std::to_string(o.wavelengths));
+  }
+  if (!o.wavelength_nm) return Status::success();
+  const float nm = *o.wavelength_nm;
+  if (!(nm >= kMinWavelength && nm <= kMaxWavelength)) {
+    return make_error(ErrorCode::kUsage, "caustics options: wavelength_nm must be in [380, 780] nm, got " + std::to_string(nm));
+  }
+  if (o.glass_method == GlassMethod::kTable && o.method != CausticsMethod::kNone) {
+    for (const Object& obj : scene.objects) {
+      if (is_transparent(obj.role) && obj.material.dispersion > 0) {
+        return make_error(ErrorCode::kUsage, "caustics options: wavelength_nm: glass '" + obj.name +
+                                                 "' disperses, and its light-transport table is baked at n_d only; "
+                                                 "use the caustic-map glass method for a monochromatic image");
+      }
+    }
+  }
+  return Status::success();
 }
 
 }  // namespace caustix::runtime

@@ -133,7 +133,8 @@ struct Engine::Impl {
   }
 
   // The light's part of the block (the same for every receiver).
-  void fill_light(LightBlock& b, std::uint32_t li, const ShadowOptions& so) const {
+  void fill_light(LightBlock& b, std::uint32_t li, const CausticsOptions& co) const {
+    const ShadowOptions& so = co.shadows;
     const Light& light = scene.lights[li];
     const bool dir = light.type == LightType::kDirectional;
     const ShadowMaps::Maps m = shadows->maps(li);
@@ -148,9 +149,9 @@ struct Engine::Impl {
     b.refracted = glm::vec4(0.0f);
     if (scene.water) {
       b.water.x = scene.water->level;
-      b.water.y = scene.water->ior;
+      b.water.y = water_index(*scene.water, co);  // n_d, or n at a monochromatic image's wavelength
       b.absorption = vec4_of(scene.water->absorption, 0.0f);
-      b.refracted = glm::vec4(glm::refract(glm::vec3(b.light_direction), glm::vec3(0, 1, 0), 1.0f / scene.water->ior), 0.0f);
+      b.refracted = glm::vec4(glm::refract(glm::vec3(b.light_direction), glm::vec3(0, 1, 0), 1.0f / b.water.y), 0.0f);
     }
   }
 
@@ -159,7 +160,7 @@ struct Engine::Impl {
   void fill_receiver(ReceiverLighting& r, std::uint32_t oi, std::uint32_t li, const CausticsOptions& co) const {
     const ShadowMaps::Maps m = shadows->maps(li);
     r.block = LightBlock{};
-    fill_light(r.block, li, co.shadows);
+    fill_light(r.block, li, co);
     r.shadow_2d = m.opaque_2d;
     r.shadow_cube = m.opaque_cube;
     r.glass_shadow_2d = m.glass_2d;
@@ -501,6 +502,7 @@ Status Engine::update(const FrameUpdate& f) {
     return usage("shadow options: vsm_filter must be odd, 1..63 texels, got " + std::to_string(so.vsm_filter));
   }
   if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) return usage("shadow options: vsm_bleeding must be in [0, 0.95]");
+  CAUSTIX_RETURN_IF_ERROR(check_wavelengths(s.scene, f.caustics));
   const gl::StateGuard guard = s.guard();
   const CausticsOptions& co = f.caustics;
   if (s.caustics) s.caustics->reset_stats();

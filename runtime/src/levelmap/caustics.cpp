@@ -169,12 +169,12 @@ struct CausticsEngine::Impl {
   }
 
   // The light and the water's IOR, for the passes that refract at the water.
-  void set_light(const gl::Program& p, const Light& light) const {
+  void set_light(const gl::Program& p, const Light& light, const CausticsOptions& o) const {
     p.set("u_light_type", static_cast<int>(light.type));
     p.set("u_light_direction", v3(light.direction));
     p.set("u_light_position", v3(light.position));
     p.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
-    p.set("u_ior", water->water().ior);
+    p.set("u_ior", water_index(water->water(), o));
   }
 
   // Seed 001 ch. 8, GPU variant: render the water along V into the photon
@@ -222,7 +222,7 @@ struct CausticsEngine::Impl {
     splat_photon.use();
     splat_photon.set("u_view_proj", to_clip);
     set_frame(splat_photon, f);
-    set_light(splat_photon, light);
+    set_light(splat_photon, light, o);
     splat_photon.set("u_pixel_area", (2 * gx / static_cast<float>(p)) * (2 * gz / static_cast<float>(p)));
     const float texel_u = 2 * f.half[0] / static_cast<float>(m.caustics_size), texel_w = 2 * f.half[2] / static_cast<float>(m.caustics_size);
     splat_photon.set("u_texel_area", texel_u * texel_w);
@@ -602,7 +602,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
     s.prepare.use();
-    s.set_light(s.prepare, desc);
+    s.set_light(s.prepare, desc, o);
     s.prepare.set("u_mode", 0);
     s.prepare.set("u_count", s.water->vertex_count());
     glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);

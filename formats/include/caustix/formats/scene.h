@@ -61,6 +61,9 @@ struct Material {
   Vec3f absorption{0, 0, 0};       // transparent: 1/m per RGB channel, >= 0 (stored in the LTTB chunk)
   Scattering scattering;           // transparent: milky or dusty glass (stored in the MDIA chunk)
   Vec3f reflectance{0.9f, 0.9f, 0.9f};  // mirror: specular reflectance per RGB channel, in [0, 1] (the MIRR chunk)
+  // transparent: 20 / Abbe number, in [0, kMaxDispersion] (spectrum.h; the
+  // DISP chunk). 0: the same index at every wavelength.
+  float dispersion = 0.0f;
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
@@ -111,6 +114,7 @@ struct Water {
   std::array<float, 4> extent{-2, -2, 2, 2};     // x0, z0, x1, z1
   std::vector<Wave> waves;
   Scattering scattering;           // water that scatters shows light shafts (stored in the MDIA chunk)
+  float dispersion = 0.0f;         // 20 / Abbe number, [0, kMaxDispersion] (spectrum.h; the DISP chunk); pure water: 0.36
 };
 
 // A homogeneous participating medium filling an axis-aligned box (fog, dust).
@@ -178,6 +182,10 @@ inline constexpr float kMaxCoefficient = 1e6f;  // scattering and absorption, 1/
 // with a scattering coefficient): such scenes get the MDIA chunk and the
 // volume effect; others pay nothing for media.
 bool scene_scatters(const SceneDesc& scene);
+// Whether any transparent object or the water has dispersion > 0: such
+// scenes get the DISP chunk and the renderers' wavelength sampling; others
+// pay nothing for it.
+bool scene_disperses(const SceneDesc& scene);
 // E0, what irradiance and in-scatter images are divided by
 // (shared/DESIGN.md): the first directional light's irradiance, else 1.
 float scene_e0(const SceneDesc& scene);

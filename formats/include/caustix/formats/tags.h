@@ -28,6 +28,7 @@ inline constexpr Tag kTagRender = make_tag("RNDR");   // optional, at most once:
 inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh, in mesh order
 inline constexpr Tag kTagMedia = make_tag("MDIA");    // required if present, at most once: media and scattering
 inline constexpr Tag kTagMirrors = make_tag("MIRR");  // required if present, at most once: mirrors' reflectance
+inline constexpr Tag kTagDispersion = make_tag("DISP");  // required if present, at most once: dispersion (issue 22)
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once

@@ -7,8 +7,11 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
+#include "caustix/formats/spectrum.h"
 
 namespace caustix::runtime {
 
@@ -154,7 +157,32 @@ struct CausticsOptions {
   GlassMethod glass_method = GlassMethod::kTable;
   CausticMapOptions caustic_map;
   ShadowOptions shadows;
+  // Dispersion (issue 22; docs/dispersion.md). In a scene with dispersion
+  // the image-space caustic maps trace this many wavelengths (1..32), each
+  // at the centre of an equal bin of 380-780 nm and added into RGB with the
+  // bin's CIE-to-linear-sRGB weights; 1 traces the d line only (every index
+  // n_d: no fringes, the cost of a scene without dispersion). A scene
+  // without dispersion traces one whatever this says. The level-map water
+  // family, flat water and glass tables trace the d line (n_d) unless
+  // wavelength_nm is set.
+  std::uint32_t wavelengths = 8;
+  // A monochromatic image: every index at this wavelength (nm, 380..780)
+  // and the light's own colour (caustix-render --wavelength): the caustic
+  // maps and the water's passes refract at n(wavelength_nm). Engine::update
+  // refuses it for a dispersive glass object lit by its light-transport
+  // table (baked at n_d): use GlassMethod::kCausticMap.
+  std::optional<float> wavelength_nm;
 };
+
+// The wavelengths the caustic maps trace for `scene` under `options`
+// (above): one with weight (1, 1, 1) at wavelength_nm when set, one at the
+// d line in a scene without dispersion, else options.wavelengths bins.
+std::vector<WavelengthSample> traced_wavelengths(const SceneDesc& scene, const CausticsOptions& options);
+// The water's index for the passes that trace one wavelength: at
+// options.wavelength_nm when set, else its `ior` (n_d).
+float water_index(const Water& water, const CausticsOptions& options);
+// Checks the two fields above; a usage error names the field.
+Status check_wavelengths(const SceneDesc& scene, const CausticsOptions& options);
 
 // Sets the fields a bake preset records (RNDR chunk): map sizes, glass planes.
 void apply_render_defaults(CausticsOptions& options, const RenderDefaults& render);
@@ -194,8 +222,14 @@ struct CausticMapStats {
   // Adaptive: photons traced per traversal level (0: one grid texel; level
   // k: a cell of 4^k texels), read back.
   std::array<std::uint64_t, 9> photons_per_level{};
-  double capture_ms = 0, photon_ms = 0, splat_ms = 0;  // GPU time of the last light's passes (timer queries)
+  // GPU time of the last light's passes (timer queries); photons and
+  // splats summed over the traced wavelengths.
+  double capture_ms = 0, photon_ms = 0, splat_ms = 0;
   std::uint64_t gpu_bytes = 0;
+  // Wavelengths traced (dispersion). The counters above sum over them;
+  // landed_power is the last wavelength's (its photons carry its bin's
+  // weights), so it is the whole landed power only when this is 1.
+  std::uint32_t wavelengths = 1;
 };
 
 struct VolumeStats {
