@@ -96,6 +96,14 @@ const std::vector<Knob>& knobs() {
          c.photon_budget = static_cast<std::uint32_t>(v);
        },
        false, true},
+      // Dispersion (issue 22; docs/dispersion.md): wavelengths the caustic
+      // maps trace in a dispersive scene.
+      {"wavelengths", {1, 2, 4, 8, 16, 32}, false, false,
+       [](Setting& s, double v) {
+         s.caustics.glass_method = runtime::GlassMethod::kCausticMap;
+         s.caustics.wavelengths = static_cast<std::uint32_t>(v);
+       },
+       false, true},
       // Variance shadow maps' filter width (texels); 0: PCF.
       {"vsm-filter", {0, 1, 5, 21}, false, false,
        [](Setting& s, double v) {
