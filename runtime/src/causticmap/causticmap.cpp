@@ -401,6 +401,49 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   // A landing point must lie on the receiver texel it projects into: within
   // two texels' run along V on a surface tilted up to 75 degrees.
   const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
+  // What every wavelength shares: the programs' uniforms but the weight.
+  const bool variable = adaptive && !two_pass;
+  const gl::Program& p = s.photons;
+  p.set("u_photons", side);
+  p.set("u_adaptive", adaptive ? 1 : 0);
+  glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
+  p.set("u_budget", static_cast<unsigned>(pl.budget));
+  p.set("u_u", f.u);
+  p.set("u_v", f.v);
+  p.set("u_w", f.w);
+  p.set("u_caster_origin", f.caster_origin);
+  p.set("u_caster_half", f.caster_half);
+  p.set("u_map_origin", f.origin);
+  p.set("u_map_half", f.map_half);
+  p.set("u_light_type", directional ? 1 : 2);
+  p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
+  p.set("u_light_pos", to_glm(light.position));
+  p.set("u_light_power", directional ? light.irradiance : light.intensity);
+  p.set("u_iterations", static_cast<int>(o.iterations));
+  p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
+  p.set("u_bounces", static_cast<int>(o.bounces));
+  p.set("u_mirrors", std::any_of(scene.objects.begin(), scene.objects.end(), [](const Object& obj) { return is_mirror(obj.role); }) ? 1 : 0);
+  p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
+  p.set("u_edge_cos", o.edge_cos);
+  p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
+  p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
+  p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
+  s.splat.set("u_size", static_cast<float>(size));
+  s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
+  s.splat.set("u_max_radius", s.max_splat_radius);
+  s.splat.set("u_variable", variable ? 1 : 0);
+  s.splat.set("u_block", static_cast<float>(kDensityBlock));
+  s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
+  s.splat.set("u_v", f.v);
+  const auto draw_photons = [&] {
+    if (adaptive) {
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
+      glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    } else {
+      glDrawArrays(GL_POINTS, 0, side * side);
+    }
+  };
   for (std::size_t k = 0; k < waves.size(); ++k) {
     if (waves.size() > 1 || options.wavelength_nm) {
       for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
@@ -411,33 +454,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     }
     // Photons: the adaptive traversal's leaves, or the whole grid.
     glBeginQuery(GL_TIME_ELAPSED, pl.photon_q[k].get());
-    const gl::Program& p = s.photons;
     p.use();
-    p.set("u_photons", side);
-    p.set("u_adaptive", adaptive ? 1 : 0);
-    glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
-    p.set("u_budget", static_cast<unsigned>(pl.budget));
-    p.set("u_u", f.u);
-    p.set("u_v", f.v);
-    p.set("u_w", f.w);
-    p.set("u_caster_origin", f.caster_origin);
-    p.set("u_caster_half", f.caster_half);
-    p.set("u_map_origin", f.origin);
-    p.set("u_map_half", f.map_half);
-    p.set("u_light_type", directional ? 1 : 2);
-    p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
-    p.set("u_light_pos", to_glm(light.position));
-    p.set("u_light_power", directional ? light.irradiance : light.intensity);
     p.set("u_weight", glm::vec3(waves[k].rgb[0], waves[k].rgb[1], waves[k].rgb[2]));
-    p.set("u_iterations", static_cast<int>(o.iterations));
-    p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
-    p.set("u_bounces", static_cast<int>(o.bounces));
-    p.set("u_mirrors", std::any_of(scene.objects.begin(), scene.objects.end(), [](const Object& obj) { return is_mirror(obj.role); }) ? 1 : 0);
-    p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
-    p.set("u_edge_cos", o.edge_cos);
-    p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
-    p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
-    p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
     glBindTextureUnit(0, pl.front_pos.get());
     glBindTextureUnit(1, pl.front_nrm.get());
     glBindTextureUnit(2, pl.back_pos.get());
@@ -468,18 +486,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     glBlendEquation(GL_FUNC_ADD);
     glEnable(GL_PROGRAM_POINT_SIZE);
     glBindVertexArray(s.empty_vao.get());
-    const auto draw_photons = [&] {
-      if (adaptive) {
-        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
-        glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
-        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-      } else {
-        glDrawArrays(GL_POINTS, 0, side * side);
-      }
-    };
     // Adaptive one-pass splats size themselves by the landed photons'
     // density: count them first.
-    const bool variable = adaptive && !two_pass;
     if (variable) {
       const int dside = std::max(1, size / kDensityBlock);
       const float no_photons[4] = {0, 0, 0, 0};
@@ -499,13 +507,6 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     glViewport(0, 0, size, size);
     glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
     s.splat.use();
-    s.splat.set("u_size", static_cast<float>(size));
-    s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
-    s.splat.set("u_max_radius", s.max_splat_radius);
-    s.splat.set("u_variable", variable ? 1 : 0);
-    s.splat.set("u_block", static_cast<float>(kDensityBlock));
-    s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
-    s.splat.set("u_v", f.v);
     glBindTextureUnit(0, pl.receivers.get());
     glBindTextureUnit(1, pl.density.get());
     draw_photons();

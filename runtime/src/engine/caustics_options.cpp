@@ -1,6 +1,5 @@
 #include "caustix/runtime/caustics_options.h"
 
-#include <cmath>
 #include <initializer_list>
 #include <string>
 
