@@ -275,13 +275,11 @@ TEST_F(Glass, IorOneIsTransparent) {
   EXPECT_LT(ripple[1], 0.6 * ripple[0]);
 }
 
-// A wedge prism as people model it: 6 vertices, flat faces, no normals in
-// the file. Cross-section in x-y: bottom y = 0.3 from x = -0.5 to 0.5,
-// back face x = -0.5 up to y = 0.8, the slope between; z from -0.5 to 0.5.
-std::string wedge_prism_obj() {
-  return "v -0.5 0.3 -0.5\nv 0.5 0.3 -0.5\nv -0.5 0.8 -0.5\nv -0.5 0.3 0.5\nv 0.5 0.3 0.5\nv -0.5 0.8 0.5\n"
-         "f 1 2 5 4\nf 1 4 6 3\nf 2 3 6 5\nf 1 3 2\nf 4 5 6\n";
-}
+// A wedge prism as people model it (assets/meshes/prism.obj): 6 vertices,
+// flat faces, no normals in the file. Cross-section in x-y: bottom y = 0.3
+// from x = -0.5 to 0.5, back face x = -0.5 up to y = 0.8, the slope between;
+// z from -0.5 to 0.5.
+const std::string kWedgePrism = std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/prism.obj";
 
 std::filesystem::path write_temp(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / name;
@@ -329,15 +327,14 @@ TEST_F(Glass, LowPolyGlassCastsItsLight) {
   // of irradiance T1 T2 / (dx_floor / dx0); those nearer the back face
   // reflect totally there first. The band's right edge is the ray entering
   // at the slope's lower edge (x0 = 0.5), which leaves at once.
-  j["objects"][1]["mesh"] = write_temp("caustix_wedge_prism.obj", wedge_prism_obj()).string();
+  j["objects"][1]["mesh"] = kWedgePrism;
   j["objects"][1].erase("transform");
   const double eta = 1 / 1.5, s5 = std::sqrt(5.0);
   const double n1[2] = {1 / s5, 2 / s5};
   const double cos1 = n1[1], cos1t = std::sqrt(1 - eta * eta * (1 - cos1 * cos1));
   const double d1[2] = {eta * 0 + (eta * cos1 - cos1t) * n1[0], -eta + (eta * cos1 - cos1t) * n1[1]};
-  const double cos2 = -d1[1], sin2t = d1[0] / eta;  // out of the bottom: tangential part scaled by n
-  const double d2[2] = {sin2t, -std::sqrt(1 - sin2t * sin2t)};
-  const double shift = 0.3 * d2[0] / -d2[1];
+  const double cos2 = -d1[1];
+  const double shift = test::prism_floor_shift(1.5);
   const double band = fresnel_t(cos1, 1.5) * fresnel_t(cos2, 1 / 1.5) / (1 - 0.5 * d1[0] / -d1[1]);
   const double right_edge = 0.5 + shift;
   const auto e = floor_irradiance(j, n);
@@ -527,8 +524,7 @@ TEST(GlassRefine, SmoothMeshesAreLeftAlone) {
   EXPECT_EQ(r.normals, sphere->mesh.normals);
   EXPECT_EQ(r.triangles, sphere->mesh.triangles);
   // The prism with splitting off: only its creases.
-  const auto path = write_temp("caustix_wedge_prism.obj", wedge_prism_obj());
-  auto prism = bake::import_mesh(path.string());
+  auto prism = bake::import_mesh(kWedgePrism);
   ASSERT_TRUE(prism.ok());
   bake::GlassRefineOptions creases_only;
   creases_only.max_edge = 0;
