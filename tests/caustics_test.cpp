@@ -18,6 +18,7 @@
 #include <fstream>
 
 #include "caustix/bake/bake.h"
+#include "caustix/formats/spectrum.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
@@ -112,23 +113,24 @@ TEST_F(Caustics, AbsorptionScalesByExpMinusKd) {
   }
 }
 
-// 1-D ray trace of y = 2 + 0.1 sin(2 pi x), light straight down, floor y = 0:
-// where the map x0 -> X is folded (dX/dx0 = 0) within one wavelength.
-std::vector<double> fold_lines() {
-  auto land = [](double x0) {
+// 1-D ray trace of y = 2 + 0.1 sin(2 pi x), light straight down, floor y = 0,
+// water of index n: where the map x0 -> X is folded (dX/dx0 = 0) within one
+// wavelength.
+std::vector<double> fold_lines(double n = 1.33) {
+  auto land = [n](double x0) {
     const double slope = 0.1 * 2 * kPi * std::cos(2 * kPi * x0);
     const double nlen = std::sqrt(slope * slope + 1), nx = -slope / nlen, ny = 1 / nlen;
-    const double eta = 1 / 1.33, cos_i = ny, k = 1 - eta * eta * (1 - cos_i * cos_i);
+    const double eta = 1 / n, cos_i = ny, k = 1 - eta * eta * (1 - cos_i * cos_i);
     const double tx = (eta * cos_i - std::sqrt(k)) * nx, ty = -eta + (eta * cos_i - std::sqrt(k)) * ny;
     const double h = 2 + 0.1 * std::sin(2 * kPi * x0);
     return x0 + tx * h / -ty;
   };
   std::vector<double> folds;
-  const int n = 200000;
-  double prev = land(1.0 / n) - land(0.0);
-  for (int i = 1; i < n; ++i) {
-    const double x0 = double(i) / n;
-    const double d = land(x0 + 1.0 / n) - land(x0);
+  const int steps = 200000;
+  double prev = land(1.0 / steps) - land(0.0);
+  for (int i = 1; i < steps; ++i) {
+    const double x0 = double(i) / steps;
+    const double d = land(x0 + 1.0 / steps) - land(x0);
     if ((d > 0) != (prev > 0)) {
       double x = land(x0);
       x -= std::floor(x);
@@ -140,18 +142,56 @@ std::vector<double> fold_lines() {
   return folds;
 }
 
+// wavy_pool's floor along x in [0, 4] m (4 periods of the wave), 512
+// texels of 7.8 mm over a strip 0.1 m wide: the mean of its 4 rows, per
+// channel.
+constexpr int kProfileTexels = 512;
+constexpr double kProfileTexel = 4.0 / kProfileTexels;
+std::array<std::vector<double>, 3> floor_profile(const metrics::Image& img) {
+  std::array<std::vector<double>, 3> profile;
+  for (auto& p : profile) p.assign(kProfileTexels, 0.0);
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < kProfileTexels; ++col) {
+      for (int c = 0; c < 3; ++c) profile[c][col] += img.rgb[3 * (std::size_t(row) * kProfileTexels + col) + c] / 4.0;
+    }
+  }
+  return profile;
+}
+
+IrradianceRequest floor_strip() {
+  IrradianceRequest q{"floor", 0, -0.05f, 4, 0.05f, kProfileTexels, 4, 0.0f, {}};
+  q.caustics.map_size = 2048;
+  return q;
+}
+
+double mean_of(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m += x / static_cast<double>(v.size());
+  return m;
+}
+
+// In each of the 4 periods, the positions (within the period) of the two
+// brightest local maxima, sorted.
+std::vector<std::array<double, 2>> brightest_pairs(const std::vector<double>& profile) {
+  std::vector<std::array<double, 2>> out;
+  for (int wave = 0; wave < 4; ++wave) {
+    std::vector<std::pair<double, double>> peaks;  // value, x
+    for (int c = wave * 128 + 1; c < wave * 128 + 127; ++c) {
+      if (profile[c] > profile[c - 1] && profile[c] >= profile[c + 1]) peaks.push_back({profile[c], (c + 0.5) * kProfileTexel});
+    }
+    std::sort(peaks.rbegin(), peaks.rend());
+    if (peaks.size() < 2) return {};
+    std::array<double, 2> xs{peaks[0].second - wave, peaks[1].second - wave};
+    std::sort(xs.begin(), xs.end());
+    out.push_back(xs);
+  }
+  return out;
+}
+
 TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
   auto r = renderer(scene("wavy_pool"));
-  const int w = 512;  // texel: 4 m / 512 = 7.8 mm
-  IrradianceRequest q{"floor", 0, -0.05f, 4, 0.05f, w, 4, 0.0f, {}};
-  q.caustics.map_size = 2048;
-  const auto img = irradiance(*r, q);
-  std::vector<double> profile(w, 0.0);
-  for (int row = 0; row < 4; ++row) {
-    for (int col = 0; col < w; ++col) profile[col] += img.rgb[3 * (std::size_t(row) * w + col)] / 4.0;
-  }
-  double mean = 0;
-  for (double p : profile) mean += p / w;
+  const auto profile = floor_profile(irradiance(*r, floor_strip()))[0];
+  const double mean = mean_of(profile);
   const double flat = fresnel_t(1.0, 1.33);
   EXPECT_NEAR(mean / flat, 1.0, 0.02) << "mean E/E0 over 4 wavelengths " << mean << ", flat water " << flat;
 
@@ -160,19 +200,79 @@ TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
   EXPECT_NEAR(folds[0], 0.146, 0.002);
   EXPECT_NEAR(folds[1], 0.354, 0.002);
   // In each wavelength the two brightest local maxima sit on the folds.
-  const double texel = 4.0 / w;
+  const auto pairs = brightest_pairs(profile);
+  ASSERT_EQ(pairs.size(), 4u);
   for (int wave = 0; wave < 4; ++wave) {
-    std::vector<std::pair<double, double>> peaks;  // value, x
-    for (int c = wave * 128 + 1; c < wave * 128 + 127; ++c) {
-      if (profile[c] > profile[c - 1] && profile[c] >= profile[c + 1]) peaks.push_back({profile[c], (c + 0.5) * texel});
-    }
-    std::sort(peaks.rbegin(), peaks.rend());
-    ASSERT_GE(peaks.size(), 2u);
-    std::vector<double> xs{peaks[0].second - wave, peaks[1].second - wave};
-    std::sort(xs.begin(), xs.end());
-    EXPECT_NEAR(xs[0], folds[0], 2 * texel) << "wave " << wave;
-    EXPECT_NEAR(xs[1], folds[1], 2 * texel) << "wave " << wave;
+    EXPECT_NEAR(pairs[wave][0], folds[0], 2 * kProfileTexel) << "wave " << wave;
+    EXPECT_NEAR(pairs[wave][1], folds[1], 2 * kProfileTexel) << "wave " << wave;
   }
+}
+
+// Dispersion in the level-map water family (issue 22). wavy_pool's water
+// with dispersion 3 (V_d 6.7), RGB from 4 bins (430, 530, 630, 730 nm;
+// n 1.3951 .. 1.3036):
+// - each bin's monochromatic image puts its fold lines where the 1-D trace
+//   with that wavelength's index does (tolerance 2 texels as above); the
+//   folds of 430 and 730 nm lie 5.2 cm, 6.7 texels, apart, and each image
+//   is farther than 2 texels from the other's;
+// - the RGB image is the spectral integral: each channel is the sum of the
+//   bins' monochromatic images times the bins' weights (to float rounding:
+//   the floor faces V, so the mean direction the include takes is exact),
+//   and each channel's mean is the bins' Fresnel transmittances so
+//   weighted (energy per channel, 2 % as above);
+// - one wavelength traced is bit-identical to water without dispersion.
+TEST_F(Caustics, DispersiveWaterFoldsPerWavelengthAndAddsUpInRgb) {
+  constexpr float kDispersion = 3.0f;
+  constexpr std::uint32_t kBins = 4;
+  auto j = scene("wavy_pool");
+  j["water"]["dispersion"] = kDispersion;
+  auto r = renderer(j);
+  const float n_d = j["water"].value("ior", 1.33f);
+  const auto bins = wavelength_samples(kBins);
+  std::array<std::vector<double>, 3> sum;
+  for (auto& s : sum) s.assign(kProfileTexels, 0.0);
+  std::array<double, 3> expected_mean{};
+  std::vector<std::vector<std::array<double, 2>>> pairs;
+  for (const WavelengthSample& w : bins) {
+    IrradianceRequest q = floor_strip();
+    q.caustics.wavelength_nm = w.nm;
+    const auto p = floor_profile(irradiance(*r, q))[0];
+    const double n = index_at(n_d, kDispersion, w.nm);
+    const auto folds = fold_lines(n);
+    ASSERT_EQ(folds.size(), 2u);
+    pairs.push_back(brightest_pairs(p));
+    ASSERT_EQ(pairs.back().size(), 4u) << w.nm << " nm";
+    for (int wave = 0; wave < 4; ++wave) {
+      for (int f = 0; f < 2; ++f) EXPECT_NEAR(pairs.back()[wave][f], folds[f], 2 * kProfileTexel) << w.nm << " nm, n " << n << ", wave " << wave;
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int i = 0; i < kProfileTexels; ++i) sum[c][i] += w.rgb[c] * p[i];
+      expected_mean[c] += w.rgb[c] * fresnel_t(1.0, n);
+    }
+  }
+  const auto blue = fold_lines(index_at(n_d, kDispersion, bins.front().nm)), red = fold_lines(index_at(n_d, kDispersion, bins.back().nm));
+  for (int wave = 0; wave < 4; ++wave) {
+    for (int f = 0; f < 2; ++f) {
+      EXPECT_GT(std::fabs(pairs.front()[wave][f] - red[f]), 2 * kProfileTexel) << "430 nm image against 730 nm's folds, wave " << wave;
+      EXPECT_GT(std::fabs(pairs.back()[wave][f] - blue[f]), 2 * kProfileTexel) << "730 nm image against 430 nm's folds, wave " << wave;
+    }
+  }
+
+  IrradianceRequest q = floor_strip();
+  q.caustics.wavelengths = kBins;
+  const auto rgb = floor_profile(irradiance(*r, q));
+  for (int c = 0; c < 3; ++c) {
+    const double scale = mean_of(rgb[c]);
+    double worst = 0;
+    for (int i = 0; i < kProfileTexels; ++i) worst = std::max(worst, std::fabs(rgb[c][i] - sum[c][i]) / scale);
+    EXPECT_LT(worst, 1e-4) << "channel " << c << ": RGB against the weighted monochromatic images";
+    EXPECT_NEAR(scale / expected_mean[c], 1.0, 0.02) << "channel " << c;
+  }
+
+  IrradianceRequest one = floor_strip();
+  one.caustics.wavelengths = 1;
+  auto plain = renderer(scene("wavy_pool"));
+  EXPECT_EQ(irradiance(*r, one).rgb, irradiance(*plain, one).rgb) << "one wavelength against water without dispersion";
 }
 
 // Issue 21's moire in caustic lines: eq. 4-18 gives each water triangle

@@ -39,6 +39,7 @@
 #include <iostream>
 
 #include "caustix/common/cli.h"
+#include "caustix/formats/spectrum.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/image_output.h"
 #include "caustix/runtime/renderer.h"
@@ -234,6 +235,10 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
     ImGui::Checkbox("cull illumination volumes", &c.cull);
     ImGui::Checkbox("smooth water caustics", &c.water_smooth);
     slider_u32("photons (splat)", c.photons, 16, 4096, ImGuiSliderFlags_Logarithmic);
+    slider_u32("wavelengths (dispersion)", c.wavelengths, 1, kMaxWavelengths);
+    bool mono = c.wavelength_nm.has_value();
+    if (ImGui::Checkbox("monochromatic", &mono)) c.wavelength_nm = mono ? std::optional<float>(kWavelengthD) : std::nullopt;
+    if (c.wavelength_nm) ImGui::SliderFloat("wavelength (nm)", &*c.wavelength_nm, kMinWavelength, kMaxWavelength, "%.0f");
   }
   if (ImGui::CollapsingHeader("Glass and mirrors")) {
     combo("light through glass", c.glass_method, {{GlassMethod::kTable, "light-transport table"}, {GlassMethod::kCausticMap, "caustic map"}});
@@ -580,6 +585,12 @@ int main(int argc, char** argv) {
       frame.time = static_cast<float>(anim_time);
       frame.width = fw;
       frame.height = fh;
+      // A monochromatic image the glass tables cannot make (dispersive
+      // glass): said in the title bar, not a failed frame.
+      if (Status ok = check_wavelengths((*renderer)->scene(), state.caustics); !ok) {
+        note = ok.error().message;
+        state.caustics.wavelength_nm.reset();
+      }
       frame.caustics = state.caustics;
       frame.water = state.look;
       frame.glass_view = state.glass_view;

@@ -72,6 +72,11 @@ std::vector<WavelengthSample> traced_wavelengths(const SceneDesc& scene, const C
   return wavelength_samples(scene_disperses(scene) ? o.wavelengths : 1);
 }
 
+std::vector<WavelengthSample> water_wavelengths(const Water& water, const CausticsOptions& o) {
+  if (o.wavelength_nm) return {WavelengthSample{*o.wavelength_nm, {1, 1, 1}}};
+  return wavelength_samples(water.dispersion > 0 ? o.wavelengths : 1);
+}
+
 float water_index(const Water& water, const CausticsOptions& o) {
   return o.wavelength_nm ? index_at(water.ior, water.dispersion, *o.wavelength_nm) : water.ior;
 }

@@ -167,7 +167,7 @@ struct Engine::Impl {
     r.glass_shadow_cube = m.glass_cube;
     r.shadow_vsm = m.opaque_vsm;
     r.glass_shadow_vsm = m.glass_vsm;
-    r.caustics = r.position = dummy_2d.get();
+    r.caustics = r.position = r.caustics_color = dummy_2d.get();
     r.glass_illumination = dummy_array.get();
     r.glass_target = dummy_2d.get();
     r.world_to_caustics = r.world_to_glass = r.world_to_caustic_map = glm::mat4(1.0f);
@@ -181,10 +181,11 @@ struct Engine::Impl {
       b.mode.x = static_cast<int>(LightMode::kCaustics);
       b.frame_origin = vec4_of(f.origin, cb->self_tolerance);
       b.frame_u = vec4_of(f.u, 0.5f * std::hypot(2.0f * f.half[0] / n, 2.0f * f.half[2] / n));
-      b.frame_v = vec4_of(f.v, 0.0f);
+      b.frame_v = vec4_of(f.v, cb->color ? 1.0f : 0.0f);
       b.frame_w = vec4_of(f.w, 0.0f);
       b.frame_half = vec4_of(f.half, 0.0f);
       r.caustics = cb->caustics;
+      if (cb->color) r.caustics_color = cb->color;
       r.position = cb->position_map;
       r.world_to_caustics = frame_matrix(f);
       return;
@@ -245,6 +246,7 @@ struct Engine::Impl {
     glBindTextureUnit(bindings.caustic_map, r.caustic_map);
     glBindTextureUnit(bindings.shadow_vsm, r.shadow_vsm);
     glBindTextureUnit(bindings.glass_shadow_vsm, r.glass_shadow_vsm);
+    glBindTextureUnit(bindings.caustics_color, r.caustics_color);
   }
 
   std::string lighting_prefix() const {
@@ -263,6 +265,7 @@ struct Engine::Impl {
     def("CAUSTIX_UNIT_CAUSTIC_MAP", b.caustic_map);
     def("CAUSTIX_UNIT_SHADOW_VSM", b.shadow_vsm);
     def("CAUSTIX_UNIT_GLASS_SHADOW_VSM", b.glass_shadow_vsm);
+    def("CAUSTIX_UNIT_CAUSTICS_COLOR", b.caustics_color);
     return s + shaders::k_caustix_glsl;
   }
 
@@ -293,15 +296,15 @@ Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
 Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const Bindings& bindings) {
-  const unsigned units[11] = {bindings.shadow_2d,       bindings.shadow_cube,       bindings.caustics,
+  const unsigned units[12] = {bindings.shadow_2d,       bindings.shadow_cube,       bindings.caustics,
                               bindings.position,        bindings.glass_illumination, bindings.glass_target,
                               bindings.glass_shadow_2d, bindings.glass_shadow_cube,  bindings.caustic_map,
-                              bindings.shadow_vsm,      bindings.glass_shadow_vsm};
+                              bindings.shadow_vsm,      bindings.glass_shadow_vsm,   bindings.caustics_color};
   GLint max_units = 0, max_ubo = 0;
   glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_units);
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &max_ubo);
   if (max_units == 0) return make_error(ErrorCode::kGraphics, "no current OpenGL context (the engine needs the application's 4.5 core context)");
-  for (int i = 0; i < 11; ++i) {
+  for (int i = 0; i < 12; ++i) {
     if (units[i] >= static_cast<unsigned>(max_units)) {
       return usage("Bindings: texture unit " + std::to_string(units[i]) + " is beyond this context's " + std::to_string(max_units));
     }

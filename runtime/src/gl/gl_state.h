@@ -49,12 +49,12 @@ class StateGuard {
   GLint ssbo_generic_ = 0, ubo_generic_ = 0, copy_read_ = 0, copy_write_ = 0;
   std::array<Indexed, kBufferPoints> ssbo_{}, ubo_{};
   GLuint points_ = 0;  // those the context has
-  // Image units 0 and 1 (the passes' compute shaders write through them).
+  // Image units 0 to 2 (the passes' compute shaders write through them).
   struct Image {
     GLint name = 0, level = 0, layer = 0, access = 0, format = 0;
     GLboolean layered = GL_FALSE;
   };
-  std::array<Image, 2> images_{};
+  std::array<Image, 3> images_{};
   std::vector<Unit> units_;
   std::vector<std::pair<GLenum, GLboolean>> caps_;
 };

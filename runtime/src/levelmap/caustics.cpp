@@ -40,6 +40,11 @@ struct MapGpu {
   // Volumetric baseline: receiver slices and illumination per plane.
   gl::Texture slices, illumination;
   std::uint32_t slice_count = 0, slice_size = 0;
+  // Dispersion (a water that disperses, several wavelengths traced): the
+  // sum over wavelengths and the RGB colour texture (caustics_accumulate).
+  gl::Texture spectral_sum, color;
+  std::uint32_t spectral_size = 0;
+  bool spectral = false;  // the last update traced several wavelengths: `color` is valid
   std::uint64_t gpu_bytes = 0;
 };
 
@@ -71,7 +76,7 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
-  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile;
+  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile, accumulate;
   gl::Program splat_photon, splat_points;
   // Photon splatting (one set, reused map after map): the photon texture,
   // the vertex buffer it is copied into, and the points' vertex array.
@@ -165,23 +170,62 @@ struct CausticsEngine::Impl {
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 16 * 4 / 3;  // RGBA32F and its mips
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
-    return pm + cm + sl + tiles + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
+    const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * (1 + 4 / 3.0);  // sum, colour and its mips
+    return pm + cm + sl + tiles + spectral + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
   }
 
   // The light and the water's IOR, for the passes that refract at the water.
-  void set_light(const gl::Program& p, const Light& light, const CausticsOptions& o) const {
+  void set_light(const gl::Program& p, const Light& light, float ior) const {
     p.set("u_light_type", static_cast<int>(light.type));
     p.set("u_light_direction", v3(light.direction));
     p.set("u_light_position", v3(light.position));
     p.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
-    p.set("u_ior", water_index(water->water(), o));
+    p.set("u_ior", ior);
+  }
+
+  void ensure_spectral(MapGpu& m) {
+    if (m.spectral_size == m.caustics_size && m.color.get()) return;
+    const auto size = static_cast<GLsizei>(m.caustics_size);
+    GLsizei levels = 1;
+    while ((m.caustics_size >> levels) > 0) ++levels;
+    m.spectral_sum = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.spectral_sum.get(), 1, GL_RGBA32F, size, size);
+    m.color = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.color.get(), levels, GL_RGBA32F, size, size);
+    glTextureParameteri(m.color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(m.color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(m.color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(m.color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    m.spectral_size = m.caustics_size;
+  }
+
+  // One traced wavelength's map (level 0, not yet finished) into the sums
+  // over wavelengths (caustics_accumulate.comp); the last writes the sum
+  // back into the map.
+  void accumulate_wavelength(MapGpu& m, const WavelengthSample& w, bool first, bool last) {
+    ensure_spectral(m);
+    accumulate.use();
+    accumulate.set("u_size", static_cast<int>(m.caustics_size));
+    accumulate.set("u_rgb", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]));
+    accumulate.set("u_first", first ? 1 : 0);
+    accumulate.set("u_last", last ? 1 : 0);
+    glBindImageTexture(0, m.caustics.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(1, m.spectral_sum.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(2, m.color.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    const GLuint groups = (m.caustics_size + 7) / 8;
+    glDispatchCompute(groups, groups, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    for (GLuint u = 0; u < 3; ++u) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    if (last) glGenerateTextureMipmap(m.color.get());
   }
 
   // Seed 001 ch. 8, GPU variant: render the water along V into the photon
   // texture (splat_photon.frag), copy it into a vertex buffer through the
   // pixel-pack binding (the paper's PBO route), draw it as points with
   // additive blending into the caustics map.
-  void draw_splat(MapGpu& m, const CausticsOptions& o, const Light& light) {
+  void draw_splat(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
     const std::uint32_t p = o.photons;
     if (photon_size != p) {
@@ -222,7 +266,7 @@ struct CausticsEngine::Impl {
     splat_photon.use();
     splat_photon.set("u_view_proj", to_clip);
     set_frame(splat_photon, f);
-    set_light(splat_photon, light, o);
+    set_light(splat_photon, light, ior);
     splat_photon.set("u_pixel_area", (2 * gx / static_cast<float>(p)) * (2 * gz / static_cast<float>(p)));
     const float texel_u = 2 * f.half[0] / static_cast<float>(m.caustics_size), texel_w = 2 * f.half[2] / static_cast<float>(m.caustics_size);
     splat_photon.set("u_texel_area", texel_u * texel_w);
@@ -250,8 +294,6 @@ struct CausticsEngine::Impl {
     glDisable(GL_PROGRAM_POINT_SIZE);
     glBindVertexArray(0);
     glDisable(GL_BLEND);
-    finish_map(m);
-    m.gpu_bytes = bytes_of(m) + std::uint64_t{32} * p * p;  // photon texture and its vertex buffer
     stats.volumes_total += std::uint64_t{p} * p;
   }
 
@@ -270,20 +312,20 @@ struct CausticsEngine::Impl {
     glGenerateTextureMipmap(m.caustics.get());
   }
 
-  void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light) {
+  // One wavelength's caustics map into level 0 (finish_map makes its
+  // presence and mips).
+  void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
     ensure_planes(m, o);
     ensure_caustics_target(m, o.map_size);
     if (o.method == CausticsMethod::kSplat) {
-      draw_splat(m, o, light);
+      draw_splat(m, o, light, ior);
       return;
     }
     const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
     if (nplanes == 0) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
       const float none[4] = {0, 0, 0, 0};
       glClearTexImage(m.caustics.get(), 0, GL_RGBA, GL_FLOAT, none);
-      glGenerateTextureMipmap(m.caustics.get());
-      m.gpu_bytes = bytes_of(m);
       return;
     }
 
@@ -428,10 +470,8 @@ struct CausticsEngine::Impl {
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glDisable(GL_BLEND);
-    finish_map(m);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
-    m.gpu_bytes = bytes_of(m);
     stats.volumes_total += water->triangle_count();
     stats.planes_drawn += nplanes;
   }
@@ -466,7 +506,8 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
        {&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
-       {&s.profile, "profile", shaders::k_profile_comp_glsl}}));
+       {&s.profile, "profile", shaders::k_profile_comp_glsl},
+       {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl}}));
   s.empty_vao = gl::make_vertex_array();
 
   s.refracted = gl::make_buffer();
@@ -594,38 +635,60 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
   for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
   if (!any || o.method == CausticsMethod::kNone) return Status::success();
 
-  // Refract at every water vertex, then each triangle's flux (eq. 2-8, 4-18);
-  // photon splatting refracts per photon instead.
-  s.water->bind_buffers();
+  // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
+  // disperses; issue 22): refract at every water vertex, then each
+  // triangle's flux (eq. 2-8, 4-18), then every map of this light; photon
+  // splatting refracts per photon instead. Several wavelengths add up in
+  // each map's spectral sums (accumulate_wavelength).
+  const Water& water = s.water->water();
+  const std::vector<WavelengthSample> samples = water_wavelengths(water, o);
+  const bool spectral = samples.size() > 1;
   const bool splat = o.method == CausticsMethod::kSplat;
-  if (!splat) {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
-    s.prepare.use();
-    s.set_light(s.prepare, desc, o);
-    s.prepare.set("u_mode", 0);
-    s.prepare.set("u_count", s.water->vertex_count());
-    glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    s.prepare.set("u_mode", 1);
-    s.prepare.set("u_count", s.water->triangle_count());
-    glDispatchCompute((s.water->triangle_count() + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    s.stats.water_triangles = s.water->triangle_count();
+  CausticsStats counted;  // after the first wavelength: the counters count one pass
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    // One wavelength and no wavelength_nm: exactly n_d (KHR's 1.5168 is
+    // 523655 / 587.56^2 to 4 places only).
+    const float ior = spectral || o.wavelength_nm ? index_at(water.ior, water.dispersion, samples[k].nm) : water.ior;
+    s.water->bind_buffers();
+    if (!splat) {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
+      s.prepare.use();
+      s.set_light(s.prepare, desc, ior);
+      s.prepare.set("u_mode", 0);
+      s.prepare.set("u_count", s.water->vertex_count());
+      glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      s.prepare.set("u_mode", 1);
+      s.prepare.set("u_count", s.water->triangle_count());
+      glDispatchCompute((s.water->triangle_count() + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      s.stats.water_triangles = s.water->triangle_count();
+    }
+    for (std::size_t i = 0; i < s.maps.size(); ++i) {
+      MapGpu& m = s.maps[i];
+      if (m.lm->light != light) continue;
+      s.draw_map(m, o, desc, ior);
+      if (spectral) s.accumulate_wavelength(m, samples[k], k == 0, k + 1 == samples.size());
+      if (!splat && k == 0) s.drawn_maps.push_back(i);  // splatting fills no culling counters
+    }
+    if (k == 0) counted = s.stats;
   }
-
-  for (std::size_t i = 0; i < s.maps.size(); ++i) {
-    if (s.maps[i].lm->light != light) continue;
-    s.draw_map(s.maps[i], o, desc);
-    if (!splat) s.drawn_maps.push_back(i);  // splatting fills no culling counters
+  s.stats = counted;
+  for (MapGpu& m : s.maps) {
+    if (m.lm->light != light) continue;
+    m.spectral = spectral;
+    s.finish_map(m);
+    m.gpu_bytes = s.bytes_of(m) + (splat ? std::uint64_t{32} * o.photons * o.photons : 0);
   }
+  s.stats.wavelengths = static_cast<std::uint32_t>(samples.size());
   return gl::check_gl("caustics pass");
 }
 
 std::optional<CausticsEngine::Binding> CausticsEngine::binding(std::uint32_t object, std::uint32_t light) const {
   for (const MapGpu& m : impl_->maps) {
     if (m.lm->object == object && m.lm->light == light && m.caustics.get()) {
-      return Binding{m.lm, m.caustics.get(), m.position_map.get(), m.self_tolerance};
+      return Binding{m.lm, m.caustics.get(), m.spectral ? m.color.get() : 0u, m.position_map.get(), m.self_tolerance};
     }
   }
   return std::nullopt;

@@ -45,7 +45,8 @@ class CausticsEngine {
 
   struct Binding {
     const LevelMap* map;
-    GLuint caustics;      // R32F, irradiance on planes perpendicular to V
+    GLuint caustics;      // RGBA32F: irradiance on planes perpendicular to V, its direction, presence
+    GLuint color;         // RGBA32F: irradiance per RGB channel when the water disperses (else 0)
     GLuint position_map;  // R32F, frame V of the first surface
     float self_tolerance;
   };

@@ -163,8 +163,10 @@ struct CausticsOptions {
   // bin's CIE-to-linear-sRGB weights; 1 traces the d line only (every index
   // n_d: no fringes, the cost of a scene without dispersion). A scene
   // without dispersion traces one whatever this says. The level-map water
-  // family, flat water and glass tables trace the d line (n_d) unless
-  // wavelength_nm is set.
+  // family (level map, uniform, volumetric, splat) traces as many when the
+  // water disperses, into the caustics map and an RGB colour texture
+  // (Bindings::caustics_color). Flat water and glass tables trace the d
+  // line (n_d) unless wavelength_nm is set.
   std::uint32_t wavelengths = 8;
   // A monochromatic image: every index at this wavelength (nm, 380..780)
   // and the light's own colour (caustix-render --wavelength): the caustic
@@ -178,6 +180,9 @@ struct CausticsOptions {
 // (above): one with weight (1, 1, 1) at wavelength_nm when set, one at the
 // d line in a scene without dispersion, else options.wavelengths bins.
 std::vector<WavelengthSample> traced_wavelengths(const SceneDesc& scene, const CausticsOptions& options);
+// The wavelengths the water-caustics passes trace: as traced_wavelengths,
+// but several only when the water itself disperses.
+std::vector<WavelengthSample> water_wavelengths(const Water& water, const CausticsOptions& options);
 // The water's index for the passes that trace one wavelength: at
 // options.wavelength_nm when set, else its `ior` (n_d).
 float water_index(const Water& water, const CausticsOptions& options);
@@ -198,6 +203,10 @@ struct CausticsStats {
   std::uint64_t volumes_total = 0;    // before culling, summed over maps
   std::uint64_t planes_drawn = 0;     // summed over maps
   std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers; glass tables and textures; media grids)
+  // Wavelengths the water passes traced (several only when the water
+  // disperses). The counters above are one wavelength's pass: the passes
+  // ran this many times over the same volumes and planes.
+  std::uint32_t wavelengths = 1;
 };
 
 // What the last update()'s photon marching did (seed 004), summed over

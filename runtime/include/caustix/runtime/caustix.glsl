@@ -74,6 +74,9 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 #ifndef CAUSTIX_UNIT_GLASS_SHADOW_VSM
 #define CAUSTIX_UNIT_GLASS_SHADOW_VSM 18
 #endif
+#ifndef CAUSTIX_UNIT_CAUSTICS_COLOR
+#define CAUSTIX_UNIT_CAUSTICS_COLOR 19
+#endif
 
 // One (receiver, light): caustix::runtime::LightBlock field for field.
 // Light modes (mode.x), chosen per (object, light) by the engine:
@@ -89,7 +92,11 @@ float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - causti
 //    R n.d / V.d (the cos theta_t of eq. 4-18 for this surface and the light
 //    that actually arrives, where the thesis takes n.V), e^(-K d) (eq.
 //    4-17), and its visibility: not behind its own first surface (position
-//    map) and not in another object's shadow.
+//    map) and not in another object's shadow. When the water disperses
+//    (frame_v.w 1; issue 22) the map's R is the mean over the traced
+//    wavelengths and caustix_caustics_color holds the irradiance per RGB
+//    channel (the spectral integral): each channel is scaled by its ratio
+//    to R, the direction taken as the wavelengths' mean.
 layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   ivec4 mode;            // x light mode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
   vec4 light_direction;  // xyz unit direction of travel (directional), w 1: variance shadow maps
@@ -101,7 +108,7 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   mat4 world_to_shadow;
   vec4 frame_origin;     // w self-shadow tolerance
   vec4 frame_u;          // w half a position-map texel's diagonal
-  vec4 frame_v;
+  vec4 frame_v;          // w 1: the caustics colour texture is bound
   vec4 frame_w;
   vec4 frame_half;
   vec4 glass_origin;     // w tolerance
@@ -121,6 +128,7 @@ layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_
 layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_shadow_cube;
 layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V, and its direction
 layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
+layout(binding = CAUSTIX_UNIT_CAUSTICS_COLOR) uniform sampler2D caustix_caustics_color;  // irradiance per RGB channel (dispersion)
 // Glass (seed 002 §4.3): the receiver's illumination textures for this
 // light, on planes perpendicular to glass_v: the mean transmitted direction
 // reversed, or a flat receiver's normal on its lit side (one plane, the
@@ -256,7 +264,15 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     vec3 m = m4.a > 1e-3 ? m4.rgb / m4.a : m4.rgb;
     float e = max(m.r * dot(n, caustix_light.frame_v.xyz) + m.g * dot(n, caustix_light.frame_u.xyz) + m.b * dot(n, caustix_light.frame_w.xyz), 0.0);
     vec3 travel = -caustix_light.frame_v.xyz;
-    return caustix_light.light_color.rgb * e * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);
+    vec3 tint = vec3(1.0);
+    if (caustix_light.frame_v.w != 0.0) {
+      vec3 c = texture(caustix_caustics_color, uv).rgb;
+      // Kept signed: a saturated spectral colour lies outside linear sRGB
+      // (red is negative around 500 nm), as in the caustic maps; display
+      // clamps. R > 0 wherever light arrives: every bin's mean weight is.
+      tint = m4.r > 0.0 ? c / m4.r : vec3(0.0);
+    }
+    return caustix_light.light_color.rgb * tint * e * exp(-caustix_light.absorption.xyz * caustix_water_path(p, travel)) * caustix_shadow_visibility(p, n, caustix_light.frame_v.xyz);
   }
   vec3 l = caustix_light.mode.y == 1 ? caustix_light.light_direction.xyz : normalize(p - caustix_light.light_position.xyz);
   float e_in = caustix_light.mode.y == 1 ? caustix_light.light_color.w : caustix_light.light_color.w / max(dot(p - caustix_light.light_position.xyz, p - caustix_light.light_position.xyz), 1e-12);

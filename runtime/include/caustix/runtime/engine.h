@@ -64,7 +64,7 @@
 namespace caustix::runtime {
 
 // Where the GLSL include finds its resources: one uniform-buffer binding
-// point (the block CaustixLight) and nine texture units. Change them when
+// point (the block CaustixLight) and twelve texture units. Change them when
 // they collide with the application's own; glsl_include() then carries the
 // matching #defines (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
 struct Bindings {
@@ -86,6 +86,10 @@ struct Bindings {
   // directional lights; 1x1 where unused).
   unsigned shadow_vsm = 17;
   unsigned glass_shadow_vsm = 18;
+  // sampler2D RGBA32F: the caustics map's irradiance per RGB channel when
+  // the water disperses (issue 22; LightBlock::frame_v.w 1; 1x1 where
+  // unused).
+  unsigned caustics_color = 19;
 };
 
 // How a receiver is lit by one light (the block's mode.x).
@@ -112,7 +116,7 @@ struct LightBlock {
   // map's texture coordinate is (0.5 (u/half.x + 1), 0.5 (w/half.z + 1)).
   glm::vec4 frame_origin{0};    // w: self-shadow tolerance along V (m)
   glm::vec4 frame_u{0};         // w: half a position-map texel's diagonal (m)
-  glm::vec4 frame_v{0};
+  glm::vec4 frame_v{0};         // w: 1 where the caustics colour texture is bound (the water disperses)
   glm::vec4 frame_w{0};
   glm::vec4 frame_half{0};      // xyz: half extents along U, V, W
   // Glass illumination (mode.z = 1): the virtual camera's frame and planes.
@@ -143,6 +147,7 @@ struct ReceiverLighting {
   unsigned glass_illumination = 0, glass_target = 0, glass_shadow_2d = 0, glass_shadow_cube = 0;
   unsigned caustic_map = 0;
   unsigned shadow_vsm = 0, glass_shadow_vsm = 0;
+  unsigned caustics_color = 0;
   // The block's frames as matrices: world (x, y, z, 1) -> (s, t, v, 1), with
   // (s, t) the texture coordinate of the caustics and position maps (of the
   // glass textures), in [0, 1] over the region they cover, and v the
