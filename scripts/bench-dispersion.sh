@@ -1,37 +1,47 @@
 #!/usr/bin/env bash
-# Regenerates docs/results/dispersion.csv and the trade-off rows
-# docs/results/tradeoff_dispersion.csv (docs/dispersion.md): the dispersive
-# ball (assets/scenes/dispersive_ball.json) through image-space caustic maps
-# at 1..32 traced wavelengths against the spectral caustix-reference (per
-# photon wavelengths): relative L1 per colour channel, GPU ms of the photon
-# and splat passes; then the monochromatic images at the F, d and C lines
-# against monochromatic references; then the same passes on glass_ball (no
-# dispersion) side by side. About 10 minutes on 2 cores with llvmpipe.
+# Dispersion's measurements for docs/dispersion.md. Usage:
+#   scripts/bench-dispersion.sh [glass|water|all]   (default all)
+# glass: docs/results/dispersion.csv and the trade-off rows
+#   docs/results/tradeoff_dispersion.csv: the dispersive ball
+#   (assets/scenes/dispersive_ball.json) through image-space caustic maps at
+#   1..32 traced wavelengths against the spectral caustix-reference (per
+#   photon wavelengths): relative L1 per colour channel, GPU ms of the photon
+#   and splat passes; then the monochromatic images at the F, d and C lines
+#   against monochromatic references; then the same passes on glass_ball (no
+#   dispersion) side by side. About 10 minutes on 2 cores with llvmpipe.
+# water: docs/results/dispersion_water.csv: wavy_pool's water with
+#   dispersion 3 over a 1.5 m pool, the level-map, volumetric and splat
+#   methods at 1..16 wavelengths against the spectral reference (relative L1
+#   per channel) and ms per 640x480 frame; the same pool without dispersion
+#   at 8 (it traces one); shafts_pool's scattering water with dispersion 3,
+#   ms per frame with the media at 1, 4 and 8 wavelengths. About 5 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build
 B=build
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
-R="-0.5,-0.5,0.5,0.5"
-$B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db.cxb" -q
-$B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
-$B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 16000000 \
-  -o "$T/ref.exr" >/dev/null
-OUT=docs/results/dispersion.csv
-echo "scene,wavelengths,wavelength_nm,rel_l1_r,rel_l1_g,rel_l1_b,flux_ratio_g,photon_ms,splat_ms,renderer" > "$OUT"
+PART=${1:-all}
+case "$PART" in glass|water|all) ;; *) echo "usage: $0 [glass|water|all]" >&2; exit 2 ;; esac
 # Relative L1 of one channel: both images' channel copied into all three,
 # so that caustix-compare's luminance is that channel.
 channel_l1() {  # image reference channel
   oiiotool "$1" --ch "$3,$3,$3" -o "$T/a.exr" && oiiotool "$2" --ch "$3,$3,$3" -o "$T/b.exr"
   $B/tools/caustix-compare --json "$T/a.exr" "$T/b.exr"
 }
-row() {  # scene cxb reference label-wavelengths label-nm [render options]
-  local s=$1 cxb=$2 ref=$3 n=$4 nm=$5; shift 5
-  local log
-  log=$($B/runtime/caustix-render "$cxb" --irradiance floor --region $R --size 200 --glass-method caustic-map -o "$T/img.exr" -v "$@")
-  /usr/bin/python3 - "$s" "$n" "$nm" "$(channel_l1 "$T/img.exr" "$ref" R)" "$(channel_l1 "$T/img.exr" "$ref" G)" \
-    "$(channel_l1 "$T/img.exr" "$ref" B)" "$log" >> "$OUT" <<'PY'
+glass() {
+  local R="-0.5,-0.5,0.5,0.5" OUT=docs/results/dispersion.csv
+  $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db.cxb" -q
+  $B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
+  $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 16000000 \
+    -o "$T/ref.exr" >/dev/null
+  echo "scene,wavelengths,wavelength_nm,rel_l1_r,rel_l1_g,rel_l1_b,flux_ratio_g,photon_ms,splat_ms,renderer" > "$OUT"
+  row() {  # scene cxb reference label-wavelengths label-nm [render options]
+    local s=$1 cxb=$2 ref=$3 n=$4 nm=$5; shift 5
+    local log
+    log=$($B/runtime/caustix-render "$cxb" --irradiance floor --region $R --size 200 --glass-method caustic-map -o "$T/img.exr" -v "$@")
+    /usr/bin/python3 - "$s" "$n" "$nm" "$(channel_l1 "$T/img.exr" "$ref" R)" "$(channel_l1 "$T/img.exr" "$ref" G)" \
+      "$(channel_l1 "$T/img.exr" "$ref" B)" "$log" >> "$OUT" <<'PY'
 import json, re, sys
 s, n, nm, r, g, b, log = sys.argv[1:]
 r, g, b = (json.loads(x) for x in (r, g, b))
@@ -39,16 +49,71 @@ m = re.search(r"photons ([\d.]+) ms, splat ([\d.]+) ms", log)
 ren = re.search(r"renderer: (.*)", log).group(1)
 print(f'{s},{n},{nm},{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f},{m.group(1)},{m.group(2)},"{ren}"')
 PY
+  }
+  for n in 1 2 4 8 16 32; do row dispersive_ball "$T/db.cxb" "$T/ref.exr" $n rgb --wavelengths $n; done
+  for nm in 486.13 587.56 656.27; do
+    $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
+      --wavelength $nm -o "$T/ref_$nm.exr" >/dev/null
+    row dispersive_ball "$T/db.cxb" "$T/ref_$nm.exr" 1 $nm --wavelength $nm
+  done
+  # No dispersion: one wavelength whatever --wavelengths says (the cost of before).
+  $B/tools/caustix-reference assets/scenes/glass_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
+    -o "$T/gref.exr" >/dev/null
+  for n in 1 8; do row glass_ball "$T/gb.cxb" "$T/gref.exr" $n rgb --wavelengths $n; done
+  $B/tools/caustix-bench tradeoff assets/scenes/dispersive_ball.json --reference "$T/ref.exr" --pixel-samples 4 \
+    --knobs wavelengths --csv docs/results/tradeoff_dispersion.csv >/dev/null
 }
-for n in 1 2 4 8 16 32; do row dispersive_ball "$T/db.cxb" "$T/ref.exr" $n rgb --wavelengths $n; done
-for nm in 486.13 587.56 656.27; do
-  $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
-    --wavelength $nm -o "$T/ref_$nm.exr" >/dev/null
-  row dispersive_ball "$T/db.cxb" "$T/ref_$nm.exr" 1 $nm --wavelength $nm
-done
-# No dispersion: one wavelength whatever --wavelengths says (the cost of before).
-$B/tools/caustix-reference assets/scenes/glass_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
-  -o "$T/gref.exr" >/dev/null
-for n in 1 8; do row glass_ball "$T/gb.cxb" "$T/gref.exr" $n rgb --wavelengths $n; done
-$B/tools/caustix-bench tradeoff assets/scenes/dispersive_ball.json --reference "$T/ref.exr" --pixel-samples 4 \
-  --knobs wavelengths --csv docs/results/tradeoff_dispersion.csv >/dev/null
+
+# A scene derived from a canonical one: JSON edits applied, mesh paths made
+# absolute.
+derive() {  # canonical-name output python-edits
+  /usr/bin/python3 - "$1" "$2" "$3" <<'PY'
+import json, os, sys
+name, out, edit = sys.argv[1:]
+j = json.load(open(f"assets/scenes/{name}.json"))
+for o in j["objects"]:
+    o["mesh"] = os.path.abspath(os.path.join("assets/scenes", o["mesh"]))
+exec(edit)
+json.dump(j, open(out, "w"))
+PY
+}
+
+water() {
+  local R="0,-0.5,1,0.5" OUT=docs/results/dispersion_water.csv
+  derive wavy_pool "$T/pool.json" 'j["water"]["dispersion"] = 3.0; j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  derive wavy_pool "$T/plain.json" 'j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  derive shafts_pool "$T/shafts.json" 'j["water"]["dispersion"] = 3.0'
+  for s in pool plain shafts; do $B/bake/caustix-bake "$T/$s.json" -o "$T/$s.cxb" -q; done
+  $B/tools/caustix-reference "$T/pool.json" --irradiance floor --region $R --size 200 --photons 16000000 -o "$T/wref.exr" >/dev/null
+  echo "scene,method,wavelengths,rel_l1_r,rel_l1_g,rel_l1_b,flux_ratio_g,frame_ms,renderer" > "$OUT"
+  wrow() {  # scene cxb method wavelengths [reference]
+    local s=$1 cxb=$2 m=$3 n=$4 ref=${5:-} r="" g="" b="" flux="" line
+    if [ -n "$ref" ]; then
+      $B/runtime/caustix-render "$cxb" --irradiance floor --region $R --size 200 --method "$m" --wavelengths "$n" -o "$T/img.exr" >/dev/null
+      r=$(channel_l1 "$T/img.exr" "$ref" R); g=$(channel_l1 "$T/img.exr" "$ref" G); b=$(channel_l1 "$T/img.exr" "$ref" B)
+    fi
+    line=$($B/tools/caustix-bench frames "$cxb" --method "$m" --wavelengths "$n" --warmup 1 --frames 3)
+    /usr/bin/python3 - "$s" "$m" "$n" "$r" "$g" "$b" "$line" >> "$OUT" <<'PY'
+import csv, json, sys
+s, m, n, r, g, b, line = sys.argv[1:]
+f = next(csv.reader([line]))
+if r:
+    r, g, b = (json.loads(x) for x in (r, g, b))
+    err = f'{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f}'
+else:
+    err = ",,,"
+print(f'{s},{m},{n},{err},{f[6]},"{f[12]}"')
+PY
+  }
+  for m in levelmap volumetric splat; do
+    for n in 1 2 4 8 16; do wrow dispersive_pool "$T/pool.cxb" $m $n "$T/wref.exr"; done
+  done
+  for n in 1 8; do wrow plain_pool "$T/plain.cxb" levelmap $n; done
+  for n in 1 4 8; do wrow dispersive_shafts_pool "$T/shafts.cxb" levelmap $n; done
+}
+
+case "$PART" in
+  glass) glass ;;
+  water) water ;;
+  all) glass; water ;;
+esac

@@ -91,6 +91,7 @@ struct RuntimeModes final : Modes {
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
+  std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
   bool no_cull = false, header = false, move_light = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr;
   std::string sim_scene;
@@ -119,6 +120,8 @@ struct RuntimeModes final : Modes {
     fr->add_option("--cmap-budget", cmap_budget, "caustic maps, adaptive: most photons per light")->check(CLI::Range(1, 1 << 24))->capture_default_str();
     fr->add_option("--supersample", supersample, "antialiasing: N x N samples per pixel (the renderer's FrameParams::supersample)")
         ->check(CLI::Range(1, 4))->capture_default_str();
+    fr->add_option("--wavelengths", wavelengths, "dispersion: wavelengths traced in a scene with dispersion (docs/dispersion.md)")
+        ->check(CLI::Range(1, static_cast<int>(kMaxWavelengths)))->capture_default_str();
     fr->add_option("--label", label, "first CSV column");
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
@@ -165,6 +168,7 @@ struct RuntimeModes final : Modes {
     co.caustic_map.map_size = cmap_size;
     co.caustic_map.adaptive_levels = cmap_adaptive;
     co.caustic_map.photon_budget = cmap_budget;
+    co.wavelengths = wavelengths;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);
     return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample);

@@ -29,6 +29,7 @@ struct Knob {
   std::function<void(Setting&, double)> apply;
   bool media_only = false;  // only in-scatter references (seed 004; docs/volume.md)
   bool caster_only = false;  // only scenes with glass or mirrors (image-space caustic maps, issue 20)
+  bool dispersion_only = false;  // only scenes with dispersion (issue 22)
 };
 
 // Caustic maps (seed 003) draw glass from here on; mirrors always use them.
@@ -97,13 +98,13 @@ const std::vector<Knob>& knobs() {
        },
        false, true},
       // Dispersion (issue 22; docs/dispersion.md): wavelengths the caustic
-      // maps trace in a dispersive scene.
+      // maps and a dispersive water's passes trace.
       {"wavelengths", {1, 2, 4, 8, 16, 32}, false, false,
        [](Setting& s, double v) {
          s.caustics.glass_method = runtime::GlassMethod::kCausticMap;
          s.caustics.wavelengths = static_cast<std::uint32_t>(v);
        },
-       false, true},
+       false, false, true},
       // Variance shadow maps' filter width (texels); 0: PCF.
       {"vsm-filter", {0, 1, 5, 21}, false, false,
        [](Setting& s, double v) {
@@ -278,7 +279,7 @@ int tradeoff(const TradeoffRequest& q) {
     const bool inscatter = ref->receiver.empty();
     if (q.knobs.empty() && knob->media_only != inscatter) continue;  // in-scatter references sweep the media's knobs
     if ((knob->glass_only && !has_glass) || (knob->water_only && !has_water) || (knob->media_only && !inscatter) ||
-        (knob->caster_only && !has_casters)) {
+        (knob->caster_only && !has_casters) || (knob->dispersion_only && !scene_disperses(doc->scene))) {
       std::fprintf(stderr, "caustix-bench: %s does not apply to %s (skipped)\n", knob->name, q.scene_path.c_str());
       continue;
     }

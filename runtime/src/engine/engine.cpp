@@ -545,7 +545,9 @@ Status Engine::update(const FrameUpdate& f) {
     s.upload_light(li, co);
     if (s.volume && !s.lighting.empty()) {
       // Photons start from the same water state as the caustics (seed 004).
-      CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr,
+      const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
+      const bool spectral = waves.size() > 1 || co.wavelength_nm.has_value();
+      CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr, waves, spectral,
                                                      [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }));
     }
   }

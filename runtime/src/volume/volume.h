@@ -48,9 +48,12 @@ class VolumeEngine {
   Status begin_frame(const SceneDesc& scene, const VolumeOptions& options);
   // Photons of light `li` into its radiance grid. `bind_light` binds the
   // light's block and shadow maps (caustix.glsl). `water` is the animated
-  // surface when the scene has water.
+  // surface when the scene has water. The photons are marched once per
+  // sample of `waves` (traced_wavelengths; issue 22), carrying the light's
+  // colour times the sample's RGB weights, every index (water, glass) at
+  // the sample's wavelength when `spectral` (else n_d).
   Status update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& options, const WaterSurface* water,
-                      const std::function<void()>& bind_light);
+                      const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light);
   // The viewing pass into the bound framebuffer and viewport, through
   // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
   // the viewport's size) each pixel becomes colour x T + L x scale, else
