@@ -105,20 +105,28 @@ TEST_F(Volume, SchlickPhaseScalesAsThePhaseFunction) {
   expect_schlick_scaling(image, 1e-4);
 }
 
-TEST_F(Volume, FlatScatteringWaterIsUniformAndAnalytic) {
-  auto r = make(scattering_flat_pool(), "volume_water");
-  ASSERT_TRUE(r);
+// The flat scattering pool from the side: 12 x 20 pixels over x in
+// [-1.5, 1.5], y in [0, 2.5]; and the analytic value of a row's pixels.
+InscatterRequest pool_side_view(Renderer& r) {
   InscatterRequest q;
   q.x0 = -1.5, q.y0 = 0, q.x1 = 1.5, q.y1 = 2.5;
   q.width = 12, q.height = 20;
   q.pixel_samples = 4;
-  q.caustics = r->engine().default_options();
-  const InscatterImage img = inscatter(*r, q);
-  ASSERT_EQ(img.rgb.size(), 12u * 20u * 3u);
+  q.caustics = r.engine().default_options();
+  return q;
+}
+double pool_side_row(int row) {
   const double dy = 2.5 / 20;
+  return flat_water_pixel(2.5 - (row + 1) * dy, 2.5 - row * dy);
+}
+
+TEST_F(Volume, FlatScatteringWaterIsUniformAndAnalytic) {
+  auto r = make(scattering_flat_pool(), "volume_water");
+  ASSERT_TRUE(r);
+  const InscatterImage img = inscatter(*r, pool_side_view(*r));
+  ASSERT_EQ(img.rgb.size(), 12u * 20u * 3u);
   for (int row = 0; row < 20; ++row) {
-    const double ya = 2.5 - (row + 1) * dy, yb = 2.5 - row * dy;
-    const double expected = flat_water_pixel(ya, yb);
+    const double expected = pool_side_row(row);
     for (int col = 0; col < 12; ++col) {
       const double got = img.rgb[3 * (std::size_t(row) * 12 + std::size_t(col)) + 1];
       // 2 % as for the fog; the row holding the surface (y 2.0 is a pixel
@@ -149,11 +157,7 @@ TEST_F(Volume, DispersiveScatteringWaterTakesFresnelPerWavelength) {
   j["water"]["dispersion"] = kDispersion;
   auto r = make(j, "volume_dispersive_water");
   ASSERT_TRUE(r);
-  InscatterRequest q;
-  q.x0 = -1.5, q.y0 = 0, q.x1 = 1.5, q.y1 = 2.5;
-  q.width = 12, q.height = 20;
-  q.pixel_samples = 4;
-  q.caustics = r->engine().default_options();
+  InscatterRequest q = pool_side_view(*r);
   for (float nm : {400.0f, 700.0f}) {
     q.caustics.wavelength_nm = nm;
     const InscatterImage img = inscatter(*r, q);
@@ -169,9 +173,8 @@ TEST_F(Volume, DispersiveScatteringWaterTakesFresnelPerWavelength) {
   for (const WavelengthSample& w : wavelength_samples(4)) {
     for (int c = 0; c < 3; ++c) gain[c] += w.rgb[c] * fresnel_t(1.0, index_at(1.33f, kDispersion, w.nm)) / fresnel_t(1.0, 1.33);
   }
-  const double dy = 2.5 / 20;
   for (int row = 0; row < 20; ++row) {
-    const double expected = flat_water_pixel(2.5 - (row + 1) * dy, 2.5 - row * dy);
+    const double expected = pool_side_row(row);
     for (int col = 0; col < 12; ++col) {
       for (int c = 0; c < 3; ++c) {
         const double got = rgb.rgb[3 * (std::size_t(row) * 12 + std::size_t(col)) + c];
