@@ -586,7 +586,7 @@ int main(int argc, char** argv) {
       frame.width = fw;
       frame.height = fh;
       // A monochromatic image the glass tables cannot make (dispersive
-      // glass): said in the title bar, not a failed frame.
+      // glass): said in the panel, not a failed frame.
       if (Status ok = check_wavelengths((*renderer)->scene(), state.caustics); !ok) {
         note = ok.error().message;
         state.caustics.wavelength_nm.reset();

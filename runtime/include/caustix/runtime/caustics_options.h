@@ -165,8 +165,9 @@ struct CausticsOptions {
   // without dispersion traces one whatever this says. The level-map water
   // family (level map, uniform, volumetric, splat) traces as many when the
   // water disperses, into the caustics map and an RGB colour texture
-  // (Bindings::caustics_color). Flat water and glass tables trace the d
-  // line (n_d) unless wavelength_nm is set.
+  // (Bindings::caustics_color); the media's photon march traces as many in
+  // any scene with dispersion. Flat water and glass tables trace the d line
+  // (n_d) unless wavelength_nm is set.
   std::uint32_t wavelengths = 8;
   // A monochromatic image: every index at this wavelength (nm, 380..780)
   // and the light's own colour (caustix-render --wavelength): the caustic
