@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Dispersion's measurements for docs/dispersion.md. Usage:
-#   scripts/bench-dispersion.sh [glass|water|all]   (default all)
+#   scripts/bench-dispersion.sh [glass|tables|water|all]   (default all)
 # glass: docs/results/dispersion.csv and the trade-off rows
 #   docs/results/tradeoff_dispersion.csv: the dispersive ball
 #   (assets/scenes/dispersive_ball.json) through image-space caustic maps at
@@ -9,6 +9,12 @@
 #   and splat passes; then the monochromatic images at the F, d and C lines
 #   against monochromatic references; then the same passes on glass_ball (no
 #   dispersion) side by side. About 10 minutes on 2 cores with llvmpipe.
+# tables: docs/results/dispersion_tables.csv: the dispersive ball through its
+#   light-transport tables, baked with --ltt-wavelengths 0, 2, 4 and 8 (bake
+#   seconds, file bytes), at 1..16 traced wavelengths against the spectral
+#   reference (relative L1 per channel) with ms per 640x480 frame; the F, d
+#   and C lines against monochromatic references; glass_ball at 1 and 8
+#   side by side. About 10 minutes.
 # water: docs/results/dispersion_water.csv: wavy_pool's water with
 #   dispersion 3 over a 1.5 m pool, the level-map, volumetric and splat
 #   methods at 1..16 wavelengths against the spectral reference (relative L1
@@ -22,7 +28,7 @@ B=build
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 PART=${1:-all}
-case "$PART" in glass|water|all) ;; *) echo "usage: $0 [glass|water|all]" >&2; exit 2 ;; esac
+case "$PART" in glass|tables|water|all) ;; *) echo "usage: $0 [glass|tables|water|all]" >&2; exit 2 ;; esac
 # Relative L1 of one channel: both images' channel copied into all three,
 # so that caustix-compare's luminance is that channel.
 channel_l1() {  # image reference channel
@@ -78,6 +84,49 @@ json.dump(j, open(out, "w"))
 PY
 }
 
+tables() {
+  local R="-0.5,-0.5,0.5,0.5" OUT=docs/results/dispersion_tables.csv
+  echo "scene,ltt_wavelengths,bake_s,cxb_bytes,wavelengths,wavelength_nm,rel_l1_r,rel_l1_g,rel_l1_b,flux_ratio_g,frame_ms,renderer" > "$OUT"
+  for k in 0 2 4 8; do
+    /usr/bin/python3 - "$k" "$T" <<'PY' > "$T/bake_$k.txt"
+import subprocess, sys, time
+k, t = sys.argv[1:]
+start = time.monotonic()
+subprocess.run(["build/bake/caustix-bake", "assets/scenes/dispersive_ball.json", "-o", f"{t}/db{k}.cxb", "-q",
+                "--ltt-wavelengths", k], check=True)
+print(f"{time.monotonic() - start:.2f}")
+PY
+  done
+  $B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
+  $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 16000000 \
+    -o "$T/ref.exr" >/dev/null
+  trow() {  # scene ltt-wavelengths cxb reference wavelengths nm [render options]
+    local s=$1 k=$2 cxb=$3 ref=$4 n=$5 nm=$6; shift 6
+    $B/runtime/caustix-render "$cxb" --irradiance floor --region $R --size 200 -o "$T/img.exr" "$@" >/dev/null
+    local line
+    line=$($B/tools/caustix-bench frames "$cxb" --wavelengths "$n" --warmup 1 --frames 3)
+    /usr/bin/python3 - "$s" "$k" "$(cat "$T/bake_$k.txt" 2>/dev/null || echo)" "$(stat -c %s "$cxb")" "$n" "$nm" \
+      "$(channel_l1 "$T/img.exr" "$ref" R)" "$(channel_l1 "$T/img.exr" "$ref" G)" "$(channel_l1 "$T/img.exr" "$ref" B)" \
+      "$line" >> "$OUT" <<'PY'
+import csv, json, sys
+s, k, bake, size, n, nm, r, g, b, line = sys.argv[1:]
+r, g, b = (json.loads(x) for x in (r, g, b))
+f = next(csv.reader([line]))
+print(f'{s},{k},{bake},{size},{n},{nm},{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f},{f[6]},"{f[12]}"')
+PY
+  }
+  for n in 1 2 4 8 16; do trow dispersive_ball 2 "$T/db2.cxb" "$T/ref.exr" $n rgb --wavelengths $n; done
+  for k in 0 4 8; do trow dispersive_ball $k "$T/db$k.cxb" "$T/ref.exr" 8 rgb --wavelengths 8; done
+  for nm in 486.13 587.56 656.27; do
+    $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
+      --wavelength $nm -o "$T/ref_$nm.exr" >/dev/null
+    for k in 2 8; do trow dispersive_ball $k "$T/db$k.cxb" "$T/ref_$nm.exr" 1 $nm --wavelength $nm; done
+  done
+  $B/tools/caustix-reference assets/scenes/glass_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
+    -o "$T/gref.exr" >/dev/null
+  for n in 1 8; do trow glass_ball none "$T/gb.cxb" "$T/gref.exr" $n rgb --wavelengths $n; done
+}
+
 water() {
   local R="0,-0.5,1,0.5" OUT=docs/results/dispersion_water.csv
   derive wavy_pool "$T/pool.json" 'j["water"]["dispersion"] = 3.0; j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
@@ -114,6 +163,7 @@ PY
 
 case "$PART" in
   glass) glass ;;
+  tables) tables ;;
   water) water ;;
-  all) glass; water ;;
+  all) glass; tables; water ;;
 esac

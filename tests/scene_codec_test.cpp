@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "caustix/formats/light_transport.h"
+#include "caustix/formats/spectrum.h"
 #include "caustix/formats/scene.h"
 #include "cxb_test_util.h"
 
@@ -368,7 +369,11 @@ TEST(SceneCodec, MirrorsAreStoredAndValidated) {
 // colour fringes); out-of-range values are refused by name; a record for
 // an object that is not transparent is refused with the chunk named; a
 // scene without dispersion has no DISP chunk, so its bytes are unchanged.
-TEST(SceneCodec, DispersionIsStoredAndValidated) {
+// full_scene() with a dispersive lens (object 1, dispersion 0.9) and
+// dispersive water, without media (a scene that scatters would need index
+// grids too); `table` the smallest n_d table decode accepts for the lens
+// (the codec does not look into it).
+SceneDesc dispersive_scene(LightTransportTable& table) {
   SceneDesc s = full_scene();
   Object lens = s.objects[0];
   lens.name = "lens";
@@ -376,19 +381,24 @@ TEST(SceneCodec, DispersionIsStoredAndValidated) {
   lens.transform = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
   lens.material.dispersion = 0.9f;
   s.objects.push_back(lens);
-  // Without media: a scene that scatters would need index grids too.
   s.medium.reset();
   s.water->scattering = {};
   s.objects[0].material.scattering = {};
   s.objects[1].material.scattering = {};
   s.water->dispersion = 0.36f;
-  // The smallest table decode accepts: the codec does not look into it.
-  LightTransportTable table;
+  table = LightTransportTable{};
   table.object = 1;
+  table.ior = lens.material.ior;
   table.resolution = kMinTransportResolution;
   table.max_bounces = 1;
   table.vertex_count = 3;
   table.words.assign(std::size_t{3} * table.resolution * table.resolution * 4, 0);
+  return s;
+}
+
+TEST(SceneCodec, DispersionIsStoredAndValidated) {
+  LightTransportTable table;
+  const SceneDesc s = dispersive_scene(table);
   const std::vector<LightTransportTable> tables{table};
   auto b = encode_scene(s, {{0}}, {}, {}, tables);
   auto d = decode(b);
@@ -426,6 +436,64 @@ TEST(SceneCodec, DispersionIsStoredAndValidated) {
   auto pc = cxb::read_container(plain.data(), plain.size());
   ASSERT_TRUE(pc.ok());
   EXPECT_TRUE(pc->find(cxb::kTagDispersion).empty());
+}
+
+// A dispersive lens's tables at other wavelengths (LTTS, issue 22): stored
+// after its LTTB, required, each at the lens's index at its wavelength;
+// refused out of order, at another index, for an object that does not
+// disperse, outside 380..780 nm, or unlike the object's LTTB.
+TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
+  LightTransportTable base;
+  const SceneDesc s = dispersive_scene(base);
+  auto at = [&](float nm) {
+    LightTransportTable t = base;
+    t.wavelength_nm = nm;
+    t.ior = index_at(s.objects[1].material.ior, s.objects[1].material.dispersion, nm);
+    return t;
+  };
+  auto b = encode_scene(s, {{0}}, {}, {}, {base, at(380), at(780)});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_EQ(d->spectral_tables.size(), 2u);
+  EXPECT_EQ(d->spectral_tables[0].wavelength_nm, 380.0f);
+  EXPECT_EQ(d->spectral_tables[1].ior, at(780).ior);
+  EXPECT_EQ(d->transport_tables.size(), 1u);
+  EXPECT_EQ(d->scene.objects[1].material.spectral_tables, 2u);
+  EXPECT_EQ(d->scene.objects[0].material.spectral_tables, 0u);
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  ASSERT_EQ(c->find(cxb::kTagSpectralTransport).size(), 2u);
+  EXPECT_TRUE(c->chunks()[c->find(cxb::kTagSpectralTransport)[0]].flags & cxb::kChunkRequired);
+
+  auto refused = [&](const SceneDesc& scene, const std::vector<LightTransportTable>& tables, const char* what) {
+    auto r = decode(encode_scene(scene, {{0}}, {}, {}, tables));
+    ASSERT_FALSE(r.ok()) << "not refused: " << what;
+    EXPECT_EQ(r.error().code, ErrorCode::kContainer) << what;
+    EXPECT_NE(r.error().message.find("LTTS"), std::string::npos) << what << ": " << r.error().message;
+  };
+  refused(s, {base, at(780), at(380)}, "descending wavelengths");
+  refused(s, {base, at(380), at(380)}, "the same wavelength twice");
+  LightTransportTable t = at(480);
+  t.ior = base.ior;
+  refused(s, {base, t}, "the n_d index at 480 nm");
+  t = at(480);
+  t.resolution = 3;
+  t.words.assign(std::size_t{3} * 9 * 4, 0);
+  refused(s, {base, t}, "another resolution than the LTTB's");
+  t = at(480);
+  t.wavelength_nm = 300;
+  refused(s, {base, t}, "300 nm");
+  SceneDesc plain = s;
+  plain.objects[1].material.dispersion = 0;
+  t = at(480);
+  t.ior = base.ior;  // what index_at() gives without dispersion
+  refused(plain, {base, t}, "an object without dispersion");
+  // Truncated anywhere in the payload (the wavelength, the header, the data).
+  const std::vector<std::uint8_t> bytes = encode_transport_table(at(480));
+  for (std::size_t cut : {std::size_t{0}, std::size_t{3}, std::size_t{20}, bytes.size() - 1}) {
+    auto r = decode_transport_table(std::span(bytes.data(), cut), s, true);
+    EXPECT_FALSE(r.ok()) << "cut at " << cut;
+  }
 }
 
 }  // namespace

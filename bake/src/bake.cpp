@@ -171,7 +171,12 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   // the decoded mesh: the runtime indexes the table by the vertices it
   // draws, which Draco's edgebreaker has reordered.
   t0 = Clock::now();
-  std::vector<LightTransportTable> tables;
+  if (const std::uint32_t k = options.transport.wavelengths; k == 1 || k > kMaxTransportWavelengths) {
+    return make_error(ErrorCode::kUsage, "transport wavelengths must be 0 or 2.." + std::to_string(kMaxTransportWavelengths) +
+                                             ", got " + std::to_string(k));
+  }
+  std::vector<LightTransportTable> tables, spectral;
+  std::vector<TransportReport> spectral_reports;
   std::vector<TriangleMesh> glass_meshes;  // decoded, one per transparent object (the index grids use them too)
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& o = scene.objects[oi];
@@ -191,7 +196,22 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     TransportReport rep;
     tables.push_back(trace_transport_table(oi, o.material, mesh, options.transport, &rep));
     out.transport.push_back(rep);
+    // Dispersive glass (issue 22): the same table at more wavelengths.
+    if (o.material.dispersion > 0 && options.transport.wavelengths == 0) {
+      out.warnings.push_back("transparent object '" + o.name + "' disperses, but --ltt-wavelengths 0 bakes its light-transport "
+                             "table at n_d only: its caustics from the tables have no colour fringes");
+    }
+    if (o.material.dispersion > 0) {
+      for (const float nm : transport_wavelengths(options.transport.wavelengths)) {
+        spectral.push_back(trace_transport_table(oi, o.material, mesh, options.transport, &rep, nm));
+        spectral_reports.push_back(rep);
+        ++scene.objects[oi].material.spectral_tables;
+      }
+    }
   }
+  // LTTS after every LTTB, by object and wavelength (as decode_scene wants).
+  for (LightTransportTable& t : spectral) tables.push_back(std::move(t));
+  out.transport.insert(out.transport.end(), spectral_reports.begin(), spectral_reports.end());
   out.seconds_transport = seconds_since(t0);
 
   // Index grids for media (seed 004), one per transparent object, only when
@@ -237,7 +257,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   if (!tables.empty() || !grids.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
     auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
     if (!c) return Error{ErrorCode::kInternal, "re-reading the baked file: " + c.error().message};
-    const auto ltt = c->find(cxb::kTagTransport);
+    auto ltt = c->find(cxb::kTagTransport);
+    const auto ltts = c->find(cxb::kTagSpectralTransport);
+    ltt.insert(ltt.end(), ltts.begin(), ltts.end());  // the reports' order
     for (std::size_t k = 0; k < ltt.size() && k < out.transport.size(); ++k) out.transport[k].stored_bytes = c->payload(ltt[k]).size();
     const auto igrd = c->find(cxb::kTagIndexGrid);
     for (std::size_t k = 0; k < igrd.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(igrd[k]).size();

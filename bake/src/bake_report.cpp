@@ -4,8 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
 
 #include "caustix/bake/bake.h"
 
@@ -96,10 +98,10 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"rounds", g.rounds}, {"max_edge", g.max_edge_m}, {"longest_flat_edge_in", g.longest_flat_edge_in},
          {"longest_flat_edge_out", g.longest_flat_edge_out}, {"stopped_at_vertex_limit", g.stopped_at_vertex_limit}});
   }
-  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"tables", nlohmann::ordered_json::array()}};
+  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"wavelengths", opt.transport.wavelengths}, {"tables", nlohmann::ordered_json::array()}};
   for (const TransportReport& t : r.transport) {
     j["transport"]["tables"].push_back(
-        {{"object", r.scene.objects[t.object].name}, {"vertices", t.vertices}, {"entries", t.entries},
+        {{"object", r.scene.objects[t.object].name}, {"wavelength_nm", t.wavelength_nm}, {"vertices", t.vertices}, {"entries", t.entries},
          {"leaving", t.leaving}, {"trapped", t.trapped}, {"occluded", t.occluded}, {"internally_reflected", t.reflected},
          {"rays", t.rays}, {"seconds", t.seconds}, {"rays_per_second", t.seconds > 0 ? static_cast<double>(t.rays) / t.seconds : 0.0},
          {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
@@ -170,9 +172,11 @@ std::string report_text(const BakeResult& r) {
   }
   for (const TransportReport& t : r.transport) {
     std::snprintf(line, sizeof line,
-                  "  light-transport table '%s': %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
+                  "  light-transport table '%s'%s: %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
                   "%llu after internal reflection or re-entry; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
-                  r.scene.objects[t.object].name.c_str(), t.vertices,
+                  r.scene.objects[t.object].name.c_str(),
+                  t.wavelength_nm > 0 ? (" at " + std::to_string(static_cast<int>(std::lround(t.wavelength_nm))) + " nm").c_str() : "",
+                  t.vertices,
                   static_cast<unsigned long long>(t.vertices ? t.entries / t.vertices : 0),
                   static_cast<unsigned long long>(t.leaving), static_cast<unsigned long long>(t.trapped),
                   static_cast<unsigned long long>(t.occluded), static_cast<unsigned long long>(t.reflected),

@@ -9,6 +9,7 @@
 
 #include "caustix/bake/ray_cast.h"
 #include "caustix/formats/frame.h"
+#include "caustix/formats/spectrum.h"
 
 namespace caustix::bake {
 namespace {
@@ -239,17 +240,28 @@ TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::u
   return e;
 }
 
+std::vector<float> transport_wavelengths(std::uint32_t count) {
+  std::vector<float> nm;
+  for (std::uint32_t k = 0; k < count && count >= 2; ++k) {
+    nm.push_back(kMinWavelength + (kMaxWavelength - kMinWavelength) * static_cast<float>(k) / static_cast<float>(count - 1));
+  }
+  return nm;
+}
+
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
-                                          const TransportOptions& opt, TransportReport* report) {
+                                          const TransportOptions& opt, TransportReport* report, float wavelength_nm) {
   const auto t0 = std::chrono::steady_clock::now();
-  const TransportTracer tracer(material, mesh, opt.max_bounces);
+  Material at = material;
+  if (wavelength_nm > 0) at.ior = index_at(material.ior, material.dispersion, wavelength_nm);
+  const TransportTracer tracer(at, mesh, opt.max_bounces);
 
   LightTransportTable table;
   table.object = object;
+  table.wavelength_nm = wavelength_nm;
   table.resolution = opt.resolution;
   table.max_bounces = opt.max_bounces;
   table.precision_bits = opt.bits;
-  table.ior = material.ior;
+  table.ior = at.ior;
   table.absorption = material.absorption;
   table.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
   table.exit_min = table.exit_max = mesh.positions[0];
@@ -288,6 +300,7 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
 
   if (report) {
     report->object = object;
+    report->wavelength_nm = wavelength_nm;
     report->vertices = table.vertex_count;
     report->entries = table.vertex_count * per_vertex;
     report->leaving = leaving;

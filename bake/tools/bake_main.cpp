@@ -6,7 +6,9 @@
 #include <map>
 #include <memory>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <string>
 
 #include "caustix/bake/bake.h"
 #include "caustix/bake/presets.h"
@@ -89,6 +91,16 @@ int main(int argc, char** argv) {
   app.add_option("--ltt-bits", opt.transport.bits,
                  "light-transport table: significant bits kept per stored field (fewer: smaller file, coarser values)")
       ->check(CLI::Range(caustix::kMinTransportBits, caustix::kMaxTransportBits))->capture_default_str();
+  app.add_option("--ltt-wavelengths", opt.transport.wavelengths,
+                 "light-transport tables of dispersive glass: this many more, at wavelengths evenly over 380..780 nm with "
+                 "both ends, for the runtime to interpolate between (0: caustics through the tables refract at n_d only; "
+                 "docs/dispersion.md)")
+      ->check([](const std::string& v) -> std::string {
+        const int k = std::atoi(v.c_str());
+        return (v == "0" || (k >= 2 && k <= static_cast<int>(caustix::kMaxTransportWavelengths))) ? ""
+                                                                                                   : "must be 0 or 2.." + std::to_string(caustix::kMaxTransportWavelengths);
+      })
+      ->capture_default_str();
   app.add_option("--volume-res", opt.index_grid.resolution,
                  "scenes that scatter: index-grid voxels along each transparent mesh's longest side (seed 004)")
       ->check(CLI::Range(4u, 1024u))->capture_default_str();
@@ -133,6 +145,7 @@ int main(int argc, char** argv) {
     unless_given("--ltt-resolution", opt.transport.resolution, p.transport.resolution);
     unless_given("--ltt-bounces", opt.transport.max_bounces, p.transport.max_bounces);
     unless_given("--ltt-bits", opt.transport.bits, p.transport.bits);
+    unless_given("--ltt-wavelengths", opt.transport.wavelengths, p.transport.wavelengths);
     unless_given("--glass-crease", opt.glass_refine.crease_deg, p.glass_refine.crease_deg);
     unless_given("--glass-edge", opt.glass_refine.max_edge, p.glass_refine.max_edge);
     unless_given("--glass-turn", opt.glass_refine.max_turn_deg, p.glass_refine.max_turn_deg);

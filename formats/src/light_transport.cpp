@@ -8,6 +8,7 @@
 
 #include "bytes.h"
 #include "caustix/formats/scene.h"
+#include "caustix/formats/spectrum.h"
 #include "chunk_decoder.h"
 #include "zstd_frame.h"
 
@@ -304,6 +305,7 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
 
 std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& t) {
   ByteWriter w;
+  if (t.wavelength_nm > 0) w.f32(t.wavelength_nm);  // LTTS
   w.u32(t.object);
   w.u32(t.resolution);
   w.u32(t.max_bounces);
@@ -317,10 +319,16 @@ std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& t) {
   return w.take();
 }
 
-Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t> payload, const SceneDesc& scene) {
-  ChunkDecoder d(cxb::kTagTransport, payload);
+Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t> payload, const SceneDesc& scene,
+                                                   bool spectral) {
+  ChunkDecoder d(spectral ? cxb::kTagSpectralTransport : cxb::kTagTransport, payload);
   LightTransportTable t;
   std::uint32_t packed_size = 0;
+  if (spectral && !d.f32(t.wavelength_nm, "wavelength")) return d.error();
+  if (spectral && !(t.wavelength_nm >= kMinWavelength && t.wavelength_nm <= kMaxWavelength)) {
+    d.fail("wavelength " + std::to_string(t.wavelength_nm) + " nm is outside 380..780 nm");
+    return d.error();
+  }
   const bool ok = d.u32(t.object, "object index") && d.u32(t.resolution, "resolution") &&
                   d.u32(t.max_bounces, "max bounces") && d.f32(t.ior, "IOR") && d.vec3(t.absorption, "absorption") &&
                   d.vec3(t.exit_min, "exit box") && d.vec3(t.exit_max, "exit box") && d.f32(t.max_path, "max path") &&
@@ -331,8 +339,14 @@ Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t>
     return d.error();
   }
   const Object& o = scene.objects[t.object];
+  if (spectral && !(o.material.dispersion > 0)) {
+    d.fail("object '" + o.name + "' does not disperse: it has no tables at other wavelengths");
+    return d.error();
+  }
+  // The baker computes the index with index_at(), as this does: equal bits.
+  const float ior = spectral ? index_at(o.material.ior, o.material.dispersion, t.wavelength_nm) : o.material.ior;
   if (t.resolution < kMinTransportResolution || t.resolution > kMaxTransportResolution ||
-      t.max_bounces > kMaxTransportBounces || t.ior != o.material.ior) {
+      t.max_bounces > kMaxTransportBounces || t.ior != ior) {
     d.fail("resolution, bounce count or IOR out of range or not the object's");
     return d.error();
   }

@@ -404,7 +404,9 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
   if (!boxes.empty()) w.add_chunk(cxb::kTagObjectBoxes, 0, encode_object_boxes(boxes));
   for (const auto& lm : level_maps) w.add_chunk(cxb::kTagLevelMap, cxb::kChunkRequired, encode_level_map(lm));
-  for (const auto& t : tables) w.add_chunk(cxb::kTagTransport, cxb::kChunkRequired, encode_transport_table(t));
+  for (const auto& t : tables) {
+    w.add_chunk(t.wavelength_nm > 0 ? cxb::kTagSpectralTransport : cxb::kTagTransport, cxb::kChunkRequired, encode_transport_table(t));
+  }
   for (const auto& g : index_grids) w.add_chunk(cxb::kTagIndexGrid, cxb::kChunkRequired, encode_index_grid(g));
   return w.finish();
 }
@@ -525,6 +527,26 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     if (is_transparent(s.objects[i].role) && !has_table[i]) {
       return container_error("transparent object '" + s.objects[i].name + "' has no 'LTTB' light-transport table");
     }
+  }
+  // Tables at other wavelengths (issue 22): dispersive objects only, by
+  // object, then by strictly ascending wavelength; each as its object's
+  // LTTB in everything but the index.
+  for (std::size_t i : c.find(cxb::kTagSpectralTransport)) {
+    auto t = decode_transport_table(c.payload(i), s, true);
+    if (!t) return Error{t.error().code, "chunk " + std::to_string(i) + ": " + t.error().message};
+    const LightTransportTable* prev = out.spectral_tables.empty() ? nullptr : &out.spectral_tables.back();
+    if (prev && (prev->object > t->object || (prev->object == t->object && prev->wavelength_nm >= t->wavelength_nm))) {
+      return container_error("chunk " + std::to_string(i) + " 'LTTS': tables must be in object order, then in ascending wavelength");
+    }
+    const LightTransportTable* base = nullptr;
+    for (const LightTransportTable& b : out.transport_tables) base = b.object == t->object ? &b : base;
+    if (!base || base->resolution != t->resolution || base->max_bounces != t->max_bounces || base->vertex_count != t->vertex_count ||
+        base->absorption != t->absorption) {
+      return container_error("chunk " + std::to_string(i) + " 'LTTS': its resolution, bounces, vertex count or absorption differ from object '" +
+                             s.objects[t->object].name + "''s 'LTTB' table");
+    }
+    ++s.objects[t->object].material.spectral_tables;
+    out.spectral_tables.push_back(std::move(*t));
   }
   // Index grids: in a scene that scatters, exactly one per transparent
   // object, in object order; none otherwise.

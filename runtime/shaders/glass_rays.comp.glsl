@@ -15,6 +15,7 @@ uniform mat4 u_model;
 uniform mat3 u_rotation;  // the model's rotation (model = T R s)
 uniform float u_scale;
 uniform vec3 u_glass_absorption;
+uniform vec3 u_weight;  // the traced wavelength's RGB weight (issue 22); (1, 1, 1) for one
 
 void main() {
   uint v = gl_GlobalInvocationID.x;
@@ -29,7 +30,7 @@ void main() {
   float visible = t.leaves ? caustix_shadow_visibility(pw, u_rotation * n, to_light_w) : 0.0;
   vec3 exit_w = (u_model * vec4(t.exit, 1.0)).xyz;
   vec3 dir_w = u_rotation * t.dir;
-  vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale);
+  vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale) * u_weight;
   rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
   rays[3u * v + 1u] = vec4(dir_w, 0.0);
   rays[3u * v + 2u] = vec4(colour, 0.0);

@@ -93,10 +93,11 @@ Status check_wavelengths(const SceneDesc& scene, const CausticsOptions& o) {
   }
   if (o.glass_method == GlassMethod::kTable && o.method != CausticsMethod::kNone) {
     for (const Object& obj : scene.objects) {
-      if (is_transparent(obj.role) && obj.material.dispersion > 0) {
+      if (is_transparent(obj.role) && obj.material.dispersion > 0 && obj.material.spectral_tables == 0) {
         return make_error(ErrorCode::kUsage, "caustics options: wavelength_nm: glass '" + obj.name +
-                                                 "' disperses, and its light-transport table is baked at n_d only; "
-                                                 "use the caustic-map glass method for a monochromatic image");
+                                                 "' disperses, and its light-transport table is baked at n_d only "
+                                                 "(--ltt-wavelengths 0); use the caustic-map glass method for a monochromatic "
+                                                 "image, or bake tables at other wavelengths");
       }
     }
   }

@@ -343,7 +343,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   bool has_glass = false;
   for (const Object& o : s.scene.objects) has_glass = has_glass || is_transparent(o.role);
   if (has_glass) {
-    auto engine = GlassEngine::create(s.scene, scene.transport_tables, s.meshes, [impl](std::uint32_t i) { impl->draw_object(i); },
+    auto engine = GlassEngine::create(s.scene, scene.transport_tables, scene.spectral_tables, s.meshes, [impl](std::uint32_t i) { impl->draw_object(i); },
                                       kGlslVersion + s.lighting_prefix());
     if (!engine) return engine.error();
     s.glass = std::move(*engine);
@@ -764,7 +764,10 @@ Status Engine::draw_object(std::uint32_t index) const {
 CausticsStats Engine::stats(bool read_gpu_counters) {
   Impl& s = *impl_;
   CausticsStats st = s.caustics ? s.caustics->stats(read_gpu_counters) : CausticsStats{};
-  if (s.glass) st.gpu_bytes += s.glass->gpu_bytes();            // tables, rays, targets, illumination textures
+  if (s.glass) {
+    st.gpu_bytes += s.glass->gpu_bytes();  // tables, rays, targets, illumination textures
+    st.glass_wavelengths = s.glass->wavelengths();
+  }
   if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
   if (s.volume) st.gpu_bytes += s.volume->gpu_bytes();          // radiance and index grids
   if (s.caustic_maps) st.gpu_bytes += s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons

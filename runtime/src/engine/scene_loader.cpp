@@ -21,6 +21,7 @@ Result<RuntimeScene> load_scene(const std::uint8_t* data, std::size_t size) {
     out.meshes.push_back(std::move(*mesh));
   }
   out.transport_tables = std::move(decoded->transport_tables);
+  out.spectral_tables = std::move(decoded->spectral_tables);
   out.index_grids = std::move(decoded->index_grids);
   for (const LightTransportTable& t : out.transport_tables) {
     const Object& o = out.desc.objects[t.object];

@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix/formats/frame.h"
+#include "caustix/formats/spectrum.h"
 #include "shader_text.h"
 
 namespace caustix::runtime {
@@ -29,12 +30,19 @@ void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
 }  // namespace
 
 struct GlassEngine::Impl {
+  struct Table {
+    LightTransportTable params;  // words dropped after upload
+    gl::Buffer buffer;
+  };
   struct Glass {
     std::uint32_t object = 0;
     const GpuMesh* mesh = nullptr;
-    LightTransportTable params;  // words dropped after upload
+    // By ascending IOR: the table at n_d (LTTB) and, for dispersive glass,
+    // those at other wavelengths (LTTS).
+    std::vector<Table> tables;
+    std::size_t base = 0;  // the n_d table's place
     std::uint32_t vertices = 0, triangles = 0;
-    gl::Buffer table, rays;
+    gl::Buffer rays, rays_b;  // rays_b: the second table's, dispersive glass only
     // Each vertex's one-ring of triangles (CSR): offsets (vertices + 1),
     // triangle indices (glass_corner_intensity.comp).
     gl::Buffer ring_offsets, ring_triangles;
@@ -62,7 +70,7 @@ struct GlassEngine::Impl {
   std::vector<Glass> glass;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby;
+  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
   // (world position, outward normal), the size of the scene copy.
   gl::Texture back_position, back_normal, back_depth;
@@ -72,14 +80,55 @@ struct GlassEngine::Impl {
   std::uint64_t rect_capacity = 0;
   gl::VertexArray empty_vao;
   gl::SceneCopy copy;  // of the caller's colour and depth
+  bool spectral = false;  // some glass has tables at other wavelengths
+  std::uint32_t traced = 1;  // wavelengths of the last update
 
-  void set_table(const gl::Program& p, const Glass& g) const {
-    p.set("u_ltt_resolution", static_cast<int>(g.params.resolution));
-    p.set("u_ltt_exit_min", glm::vec3(g.params.exit_min[0], g.params.exit_min[1], g.params.exit_min[2]));
-    p.set("u_ltt_exit_max", glm::vec3(g.params.exit_max[0], g.params.exit_max[1], g.params.exit_max[2]));
-    p.set("u_ltt_max_path", g.params.max_path);
-    p.set("u_glass_absorption", glm::vec3(g.params.absorption[0], g.params.absorption[1], g.params.absorption[2]));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.table.get());
+  static void set_table(const gl::Program& p, const Table& t) {
+    const LightTransportTable& q = t.params;
+    p.set("u_ltt_resolution", static_cast<int>(q.resolution));
+    p.set("u_ltt_exit_min", glm::vec3(q.exit_min[0], q.exit_min[1], q.exit_min[2]));
+    p.set("u_ltt_exit_max", glm::vec3(q.exit_max[0], q.exit_max[1], q.exit_max[2]));
+    p.set("u_ltt_max_path", q.max_path);
+    p.set("u_glass_absorption", glm::vec3(q.absorption[0], q.absorption[1], q.absorption[2]));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, t.buffer.get());
+  }
+  // The outgoing rays of every glass vertex at one traced wavelength into
+  // each Glass::rays (§4.1), their weighted directions added into `sum`.
+  // At IOR n a glass between two tables a, b (n_a <= n < n_b) traces both
+  // and blends them (glass_rays_blend.comp); at a table's own index, that
+  // table alone. `exact_nd`: every glass at its n_d table (one wavelength
+  // traced, bit-identical to glass without dispersion).
+  void trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd,
+                  const std::function<void(const gl::Program&)>& set_light_uniforms) {
+    for (Glass& g : glass) {
+      const Material& m = scene.objects[g.object].material;
+      const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
+      std::size_t a = exact_nd ? g.base : 0;
+      while (!exact_nd && a + 1 < g.tables.size() && g.tables[a + 1].params.ior <= n) ++a;
+      const bool blend = n != g.tables[a].params.ior && a + 1 < g.tables.size();
+      for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
+        rays.use();
+        set_light_uniforms(rays);
+        rays.set("u_weight", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, sum.get());
+        set_table(rays, g.tables[a + static_cast<std::size_t>(pass)]);
+        set_pose(rays, scene, g);
+        rays.set("u_vertex_count", g.vertices);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, pass == 0 ? g.rays.get() : g.rays_b.get());
+        glDispatchCompute((g.vertices + 63) / 64, 1, 1);
+      }
+      if (blend) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        rays_blend.use();
+        rays_blend.set("u_vertex_count", g.vertices);
+        rays_blend.set("u_t", (n - g.tables[a].params.ior) / (g.tables[a + 1].params.ior - g.tables[a].params.ior));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.rays_b.get());
+        glDispatchCompute((g.vertices + 63) / 64, 1, 1);
+      }
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
   void set_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
     glm::mat3 rotation;
@@ -146,6 +195,69 @@ struct GlassEngine::Impl {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(caller_fbo));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   }
+  // Step 4 of update_light for one target and the rays of one wavelength
+  // (blending adds into its illumination textures).
+  void illuminate(const SceneDesc& scene, Target& t, const CausticsOptions& co,
+                  const std::function<void(const gl::Program&)>& set_light_uniforms) {
+    const int size = t.size;
+    const std::uint32_t planes = t.planes;
+    glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+    glViewport(0, 0, size, size);
+    t.primitives.resize(glass.size());
+    t.primitive_capacity.resize(glass.size(), 0);
+    for (std::size_t gi = 0; gi < glass.size(); ++gi) {
+      Glass& g = glass[gi];
+      const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
+      const std::uint64_t prims = per_plane * planes;
+      if (prims > t.primitive_capacity[gi]) {
+        t.primitives[gi] = gl::make_buffer();
+        glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
+        t.primitive_capacity[gi] = prims;
+      }
+      ensure_rect_indices(per_plane);
+      geometry.use();
+      geometry.set("u_origin", glm::vec3(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
+                                         static_cast<float>(t.frame.origin[2])));
+      geometry.set("u_U", glm::vec3(t.frame.u[0], t.frame.u[1], t.frame.u[2]));
+      geometry.set("u_V", glm::vec3(t.frame.v[0], t.frame.v[1], t.frame.v[2]));
+      geometry.set("u_W", glm::vec3(t.frame.w[0], t.frame.w[1], t.frame.w[2]));
+      geometry.set("u_half", glm::vec3(t.frame.half[0], t.frame.half[1], t.frame.half[2]));
+      set_light_uniforms(geometry);
+      geometry.set("u_model", to_glm(scene.objects[g.object].transform));
+      geometry.set("u_triangle_count", g.triangles);
+      geometry.set("u_plane_count", planes);
+      glProgramUniform1fv(geometry.id(), geometry.loc("u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
+      geometry.set("u_map_size", static_cast<float>(size));
+      geometry.set("u_max_magnification", co.max_magnification);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, t.primitives[gi].get());
+      glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      // Smooth caustics: each whole triangle's corner intensities.
+      if (co.glass_smooth) {
+        corner_intensity.use();
+        corner_intensity.set("u_triangle_count", g.triangles);
+        corner_intensity.set("u_plane_count", planes);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.ring_offsets.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.ring_triangles.get());
+        glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      }
+      illumination.use();
+      illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
+      illumination.set("u_map_size", static_cast<float>(size));
+      glBindTextureUnit(0, t.target.get());
+      glBindVertexArray(empty_vao.get());
+      glVertexArrayElementBuffer(empty_vao.get(), rect_indices.get());
+      for (std::uint32_t k = 0; k < planes; ++k) {
+        glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
+        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(per_plane * 6), GL_UNSIGNED_INT, nullptr,
+                                 static_cast<GLint>(k * per_plane * 4));
+      }
+    }
+  }
   void ensure_rect_indices(std::uint64_t prims) {
     if (prims <= rect_capacity) return;
     std::vector<std::uint32_t> idx(prims * 6);
@@ -181,6 +293,7 @@ GlassEngine::~GlassEngine() = default;
 
 Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
                                                          const std::vector<LightTransportTable>& tables,
+                                                         const std::vector<LightTransportTable>& spectral,
                                                          const std::vector<GpuMesh>& meshes,
                                                          std::function<void(std::uint32_t)> draw_object,
                                                          const std::string& lighting_prefix) {
@@ -198,6 +311,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.rays, "glass_rays", rays_src.c_str()},
+       {&s.rays_blend, "glass_rays_blend", shaders::k_glass_rays_blend_comp_glsl},
        {&s.geometry, "glass_geometry", shaders::k_glass_geometry_comp_glsl},
        {&s.corner_intensity, "glass_corner_intensity", shaders::k_glass_corner_intensity_comp_glsl},
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
@@ -212,12 +326,27 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     g.mesh = &meshes[scene.objects[t.object].mesh_index];
     g.vertices = t.vertex_count;
     g.triangles = static_cast<std::uint32_t>(g.mesh->index_count / 3);
-    g.params = t;
-    g.params.words.clear();
-    g.table = gl::make_buffer();
-    glNamedBufferStorage(g.table.get(), static_cast<GLsizeiptr>(t.words.size() * 4), t.words.data(), 0);
+    g.tables.push_back(Impl::Table{t, {}});
+    for (const LightTransportTable& q : spectral) {
+      if (q.object == t.object) g.tables.push_back(Impl::Table{q, {}});
+    }
+    // Ascending IOR (the spectral tables descend with wavelength), n_d's among them.
+    std::stable_sort(g.tables.begin(), g.tables.end(), [](const Impl::Table& a, const Impl::Table& b) { return a.params.ior < b.params.ior; });
+    for (std::size_t k = 0; k < g.tables.size(); ++k) {
+      Impl::Table& table = g.tables[k];
+      if (table.params.wavelength_nm == 0) g.base = k;
+      table.buffer = gl::make_buffer();
+      glNamedBufferStorage(table.buffer.get(), static_cast<GLsizeiptr>(table.params.words.size() * 4), table.params.words.data(), 0);
+      table.params.words.clear();
+      table.params.words.shrink_to_fit();
+    }
     g.rays = gl::make_buffer();
     glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+    if (g.tables.size() > 1) {
+      g.rays_b = gl::make_buffer();
+      glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+      s.spectral = true;
+    }
     // One-rings from the drawn index buffer (the order the LTT indexes).
     std::vector<std::uint32_t> idx(static_cast<std::size_t>(g.mesh->index_count));
     glGetNamedBufferSubData(g.mesh->indices.get(), 0, static_cast<GLsizeiptr>(idx.size() * 4), idx.data());
@@ -258,21 +387,21 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
                                  const std::function<void(const gl::Program&)>& set_light_uniforms) {
   Impl& s = *impl_;
   const Light& light = scene.lights[li];
-  // 1. Outgoing rays of every transparent vertex (§4.1) and their mean direction.
+  // The traced wavelengths (issue 22): a monochromatic image's, the bins of
+  // dispersive glass with tables at other wavelengths, else the d line.
+  std::vector<WavelengthSample> waves(1);
+  if (co.wavelength_nm) {
+    waves[0].nm = *co.wavelength_nm;
+  } else if (s.spectral) {
+    waves = wavelength_samples(co.wavelengths);
+  }
+  const bool exact_nd = !co.wavelength_nm && waves.size() == 1;
+  s.traced = static_cast<std::uint32_t>(waves.size());
+  // 1. Outgoing rays of every transparent vertex (§4.1) and their mean
+  // direction, at the first wavelength (the frames serve every wavelength).
   const std::int32_t zeros[4] = {0, 0, 0, 0};
   glNamedBufferSubData(s.sum.get(), 0, sizeof zeros, zeros);
-  s.rays.use();
-  set_light_uniforms(s.rays);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.sum.get());
-  for (Impl::Glass& g : s.glass) {
-    s.set_table(s.rays, g);
-    s.set_pose(s.rays, scene, g);
-    s.rays.set("u_vertex_count", g.vertices);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
-    glDispatchCompute((g.vertices + 63) / 64, 1, 1);
-  }
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  s.trace_rays(scene, waves[0], exact_nd, set_light_uniforms);
   std::int32_t sum[4] = {};
   glGetNamedBufferSubData(s.sum.get(), 0, sizeof sum, sum);  // one 16-byte read-back per light
   Vec3d travel{static_cast<double>(sum[0]), static_cast<double>(sum[1]), static_cast<double>(sum[2])};
@@ -316,13 +445,6 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]), static_cast<float>(t.frame.origin[2]));
     const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
         W(t.frame.w[0], t.frame.w[1], t.frame.w[2]), half(t.frame.half[0], t.frame.half[1], t.frame.half[2]);
-    auto set_frame = [&](const gl::Program& p) {
-      p.set("u_origin", origin);
-      p.set("u_U", U);
-      p.set("u_V", V);
-      p.set("u_W", W);
-      p.set("u_half", half);
-    };
 
     // 3. The target's normals and depth from the virtual camera.
     glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.target.get(), 0);
@@ -351,67 +473,30 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     s.target_program.set("u_view_proj", camera);
     Impl::set_mesh_pose(s.target_program, o);
     s.draw_object(t.object);
-
-    // 4. Illumination textures: every glass triangle's volume cut by every
-    // plane, splatted with exact coverage and eq. 3.
     glClearTexImage(t.illumination.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
     glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, 0, 0);
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    t.primitives.resize(s.glass.size());
-    t.primitive_capacity.resize(s.glass.size(), 0);
-    for (std::size_t gi = 0; gi < s.glass.size(); ++gi) {
-      Impl::Glass& g = s.glass[gi];
-      const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
-      const std::uint64_t prims = per_plane * planes;
-      if (prims > t.primitive_capacity[gi]) {
-        t.primitives[gi] = gl::make_buffer();
-        glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
-        t.primitive_capacity[gi] = prims;
-      }
-      s.ensure_rect_indices(per_plane);
-      s.geometry.use();
-      set_frame(s.geometry);
-      set_light_uniforms(s.geometry);
-      s.geometry.set("u_model", to_glm(scene.objects[g.object].transform));
-      s.geometry.set("u_triangle_count", g.triangles);
-      s.geometry.set("u_plane_count", planes);
-      glProgramUniform1fv(s.geometry.id(), s.geometry.loc("u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
-      s.geometry.set("u_map_size", static_cast<float>(size));
-      s.geometry.set("u_max_magnification", co.max_magnification);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, t.primitives[gi].get());
-      glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      // Smooth caustics: each whole triangle's corner intensities.
-      if (co.glass_smooth) {
-        s.corner_intensity.use();
-        s.corner_intensity.set("u_triangle_count", g.triangles);
-        s.corner_intensity.set("u_plane_count", planes);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.ring_offsets.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.ring_triangles.get());
-        glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      }
-      s.illumination.use();
-      s.illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
-      s.illumination.set("u_map_size", static_cast<float>(size));
-      glBindTextureUnit(0, t.target.get());
-      glBindVertexArray(s.empty_vao.get());
-      glVertexArrayElementBuffer(s.empty_vao.get(), s.rect_indices.get());
-      for (std::uint32_t k = 0; k < planes; ++k) {
-        glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
-        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(per_plane * 6), GL_UNSIGNED_INT, nullptr,
-                                 static_cast<GLint>(k * per_plane * 4));
-      }
-    }
-    glDisable(GL_BLEND);
-    glBindVertexArray(0);
     t.valid = true;
   }
+
+  // 4. Illumination textures: every glass triangle's volume cut by every
+  // plane, splatted with exact coverage and eq. 3; each traced wavelength
+  // adds its rays' light (weighted by its bin) into the same textures.
+  glDisable(GL_DEPTH_TEST);
+  for (std::size_t k = 0; k < waves.size(); ++k) {
+    if (k > 0) {
+      // The primitives the last wavelength's draws read are rewritten below.
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      s.trace_rays(scene, waves[k], exact_nd, set_light_uniforms);
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    for (Impl::Target& t : s.targets) {
+      if (t.light != li) continue;
+      s.illuminate(scene, t, co, set_light_uniforms);
+    }
+    glDisable(GL_BLEND);
+  }
+  glBindVertexArray(0);
   return gl::check_gl("glass caustics");
 }
 
@@ -456,9 +541,10 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   for (const Impl::Glass& g : s.glass) {
     if (nearby) {
       Impl::set_mesh_pose(p, scene.objects[g.object]);
-      p.set("u_glass_absorption", glm::vec3(g.params.absorption[0], g.params.absorption[1], g.params.absorption[2]));
+      const Vec3f& k = g.tables[g.base].params.absorption;
+      p.set("u_glass_absorption", glm::vec3(k[0], k[1], k[2]));
     } else {
-      s.set_table(p, g);
+      Impl::set_table(p, g.tables[g.base]);  // the view through the glass refracts at n_d
       s.set_pose(p, scene, g);
     }
     p.set("u_ior", scene.objects[g.object].material.ior);
@@ -471,8 +557,8 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
   for (const Impl::Glass& g : impl_->glass) {
-    b += std::uint64_t{g.vertices} * (std::uint64_t{g.params.resolution} * g.params.resolution * 16 + 48 + 4) +
-         std::uint64_t{g.triangles} * 12 + 4;  // table, rays, one-rings
+    for (const Impl::Table& t : g.tables) b += std::uint64_t{g.vertices} * t.params.resolution * t.params.resolution * 16;
+    b += std::uint64_t{g.vertices} * ((g.rays_b.get() ? 96 : 48) + 4) + std::uint64_t{g.triangles} * 12 + 4;  // rays, one-rings
   }
   for (const Impl::Target& t : impl_->targets) {
     b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
@@ -481,5 +567,7 @@ std::uint64_t GlassEngine::gpu_bytes() const {
   b += std::uint64_t(impl_->back_w) * static_cast<std::uint64_t>(impl_->back_h) * (16 + 8 + 4);
   return b + impl_->rect_capacity * 24;
 }
+
+std::uint32_t GlassEngine::wavelengths() const { return impl_->traced; }
 
 }  // namespace caustix::runtime

@@ -30,8 +30,10 @@ class GlassEngine {
   // engine. draw_object(i) issues object i's draw call. `lighting_prefix`
   // is #version plus caustix.glsl with the engine's bindings (the rays read
   // the light's block and shadow maps).
+  // `spectral` are dispersive objects' tables at other wavelengths (LTTS).
   static Result<std::unique_ptr<GlassEngine>> create(const SceneDesc& scene,
                                                      const std::vector<LightTransportTable>& tables,
+                                                     const std::vector<LightTransportTable>& spectral,
                                                      const std::vector<GpuMesh>& meshes,
                                                      std::function<void(std::uint32_t)> draw_object,
                                                      const std::string& lighting_prefix);
@@ -41,7 +43,11 @@ class GlassEngine {
   // transforms. set_light(p) must bind the light's block and shadow maps
   // and set its u_light_* uniforms on p: the rays use them for the glass
   // vertices' visibility. world_vertices[i] are object i's vertices in
-  // world space.
+  // world space. Dispersive glass with tables at other wavelengths traces
+  // options.wavelengths bins (or options.wavelength_nm), each between the
+  // two tables whose indices bracket its own (glass_rays_blend.comp), into
+  // the same illumination textures with the bin's RGB weights; else the
+  // d line at n_d.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
                       const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
                       const std::function<void(const gl::Program&)>& set_light_uniforms);
@@ -63,6 +69,8 @@ class GlassEngine {
                   GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options);
 
   std::uint64_t gpu_bytes() const;
+  // Wavelengths the last update_light() traced (1 without spectral tables).
+  std::uint32_t wavelengths() const;
 
  private:
   GlassEngine() = default;

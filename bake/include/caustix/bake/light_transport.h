@@ -25,16 +25,27 @@ struct TransportOptions {
   std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
   std::uint32_t max_bounces = 4;  // internal reflections and re-entries followed (the paper: 0)
   std::uint32_t bits = kDefaultTransportBits;  // significant bits kept per field (8..16)
+  // Dispersive objects (issue 22; docs/dispersion.md): tables at this many
+  // more wavelengths, evenly over 380..780 nm with both ends (0 or
+  // 2..kMaxTransportWavelengths), besides the one at n_d. The runtime
+  // interpolates between the two whose indices bracket each traced
+  // wavelength's. 0: caustics from the tables refract at n_d only.
+  std::uint32_t wavelengths = kDefaultTransportWavelengths;
 };
+
+// The wavelengths (nm) of a dispersive object's extra tables for `count`
+// (above): 380 + 400 k / (count - 1), k = 0..count-1; none for 0.
+std::vector<float> transport_wavelengths(std::uint32_t count);
 
 struct TransportReport {
   std::uint32_t object = 0;
+  float wavelength_nm = 0;           // 0: the table at n_d (LTTB), else an LTTS table's wavelength
   std::uint32_t vertices = 0;
   std::uint64_t entries = 0, leaving = 0, trapped = 0, occluded = 0, reflected = 0;
   std::uint64_t rays = 0;            // ray casts (occlusion + inside segments)
   double seconds = 0;
   std::uint64_t raw_bytes = 0;       // 16 bytes per entry
-  std::uint64_t stored_bytes = 0;    // the LTTB chunk
+  std::uint64_t stored_bytes = 0;    // the LTTB (or LTTS) chunk
   double position_error_m = 0;       // quantisation bound of exit points
   double direction_error_rad = 0;    // quantisation bound of exit directions
 };
@@ -56,8 +67,10 @@ class TransportTracer {
 };
 
 // Traces the table of one transparent object over `mesh` (the Draco-decoded
-// mesh, whose vertex order the runtime sees).
+// mesh, whose vertex order the runtime sees): at the material's IOR, or
+// with wavelength_nm > 0 at its index there (an LTTS table).
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
-                                          const TransportOptions& options, TransportReport* report);
+                                          const TransportOptions& options, TransportReport* report,
+                                          float wavelength_nm = 0);
 
 }  // namespace caustix::bake

@@ -65,6 +65,12 @@ inline constexpr std::uint32_t kDefaultTransportBits = 12;
 // baker refuses a larger table before tracing it, the reader a file that
 // claims one.
 inline constexpr std::uint64_t kMaxTransportEntries = std::uint64_t{1} << 26;
+// Tables of a dispersive object at other wavelengths (LTTS; the baker's
+// --ltt-wavelengths): 2 (380 and 780 nm, with n_d's between) keeps the
+// interpolated ball-lens images within the caustic maps' error
+// (docs/dispersion.md).
+inline constexpr std::uint32_t kDefaultTransportWavelengths = 2;
+inline constexpr std::uint32_t kMaxTransportWavelengths = 16;
 
 enum class TransportStatus : std::uint8_t { kLeaves = 0, kTrapped = 1, kOccluded = 2 };
 
@@ -82,7 +88,11 @@ struct LightTransportTable {
   std::uint32_t object = 0;        // index into SceneDesc::objects (transparent)
   std::uint32_t resolution = 0;    // R: R x R directions per vertex
   std::uint32_t max_bounces = 0;   // internal reflections and re-entries followed
-  float ior = 1.5f;                // as baked; equals the object's material IOR
+  float ior = 1.5f;                // as baked: the material's IOR, or its index at wavelength_nm
+  // 0: the table at n_d (LTTB). Else the wavelength (nm, 380..780) of a
+  // dispersive object's table at another index (LTTS; docs/dispersion.md):
+  // ior = index_at(material ior, material dispersion, wavelength_nm).
+  float wavelength_nm = 0;
   Vec3f absorption{0, 0, 0};       // 1/m per RGB channel (the material's)
   Vec3f exit_min{}, exit_max{};    // quantisation box of exit points (object space)
   float max_path = 0;              // quantisation range of path lengths
@@ -150,9 +160,14 @@ const char* to_string(Interpolation mode);
 TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
                       Interpolation mode = kDefaultInterpolation);
 
+// The LTTB payload (a table at n_d), or for wavelength_nm > 0 the LTTS
+// payload: f32 wavelength, then LTTB's fields.
 std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& table);
 // Safe on hostile bytes: fields checked against the scene, decompression
 // bounded (raw size at most 1 GiB and at most 4096 x the compressed size).
-Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t> payload, const SceneDesc& scene);
+// `spectral` reads an LTTS payload: the object must disperse and the IOR
+// be its index at the wavelength.
+Result<LightTransportTable> decode_transport_table(std::span<const std::uint8_t> payload, const SceneDesc& scene,
+                                                   bool spectral = false);
 
 }  // namespace caustix

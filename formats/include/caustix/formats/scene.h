@@ -64,6 +64,11 @@ struct Material {
   // transparent: 20 / Abbe number, in [0, kMaxDispersion] (spectrum.h; the
   // DISP chunk). 0: the same index at every wavelength.
   float dispersion = 0.0f;
+  // transparent with dispersion: how many light-transport tables at other
+  // wavelengths than n_d the file holds (its LTTS chunks; set by the baker
+  // and by decode_scene, not stored in OBJS). 0: the caustics from its
+  // tables refract at n_d only.
+  std::uint32_t spectral_tables = 0;
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
@@ -208,7 +213,8 @@ void normalize_scene(SceneDesc& scene);
 
 // Serialises the scene, one Draco stream per mesh (meshes[i] <->
 // scene.meshes[i]), the level maps, the object boxes and the light-transport
-// tables (one per transparent object) and, for scenes that scatter, the
+// tables (one per transparent object at n_d, wavelength_nm 0, as LTTB; then
+// those at other wavelengths of dispersive objects, as LTTS) and, for scenes that scatter, the
 // index grids (one per transparent object) into .cxb bytes. Deterministic.
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
@@ -224,6 +230,9 @@ struct DecodedScene {
   std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
   std::vector<ObjectBox> boxes;
   std::vector<LightTransportTable> transport_tables;  // one per transparent object, in object order
+  // Tables at other wavelengths (LTTS): for transparent objects with
+  // dispersion, by object, then by ascending wavelength.
+  std::vector<LightTransportTable> spectral_tables;
   std::vector<IndexGrid> index_grids;  // scenes that scatter: one per transparent object, in object order
 };
 

@@ -166,14 +166,18 @@ struct CausticsOptions {
   // family (level map, uniform, volumetric, splat) traces as many when the
   // water disperses, into the caustics map and an RGB colour texture
   // (Bindings::caustics_color); the media's photon march traces as many in
-  // any scene with dispersion. Flat water and glass tables trace the d line
-  // (n_d) unless wavelength_nm is set.
+  // any scene with dispersion; glass light-transport tables as many when
+  // dispersive glass was baked with tables at other wavelengths
+  // (caustix-bake --ltt-wavelengths), each wavelength between the two
+  // tables that bracket its index. Flat water traces the d line (n_d)
+  // unless wavelength_nm is set.
   std::uint32_t wavelengths = 8;
   // A monochromatic image: every index at this wavelength (nm, 380..780)
   // and the light's own colour (caustix-render --wavelength): the caustic
-  // maps and the water's passes refract at n(wavelength_nm). Engine::update
-  // refuses it for a dispersive glass object lit by its light-transport
-  // table (baked at n_d): use GlassMethod::kCausticMap.
+  // maps, the water's passes and the glass tables refract at
+  // n(wavelength_nm). Engine::update refuses it for a dispersive glass
+  // object lit by its light-transport table when the file has its table at
+  // n_d only (baked with --ltt-wavelengths 0): use GlassMethod::kCausticMap.
   std::optional<float> wavelength_nm;
 };
 
@@ -208,6 +212,9 @@ struct CausticsStats {
   // disperses). The counters above are one wavelength's pass: the passes
   // ran this many times over the same volumes and planes.
   std::uint32_t wavelengths = 1;
+  // Wavelengths the glass light-transport tables traced (several only for
+  // dispersive glass baked with tables at other wavelengths).
+  std::uint32_t glass_wavelengths = 1;
 };
 
 // What the last update()'s photon marching did (seed 004), summed over

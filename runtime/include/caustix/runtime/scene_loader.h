@@ -20,6 +20,7 @@ struct RuntimeScene {
   std::vector<LevelMap> level_maps;  // at most one per (object, light)
   std::vector<ObjectBox> boxes;
   std::vector<LightTransportTable> transport_tables;  // one per transparent object
+  std::vector<LightTransportTable> spectral_tables;   // dispersive objects' tables at other wavelengths
   std::vector<IndexGrid> index_grids;  // one per transparent object, only in scenes that scatter
 };
 
