@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace caustix::test {
@@ -141,6 +142,18 @@ inline BallLensFloor ball_lens_floor(const std::vector<float>& e, int n, double 
   b.r50 = radius_enclosing(b.exact, 0.5);
   b.m50 = radius_enclosing(b.measured, 0.5);
   return b;
+}
+
+// A dispersive ball's images at the F, d and C lines (got[0..2]): whether
+// the check tells the lines apart, the F image against the C line's exact
+// pattern (and back) missing its encircled power within 2 cm by more than
+// 15 % (beyond the tests' own 10 %). Prints both under `label`.
+inline bool lines_apart(const std::vector<BallLensFloor>& got, const char* label) {
+  auto miss = [&](std::size_t a, std::size_t b) { return encircled(got[a].measured, 0.02) / encircled(got[b].exact, 0.02) - 1; };
+  const double f_on_c = miss(0, 2), c_on_f = miss(2, 0);
+  std::printf("%s F image against the C line's exact pattern: encircled power within 2 cm %+.1f %%; C against F's %+.1f %%\n", label,
+              100 * f_on_c, 100 * c_on_f);
+  return std::fabs(f_on_c) > 0.15 && std::fabs(c_on_f) > 0.15;
 }
 
 }  // namespace caustix::test

@@ -180,9 +180,11 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
   const SceneDesc& scene = doc->scene;
   if (!(q.x1 > q.x0) || !(q.y1 > q.y0) || q.width < 1 || q.height < 1 || q.width > 16384 || q.height > 16384 ||
       q.batches < 1 || q.photons < q.batches || q.grid < 2 || q.grid > 512 || q.view_samples < 1 ||
-      q.view_samples > 64 || !(q.samples_per_pixel > 0 && q.samples_per_pixel <= 64)) {
-    return make_error(ErrorCode::kUsage, "region, size, batches, photon count, grid or samples out of range");
+      q.view_samples > 64 || !(q.samples_per_pixel > 0 && q.samples_per_pixel <= 64) ||
+      !(q.wavelength_nm == 0 || (q.wavelength_nm >= kMinWavelength && q.wavelength_nm <= kMaxWavelength))) {
+    return make_error(ErrorCode::kUsage, "region, size, batches, photon count, grid, samples or wavelength out of range");
   }
+  const bool disperses = scene_disperses(scene) || q.wavelength_nm > 0;
   if (!scene_scatters(scene)) {
     return make_error(ErrorCode::kInput, q.scene_path + ": nothing in the scene scatters light (no medium, water or glass with \"scattering\")");
   }
@@ -341,6 +343,8 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
         }
         Rgb power{flux * light.color[0] / e0, flux * light.color[1] / e0, flux * light.color[2] / e0};
+        const double nm = photon_wavelength(q.wavelength_nm, disperses, [&] { return u01(rng); }, power);
+        const double n_water = water ? water_index_at(*water, nm) : 1.0;
         bool in_medium = false, in_water = false;
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
@@ -353,7 +357,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
             const bool in_extent = hit[0] >= water_box->first[0] && hit[0] <= water_box->second[0] &&
                                    hit[2] >= water_box->first[2] && hit[2] <= water_box->second[2];
             if (sh && in_extent && (!h || *sh < h->distance + eps)) {
-              const auto entry = surface.enter(hit, dir);
+              const auto entry = surface.enter(hit, dir, n_water);
               if (!entry) break;
               for (double& c : power) c *= entry->transmittance;
               origin = hit;
@@ -419,7 +423,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           if (!h) break;
           const Vec3d p = add(origin, dir, len);
           if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? double{water->ior} : 1.0, inside, u01(rng));
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm);
           origin = p;
         }
         if (in_medium) st.leaving += luminance(power);  // absorbed by a surface, or out of the loop
@@ -433,6 +437,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
     z_front += 1.0;
     const double step_len = 0.5 * std::min({grid->h[0], grid->h[1], grid->h[2]});
     const double spp = double(q.view_samples) * double(q.view_samples);
+    const double view_water = water ? water_index_at(*water, q.wavelength_nm) : 1.0;  // n_d unless monochromatic
     for (int row = 0; row < q.height; ++row) {
       for (int col = 0; col < q.width; ++col) {
         Rgb sum{0, 0, 0};
@@ -451,7 +456,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               for (std::size_t c = 0; c < 3; ++c) tau[c] += front.m->st[c] * (front.b - front.a);
             }
             origin = add(origin, dir, h->distance);
-            dir = cross_interface(world, scene, h->triangle, origin, dir, wet(origin) ? double{water->ior} : 1.0, inside, u01(rng));
+            dir = cross_interface(world, scene, h->triangle, origin, dir, wet(origin) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm);
             for (int k = 0; k < kMaxInteractions; ++k) {
               h = caster.first_hit_triangle(add(origin, dir, eps), dir);
               const double len = h ? h->distance + eps : 1e30;
@@ -478,7 +483,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               if (!h) break;
               const Vec3d p = add(origin, dir, len);
               if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-              dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? double{water->ior} : 1.0, inside, u01(rng));
+              dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm);
               origin = p;
             }
           }

@@ -177,13 +177,8 @@ Result<Image> trace(const Request& q) {
           flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
         }
         std::array<double, 3> rgb{flux * light.color[0], flux * light.color[1], flux * light.color[2]};
-        double nm = q.wavelength_nm;
-        if (nm <= 0 && disperses) {
-          nm = kMinWavelength + (kMaxWavelength - kMinWavelength) * u01(rng);
-          const auto w = rgb_density(nm);
-          for (std::size_t c = 0; c < 3; ++c) rgb[c] *= (kMaxWavelength - kMinWavelength) * w[c];
-        }
-        const double n_water = water ? (nm > 0 ? double{index_at(water->ior, water->dispersion, static_cast<float>(nm))} : double{water->ior}) : 1.0;
+        const double nm = photon_wavelength(q.wavelength_nm, disperses, [&] { return u01(rng); }, rgb);
+        const double n_water = water ? water_index_at(*water, nm) : 1.0;
         bool in_water = false;
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {

@@ -89,6 +89,13 @@ struct InscatterRequest {
   int grid = 64;               // voxels along the medium's longest side, for views through glass
   int view_samples = 4;        // per pixel axis, for views through glass
   double samples_per_pixel = 2;  // deposit points per pixel a photon segment crosses
+  // Dispersion (issue 22), as ReferenceRequest::wavelength_nm for the
+  // photons: > 0 every photon and view ray at this wavelength, weight 1;
+  // 0 in a scene that disperses, each photon at its own drawn wavelength,
+  // view rays through glass at n_d (the track-length grid they gather from
+  // sums every wavelength's photons; the runtime's view march refracts at
+  // n_d too).
+  double wavelength_nm = 0;
 };
 
 struct InscatterStats {

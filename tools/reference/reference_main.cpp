@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     iq.seed = q.seed;
     iq.glass_crease_deg = q.glass_crease_deg;
     iq.time = q.time;
+    iq.wavelength_nm = q.wavelength_nm;
     reference::InscatterStats stats;
     auto img = reference::trace_inscatter(iq, &stats);
     if (!img) return cli::fail("caustix-reference", img.error());
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
     if (Status st = runtime::write_float_image(out_path, img->width, img->height, 3, img->rgb,
                                                {{"caustix:region", rect}, {"caustix:image", "inscatter"},
                                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", "reference"},
+                                                {"caustix:wavelength", iq.wavelength_nm > 0 ? std::to_string(iq.wavelength_nm) : "rgb"},
                                                 {"caustix:relative_noise", std::to_string(img->relative_noise)}});
         !st) {
       return cli::fail("caustix-reference", st.error());

@@ -17,6 +17,7 @@
 #include "caustix/bake/scene_json.h"
 #include "caustix/common/status.h"
 #include "caustix/formats/frame.h"
+#include "caustix/formats/spectrum.h"
 #include "reference.h"
 
 namespace caustix::reference {
@@ -138,6 +139,25 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 // Returns the new direction.
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
                       const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm = 0);
+
+// A photon's wavelength (dispersion, issue 22; reference.h's
+// wavelength_nm): `fixed` when > 0, weight 1 (a monochromatic image); else,
+// in a scene that disperses, drawn uniformly from 380-780 nm with `power`
+// times 400 nm x the CIE-to-linear-sRGB density there (an unbiased
+// estimate of the spectral integral); else 0 (every index n_d) and no
+// number drawn. `u01` draws a uniform number.
+template <class Draw>
+double photon_wavelength(double fixed, bool disperses, Draw&& u01, std::array<double, 3>& power) {
+  if (fixed > 0 || !disperses) return fixed;
+  const double nm = kMinWavelength + (kMaxWavelength - kMinWavelength) * u01();
+  const auto w = rgb_density(nm);
+  for (std::size_t c = 0; c < 3; ++c) power[c] *= (kMaxWavelength - kMinWavelength) * w[c];
+  return nm;
+}
+// The water's index at `nm` (0: its ior, n_d).
+inline double water_index_at(const Water& water, double nm) {
+  return nm > 0 ? double{index_at(water.ior, water.dispersion, static_cast<float>(nm))} : double{water.ior};
+}
 
 // Bounding rectangle on the plane y = y_top of the points that reach the
 // boxes along the light: parallel projection for a directional light,
