@@ -14,13 +14,18 @@
 #   seconds, file bytes), at 1..16 traced wavelengths against the spectral
 #   reference (relative L1 per channel) with ms per 640x480 frame; the F, d
 #   and C lines against monochromatic references; glass_ball at 1 and 8
-#   side by side. About 10 minutes.
+#   side by side; then the trade-off rows of the traced and the baked
+#   wavelengths (docs/results/tradeoff_dispersion_tables.csv). About 15
+#   minutes.
 # water: docs/results/dispersion_water.csv: wavy_pool's water with
 #   dispersion 3 over a 1.5 m pool, the level-map, volumetric and splat
 #   methods at 1..16 wavelengths against the spectral reference (relative L1
 #   per channel) and ms per 640x480 frame; the same pool without dispersion
 #   at 8 (it traces one); shafts_pool's scattering water with dispersion 3,
-#   ms per frame with the media at 1, 4 and 8 wavelengths. About 5 minutes.
+#   ms per frame with the media at 1, 4 and 8 wavelengths; and
+#   docs/results/dispersion_media.csv: its in-scatter image at 1, 2, 4 and 8
+#   wavelengths against the spectral in-scatter reference (relative L1 per
+#   channel). About 8 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build
@@ -125,6 +130,8 @@ PY
   $B/tools/caustix-reference assets/scenes/glass_ball.json --irradiance floor --region $R --size 200 --photons 8000000 \
     -o "$T/gref.exr" >/dev/null
   for n in 1 8; do trow glass_ball none "$T/gb.cxb" "$T/gref.exr" $n rgb --wavelengths $n; done
+  $B/tools/caustix-bench tradeoff assets/scenes/dispersive_ball.json --reference "$T/ref.exr" --pixel-samples 4 \
+    --knobs table-wavelengths,ltt-wavelengths --csv docs/results/tradeoff_dispersion_tables.csv >/dev/null
 }
 
 water() {
@@ -159,6 +166,20 @@ PY
   done
   for n in 1 8; do wrow plain_pool "$T/plain.cxb" levelmap $n; done
   for n in 1 4 8; do wrow dispersive_shafts_pool "$T/shafts.cxb" levelmap $n; done
+  # The media's in-scatter against the spectral reference (as bench-tradeoff.sh's shafts_pool row).
+  local IR="-1.5,0,1.5,2.2" MOUT=docs/results/dispersion_media.csv
+  $B/tools/caustix-reference "$T/shafts.json" --inscatter --region $IR --size 120x88 --photons 4000000 -o "$T/iref.exr" >/dev/null
+  echo "scene,wavelengths,rel_l1_r,rel_l1_g,rel_l1_b,flux_ratio_g" > "$MOUT"
+  for n in 1 2 4 8; do
+    $B/runtime/caustix-render "$T/shafts.cxb" --inscatter --region $IR --size 120x88 --wavelengths $n -o "$T/img.exr" >/dev/null
+    /usr/bin/python3 - "$n" "$(channel_l1 "$T/img.exr" "$T/iref.exr" R)" "$(channel_l1 "$T/img.exr" "$T/iref.exr" G)" \
+      "$(channel_l1 "$T/img.exr" "$T/iref.exr" B)" >> "$MOUT" <<'PY'
+import json, sys
+n, r, g, b = sys.argv[1:]
+r, g, b = (json.loads(x) for x in (r, g, b))
+print(f'dispersive_shafts_pool,{n},{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f}')
+PY
+  done
 }
 
 case "$PART" in

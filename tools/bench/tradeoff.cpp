@@ -105,6 +105,21 @@ const std::vector<Knob>& knobs() {
          s.caustics.wavelengths = static_cast<std::uint32_t>(v);
        },
        false, false, true},
+      // Dispersive glass through its light-transport tables: the wavelengths
+      // traced, and the tables baked at other wavelengths to interpolate
+      // between (caustix-bake --ltt-wavelengths; 0: n_d only, no fringes).
+      {"table-wavelengths", {1, 2, 4, 8, 16}, true, false,
+       [](Setting& s, double v) {
+         s.caustics.glass_method = runtime::GlassMethod::kTable;
+         s.caustics.wavelengths = static_cast<std::uint32_t>(v);
+       },
+       false, false, true},
+      {"ltt-wavelengths", {0, 2, 4, 8}, true, false,
+       [](Setting& s, double v) {
+         s.caustics.glass_method = runtime::GlassMethod::kTable;
+         s.bake.transport.wavelengths = static_cast<std::uint32_t>(v);
+       },
+       false, false, true},
       // Variance shadow maps' filter width (texels); 0: PCF.
       {"vsm-filter", {0, 1, 5, 21}, false, false,
        [](Setting& s, double v) {

@@ -94,7 +94,7 @@ struct GlassEngine::Impl {
   }
   // The outgoing rays of every glass vertex at one traced wavelength into
   // each Glass::rays (§4.1), their weighted directions added into `sum`.
-  // At IOR n a glass between two tables a, b (n_a <= n < n_b) traces both
+  // At IOR n a glass between two tables a, b (n_a < n < n_b) traces both
   // and blends them (glass_rays_blend.comp); at a table's own index, that
   // table alone. `exact_nd`: every glass at its n_d table (one wavelength
   // traced, bit-identical to glass without dispersion).
@@ -105,7 +105,8 @@ struct GlassEngine::Impl {
       const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
       std::size_t a = exact_nd ? g.base : 0;
       while (!exact_nd && a + 1 < g.tables.size() && g.tables[a + 1].params.ior <= n) ++a;
-      const bool blend = n != g.tables[a].params.ior && a + 1 < g.tables.size();
+      // Beyond the tables' range (another writer's tables) the nearest one.
+      const bool blend = n > g.tables[a].params.ior && a + 1 < g.tables.size();
       for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
         rays.use();
         set_light_uniforms(rays);
