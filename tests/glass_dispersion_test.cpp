@@ -75,13 +75,14 @@ double relative_l1(const std::vector<float>& a, const std::vector<float>& b) {
   return d / s;
 }
 
-// dispersive_ball (n_d 1.5, V_d 20) at the defaults (tables at 380 and
-// 780 nm besides n_d's): at each line the transmitted flux within 5 % of
-// the exact sphere's at n(lambda), its R50 within 10 % and the encircled
-// power within 10 % (the target) from 3 cm out. At 2 cm the table
-// method is 8 % low already without dispersion (glass_ball, docs/glass.md);
-// there it must be within 12 %. The F line's image misses the C line's
-// exact pattern by more than that, and back.
+// dispersive_ball (n_d 1.5, V_d 20), tables at the defaults (380 and
+// 780 nm besides n_d), illumination textures of 1024^2 (3.9 mm texels over
+// the floor): at each line the transmitted flux within 5 % of the exact
+// sphere's at n(lambda), its R50 within 10 % and the encircled power within
+// 10 % (the target) at 2-20 cm. At the default 512^2 the 2 cm
+// circle is 2.5 texels wide and the C line's sharper focus comes out
+// -10.7 % there (docs/dispersion.md). The F line's image misses the C
+// line's exact pattern by more than that, and back.
 TEST_F(GlassDispersion, BallLensPerWavelengthFromTables) {
   const int n = 512;
   const double half = 2.0, pix = 2 * half / n;
@@ -91,7 +92,9 @@ TEST_F(GlassDispersion, BallLensPerWavelengthFromTables) {
   std::vector<test::BallLensFloor> got;
   for (const float nm : {kWavelengthF, kWavelengthD, kWavelengthC}) {
     const double ior = index_at(1.5f, dispersion, nm);
-    const Floor f = render(*r, n, half, at(nm));
+    runtime::CausticsOptions o = at(nm);
+    o.glass_map_size = 1024;
+    const Floor f = render(*r, n, half, o);
     EXPECT_EQ(f.wavelengths, 1u);
     const test::BallLensFloor b = test::ball_lens_floor(f.e, n, half, ior);
     std::printf("[dispersive_ball, tables] %.2f nm, n %.5f: transmitted %.4f / exact %.4f; R50 %.4f / %.4f m\n", nm, ior,
@@ -101,7 +104,7 @@ TEST_F(GlassDispersion, BallLensPerWavelengthFromTables) {
     for (double radius : {0.02, 0.03, 0.05, 0.1, 0.2}) {
       const double ratio = test::encircled(b.measured, radius) / test::encircled(b.exact, radius);
       std::printf("[dispersive_ball, tables] %.2f nm: encircled power within %.2f m %+.1f %%\n", nm, radius, 100 * (ratio - 1));
-      EXPECT_NEAR(ratio, 1.0, radius < 0.025 ? 0.12 : 0.10) << nm << " nm, " << radius << " m";
+      EXPECT_NEAR(ratio, 1.0, 0.10) << nm << " nm, " << radius << " m";
     }
     got.push_back(b);
   }
