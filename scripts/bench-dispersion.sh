@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Dispersion's measurements for docs/dispersion.md. Usage:
-#   scripts/bench-dispersion.sh [glass|tables|water|all]   (default all)
+#   scripts/bench-dispersion.sh [glass|tables|water|view|all]   (default all)
 # glass: docs/results/dispersion.csv and the trade-off rows
 #   docs/results/tradeoff_dispersion.csv: the dispersive ball
 #   (assets/scenes/dispersive_ball.json) through image-space caustic maps at
@@ -26,6 +26,13 @@
 #   docs/results/dispersion_media.csv: its in-scatter image at 1, 2, 4 and 8
 #   wavelengths against the spectral in-scatter reference (relative L1 per
 #   channel). About 8 minutes.
+# view: docs/results/dispersion_view.csv: the cost of the refracted views
+#   per wavelength: ms per 640x480 frame of the dispersive ball seen through
+#   the table view (n_d) and the nearby view (per wavelength) at 1..16
+#   wavelengths, glass_ball's nearby view at 1 and 8; the dispersive pool
+#   of the water part with the light passes off (method none: the water
+#   view alone traces the wavelengths) at 1..16, and the pool without
+#   dispersion at 1 and 8. About 3 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build
@@ -33,7 +40,7 @@ B=build
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 PART=${1:-all}
-case "$PART" in glass|tables|water|all) ;; *) echo "usage: $0 [glass|tables|water|all]" >&2; exit 2 ;; esac
+case "$PART" in glass|tables|water|view|all) ;; *) echo "usage: $0 [glass|tables|water|view|all]" >&2; exit 2 ;; esac
 # Relative L1 of one channel: both images' channel copied into all three,
 # so that caustix-compare's luminance is that channel.
 channel_l1() {  # image reference channel
@@ -182,9 +189,36 @@ PY
   done
 }
 
+view() {
+  local OUT=docs/results/dispersion_view.csv
+  $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db.cxb" -q
+  $B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
+  derive wavy_pool "$T/pool.json" 'j["water"]["dispersion"] = 3.0; j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  derive wavy_pool "$T/plain.json" 'j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  for s in pool plain; do $B/bake/caustix-bake "$T/$s.json" -o "$T/$s.cxb" -q; done
+  echo "scene,view,method,wavelengths,frame_ms,renderer" > "$OUT"
+  vrow() {  # scene cxb view method wavelengths
+    local line
+    line=$($B/tools/caustix-bench frames "$2" --glass-view "$3" --method "$4" --wavelengths "$5" --warmup 1 --frames 5)
+    /usr/bin/python3 - "$1" "$3" "$4" "$5" "$line" >> "$OUT" <<'PY'
+import csv, sys
+s, v, m, n, line = sys.argv[1:]
+f = next(csv.reader([line]))
+print(f'{s},{v},{m},{n},{f[6]},"{f[12]}"')
+PY
+  }
+  for n in 1 4 8 16; do
+    for v in table nearby; do vrow dispersive_ball "$T/db.cxb" $v levelmap $n; done
+  done
+  for n in 1 8; do vrow glass_ball "$T/gb.cxb" nearby levelmap $n; done
+  for n in 1 4 8 16; do vrow dispersive_pool "$T/pool.cxb" table none $n; done
+  for n in 1 8; do vrow plain_pool "$T/plain.cxb" table none $n; done
+}
+
 case "$PART" in
   glass) glass ;;
   tables) tables ;;
   water) water ;;
-  all) glass; tables; water ;;
+  view) view ;;
+  all) glass; tables; water; view ;;
 esac

@@ -1,20 +1,25 @@
 // The water surface's appearance (seed 001): apparent depth under flat water
-// (Snell's law), the W/A iteration against an exact march of the same depth
-// texture, Fresnel at normal and grazing views, the view from under the
-// surface beyond the critical angle, and golden images of thesis_teapot
-// from above and below (CAUSTIX_UPDATE_GOLDEN=1 rewrites them).
+// (Snell's law, per wavelength under dispersive water), the W/A iteration
+// against an exact march of the same depth texture, Fresnel at normal and
+// grazing views, the view from under the surface beyond the critical angle,
+// and golden images of thesis_teapot from above and below
+// (CAUSTIX_UPDATE_GOLDEN=1 rewrites them).
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <glm/glm.hpp>
 
 #include "bake_fixture.h"
+#include "caustix/formats/spectrum.h"
 #include "caustix/runtime/image_output.h"
 #include "caustix/runtime/renderer.h"
 #include "gl_fixture.h"
@@ -63,8 +68,9 @@ std::vector<float> render(runtime::Renderer& r, const Camera& c, int w, int h, c
 // flat_pool lit straight down with a dark plate on its floor, x in [2, 4]
 // m (its near edge at x = 2 m), 2 cm thick, turned `turn_deg` about its
 // centre's vertical.
-std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string& tag) {
+std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string& tag, double dispersion = 0.0) {
   nlohmann::json j = test::canonical_scene("flat_pool");
+  if (dispersion > 0) j["water"]["dispersion"] = dispersion;
   j["lights"][0]["direction"] = {0.0, -1.0, 0.0};
   j["objects"].push_back({{"name", "plate"},
                           {"mesh", test::kScenes + "../meshes/box.obj"},
@@ -75,54 +81,117 @@ std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string
   return test::bake_and_create(test::write_scene(j, tag));
 }
 
-TEST_F(Water, FlatWaterApparentDepthWithinAPixel) {
-  auto r = plate_pool(0.0, "water_apparent");
-  ASSERT_TRUE(r);
-  const int w = 640, h = 480;
-  const float fov = 60.0f;
-  const Camera cam = make_camera({0, 6, 0}, {0, 0, 0}, {0, 0, -1}, fov);
+// The camera, look and edge of FlatWaterApparentDepthWithinAPixel.
+constexpr int kEdgeW = 640, kEdgeH = 480;
+constexpr float kEdgeFov = 60.0f;
+
+std::vector<float> render_edge(runtime::Renderer& r, std::optional<float> wavelength_nm = std::nullopt, std::uint32_t wavelengths = 8) {
   WaterLook look;
   look.reflection = false;  // F = 0: the pixel is the refracted colour alone
   look.colour = false;
   look.glow = false;
   look.texture_size = 1024;
-  const std::vector<float> img = render(*r, cam, w, h, look, runtime::CausticsMethod::kNone);
+  runtime::FrameParams f;
+  f.camera = make_camera({0, 6, 0}, {0, 0, 0}, {0, 0, -1}, kEdgeFov);
+  f.width = kEdgeW;
+  f.height = kEdgeH;
+  f.caustics = runtime::default_caustics_options(r.scene());
+  f.caustics.method = runtime::CausticsMethod::kNone;
+  f.caustics.wavelength_nm = wavelength_nm;
+  f.caustics.wavelengths = wavelengths;
+  f.water = look;
+  const Status st = r.render(f);
+  EXPECT_TRUE(st.ok()) << st.error().message;
+  return r.read_hdr();
+}
 
-  // Predicted column of the edge (continuous, pixel centres at j + 0.5).
-  const double n = 1.33, hc = 4.0, depth = 1.98, edge = 2.0;
+// Image column (continuous, pixel centres at j + 0.5) of a point x metres
+// off the camera's axis per metre below the camera.
+double edge_column_of(double x_over_height) {
+  const double tan_half = std::tan(kEdgeFov * test::kPi / 360.0), aspect = double(kEdgeW) / kEdgeH;
+  return (x_over_height / (tan_half * aspect) * 0.5 + 0.5) * kEdgeW;
+}
+
+// Where Snell's law puts the plate's edge under water of index n.
+double predicted_edge_column(double n) {
+  const double hc = 4.0, depth = 1.98, edge = 2.0;
   auto miss = [&](double rr) {
     const double sin_i = rr / std::hypot(rr, hc), sin_t = sin_i / n;
     return rr + depth * sin_t / std::sqrt(1 - sin_t * sin_t) - edge;
   };
   double lo = 0, hi = edge;
   for (int i = 0; i < 100; ++i) (miss(0.5 * (lo + hi)) > 0 ? hi : lo) = 0.5 * (lo + hi);
-  const double tan_half = std::tan(fov * test::kPi / 360.0), aspect = double(w) / h;
-  auto column_of = [&](double x_over_height) { return (x_over_height / (tan_half * aspect) * 0.5 + 0.5) * w; };
-  const double predicted = column_of(0.5 * (lo + hi) / hc);
-  const double no_water = column_of(edge / (6.0 - 0.02));  // where it would be seen without refraction
+  return edge_column_of(0.5 * (lo + hi) / hc);
+}
 
-  // Measured: where the centre rows cross halfway between floor and plate.
+// Measured: where the centre rows cross halfway between floor and plate
+// in `channel`, the plate sampled 30 pixels past `predicted`.
+double measured_edge_column(const std::vector<float>& img, double predicted, int channel) {
   double measured_sum = 0;
   int rows = 0;
-  for (int row = h / 2 - 20; row < h / 2 + 20; ++row) {
-    auto red = [&](int col) { return img[(static_cast<std::size_t>(row) * w + col) * 4]; };
-    const float floor_v = red(w / 2 + 10), plate_v = red(static_cast<int>(predicted) + 30);
-    ASSERT_GT(floor_v, 3.0f * plate_v) << "row " << row;
+  for (int row = kEdgeH / 2 - 20; row < kEdgeH / 2 + 20; ++row) {
+    auto v = [&](int col) { return img[(static_cast<std::size_t>(row) * kEdgeW + col) * 4 + static_cast<std::size_t>(channel)]; };
+    const float floor_v = v(kEdgeW / 2 + 10), plate_v = v(static_cast<int>(predicted) + 30);
+    EXPECT_GT(floor_v, 3.0f * plate_v) << "row " << row;
     const float mid = 0.5f * (floor_v + plate_v);
-    for (int col = w / 2 + 10; col + 1 < w; ++col) {
-      if (red(col) >= mid && red(col + 1) < mid) {
-        measured_sum += col + 0.5 + (red(col) - mid) / (red(col) - red(col + 1));
+    for (int col = kEdgeW / 2 + 10; col + 1 < kEdgeW; ++col) {
+      if (v(col) >= mid && v(col + 1) < mid) {
+        measured_sum += col + 0.5 + (v(col) - mid) / (v(col) - v(col + 1));
         ++rows;
         break;
       }
     }
   }
-  ASSERT_EQ(rows, 40);
-  const double measured = measured_sum / rows;
+  EXPECT_EQ(rows, 40);
+  return rows ? measured_sum / rows : 0.0;
+}
+
+TEST_F(Water, FlatWaterApparentDepthWithinAPixel) {
+  auto r = plate_pool(0.0, "water_apparent");
+  ASSERT_TRUE(r);
+  const std::vector<float> img = render_edge(*r);
+  const double predicted = predicted_edge_column(1.33);
+  const double no_water = edge_column_of(2.0 / (6.0 - 0.02));  // where it would be seen without refraction
+  const double measured = measured_edge_column(img, predicted, 0);
   std::cout << "apparent edge: predicted column " << predicted << ", measured " << measured << ", without water "
             << no_water << "\n";
   EXPECT_NEAR(measured, predicted, 1.0);
   EXPECT_GT(std::fabs(no_water - predicted), 10.0);  // the test can tell refraction from none
+}
+
+// The same edge under water of dispersion 10 (V_d 2: n 1.620 at 400 nm,
+// 1.256 at 700 nm; issue 22). Each monochromatic image puts it where
+// Snell's law does at that wavelength's index, within a pixel as at n_d,
+// and the two lie over 10 pixels apart. In the RGB image of 8 wavelengths
+// every channel's edge lies between those two, blue's nearer 400 nm's than
+// red's by more than 2 pixels. One wavelength traced is the water without
+// dispersion, bit for bit.
+TEST_F(Water, DispersiveWaterShowsTheFloorWhereEachWavelengthBends) {
+  constexpr float kDispersion = 10.0f;
+  auto plain = plate_pool(0.0, "water_apparent_plain");
+  auto dispersive = plate_pool(0.0, "water_apparent_dispersive", kDispersion);
+  ASSERT_TRUE(plain && dispersive);
+  std::vector<double> ends;
+  for (const float nm : {400.0f, 700.0f}) {
+    const double n = index_at(1.33f, kDispersion, nm), predicted = predicted_edge_column(n);
+    const double measured = measured_edge_column(render_edge(*dispersive, nm), predicted, 0);
+    std::printf("[dispersive water] %.0f nm, n %.4f: edge at column %.2f, Snell %.2f (%+.2f px)\n", nm, n, measured, predicted,
+                measured - predicted);
+    EXPECT_NEAR(measured, predicted, 1.0) << nm << " nm";
+    ends.push_back(predicted);
+  }
+  EXPECT_GT(std::fabs(ends[0] - ends[1]), 10.0) << "the wavelengths must part for the test to mean anything";
+  const std::vector<float> rgb = render_edge(*dispersive);
+  std::array<double, 3> edge{};
+  for (int c = 0; c < 3; ++c) {
+    edge[c] = measured_edge_column(rgb, ends[1], c);
+    std::printf("[dispersive water] RGB of 8 wavelengths: channel %d's edge at column %.2f\n", c, edge[c]);
+    EXPECT_GT(edge[c], std::min(ends[0], ends[1]) - 1.0) << "channel " << c;
+    EXPECT_LT(edge[c], std::max(ends[0], ends[1]) + 1.0) << "channel " << c;
+  }
+  EXPECT_GT(std::fabs(edge[0] - ends[0]) - std::fabs(edge[2] - ends[0]), 2.0) << "blue bends more than red";
+  EXPECT_TRUE(render_edge(*dispersive, std::nullopt, 1) == render_edge(*plain, std::nullopt, 1))
+      << "one wavelength must be the water without dispersion";
 }
 
 // Mean distance, in refraction-texture texels, between where the W/A

@@ -20,6 +20,9 @@
 //     u_iterations times from the scene point behind the exit; rays that
 //     leave the screen or meet only sky see the sky.
 // Absorption along the path inside, exp(-sigma_a l).
+// Dispersion (issue 22): steps 1-4 run once per wavelength sample at the
+// glass's index there, and the pixel is the sum of each sample's colour
+// times its bin's RGB weight (one sample (1, 1, 1) at n_d without).
 in vec3 v_world;
 in vec3 v_normal;
 
@@ -31,7 +34,8 @@ uniform mat4 u_view_proj;
 uniform mat4 u_inv_view_proj;
 uniform vec3 u_eye;
 uniform vec3 u_sky;
-uniform float u_ior;
+uniform int u_wave_count;
+uniform vec4 u_waves[32];  // xyz the sample's RGB weight, w the glass's index at its wavelength
 uniform vec3 u_glass_absorption;
 uniform int u_iterations;
 uniform int u_exit_iterations;
@@ -69,16 +73,14 @@ vec3 scene_along(vec3 x, vec3 d) {
   return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : u_sky;
 }
 
-void main() {
-  vec3 n = normalize(v_normal);
-  vec3 view = normalize(v_world - u_eye);
-  if (dot(n, view) > 0.0) n = -n;
+// Steps 1-4 at index `ior`: what the pixel shows at one wavelength.
+vec3 shade(vec3 n, vec3 view, float ior) {
   float cos_i = max(-dot(view, n), 0.0);
-  float reflectance = 1.0 - caustix_fresnel_transmittance(cos_i, u_ior);
+  float reflectance = 1.0 - caustix_fresnel_transmittance(cos_i, ior);
   vec3 sky_reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
 
   // 1. Into the glass.
-  vec3 t1 = refract(view, n, 1.0 / u_ior);
+  vec3 t1 = refract(view, n, 1.0 / ior);
   vec3 transmitted = vec3(1.0 - reflectance);
   // 2. The exit point against the back faces.
   vec3 x = v_world;
@@ -106,12 +108,21 @@ void main() {
   transmitted *= exp(-u_glass_absorption * t);
   // 3. Out of the glass (ne outward; the ray leaves through it).
   vec3 nin = dot(ne, t1) > 0.0 ? -ne : ne;
-  vec3 t2 = refract(t1, nin, u_ior);
+  vec3 t2 = refract(t1, nin, ior);
   if (dot(t2, t2) == 0.0) {
     t2 = t1;  // total internal reflection: one-sided refraction
   } else {
-    transmitted *= caustix_fresnel_transmittance(-dot(t1, nin), 1.0 / u_ior);
+    transmitted *= caustix_fresnel_transmittance(-dot(t1, nin), 1.0 / ior);
   }
   // 4. What the exit ray meets.
-  o_color = vec4(reflectance * sky_reflected + transmitted * scene_along(exit_point, normalize(t2)), 1.0);
+  return reflectance * sky_reflected + transmitted * scene_along(exit_point, normalize(t2));
+}
+
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 view = normalize(v_world - u_eye);
+  if (dot(n, view) > 0.0) n = -n;
+  vec3 c = vec3(0.0);
+  for (int k = 0; k < u_wave_count; ++k) c += u_waves[k].xyz * shade(n, view, u_waves[k].w);
+  o_color = vec4(c, 1.0);
 }

@@ -13,12 +13,17 @@
 // reflection at U + m R2 (eq. 14-15) in the mirrored texture of the part
 // below, which was fogged when it was drawn (eq. 10); attenuation over
 // |U - C1| (eq. 5).
+// Dispersion (issue 22): the refraction and Fresnel run once per
+// wavelength sample at the water's index there, and the pixel is the sum
+// of each sample's colour times its bin's RGB weight (one sample (1, 1, 1)
+// at n_d without). The sun's highlight is a reflection: once.
 in vec3 v_world;
 in vec3 v_normal;
 
 uniform vec3 u_eye;
 uniform int u_under;  // 1: the camera is under the water
-uniform float u_ior;
+uniform int u_wave_count;
+uniform vec4 u_waves[32];  // xyz the sample's RGB weight, w the water's index at its wavelength
 // Refraction camera: world -> its view space, its projection with FOV_ext,
 // and that projection's depth terms (clip z = A z + B, clip w = -z).
 uniform mat4 u_refr_view;
@@ -145,26 +150,26 @@ vec4 wa_iteration(vec3 u, vec3 r, int steps, int max_steps, out vec3 a_out) {
   return vec4(w_best, best);
 }
 
-void main() {
-  vec3 n = normalize(v_normal);  // up, towards the sky
-  vec3 e = normalize(u_eye - v_world);
+// Eq. 4-9 at index `ior`: the pixel's colour at one wavelength, with the
+// Fresnel factor and the lookup (and its residual) for the debug views.
+vec3 shade(vec3 n, vec3 e, float ior, out float fresnel, out vec2 lookup, out float residual) {
   vec3 to_cam_n = u_under != 0 ? -n : n;
   float cos_e = clamp(dot(e, to_cam_n), 0.0, 1.0);
 
   // Fresnel (eq. 7-8; f is the same from either side).
-  float f = (u_ior - 1.0) / (u_ior + 1.0);
+  float f = (ior - 1.0) / (ior + 1.0);
   f *= f;
-  float fresnel = u_fresnel_exact != 0 ? caustix_fresnel_reflectance(cos_e, u_under != 0 ? u_ior : 1.0 / u_ior)
-                                       : f + (1.0 - f) * pow(1.0 - cos_e, u_q);
+  fresnel = u_fresnel_exact != 0 ? caustix_fresnel_reflectance(cos_e, u_under != 0 ? ior : 1.0 / ior)
+                                 : f + (1.0 - f) * pow(1.0 - cos_e, u_q);
   if (u_reflection == 0) fresnel = 0.0;
 
   vec3 refr_color, refl_color;
   float d;  // path length in water for eq. 4
-  vec2 lookup = vec2(0.0);
-  float residual = 0.0;
+  lookup = vec2(0.0);
+  residual = 0.0;
   vec3 u1 = (u_refr_view * vec4(v_world, 1.0)).xyz;
   if (u_under == 0) {
-    vec3 r = u_refraction != 0 ? refract(-e, n, 1.0 / u_ior) : -e;
+    vec3 r = u_refraction != 0 ? refract(-e, n, 1.0 / ior) : -e;
     vec3 r1 = normalize(mat3(u_refr_view) * r);
     vec3 a;
     vec4 w = wa_iteration(u1, r1, u_steps, u_max_steps, a);
@@ -177,7 +182,7 @@ void main() {
     vec4 c = u_refl_view_proj * vec4(v_world + u_c * rr, 1.0);  // eq. 6
     refl_color = texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
   } else {
-    vec3 r1 = u_refraction != 0 ? u_ior * (-n - e) + n : -e;  // eq. 12
+    vec3 r1 = u_refraction != 0 ? ior * (-n - e) + n : -e;  // eq. 12
     lookup = refr_uv(u1 + u_m * normalize(mat3(u_refr_view) * r1));  // eq. 13
     refr_color = texture(u_refr_color, lookup).rgb;
     d = length(u_eye - v_world);
@@ -187,7 +192,25 @@ void main() {
   }
   vec3 a = u_colour != 0 ? exp(-u_k * d) : vec3(1.0);       // eq. 4
   vec3 refr_new = u_water_color + a * (refr_color - u_water_color);  // eq. 5
-  vec3 color = refr_new + fresnel * (refl_color - refr_new);       // eq. 9
+  return refr_new + fresnel * (refl_color - refr_new);       // eq. 9
+}
+
+void main() {
+  vec3 n = normalize(v_normal);  // up, towards the sky
+  vec3 e = normalize(u_eye - v_world);
+  vec3 color = vec3(0.0);
+  float fresnel = 0.0, residual = 0.0;
+  vec2 lookup = vec2(0.0);
+  for (int k = 0; k < u_wave_count; ++k) {
+    float fk, rk;
+    vec2 lk;
+    color += u_waves[k].xyz * shade(n, e, u_waves[k].w, fk, lk, rk);
+    if (k == 0) {  // the debug views show the first sample
+      fresnel = fk;
+      lookup = lk;
+      residual = rk;
+    }
+  }
   if (u_under == 0) {
     // The sun's highlight (the reflection texture holds no sun).
     float spec = pow(max(dot(reflect(-e, n), -u_sun_direction), 0.0), 600.0) * 30.0;

@@ -19,6 +19,7 @@
 #include "shadow_maps.h"
 #include "water_surface.h"
 #include "volume.h"
+#include "view_spectrum.h"
 #include "water_view.h"
 
 namespace caustix::runtime {
@@ -98,6 +99,9 @@ struct Engine::Impl {
   gl::Buffer blocks;
   std::size_t stride = 0;
   bool updated = false;
+  // The last update()'s wavelengths, for the refracted views through
+  // dispersive water and glass (draw_water, draw_glass's nearby view).
+  ViewSpectrum view_spectrum;
 
   void draw_object(std::uint32_t i) const { meshes[scene.objects[i].mesh_index].draw(); }
   glm::mat4 model_of(std::uint32_t i) const { return glm::make_mat4(scene.objects[i].transform.data()); }
@@ -551,6 +555,7 @@ Status Engine::update(const FrameUpdate& f) {
                                                      [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }));
     }
   }
+  s.view_spectrum = ViewSpectrum{traced_wavelengths(s.scene, co), co.wavelength_nm.has_value()};
   s.updated = true;
   return gl::check_gl("engine update");
 }
@@ -680,7 +685,9 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   glDepthFunc(GL_LESS);
   if (textured) {
     glDisable(GL_BLEND);
-    const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, s.scene.water->ior, medium.color, medium.k, sun_dir, sun_color};
+    const Water& water = *s.scene.water;
+    const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, view_samples(s.view_spectrum, water.ior, water.dispersion),
+                                      medium.color, medium.k, sun_dir, sun_color};
     s.water_view->draw_surface(sp, look, [&]() { s.water->draw(); });
     if (look.glow && look.debug == WaterDebug::kNone && !cams->under && sun_color != glm::vec3(0.0f)) {
       s.water_view->draw_glow(sp, look, static_cast<GLuint>(target_fbo), viewport, scene_depth, [&]() { s.water->draw(); });
@@ -712,7 +719,7 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   const gl::StateGuard guard = s.guard();
   s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius(),
-                      options);
+                      options, s.view_spectrum);
   return gl::check_gl("glass surface");
 }
 

@@ -511,7 +511,8 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
 }
 
 void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                             GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options) {
+                             GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
+                             const ViewSpectrum& spectrum) {
   Impl& s = *impl_;
   s.copy.copy(scene_color, scene_depth);
   const bool nearby = options.method == GlassView::kNearby;
@@ -540,15 +541,17 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
     p.set("u_march_length", march_length);
   }
   for (const Impl::Glass& g : s.glass) {
+    const Material& m = scene.objects[g.object].material;
     if (nearby) {
       Impl::set_mesh_pose(p, scene.objects[g.object]);
       const Vec3f& k = g.tables[g.base].params.absorption;
       p.set("u_glass_absorption", glm::vec3(k[0], k[1], k[2]));
+      set_view_samples(p, view_samples(spectrum, m.ior, m.dispersion));  // per pixel, per wavelength
     } else {
-      Impl::set_table(p, g.tables[g.base]);  // the view through the glass refracts at n_d
+      Impl::set_table(p, g.tables[g.base]);  // the table view refracts at n_d (per vertex; docs/dispersion.md)
       s.set_pose(p, scene, g);
+      p.set("u_ior", m.ior);
     }
-    p.set("u_ior", scene.objects[g.object].material.ior);
     g.mesh->draw();
   }
   glDisable(GL_CULL_FACE);

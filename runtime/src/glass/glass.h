@@ -20,6 +20,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "view_spectrum.h"
 #include "gpu_mesh.h"
 
 namespace caustix::runtime {
@@ -64,9 +65,11 @@ class GlassEngine {
 
   // Draws the transparent objects as glass over the opaque scene's colour
   // and depth into the bound draw framebuffer: view rays through the table
-  // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby).
+  // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby), the
+  // latter once per wavelength of `spectrum` for dispersive glass.
   void draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                  GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options);
+                  GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
+                  const ViewSpectrum& spectrum);
 
   std::uint64_t gpu_bytes() const;
   // Wavelengths the last update_light() traced (1 without spectral tables).

@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "shader_text.h"
+#include "view_spectrum.h"
 
 namespace caustix::runtime {
 
@@ -90,7 +91,7 @@ void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, cons
   s.set("u_view_proj", p.view_proj);
   s.set("u_eye", p.eye);
   s.set("u_under", c.under ? 1 : 0);
-  s.set("u_ior", p.ior);
+  set_view_samples(s, p.waves);
   s.set("u_refr_view", c.refraction.view);
   s.set("u_refr_proj", c.refraction.proj);
   s.set("u_refr_depth_ab", glm::vec2(c.refraction.proj[2][2], c.refraction.proj[3][2]));

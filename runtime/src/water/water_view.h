@@ -6,6 +6,7 @@
 // from where and keeps the targets. Internal to the runtime.
 
 #include <functional>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -53,7 +54,7 @@ class WaterView {
     const WaterCameras* cameras;
     glm::mat4 view_proj;  // main camera
     glm::vec3 eye;
-    float ior;
+    std::vector<glm::vec4> waves;  // view_samples(): RGB weight and the water's index per wavelength
     glm::vec3 water_color;  // radiance
     glm::vec3 k;            // per metre
     glm::vec3 sun_direction, sun_color;

@@ -170,7 +170,9 @@ struct CausticsOptions {
   // dispersive glass was baked with tables at other wavelengths
   // (caustix-bake --ltt-wavelengths), each wavelength between the two
   // tables that bracket its index. Flat water traces the d line (n_d)
-  // unless wavelength_nm is set.
+  // unless wavelength_nm is set. The views refract as many: the water
+  // surface (Engine::draw_water) and glass through the nearby view
+  // (draw_glass, GlassView::kNearby).
   std::uint32_t wavelengths = 8;
   // A monochromatic image: every index at this wavelength (nm, 380..780)
   // and the light's own colour (caustix-render --wavelength): the caustic

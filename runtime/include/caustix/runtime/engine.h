@@ -295,8 +295,11 @@ class Engine {
   // against, in the framebuffer's pixels: typically its depth attachment,
   // read at the viewport's pixels while the glow's own target is bound) it
   // comes only from glints the scene does not hide, else also from glints
-  // behind objects. kUsage without water in the scene or with
-  // a bad look.
+  // behind objects. Dispersive water (issue 22) refracts the view once per
+  // wavelength the last update() traced (CausticsOptions::wavelengths, or
+  // wavelength_nm's alone), each at the water's index there, adding the
+  // results with the bins' RGB weights (the plain surface: n_d). kUsage
+  // without water in the scene or with a bad look.
   Status draw_water(const View& view, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene,
                     unsigned scene_depth = 0);
   WaterMedium water_medium(const View& view, const WaterLook& look) const;
@@ -307,8 +310,10 @@ class Engine {
   // `scene_depth` are 2D textures (RGBA float colour, depth) of the opaque
   // scene as the caller rendered it with `view`, the size of the viewport;
   // they are copied, so they may be attached to the bound framebuffer.
-  // Writes colour and depth. No-op without transparent objects; kUsage for
-  // options out of range (naming the knob).
+  // Dispersive glass (issue 22) seen through the nearby view refracts once
+  // per wavelength the last update() traced, as draw_water(); the table
+  // view refracts at n_d. Writes colour and depth. No-op without
+  // transparent objects; kUsage for options out of range (naming the knob).
   Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky,
                     const GlassViewOptions& options = {});
 
