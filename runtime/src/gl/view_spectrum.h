@@ -15,8 +15,8 @@
 
 namespace caustix::runtime {
 
-// The shaders' u_waves[] size.
-inline constexpr std::size_t kMaxViewWavelengths = kMaxWavelengths;
+// water.frag.glsl and glass_nearby.frag.glsl declare u_waves[32].
+static_assert(kMaxWavelengths == 32, "the view shaders' u_waves[] holds kMaxWavelengths samples");
 
 // What the last Engine::update() traced: its wavelength samples and
 // whether they are a monochromatic image's (CausticsOptions::wavelength_nm).
@@ -30,24 +30,19 @@ struct ViewSpectrum {
 // (1, 1, 1, n_d), and so does one traced wavelength of an RGB image: n_d
 // exactly, not the index formula at the d line (1.4e-6 off per unit of
 // dispersion), as the light passes take it.
-inline std::vector<glm::vec4> view_samples(const ViewSpectrum &s, float n_d,
-                                           float dispersion) {
+inline std::vector<glm::vec4> view_samples(const ViewSpectrum& s, float n_d, float dispersion) {
   if (dispersion <= 0.0f || (!s.monochromatic && s.waves.size() == 1))
     return {glm::vec4(1.0f, 1.0f, 1.0f, n_d)};
   std::vector<glm::vec4> out;
   out.reserve(s.waves.size());
-  for (const WavelengthSample &w : s.waves)
-    out.emplace_back(w.rgb[0], w.rgb[1], w.rgb[2],
-                     index_at(n_d, dispersion, w.nm));
+  for (const WavelengthSample& w : s.waves) out.emplace_back(w.rgb[0], w.rgb[1], w.rgb[2], index_at(n_d, dispersion, w.nm));
   return out;
 }
 
-// Sets u_wave_count and u_waves[] (vec4[kMaxViewWavelengths]).
-inline void set_view_samples(const gl::Program &p,
-                             const std::vector<glm::vec4> &samples) {
+// Sets u_wave_count and u_waves[].
+inline void set_view_samples(const gl::Program& p, const std::vector<glm::vec4>& samples) {
   p.set("u_wave_count", static_cast<int>(samples.size()));
-  glProgramUniform4fv(p.id(), p.loc("u_waves"),
-                      static_cast<GLsizei>(samples.size()), &samples[0][0]);
+  glProgramUniform4fv(p.id(), p.loc("u_waves"), static_cast<GLsizei>(samples.size()), &samples[0][0]);
 }
 
 } // namespace caustix::runtime
