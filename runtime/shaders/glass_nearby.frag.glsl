@@ -73,11 +73,11 @@ vec3 scene_along(vec3 x, vec3 d) {
   return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : u_sky;
 }
 
-// Steps 1-4 at index `ior`: what the pixel shows at one wavelength.
-vec3 shade(vec3 n, vec3 view, float ior) {
+// Steps 1-4 at index `ior`, with the sky seen by reflection: what the pixel
+// shows at one wavelength.
+vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
   float cos_i = max(-dot(view, n), 0.0);
   float reflectance = 1.0 - caustix_fresnel_transmittance(cos_i, ior);
-  vec3 sky_reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
 
   // 1. Into the glass.
   vec3 t1 = refract(view, n, 1.0 / ior);
@@ -122,7 +122,8 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 view = normalize(v_world - u_eye);
   if (dot(n, view) > 0.0) n = -n;
+  vec3 sky_reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));  // the same at every wavelength
   vec3 c = vec3(0.0);
-  for (int k = 0; k < u_wave_count; ++k) c += u_waves[k].xyz * shade(n, view, u_waves[k].w);
+  for (int k = 0; k < u_wave_count; ++k) c += u_waves[k].xyz * shade(n, view, u_waves[k].w, sky_reflected);
   o_color = vec4(c, 1.0);
 }

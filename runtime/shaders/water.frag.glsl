@@ -150,9 +150,24 @@ vec4 wa_iteration(vec3 u, vec3 r, int steps, int max_steps, out vec3 a_out) {
   return vec4(w_best, best);
 }
 
-// Eq. 4-9 at index `ior`: the pixel's colour at one wavelength, with the
-// Fresnel factor and the lookup (and its residual) for the debug views.
-vec3 shade(vec3 n, vec3 e, float ior, out float fresnel, out vec2 lookup, out float residual) {
+// The reflected colour (eq. 6 above the water, eq. 14-15 below): the same
+// at every wavelength.
+vec3 reflected(vec3 n, vec3 e) {
+  vec4 c;
+  if (u_under == 0) {
+    vec3 rr = reflect(-e, n);
+    c = u_refl_view_proj * vec4(v_world + u_c * rr, 1.0);  // eq. 6
+  } else {
+    vec3 r2 = 2.0 * dot(-n, e) * -n - e;  // eq. 14, with the normal facing the camera
+    c = u_refl_view_proj * vec4(v_world + u_m * r2, 1.0);  // eq. 15
+  }
+  return texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
+}
+
+// Eq. 4-9 at index `ior` with the reflected colour `refl_color`: the
+// pixel's colour at one wavelength, with the Fresnel factor and the lookup
+// (and its residual) for the debug views.
+vec3 shade(vec3 n, vec3 e, float ior, vec3 refl_color, out float fresnel, out vec2 lookup, out float residual) {
   vec3 to_cam_n = u_under != 0 ? -n : n;
   float cos_e = clamp(dot(e, to_cam_n), 0.0, 1.0);
 
@@ -163,7 +178,7 @@ vec3 shade(vec3 n, vec3 e, float ior, out float fresnel, out vec2 lookup, out fl
                                  : f + (1.0 - f) * pow(1.0 - cos_e, u_q);
   if (u_reflection == 0) fresnel = 0.0;
 
-  vec3 refr_color, refl_color;
+  vec3 refr_color;
   float d;  // path length in water for eq. 4
   lookup = vec2(0.0);
   residual = 0.0;
@@ -178,17 +193,11 @@ vec3 shade(vec3 n, vec3 e, float ior, out float fresnel, out vec2 lookup, out fl
     if (u_debug == 3) lookup = refr_uv(exact_lookup(u1, r1));
     refr_color = texture(u_refr_color, lookup).rgb;
     d = length(a - u1);
-    vec3 rr = reflect(-e, n);
-    vec4 c = u_refl_view_proj * vec4(v_world + u_c * rr, 1.0);  // eq. 6
-    refl_color = texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
   } else {
     vec3 r1 = u_refraction != 0 ? ior * (-n - e) + n : -e;  // eq. 12
     lookup = refr_uv(u1 + u_m * normalize(mat3(u_refr_view) * r1));  // eq. 13
     refr_color = texture(u_refr_color, lookup).rgb;
     d = length(u_eye - v_world);
-    vec3 r2 = 2.0 * dot(-n, e) * -n - e;  // eq. 14, with the normal facing the camera
-    vec4 c = u_refl_view_proj * vec4(v_world + u_m * r2, 1.0);  // eq. 15
-    refl_color = texture(u_refl_color, c.xy / c.w * 0.5 + 0.5).rgb;
   }
   vec3 a = u_colour != 0 ? exp(-u_k * d) : vec3(1.0);       // eq. 4
   vec3 refr_new = u_water_color + a * (refr_color - u_water_color);  // eq. 5
@@ -201,10 +210,11 @@ void main() {
   vec3 color = vec3(0.0);
   float fresnel = 0.0, residual = 0.0;
   vec2 lookup = vec2(0.0);
+  vec3 refl_color = reflected(n, e);
   for (int k = 0; k < u_wave_count; ++k) {
     float fk, rk;
     vec2 lk;
-    color += u_waves[k].xyz * shade(n, e, u_waves[k].w, fk, lk, rk);
+    color += u_waves[k].xyz * shade(n, e, u_waves[k].w, refl_color, fk, lk, rk);
     if (k == 0) {  // the debug views show the first sample
       fresnel = fk;
       lookup = lk;
