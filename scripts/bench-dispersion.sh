@@ -27,12 +27,14 @@
 #   wavelengths against the spectral in-scatter reference (relative L1 per
 #   channel). About 8 minutes.
 # view: docs/results/dispersion_view.csv: the cost of the refracted views
-#   per wavelength: ms per 640x480 frame of the dispersive ball seen through
-#   the table view (n_d) and the nearby view (per wavelength) at 1..16
+#   per wavelength: ms per 640x480 frame of the dispersive ball (baked with
+#   its tables at n_d only, so that its light traces one wavelength) seen
+#   through the table view (n_d) and the nearby view (per wavelength) at 1..16
 #   wavelengths, glass_ball's nearby view at 1 and 8; the dispersive pool
 #   of the water part with the light passes off (method none: the water
 #   view alone traces the wavelengths) at 1..16, and the pool without
-#   dispersion at 1 and 8. About 3 minutes.
+#   dispersion at 1 and 8; pictures of the views' fringes
+#   (docs/results/dispersive_{ball,water}_view_fringes.png). About 3 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build
@@ -49,6 +51,9 @@ channel_l1() {  # image reference channel
 }
 glass() {
   local R="-0.5,-0.5,0.5,0.5" OUT=docs/results/dispersion.csv
+  # The ball's tables at n_d only: its light traces one wavelength, so the
+  # nearby view is all that grows with the count.
+  $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db0.cxb" -q --ltt-wavelengths 0
   $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db.cxb" -q
   $B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
   $B/tools/caustix-reference assets/scenes/dispersive_ball.json --irradiance floor --region $R --size 200 --photons 16000000 \
@@ -141,10 +146,17 @@ PY
     --knobs table-wavelengths,ltt-wavelengths --csv docs/results/tradeoff_dispersion_tables.csv >/dev/null
 }
 
+# wavy_pool's water over a 1.5 m pool (96 x 4 cells, wavy_pool's spacing):
+# $T/pool.json with dispersion 3, $T/plain.json without.
+pools() {
+  local grid='j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  derive wavy_pool "$T/pool.json" "j[\"water\"][\"dispersion\"] = 3.0; $grid"
+  derive wavy_pool "$T/plain.json" "$grid"
+}
+
 water() {
   local R="0,-0.5,1,0.5" OUT=docs/results/dispersion_water.csv
-  derive wavy_pool "$T/pool.json" 'j["water"]["dispersion"] = 3.0; j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
-  derive wavy_pool "$T/plain.json" 'j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  pools
   derive shafts_pool "$T/shafts.json" 'j["water"]["dispersion"] = 3.0'
   for s in pool plain shafts; do $B/bake/caustix-bake "$T/$s.json" -o "$T/$s.cxb" -q; done
   $B/tools/caustix-reference "$T/pool.json" --irradiance floor --region $R --size 200 --photons 16000000 -o "$T/wref.exr" >/dev/null
@@ -191,15 +203,17 @@ PY
 
 view() {
   local OUT=docs/results/dispersion_view.csv
+  # The ball's tables at n_d only: its light traces one wavelength, so the
+  # nearby view is all that grows with the count.
+  $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db0.cxb" -q --ltt-wavelengths 0
   $B/bake/caustix-bake assets/scenes/dispersive_ball.json -o "$T/db.cxb" -q
   $B/bake/caustix-bake assets/scenes/glass_ball.json -o "$T/gb.cxb" -q
-  derive wavy_pool "$T/pool.json" 'j["water"]["dispersion"] = 3.0; j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
-  derive wavy_pool "$T/plain.json" 'j["water"]["grid"] = {"cells": [96, 4], "extent": [-0.25, -0.75, 1.25, 0.75]}'
+  pools
   for s in pool plain; do $B/bake/caustix-bake "$T/$s.json" -o "$T/$s.cxb" -q; done
   echo "scene,view,method,wavelengths,frame_ms,renderer" > "$OUT"
   vrow() {  # scene cxb view method wavelengths
     local line
-    line=$($B/tools/caustix-bench frames "$2" --glass-view "$3" --method "$4" --wavelengths "$5" --warmup 1 --frames 5)
+    line=$($B/tools/caustix-bench frames "$2" --glass-view "$3" --method "$4" --wavelengths "$5" --warmup 2 --frames 9)
     /usr/bin/python3 - "$1" "$3" "$4" "$5" "$line" >> "$OUT" <<'PY'
 import csv, sys
 s, v, m, n, line = sys.argv[1:]
@@ -208,11 +222,26 @@ print(f'{s},{v},{m},{n},{f[6]},"{f[12]}"')
 PY
   }
   for n in 1 4 8 16; do
-    for v in table nearby; do vrow dispersive_ball "$T/db.cxb" $v levelmap $n; done
+    for v in table nearby; do vrow dispersive_ball_nd_tables "$T/db0.cxb" $v levelmap $n; done
   done
   for n in 1 8; do vrow glass_ball "$T/gb.cxb" nearby levelmap $n; done
   for n in 1 4 8 16; do vrow dispersive_pool "$T/pool.cxb" table none $n; done
   for n in 1 8; do vrow plain_pool "$T/plain.cxb" table none $n; done
+  # Pictures, 1 wavelength above 8, each crop magnified: the inverted
+  # horizon seen through the dispersive ball (nearby view), and wavy_pool's
+  # floor through its water at dispersion 3 (method none: no caustics, so
+  # the colour is the view's alone).
+  derive wavy_pool "$T/wavy.json" 'j["water"]["dispersion"] = 3.0'
+  $B/bake/caustix-bake "$T/wavy.json" -o "$T/wavy.cxb" -q
+  for n in 1 8; do
+    $B/runtime/caustix-render "$T/db.cxb" --glass-view nearby --camera 0.9,1.6,1.3 --target 0,0.6,0 --wavelengths $n \
+      -o "$T/ball$n.png" >/dev/null
+    $B/runtime/caustix-render "$T/wavy.cxb" --method none --wavelengths $n -o "$T/wavy$n.png" >/dev/null
+  done
+  oiiotool "$T/ball1.png" --cut 180x60+230+250 --resize 720x240 "$T/ball8.png" --cut 180x60+230+250 --resize 720x240 \
+    --mosaic 1x2 -o docs/results/dispersive_ball_view_fringes.png
+  oiiotool "$T/wavy1.png" --cut 200x100+0+200 --resize 600x300 "$T/wavy8.png" --cut 200x100+0+200 --resize 600x300 \
+    --mosaic 1x2 -o docs/results/dispersive_water_view_fringes.png
 }
 
 case "$PART" in

@@ -87,8 +87,8 @@ int main(int argc, char** argv) {
   // Dispersion (issue 22; docs/dispersion.md).
   std::uint32_t wavelengths = built_in.wavelengths;
   app.add_option("--wavelengths", wavelengths,
-                 "dispersion: wavelengths the caustic maps and, when the water disperses, the water's caustics trace (equal bins of "
-                 "380-780 nm; 1: the d line only)")
+                 "dispersion: wavelengths traced wherever something disperses: caustic maps, glass tables, the water's caustics, "
+                 "media, the views through water and glass (--glass-view nearby) (equal bins of 380-780 nm; 1: the d line only)")
       ->check(CLI::Range(1u, kMaxWavelengths))->capture_default_str();
   float wavelength = 0;
   app.add_option("--wavelength", wavelength,
