@@ -129,7 +129,7 @@ import csv, json, sys
 s, k, bake, size, n, nm, r, g, b, line = sys.argv[1:]
 r, g, b = (json.loads(x) for x in (r, g, b))
 f = next(csv.reader([line]))
-print(f'{s},{k},{bake},{size},{n},{nm},{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f},{f[6]},"{f[12]}"')
+print(f'{s},{k},{bake},{size},{n},{nm},{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f},{f[6]},"{f[-1]}"')
 PY
   }
   for n in 1 2 4 8 16; do trow dispersive_ball 2 "$T/db2.cxb" "$T/ref.exr" $n rgb --wavelengths $n; done
@@ -177,7 +177,7 @@ if r:
     err = f'{r["rel_l1"]:.5f},{g["rel_l1"]:.5f},{b["rel_l1"]:.5f},{g["flux_ratio"]:.5f}'
 else:
     err = ",,,"
-print(f'{s},{m},{n},{err},{f[6]},"{f[12]}"')
+print(f'{s},{m},{n},{err},{f[6]},"{f[-1]}"')
 PY
   }
   for m in levelmap volumetric splat; do
@@ -218,7 +218,7 @@ view() {
 import csv, sys
 s, v, m, n, line = sys.argv[1:]
 f = next(csv.reader([line]))
-print(f'{s},{v},{m},{n},{f[6]},"{f[12]}"')
+print(f'{s},{v},{m},{n},{f[6]},"{f[-1]}"')
 PY
   }
   for n in 1 4 8 16; do

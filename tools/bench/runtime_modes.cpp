@@ -41,12 +41,15 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
   auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, {}, std::nullopt, glass_view, supersample);
   if (!times) return cli::fail("caustix-bench", times.error());
+  // The last measured frame's GL calls, before anything else adds to them.
+  const runtime::GlCalls calls = r->caustics_stats(false).gl;
   const runtime::CausticsStats cs = r->caustics_stats();
-  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,\"%s\"\n", label.c_str(), cxb.c_str(),
+  auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%llu,%llu,%llu,%llu,%llu,\"%s\"\n", label.c_str(), cxb.c_str(),
               runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms,
-              times->min_ms, static_cast<unsigned long long>(cs.planes_drawn),
-              static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
-              static_cast<double>(cs.gpu_bytes) / 1e6, session->context->description().c_str());
+              times->min_ms, u(cs.planes_drawn), u(cs.volumes_drawn), u(cs.volumes_total), static_cast<double>(cs.gpu_bytes) / 1e6,
+              u(calls.calls), u(calls.syncs), u(calls.draws), u(calls.dispatches), u(calls.upload_bytes),
+              session->context->description().c_str());
   return kExitOk;
 }
 
@@ -156,7 +159,8 @@ struct RuntimeModes final : Modes {
       return methods(cxb, planes, w, h, label);
     }
     if (header) {
-      std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,renderer\n");
+      std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,"
+                  "gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer\n");
     }
     runtime::CausticsOptions co;
     co.method = *runtime::parse_method(method);

@@ -11,6 +11,7 @@
 #include "caustics.h"
 #include "caustix/formats/frame.h"
 #include "caustix/runtime/gl_objects.h"
+#include "gl_calls.h"
 #include "gl_state.h"
 #include "causticmap.h"
 #include "glass.h"
@@ -275,6 +276,16 @@ struct Engine::Impl {
 
   gl::StateGuard guard() const { return gl::StateGuard(units); }
 
+  // GL call counts (GlCalls): the frame in progress, and what set_*
+  // calls issue before the next update() opens a frame.
+  mutable gl::CallTally frame_calls, pending_calls;
+  gl::Counting count_frame() const { return gl::Counting(frame_calls); }
+  gl::Counting count_pending() const { return gl::Counting(pending_calls); }
+  void begin_frame_calls() {
+    frame_calls = pending_calls;
+    pending_calls = {};
+  }
+
   // The light entering the water (ambient sky plus every directional light
   // through flat water), the water's colour and attenuation.
   WaterMedium medium(const glm::vec3& eye, const WaterLook& look) const {
@@ -409,6 +420,7 @@ Status Engine::set_light(std::uint32_t index, const Light& light) {
   probe.lights = {light};
   normalize_scene(probe);
   s.scene.lights[index] = probe.lights[0];
+  const gl::Counting counting = s.count_pending();
   const gl::StateGuard guard = s.guard();
   if (s.caustics) return s.caustics->rederive(index, std::nullopt, s.scene.lights, s.scene.water, s.world_vertices);
   return Status::success();
@@ -423,6 +435,7 @@ Status Engine::set_object_transform(std::uint32_t index, const Mat4f& t) {
   s.scene.objects[index].transform = t;
   s.world_vertices[index] = world_points(t, s.cpu_meshes[s.scene.objects[index].mesh_index].positions);
   s.compute_bounds();
+  const gl::Counting counting = s.count_pending();
   const gl::StateGuard guard = s.guard();
   if (s.caustics) return s.caustics->rederive(std::nullopt, index, s.scene.lights, s.scene.water, s.world_vertices);
   return Status::success();
@@ -454,6 +467,7 @@ Status Engine::set_water_heights(std::span<const float> heights) {
                    std::to_string(i / grid->columns) + ") is not finite");
     }
   }
+  const gl::Counting counting = s.count_pending();
   const gl::StateGuard guard = s.guard();
   s.water->set_heights(heights.data());
   return gl::check_gl("water heights");
@@ -471,6 +485,7 @@ Status Engine::set_water_heights_buffer(unsigned buffer, std::size_t offset) {
     return usage("set_water_heights_buffer: buffer " + std::to_string(buffer) + " holds " + std::to_string(size) + " bytes; " +
                  std::to_string(need) + " from offset " + std::to_string(offset) + " (a multiple of 4) are needed");
   }
+  const gl::Counting counting = s.count_pending();
   const gl::StateGuard guard = s.guard();
   s.water->copy_heights_from_buffer(buffer, static_cast<GLintptr>(offset));
   return gl::check_gl("water heights from a buffer");
@@ -491,6 +506,7 @@ Status Engine::set_water_heights_texture(unsigned texture) {
     return usage("set_water_heights_texture: texture " + std::to_string(texture) + " must be GL_R32F, " + std::to_string(grid->columns) +
                  " x " + std::to_string(grid->rows) + " (it is " + std::to_string(w) + " x " + std::to_string(h) + ")");
   }
+  const gl::Counting counting = s.count_pending();
   const gl::StateGuard guard = s.guard();
   s.water->copy_heights_from_texture(texture);
   return gl::check_gl("water heights from a texture");
@@ -510,6 +526,8 @@ Status Engine::update(const FrameUpdate& f) {
   }
   if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) return usage("shadow options: vsm_bleeding must be in [0, 0.95]");
   CAUSTIX_RETURN_IF_ERROR(check_wavelengths(s.scene, f.caustics));
+  s.begin_frame_calls();
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   const CausticsOptions& co = f.caustics;
   if (s.caustics) s.caustics->reset_stats();
@@ -574,6 +592,7 @@ Result<ReceiverLighting> Engine::lighting(std::uint32_t object, std::uint32_t li
 Status Engine::bind(std::uint32_t object, std::uint32_t light) const {
   auto r = lighting(object, light);
   if (!r) return r.error();
+  const gl::Counting counting = impl_->count_frame();
   impl_->bind_slot(*r);
   return Status::success();
 }
@@ -594,6 +613,7 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   if (!(view.aspect > 0.0f) || !(view.near_plane > 0.0f) || !(view.far_plane > view.near_plane) || !(view.fov_y_deg > 0.0f && view.fov_y_deg < 180.0f)) {
     return usage("draw_water: the view needs aspect > 0, 0 < near < far and a field of view in (0, 180) degrees");
   }
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   GLint target_fbo = 0;
   int viewport[4] = {0, 0, 0, 0};
@@ -717,6 +737,7 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
   if (!s.glass) return Status::success();
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_color, GL_RGBA32F, "scene colour"));
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius(),
                       options, s.view_spectrum);
@@ -746,6 +767,7 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
     }
   }
   if (std::fabs(glm::determinant(view_proj)) < 1e-30f) return usage("draw_media: the view-projection matrix is singular");
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   s.volume->draw(s.scene, view_proj, scene_color, scene_depth, scale, s.volume_options);
   return gl::check_gl("media");
@@ -754,6 +776,7 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
 VolumeStats Engine::volume_stats(bool read_gpu_counters) {
   Impl& s = *impl_;
   if (!s.volume) return VolumeStats{};
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   return s.volume->stats(read_gpu_counters);
 }
@@ -761,6 +784,7 @@ VolumeStats Engine::volume_stats(bool read_gpu_counters) {
 Status Engine::draw_object(std::uint32_t index) const {
   const Impl& s = *impl_;
   if (index >= s.scene.objects.size()) return usage("draw_object: no object " + std::to_string(index));
+  const gl::Counting counting = s.count_frame();
   GLint vao = 0;
   glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
   s.draw_object(index);
@@ -770,6 +794,7 @@ Status Engine::draw_object(std::uint32_t index) const {
 
 CausticsStats Engine::stats(bool read_gpu_counters) {
   Impl& s = *impl_;
+  const gl::Counting counting = s.count_frame();
   CausticsStats st = s.caustics ? s.caustics->stats(read_gpu_counters) : CausticsStats{};
   if (s.glass) {
     st.gpu_bytes += s.glass->gpu_bytes();  // tables, rays, targets, illumination textures
@@ -778,12 +803,15 @@ CausticsStats Engine::stats(bool read_gpu_counters) {
   if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
   if (s.volume) st.gpu_bytes += s.volume->gpu_bytes();          // radiance and index grids
   if (s.caustic_maps) st.gpu_bytes += s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
+  const gl::CallTally& c = s.frame_calls;
+  st.gl = GlCalls{c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};
   return st;
 }
 
 CausticMapStats Engine::caustic_map_stats(bool read_gpu_counters) {
   Impl& s = *impl_;
   if (!s.caustic_maps) return {};
+  const gl::Counting counting = s.count_frame();
   const gl::StateGuard guard = s.guard();
   return s.caustic_maps->stats(read_gpu_counters);
 }

@@ -94,6 +94,25 @@ Result<Program> link_program(const std::string& name, std::initializer_list<GLui
   return p;
 }
 
+void Program::use() const { glUseProgram(id_.get()); }
+
+GLint Program::loc(const char* uniform) const {
+  const auto it = locations_.find(std::string_view(uniform));
+  if (it != locations_.end()) return it->second;
+  const GLint l = glGetUniformLocation(id_.get(), uniform);
+  locations_.emplace(uniform, l);
+  return l;
+}
+
+void Program::set(const char* u, int v) const { glProgramUniform1i(id(), loc(u), v); }
+void Program::set(const char* u, float v) const { glProgramUniform1f(id(), loc(u), v); }
+void Program::set(const char* u, const glm::vec2& v) const { glProgramUniform2fv(id(), loc(u), 1, &v[0]); }
+void Program::set(const char* u, const glm::vec3& v) const { glProgramUniform3fv(id(), loc(u), 1, &v[0]); }
+void Program::set(const char* u, const glm::vec4& v) const { glProgramUniform4fv(id(), loc(u), 1, &v[0]); }
+void Program::set(const char* u, const glm::mat3& m) const { glProgramUniformMatrix3fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
+void Program::set(const char* u, const glm::mat4& m) const { glProgramUniformMatrix4fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
+void Program::set(const char* u, unsigned v) const { glProgramUniform1ui(id(), loc(u), v); }
+
 Status check_gl(const char* what) {
   const GLenum e = glGetError();
   if (e == GL_NO_ERROR) return Status::success();

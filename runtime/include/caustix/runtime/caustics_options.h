@@ -202,6 +202,22 @@ void apply_render_defaults(CausticsOptions& options, const RenderDefaults& rende
 // above, or the runtime defaults a bake preset recorded.
 CausticsOptions default_caustics_options(const SceneDesc& scene);
 
+// The OpenGL calls the engine made in one frame (issue 44): those of the
+// set_* calls before an update(), of update() itself and of every call
+// after it (bind, draw_*, stats, ...) up to the next update(). Counted by
+// the runtime's own layer around its GL calls (docs/runtime-speed.md);
+// the application's own calls are not in them.
+struct GlCalls {
+  std::uint64_t calls = 0;       // every GL call
+  std::uint64_t draws = 0;       // glDraw* / glMultiDraw* (clears are not draws)
+  std::uint64_t dispatches = 0;  // glDispatchCompute*
+  // GPU -> CPU synchronisations: read-backs of buffers, textures or query
+  // results into client memory, glFinish, fence waits. Each waits for the
+  // GPU to catch up with the CPU; a warmed-up frame has none.
+  std::uint64_t syncs = 0;
+  std::uint64_t upload_bytes = 0;  // CPU -> GPU buffer uploads (glBufferSubData)
+};
+
 // What the last frame's caustics pass did, per level map (for benchmarks).
 struct CausticsStats {
   std::uint64_t water_triangles = 0;  // per light
@@ -217,6 +233,8 @@ struct CausticsStats {
   // Wavelengths the glass light-transport tables traced (several only for
   // dispersive glass baked with tables at other wavelengths).
   std::uint32_t glass_wavelengths = 1;
+  // The GL calls of the current frame so far (see GlCalls).
+  GlCalls gl;
 };
 
 // What the last update()'s photon marching did (seed 004), summed over

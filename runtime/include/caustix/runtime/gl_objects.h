@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <utility>
 
 #include "caustix/common/status.h"
@@ -67,20 +69,27 @@ class Program {
   static Result<Program> build(const std::string& name, const char* vertex_src, const char* fragment_src);
   static Result<Program> build_compute(const std::string& name, const char* compute_src);
   GLuint id() const { return id_.get(); }
-  void use() const { glUseProgram(id_.get()); }
-  GLint loc(const char* uniform) const { return glGetUniformLocation(id_.get(), uniform); }
-  void set(const char* u, int v) const { glProgramUniform1i(id(), loc(u), v); }
-  void set(const char* u, float v) const { glProgramUniform1f(id(), loc(u), v); }
-  void set(const char* u, const glm::vec2& v) const { glProgramUniform2fv(id(), loc(u), 1, &v[0]); }
-  void set(const char* u, const glm::vec3& v) const { glProgramUniform3fv(id(), loc(u), 1, &v[0]); }
-  void set(const char* u, const glm::vec4& v) const { glProgramUniform4fv(id(), loc(u), 1, &v[0]); }
-  void set(const char* u, const glm::mat3& m) const { glProgramUniformMatrix3fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
-  void set(const char* u, const glm::mat4& m) const { glProgramUniformMatrix4fv(id(), loc(u), 1, GL_FALSE, &m[0][0]); }
-  void set(const char* u, unsigned v) const { glProgramUniform1ui(id(), loc(u), v); }
+  void use() const;
+  // The uniform's location (looked up once per name, then cached; -1 if
+  // the program has no such active uniform).
+  GLint loc(const char* uniform) const;
+  void set(const char* u, int v) const;
+  void set(const char* u, float v) const;
+  void set(const char* u, const glm::vec2& v) const;
+  void set(const char* u, const glm::vec3& v) const;
+  void set(const char* u, const glm::vec4& v) const;
+  void set(const char* u, const glm::mat3& m) const;
+  void set(const char* u, const glm::mat4& m) const;
+  void set(const char* u, unsigned v) const;
 
  private:
   friend Result<Program> link_program(const std::string&, std::initializer_list<GLuint>);
   Handle<delete_program> id_;
+  struct NameHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+  };
+  mutable std::unordered_map<std::string, GLint, NameHash, std::equal_to<>> locations_;
 };
 
 // A program to build: `source` is the vertex shader, or the compute shader
