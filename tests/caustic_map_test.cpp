@@ -82,7 +82,7 @@ class CausticMap : public test::GlTest {
       EXPECT_TRUE(std::isfinite(img->rgb[i]));
       f.e.push_back(img->rgb[i]);
     }
-    f.stats = r.engine().caustic_map_stats();
+    f.stats = r.engine().caustic_map_stats(true);
     return f;
   }
 };

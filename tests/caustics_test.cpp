@@ -370,7 +370,7 @@ TEST_F(Caustics, MethodsAgreeAndSmartDrawsFewerPlanes) {
   for (auto m : {CausticsMethod::kLevelMap, CausticsMethod::kUniform, CausticsMethod::kVolumetric}) {
     co.method = m;
     images[m] = beauty(*r, co, 160, 120, 0.7f);
-    planes[m] = r->caustics_stats().planes_drawn;
+    planes[m] = r->caustics_stats(true).planes_drawn;
   }
   const double smart_vs_uniform = metrics::average_luv_difference(images[CausticsMethod::kLevelMap], images[CausticsMethod::kUniform]);
   const double level_vs_volumetric = metrics::average_luv_difference(images[CausticsMethod::kUniform], images[CausticsMethod::kVolumetric]);
@@ -391,10 +391,10 @@ TEST_F(Caustics, CullingChangesNothing) {
   co.map_size = 256;
   co.planes = 12;
   const auto culled = beauty(*r, co, 128, 96, 1.3f);
-  const auto stats_culled = r->caustics_stats();
+  const auto stats_culled = r->caustics_stats(true);
   co.cull = false;
   const auto all = beauty(*r, co, 128, 96, 1.3f);
-  const auto stats_all = r->caustics_stats();
+  const auto stats_all = r->caustics_stats(true);
   EXPECT_LT(metrics::average_luv_difference(culled, all), 0.01);
   EXPECT_LT(stats_culled.volumes_drawn, stats_all.volumes_drawn / 4) << "culling should drop most pairs";
 }

@@ -64,7 +64,7 @@ class Tradeoff : public test::GlTest {
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
     if (!img.ok()) return {};
-    const runtime::CausticsStats cs = (*r)->caustics_stats();
+    const runtime::CausticsStats cs = (*r)->caustics_stats(true);
     const metrics::Image a{img->width, img->height, img->rgb}, b{ref.width, ref.height, ref.rgb};
     return {metrics::relative_l1(a, b), cs.volumes_drawn, cs.gpu_bytes};
   }

@@ -301,6 +301,7 @@ TEST_F(Water, TexelPerPixelRefractionHasNoStairSteps) {
     look.colour = false;
     look.glow = false;
     look.texture_size = texture_size;
+    look.max_texture_size = 0;  // a texel per pixel, however many (the accurate preset's)
     const std::vector<float> img = render(*r, cam, w, h, look, runtime::CausticsMethod::kNone);
     std::vector<double> ys, xs;
     for (int row = h / 4; row < 3 * h / 4; ++row) {

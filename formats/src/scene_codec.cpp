@@ -108,6 +108,7 @@ std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
   w.u32(r.cmap_map_size);
   w.u32(r.cmap_adaptive_levels);
   w.u32(r.cmap_photon_budget);
+  w.u32(r.water_texture);
   return w.take();
 }
 
@@ -290,6 +291,8 @@ bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
                             !d.u32(r.cmap_adaptive_levels, "render defaults") || !d.u32(r.cmap_photon_budget, "render defaults"))) {
     return false;
   }
+  // And the water textures' limit (issue 44).
+  if (d.remaining() > 0 && !d.u32(r.water_texture, "render defaults")) return false;
   return d.finish();
 }
 

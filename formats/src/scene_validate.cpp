@@ -217,6 +217,8 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(r.cmap_map_size >= 16 && r.cmap_map_size <= 4096, "/render/cmap_map_size", "must be in [16, 4096]");
     c.expect(r.cmap_adaptive_levels <= 8, "/render/cmap_adaptive_levels", "must be in [0, 8]");
     c.expect(r.cmap_photon_budget >= 1 && r.cmap_photon_budget <= (1u << 24), "/render/cmap_photon_budget", "must be in [1, 2^24]");
+    c.expect(r.water_texture == 0 || (r.water_texture >= 16 && r.water_texture <= kMaxRuntimeMapSize), "/render/water_texture",
+             "must be 0 or in [16, 8192]");
   }
   return c.issue;
 }

@@ -535,7 +535,7 @@ Status Renderer::set_object_transform(std::uint32_t index, const Mat4f& t) { ret
 
 void Renderer::set_wave_scale(float scale) { impl_->engine->set_wave_scale(scale); }
 
-CausticsStats Renderer::caustics_stats(bool read_gpu_counters) { return impl_->engine->stats(read_gpu_counters); }
+CausticsStats Renderer::caustics_stats(bool wait) { return impl_->engine->stats(wait); }
 
 const char* to_string(ToneMap t) { return t == ToneMap::kFilmic ? "filmic" : "exponential"; }
 

@@ -18,7 +18,16 @@ layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
 layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list length, [9] overflow
-layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };  // sorted by offset, highest first
+// Planned on the CPU or by caustics_plan.comp: the count, the lowest and
+// highest window bounds along V, the widest window, then (offset, eps)
+// sorted by offset, highest first.
+layout(std430, binding = 7) readonly buffer Planes {
+  uint plane_count;
+  float depth_lo;
+  float depth_hi;
+  float widest;
+  vec2 planes[];
+};
 
 layout(binding = 0) uniform sampler2D u_depth_tiles;  // min, max frame V per tile; min > max where empty
 
@@ -28,11 +37,9 @@ uniform vec3 u_U;
 uniform vec3 u_V;
 uniform vec3 u_W;
 uniform vec3 u_half;
-uniform vec2 u_depth_range;  // lowest and highest plane offsets along V, widened by their epsilons
 uniform int u_frame_cull;
 uniform int u_plane_cull;
 uniform int u_pairs;
-uniform int u_plane_count;
 uniform uint u_capacity;  // entries the list holds
 uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres) where it is coarser than the
                           // position map's (else 0): the acceptance test samples the surface across
@@ -80,9 +87,9 @@ vec2 surface_depths(vec2 lo, vec2 hi) {
 
 void main() {
   uint t = gl_GlobalInvocationID.x;
-  if (t >= u_triangles) return;
+  if (t >= u_triangles || plane_count == 0u) return;
   vec2 lo, hi;
-  if (!footprint(t, u_depth_range.yx, lo, hi)) return;
+  if (!footprint(t, vec2(depth_hi, depth_lo), lo, hi)) return;
   if (u_frame_cull != 0 && (any(greaterThan(lo, u_half.xz)) || any(lessThan(hi, -u_half.xz)))) return;
 
   if (u_pairs == 0) {
@@ -90,7 +97,7 @@ void main() {
     if (slot < u_capacity) list[slot] = t; else atomicOr(cmd[9], 1u);
     return;
   }
-  int first = 0, n = u_plane_count;
+  int first = 0, n = int(plane_count);
   if (u_plane_cull != 0) {
     // The surface under the footprint bounds the depths that matter; the
     // footprint over just those depths is smaller, so refine twice.
@@ -105,7 +112,7 @@ void main() {
     // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
     first = -1;
     n = 0;
-    for (int p = 0; p < u_plane_count; ++p) {
+    for (int p = 0; p < int(plane_count); ++p) {
       vec2 pl = planes[p];
       if (pl.x - pl.y < vmax && pl.x + pl.y >= vmin) {
         if (first < 0) first = p;

@@ -5,11 +5,11 @@
 // thousands of tiny primitives costs per-instance overhead on some drivers.
 layout(local_size_x = 1) in;
 layout(std430, binding = 6) buffer Command { uint cmd[]; };
-// cmd: [0..4] indexed draw {6 n, 1, 0, 0, 0}; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n
+// cmd: [0..3] draw {6 n, 1, 0, 0}, [4] unused; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n
 uniform uint u_capacity;
 void main() {
   uint n = min(cmd[8], u_capacity);
-  cmd[0] = 6u * n;  // DrawElementsIndirect {count, instances, first index, base vertex, base instance}
+  cmd[0] = 6u * n;  // DrawArraysIndirect {count, instances, first, base instance}
   cmd[1] = 1u;
   cmd[2] = 0u;
   cmd[3] = 0u;

@@ -16,7 +16,7 @@ layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
-layout(std430, binding = 7) readonly buffer Planes { vec2 planes[]; };
+layout(std430, binding = 7) readonly buffer Planes { uint plane_count; float depth_lo; float depth_hi; float widest; vec2 planes[]; };
 // Per primitive: (q0, q1), (q2, irradiance, reached), (plane offset, eps, s_u, s_w),
 // (c0, c1, c2, smooth): the corners' irradiance over the triangle's (below).
 // s_u, s_w: the beam's mean direction of travel d as (d.U / d.V, d.W / d.V),

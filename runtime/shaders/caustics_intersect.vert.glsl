@@ -1,6 +1,7 @@
 #version 450 core
-// Draws the intersection triangles of caustics_geometry.comp, four indexed
-// vertices (a quad, or a triangle with its last vertex repeated) each.
+// Draws the intersection triangles of caustics_geometry.comp, six vertices
+// each (a quad as two triangles, or a triangle with its last vertex
+// repeated), from gl_VertexID alone: no index buffer.
 //
 // Exact-coverage splatting (beyond the thesis): near folds the triangles
 // are slivers far thinner than a texel, which point-sampled rasterisation
@@ -21,7 +22,7 @@ uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each beam by u
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
 void main() {
-  int prim = gl_VertexID / 4;
+  int prim = gl_VertexID / 6;
   vec4 p0 = prims[PRIM_STRIDE * prim];
   vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
@@ -31,7 +32,9 @@ void main() {
   vec4 p2 = prims[PRIM_STRIDE * prim + 2];
   delta += p2.y * length(p2.zw * u_texels_per_metre);
 #endif
-  int k = gl_VertexID % 4;  // quad (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2
+  // Quad corners (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2.
+  int j = gl_VertexID % 6;
+  int k = j == 0 || j == 3 ? 0 : j == 1 ? 1 : j == 5 ? 2 : 3;
   vec2 p;
   // A well-shaped triangle (every angle >= 15 degrees) is dilated itself:
   // each vertex moves out along its bisector by delta / sin(angle / 2), so

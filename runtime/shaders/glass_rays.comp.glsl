@@ -1,14 +1,13 @@
 // Outgoing rays of a transparent object for one light (seed 002 §4.1; prefixed
 // with #version, caustix.glsl (the light's block and shadow maps) and transport.glsl): per vertex,
 // the light's direction in object space, the table look-up, and the exit
-// ray in world space with its colour, T * e^(-K path). The weighted sum of
-// exit directions (for the virtual planes, §4.2) is accumulated in fixed
-// point.
+// ray in world space with its colour, T * e^(-K path). (The mean exit
+// direction that orients the virtual planes, §4.2, is estimated on the
+// CPU from a sample of the same tables: glass.cpp, mean_travel.)
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // position, normal
 layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };          // per vertex: exit + valid, dir + 0, colour + 0
-layout(std430, binding = 3) buffer Sum { int dir_sum[4]; };
 
 uniform uint u_vertex_count;
 uniform mat4 u_model;
@@ -34,16 +33,4 @@ void main() {
   rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
   rays[3u * v + 1u] = vec4(dir_w, 0.0);
   rays[3u * v + 2u] = vec4(colour, 0.0);
-  // Only vertices facing the light take light in: the table covers the
-  // hemisphere around the normal, and its look-up clamps directions beyond
-  // it to the rim. Counting those (a cube lit straight down: the bottom
-  // face's upward rims cancelled the top face's downward rays) turned the
-  // mean direction sideways and the target's frame edge-on, and no light
-  // reached it (docs/robustness.md).
-  if (t.leaves && dot(n, to_light) > 0.0) {
-    ivec3 q = ivec3(round(dir_w * t.transmittance * 4096.0));
-    atomicAdd(dir_sum[0], q.x);
-    atomicAdd(dir_sum[1], q.y);
-    atomicAdd(dir_sum[2], q.z);
-  }
 }

@@ -6,8 +6,9 @@
 // By default they lie on a disc instead: the centre, six at 1.5 texels and
 // six at 3 texels turned by 30 degrees, so a glint glows round.
 in vec2 v_uv;
-layout(binding = 0) uniform sampler2D u_highlight;
+layout(binding = 0) uniform sampler2D u_highlight;  // in units of u_scale (half floats)
 uniform bool u_star;
+uniform float u_scale;  // the sun's strength the highlight was divided by
 out vec4 o_color;
 
 void main() {
@@ -26,5 +27,5 @@ void main() {
              texture(u_highlight, v_uv + texel * 3.0 * vec2(cos(a + kPi / 6.0), sin(a + kPi / 6.0))).rgb;
     }
   }
-  o_color = vec4(sum / 13.0, 0.0);
+  o_color = vec4(sum * (u_scale / 13.0), 0.0);
 }

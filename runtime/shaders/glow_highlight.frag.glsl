@@ -6,7 +6,7 @@ in vec3 v_normal;
 
 uniform vec3 u_eye;
 uniform vec3 u_sun_direction;  // direction of travel
-uniform vec3 u_sun_color;
+uniform vec3 u_sun_color;  // divided by the glow's scale (glow.frag): the target holds half floats
 // The scene's depth in the frame's pixels (Engine::draw_water's scene_depth): a glint
 // the scene hides does not glow (issue 21: thesis_teapot's pool wall).
 layout(binding = 0) uniform sampler2D u_scene_depth;

@@ -187,8 +187,14 @@ int main(int argc, char** argv) {
   app.add_option("--water-steps", look.steps, "water: W/A iterations of the refracted lookup (§7.1)")
       ->check(CLI::Range(1, 64))->capture_default_str();
   app.add_option("--water-texture", look.texture_size,
-                 "water: refraction/reflection texture size (N x N); 0: a texel per pixel over the extended field of view")
+                 "water: refraction/reflection texture size (N x N); 0: a texel per pixel over the extended field of view, "
+                 "at most --water-texture-limit")
       ->check(CLI::Range(0, 8192))->capture_default_str();
+  int water_limit = -1;
+  app.add_option("--water-texture-limit", water_limit,
+                 "water: the largest automatic texture size (16..8192; 0: none); default: the bake preset's (fast 256, "
+                 "balanced 512, accurate none), else 512")
+      ->check(CLI::Range(0, 8192));
   app.add_option("--water-max-steps", look.max_steps,
                  "water: W/A iterations continue past --water-steps up to this many until converged (<= steps: the paper's fixed count)")
       ->check(CLI::Range(1, 64))->capture_default_str();
@@ -258,6 +264,7 @@ int main(int argc, char** argv) {
   caustics.volume.view_step = volume.view_step;
   if (volume_photons > 0) caustics.volume.photons = volume_photons;
   if (volume_grid > 0) caustics.volume.grid = volume_grid;
+  look.max_texture_size = water_limit >= 0 ? water_limit : default_water_look(scene->desc).max_texture_size;
   look.textures = !plain_water;
   look.refraction = !no_refraction;
   look.reflection = !no_reflection;
@@ -393,17 +400,22 @@ int main(int argc, char** argv) {
   if (!written) return fail(written.error());
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (verbose) {
-    const CausticsStats cs = (*renderer)->caustics_stats();
+    const CausticsStats cs = (*renderer)->caustics_stats(true);
     std::printf("renderer: %s\n", (*context)->description().c_str());
     std::printf("caustics map %u^2, glass textures %u^2, %u glass planes (%s)\n", caustics.map_size,
                 caustics.glass_map_size, caustics.glass_planes,
                 scene->desc.render ? ("preset '" + scene->desc.render->preset + "' recorded in the file").c_str()
                                    : "built-in defaults");
-    std::printf("caustics (%s): %llu planes drawn, %llu of %llu illumination volumes after culling, %.1f MB on the GPU\n",
-                method.c_str(), static_cast<unsigned long long>(cs.planes_drawn),
-                static_cast<unsigned long long>(cs.volumes_drawn), static_cast<unsigned long long>(cs.volumes_total),
-                static_cast<double>(cs.gpu_bytes) / 1e6);
-    const CausticMapStats cm = (*renderer)->engine().caustic_map_stats();
+    std::printf("caustics (%s): %llu planes drawn, %llu of %llu illumination volumes after culling\n", method.c_str(),
+                static_cast<unsigned long long>(cs.planes_drawn), static_cast<unsigned long long>(cs.volumes_drawn),
+                static_cast<unsigned long long>(cs.volumes_total));
+    const GpuMemory& m = cs.memory;
+    auto mb = [](std::uint64_t b) { return static_cast<double>(b) / 1e6; };
+    std::printf("engine GPU memory %.1f MB: level maps %.1f, shadow maps %.1f, glass %.1f, caustic maps %.1f, media %.1f, "
+                "water %.1f, views %.1f, meshes %.1f, other %.2f\n",
+                mb(m.total()), mb(m.level_maps), mb(m.shadow_maps), mb(m.glass), mb(m.caustic_maps), mb(m.media), mb(m.water),
+                mb(m.views), mb(m.meshes), mb(m.other));
+    const CausticMapStats cm = (*renderer)->engine().caustic_map_stats(true);
     if (cm.active) {
       std::printf("caustic maps (glass: %s): %llu photons, %llu landed (%.6g W), %llu reflections, %llu TIR one-sided, %llu TIR dropped, "
                   "%llu edge, %llu deviation, %llu too far, %llu lost, %llu out of bounces; capture %.2f ms, photons %.2f ms, splat %.2f ms (GPU, last light)\n",

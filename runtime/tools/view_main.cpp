@@ -208,14 +208,32 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
       ImGui::PlotLines(("##t" + std::to_string(k)).c_str(), values.data(), static_cast<int>(values.size()), 0, overlay, 0.0f,
                        top * 1.1f, ImVec2(0.0f, k < PassTimes::kCount ? 28.0f : 48.0f));
     }
-    static bool read_counters = false;
-    ImGui::Checkbox("Read caustics counters (stalls the GPU)", &read_counters);
-    const CausticsStats cs = r.caustics_stats(read_counters);
-    ImGui::Text("water triangles %llu, volumes %llu of %llu, planes %llu%s",
-                static_cast<unsigned long long>(cs.water_triangles), static_cast<unsigned long long>(cs.volumes_drawn),
-                static_cast<unsigned long long>(cs.volumes_total), static_cast<unsigned long long>(cs.planes_drawn),
-                cs.overflowed ? ", OVERFLOW" : "");
-    ImGui::Text("GPU memory of the caustics passes: %.1f MB", static_cast<double>(cs.gpu_bytes) / 1e6);
+    const CausticsStats cs = r.caustics_stats();
+    auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+    ImGui::Text("water triangles %llu, volumes %llu of %llu, planes %llu%s", u(cs.water_triangles), u(cs.volumes_drawn),
+                u(cs.volumes_total), u(cs.planes_drawn), cs.overflowed ? ", OVERFLOW (the list grows)" : "");
+    ImGui::Text("engine GL calls %llu: %llu draws, %llu dispatches, %llu syncs, %llu B uploaded", u(cs.gl.calls), u(cs.gl.draws),
+                u(cs.gl.dispatches), u(cs.gl.syncs), u(cs.gl.upload_bytes));
+    const FrameWork& w = cs.work;
+    auto work = [](const EffectWork& e) { return std::to_string(e.updated) + "/" + std::to_string(e.reused) + "/" + std::to_string(e.deferred); };
+    ImGui::TextWrapped("remade/reused/deferred: shadows %s, level maps %s, glass %s, caustic maps %s, media %s%s",
+                       work(w.shadow_maps).c_str(), work(w.level_maps).c_str(), work(w.glass).c_str(), work(w.caustic_maps).c_str(),
+                       work(w.media).c_str(), w.water ? "; the water moved" : "");
+    const GpuMemory& m = cs.memory;
+    auto mb = [](std::uint64_t b) { return static_cast<double>(b) / 1e6; };
+    ImGui::TextWrapped("engine GPU memory %.1f MB: level maps %.1f, shadows %.1f, glass %.1f, caustic maps %.1f, media %.1f, "
+                       "water %.1f, views %.1f, meshes %.1f", mb(m.total()), mb(m.level_maps), mb(m.shadow_maps), mb(m.glass),
+                       mb(m.caustic_maps), mb(m.media), mb(m.water), mb(m.views), mb(m.meshes));
+  }
+  if (ImGui::CollapsingHeader("GPU time per engine pass")) {
+    r.engine().set_gpu_timing(true);
+    const GpuTimes t = r.engine().gpu_times();
+    ImGui::Text("frame %llu: compute %.2f ms, raster %.2f ms", static_cast<unsigned long long>(t.frame), t.compute_ms, t.raster_ms);
+    for (const GpuPassTime& p : t.passes) {
+      ImGui::Text("%7.2f ms  %s  %s (x%u)", p.ms, p.compute ? "compute" : "raster ", p.name.c_str(), p.count);
+    }
+  } else {
+    r.engine().set_gpu_timing(false);
   }
   CausticsOptions& c = st.caustics;
   if (ImGui::CollapsingHeader("Caustics", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -277,6 +295,11 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
     bool auto_size = w.texture_size == 0;
     if (ImGui::Checkbox("texture size: a texel per pixel", &auto_size)) w.texture_size = auto_size ? 0 : 512;
     if (!auto_size) ImGui::SliderInt("texture size", &w.texture_size, 64, 4096, "%d", ImGuiSliderFlags_Logarithmic);
+    if (auto_size) {
+      bool unlimited = w.max_texture_size == 0;
+      if (ImGui::Checkbox("no size limit", &unlimited)) w.max_texture_size = unlimited ? 0 : 512;
+      if (!unlimited) ImGui::SliderInt("size limit", &w.max_texture_size, 16, 4096, "%d", ImGuiSliderFlags_Logarithmic);
+    }
     ImGui::SliderFloat("FOV extension", &w.fov_ext, 1.0f, 4.0f);
     ImGui::SliderFloat("wave scale", &st.wave_scale, 0.0f, 4.0f);
   }
@@ -388,6 +411,7 @@ int main(int argc, char** argv) {
     state.simulate = simulate;
     state.ripples = start_ripples;
     state.caustics = default_caustics_options(scene->desc);
+    state.look = default_water_look(scene->desc);
     state.orbit = state.home = Orbit::from((*renderer)->default_camera());
     glfwSetWindowUserPointer(window, &state);
     // The first light's direction as elevation above the horizon and azimuth.

@@ -35,11 +35,12 @@ Result<Session> open_scene(const std::string& cxb) {
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light, const runtime::WaterLook& look,
                                const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view,
-                               int supersample) {
+                               int supersample, std::vector<runtime::GpuTimes>* gpu, bool still) {
   runtime::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
+  r.engine().set_gpu_timing(gpu != nullptr);
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {
-    f.time = static_cast<float>(i) / 30.0f;
+    f.time = still ? 0.0f : static_cast<float>(i) / 30.0f;
     const auto t = Clock::now();
     if (move_light && !r.scene().lights.empty()) {
       Light l = r.scene().lights[0];
@@ -52,6 +53,7 @@ Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOpti
     if (Status st = r.render(f); !st) return st.error();
     r.finish();
     if (i >= warmup) ms.push_back(ms_since(t));
+    if (gpu && i > warmup) gpu->push_back(r.engine().gpu_times());  // the frame before: its queries have completed
   }
   return FrameTimes{median(ms), *std::min_element(ms.begin(), ms.end())};
 }

@@ -60,9 +60,13 @@ struct FrameTimes {
 // (its level maps are re-derived on the GPU every frame). The camera is the
 // scene's unless given; `look` is the water surface's, `glass_view` how the
 // view through glass is found, `supersample` the antialiasing factor.
+// With `gpu`, the engine's per-pass GPU times are on and every measured
+// frame's (as they arrive: each the frame before) is appended. `still`
+// keeps the time at 0 (a paused scene).
 Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light = false, const runtime::WaterLook& look = {},
                                const std::optional<Camera>& camera = std::nullopt,
-                               const runtime::GlassViewOptions& glass_view = {}, int supersample = 1);
+                               const runtime::GlassViewOptions& glass_view = {}, int supersample = 1,
+                               std::vector<runtime::GpuTimes>* gpu = nullptr, bool still = false);
 
 }  // namespace caustix::bench

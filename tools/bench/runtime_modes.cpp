@@ -13,7 +13,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "caustix/common/cli.h"
@@ -26,10 +28,53 @@
 namespace caustix::bench {
 namespace {
 
+// The median GPU time of each engine pass over the measured frames, one
+// CSV row per pass (appended to `path`, with a header when it is new).
+void write_passes(const std::string& path, const std::string& label, const std::string& cxb, const runtime::CausticsOptions& co,
+                  int width, int height, const std::vector<runtime::GpuTimes>& gpu, const std::string& renderer) {
+  const bool fresh = !std::ifstream(path).good();
+  std::ofstream out(path, std::ios::app);
+  if (fresh) out << "label,scene,method,size,pass,kind,count,median_ms,renderer\n";
+  std::vector<std::pair<std::string, bool>> order;
+  for (const runtime::GpuTimes& t : gpu) {
+    for (const runtime::GpuPassTime& p : t.passes) {
+      if (std::find(order.begin(), order.end(), std::pair{p.name, p.compute}) == order.end()) order.emplace_back(p.name, p.compute);
+    }
+  }
+  auto row = [&](const std::string& name, const char* kind, std::uint32_t n, double ms) {
+    out << label << "," << cxb << "," << runtime::to_string(co.method) << "," << width << "x" << height << ",\"" << name << "\","
+        << kind << "," << n << "," << ms << ",\"" << renderer << "\"\n";
+  };
+  for (const auto& [name, compute] : order) {
+    std::vector<double> ms;
+    std::uint32_t n = 0;
+    for (const runtime::GpuTimes& t : gpu) {
+      double sum = 0;
+      for (const runtime::GpuPassTime& p : t.passes) {
+        if (p.name == name && p.compute == compute) {
+          sum += p.ms;
+          n = p.count;
+        }
+      }
+      ms.push_back(sum);
+    }
+    row(name, compute ? "compute" : "raster", n, median(ms));
+  }
+  std::vector<double> compute_ms, raster_ms;
+  for (const runtime::GpuTimes& t : gpu) {
+    compute_ms.push_back(t.compute_ms);
+    raster_ms.push_back(t.raster_ms);
+  }
+  if (!gpu.empty()) {
+    row("all compute passes", "compute", 0, median(compute_ms));
+    row("all raster passes", "raster", 0, median(raster_ms));
+  }
+}
+
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
            std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light,
-           int supersample) {
+           int supersample, const std::string& passes_csv, bool still) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -39,11 +84,14 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
-  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, {}, std::nullopt, glass_view, supersample);
+  std::vector<runtime::GpuTimes> gpu;
+  auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, r->engine().default_water_look(), std::nullopt,
+                           glass_view, supersample, passes_csv.empty() ? nullptr : &gpu, still);
   if (!times) return cli::fail("caustix-bench", times.error());
+  if (!passes_csv.empty()) write_passes(passes_csv, label, cxb, co, width, height, gpu, session->context->description());
   // The last measured frame's GL calls, before anything else adds to them.
-  const runtime::GlCalls calls = r->caustics_stats(false).gl;
-  const runtime::CausticsStats cs = r->caustics_stats();
+  const runtime::GlCalls calls = r->caustics_stats().gl;
+  const runtime::CausticsStats cs = r->caustics_stats(true);
   auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
   std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%llu,%llu,%llu,%llu,%llu,\"%s\"\n", label.c_str(), cxb.c_str(),
               runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms,
@@ -91,11 +139,11 @@ struct RuntimeModes final : Modes {
   std::string glass_method = "table", glass_view = "table";
   std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
   std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
-  std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv;
+  std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv, passes_csv;
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
-  bool no_cull = false, header = false, move_light = false;
+  bool no_cull = false, header = false, move_light = false, still = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr;
   std::string sim_scene;
 
@@ -128,6 +176,9 @@ struct RuntimeModes final : Modes {
     fr->add_option("--label", label, "first CSV column");
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
+    fr->add_flag("--still", still, "keep the time at 0 (a paused scene: with a still light nothing changes between frames)");
+    fr->add_option("--passes", passes_csv,
+                   "also time every engine pass on the GPU (timer queries) and append each pass's median ms to this CSV");
     me = app.add_subcommand("methods", "eq. 2-9 differences between methods (one CSV line)");
     me->add_option("scene", cxb, "baked scene (.cxb)")->required();
     me->add_option("--planes", planes, "re-slice with n planes (0: as baked)")->check(CLI::Range(0, 4096));
@@ -175,7 +226,7 @@ struct RuntimeModes final : Modes {
     co.wavelengths = wavelengths;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);
-    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample);
+    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample, passes_csv, still);
   }
 };
 

@@ -59,7 +59,7 @@ int water_effects(const std::string& cxb, int width, int height, int warmup, int
   };
   CsvOut out(csv, "scene,setting,size,median_ms,min_ms,gpu_mb,renderer");
   for (const Row& row : rows) {
-    runtime::WaterLook look;
+    runtime::WaterLook look = r.engine().default_water_look();  // the preset's texture limit
     runtime::CausticsOptions co = runtime::default_caustics_options(r.scene());
     row.edit(look, co);
     auto t = time_frames(r, co, width, height, warmup, frames, false, look,

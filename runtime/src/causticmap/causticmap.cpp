@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <cstring>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix_shaders.h"
+#include "pass_timer.h"
+#include "readback.h"
 #include "shader_text.h"
 
 namespace caustix::runtime {
@@ -75,6 +79,7 @@ struct CausticMapEngine::Impl {
     gl::Query capture_q;
     std::vector<gl::Query> photon_q, splat_q;  // one per traced wavelength
     bool valid = false, timed = false;
+    double capture_ms = 0, photon_ms = 0, splat_ms = 0;  // the latest timer results ready
     std::uint32_t wavelengths = 1;  // traced by the last update
     Binding binding;
     std::uint64_t bytes = 0;
@@ -83,6 +88,26 @@ struct CausticMapEngine::Impl {
   std::function<void(std::uint32_t)> draw_object;
   gl::Program capture, photons, splat, density, blur, adaptive;
   gl::Buffer materials, counters;
+  // The counters of each frame come back through `readback` (never
+  // waited on); `counted` holds the latest that arrived, of frame
+  // `counted_frame`, and `counting` whether this frame traced photons.
+  gl::ReadbackRing readback;
+  std::array<std::uint32_t, kCounters> counted{};
+  std::uint64_t counted_frame = 0, frame = 0;
+  bool counting = false;
+  // What each light's map was made from (issue 44).
+  struct Key {
+    SceneVersions versions;
+    CausticsOptions options;
+    bool operator==(const Key&) const = default;
+  };
+  MadeFrom<Key> made;
+  void poll() {
+    readback.poll([&](std::uint64_t tag, const std::uint8_t* data) {
+      std::memcpy(counted.data(), data, sizeof counted);
+      counted_frame = tag;
+    });
+  }
   gl::VertexArray empty_vao;
   std::vector<float> material_data;
   float max_splat_radius = 0;  // texels: (the largest point size - 1) / 2
@@ -252,6 +277,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
       {&s.adaptive, "causticmap_adaptive", shaders::k_causticmap_adaptive_comp_glsl},
   }));
   s.lights.resize(scene.lights.size());
+  s.made.resize(scene.lights.size());
   // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0); kind is
   // set per update (glass counts only with caustic maps).
   s.material_data.assign(scene.objects.size() * 8, 0.0f);
@@ -261,6 +287,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
   s.counters = gl::make_buffer();
   glNamedBufferStorage(s.counters.get(), kCounters * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   glClearNamedBufferData(s.counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  s.readback.reserve(kCounters * 4);
   s.empty_vao = gl::make_vertex_array();
   GLfloat point_range[2] = {1, 1};
   glGetFloatv(GL_POINT_SIZE_RANGE, point_range);
@@ -270,8 +297,12 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
 }
 
 Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& options,
-                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes) {
+                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const SceneVersions& versions,
+                                      bool due, EffectWork& work) {
   Impl& s = *impl_;
+  const Impl::Key key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
+  if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
+  s.made.made(li, key);
   Impl::PerLight& pl = s.lights[li];
   const CausticMapOptions& o = options.caustic_map;
   pl.valid = false;
@@ -350,6 +381,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   }
   pl.wavelengths = static_cast<std::uint32_t>(waves.size());
   glBeginQuery(GL_TIME_ELAPSED, pl.capture_q.get());
+  std::optional<gl::TimedPass> timed;
+  timed.emplace("caustic maps: capture", gl::PassKind::kRaster);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
@@ -388,7 +421,12 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glEndQuery(GL_TIME_ELAPSED);
 
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-  if (adaptive) s.traverse(pl);  // over the casters' coverage, the same at every wavelength
+  s.counting = true;
+  timed.reset();
+  if (adaptive) {
+    const gl::TimedPass traversal("caustic maps: adaptive traversal", gl::PassKind::kCompute);
+    s.traverse(pl);  // over the casters' coverage, the same at every wavelength
+  }
   const float sigma = o.splat_sigma;
   const bool two_pass = o.two_pass && sigma > 0;
   GLuint target = pl.map.get();
@@ -454,6 +492,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     }
     // Photons: the adaptive traversal's leaves, or the whole grid.
     glBeginQuery(GL_TIME_ELAPSED, pl.photon_q[k].get());
+    timed.emplace("caustic maps: photons", gl::PassKind::kCompute);
     p.use();
     p.set("u_weight", glm::vec3(waves[k].rgb[0], waves[k].rgb[1], waves[k].rgb[2]));
     glBindTextureUnit(0, pl.front_pos.get());
@@ -480,6 +519,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     // Splats into the caustic map (one pass), or into one texel each and a
     // separable blur (two passes).
     glBeginQuery(GL_TIME_ELAPSED, pl.splat_q[k].get());
+    timed.emplace("caustic maps: splats", gl::PassKind::kRaster);
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);
@@ -519,6 +559,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     }
   }
   if (two_pass) {
+    timed.emplace("caustic maps: blur", gl::PassKind::kCompute);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     s.blur.use();
     s.blur.set("u_sigma", sigma);
@@ -533,6 +574,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     }
   }
   glEndQuery(GL_TIME_ELAPSED);
+  timed.reset();
   pl.timed = true;
 
   Binding& b = pl.binding;
@@ -550,7 +592,9 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
 }
 
 void CausticMapEngine::clear(std::uint32_t light) {
-  if (light < impl_->lights.size()) impl_->lights[light].valid = false;
+  if (light >= impl_->lights.size()) return;
+  impl_->lights[light].valid = false;
+  impl_->made.forget(light);
 }
 
 std::optional<CausticMapEngine::Binding> CausticMapEngine::binding(std::uint32_t light) const {
@@ -558,18 +602,48 @@ std::optional<CausticMapEngine::Binding> CausticMapEngine::binding(std::uint32_t
   return impl_->lights[light].binding;
 }
 
-void CausticMapEngine::reset_stats() { glClearNamedBufferData(impl_->counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr); }
+void CausticMapEngine::begin_frame(std::uint64_t frame) {
+  Impl& s = *impl_;
+  s.poll();
+  s.frame = frame;
+  s.counting = false;
+  glClearNamedBufferData(s.counters.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+}
 
-CausticMapStats CausticMapEngine::stats(bool read) {
+void CausticMapEngine::end_frame() {
+  Impl& s = *impl_;
+  if (!s.counting || !s.readback.begin()) return;
+  s.readback.copy(s.counters.get(), 0, 0, kCounters * 4);
+  s.readback.end(s.frame);
+}
+
+namespace {
+
+// A timer query's milliseconds: waiting for it, or only if it is ready.
+std::optional<double> query_ms(GLuint q, bool wait) {
+  GLint ready = GL_FALSE;
+  if (!wait) glGetQueryObjectiv(q, GL_QUERY_RESULT_AVAILABLE, &ready);
+  if (!wait && !ready) return std::nullopt;
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(q, wait ? GL_QUERY_RESULT : GL_QUERY_RESULT_NO_WAIT, &ns);
+  return static_cast<double>(ns) * 1e-6;
+}
+
+}  // namespace
+
+CausticMapStats CausticMapEngine::stats(bool wait) {
+  Impl& s = *impl_;
   CausticMapStats st;
   st.gpu_bytes = gpu_bytes();
-  for (const auto& pl : impl_->lights) {
+  for (const auto& pl : s.lights) {
     st.active = st.active || pl.valid;
     if (pl.valid) st.wavelengths = std::max(st.wavelengths, pl.wavelengths);
   }
-  if (!read || !st.active) return st;
-  std::uint32_t c[kCounters] = {};
-  glGetNamedBufferSubData(impl_->counters.get(), 0, sizeof(c), c);
+  if (!st.active) return st;
+  if (wait && s.readback.pending()) s.readback.wait();
+  s.poll();
+  const auto& c = s.counted;
+  st.counters_frame = s.counted_frame;
   st.photons = c[0];
   st.landed = c[1];
   st.tir = c[2];
@@ -580,40 +654,53 @@ CausticMapStats CausticMapEngine::stats(bool read) {
   st.reflections = c[7];
   st.tir_dropped = c[8];
   st.out_of_bounces = c[9];
-  for (const auto& pl : impl_->lights) {
+  for (auto& pl : s.lights) {
     if (!pl.valid) continue;
-    std::size_t slots = std::size_t(pl.photons) * std::size_t(pl.photons);
-    if (pl.levels > 0) {
-      std::uint32_t leaves = 0;
-      glGetNamedBufferSubData(pl.state.get(), 8, 4, &leaves);
-      slots = leaves;
-      std::vector<std::uint32_t> cells(leaves);
-      glGetNamedBufferSubData(pl.cells.get(), static_cast<GLintptr>(std::size_t{8} * pl.budget), static_cast<GLsizeiptr>(4 * cells.size()), cells.data());
-      for (std::uint32_t cell : cells) ++st.photons_per_level[std::min<std::uint32_t>(cell >> 24, 8)];
-    }
-    std::vector<float> ph(std::size_t{8} * slots);
-    glGetNamedBufferSubData(pl.photon_buffer.get(), 0, static_cast<GLsizeiptr>(ph.size() * 4), ph.data());
-    for (std::size_t i = 0; i < ph.size(); i += 8) {
-      if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];
+    if (wait) {
+      // The photons themselves: their landed power and the adaptive
+      // traversal's levels (read back: a stall, asked for).
+      std::size_t slots = std::size_t(pl.photons) * std::size_t(pl.photons);
+      if (pl.levels > 0) {
+        std::uint32_t leaves = 0;
+        glGetNamedBufferSubData(pl.state.get(), 8, 4, &leaves);
+        slots = leaves;
+        std::vector<std::uint32_t> cells(leaves);
+        glGetNamedBufferSubData(pl.cells.get(), static_cast<GLintptr>(std::size_t{8} * pl.budget), static_cast<GLsizeiptr>(4 * cells.size()), cells.data());
+        for (std::uint32_t cell : cells) ++st.photons_per_level[std::min<std::uint32_t>(cell >> 24, 8)];
+      }
+      std::vector<float> ph(std::size_t{8} * slots);
+      glGetNamedBufferSubData(pl.photon_buffer.get(), 0, static_cast<GLsizeiptr>(ph.size() * 4), ph.data());
+      for (std::size_t i = 0; i < ph.size(); i += 8) {
+        if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];
+      }
     }
     if (pl.timed) {
-      GLuint64 ns = 0;
-      glGetQueryObjectui64v(pl.capture_q.get(), GL_QUERY_RESULT, &ns);
-      st.capture_ms = static_cast<double>(ns) * 1e-6;
-      st.photon_ms = st.splat_ms = 0;
-      for (std::uint32_t k = 0; k < pl.wavelengths; ++k) {
-        glGetQueryObjectui64v(pl.photon_q[k].get(), GL_QUERY_RESULT, &ns);
-        st.photon_ms += static_cast<double>(ns) * 1e-6;
-        glGetQueryObjectui64v(pl.splat_q[k].get(), GL_QUERY_RESULT, &ns);
-        st.splat_ms += static_cast<double>(ns) * 1e-6;
+      // The latest light's times, kept until newer ones are ready.
+      if (const auto ms = query_ms(pl.capture_q.get(), wait)) pl.capture_ms = *ms;
+      double photon = 0, splat = 0;
+      bool ready = true;
+      for (std::uint32_t k = 0; k < pl.wavelengths && ready; ++k) {
+        const auto a = query_ms(pl.photon_q[k].get(), wait), b = query_ms(pl.splat_q[k].get(), wait);
+        ready = a && b;
+        if (ready) {
+          photon += *a;
+          splat += *b;
+        }
       }
+      if (ready) {
+        pl.photon_ms = photon;
+        pl.splat_ms = splat;
+      }
+      st.capture_ms = pl.capture_ms;
+      st.photon_ms = pl.photon_ms;
+      st.splat_ms = pl.splat_ms;
     }
   }
   return st;
 }
 
 std::uint64_t CausticMapEngine::gpu_bytes() const {
-  std::uint64_t b = 0;
+  std::uint64_t b = impl_->readback.gpu_bytes() + kCounters * 4 + impl_->material_data.size() * 4;
   for (const auto& pl : impl_->lights) b += pl.bytes;
   return b;
 }

@@ -22,6 +22,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "made_from.h"
 
 namespace caustix::runtime {
 
@@ -38,9 +39,12 @@ class CausticMapEngine {
   ~CausticMapEngine();
 
   // The caustic map of `light` for the current transforms. world_boxes[i]
-  // is object i's world bounding box (min, max).
+  // is object i's world bounding box (min, max). Remade only when the
+  // light, the transforms or the options changed since (`versions`), and
+  // only when `due` unless none exists (issue 44); counted into `work`.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
-                      const std::vector<std::array<glm::vec3, 2>>& world_boxes);
+                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const SceneVersions& versions, bool due,
+                      EffectWork& work);
 
   struct Binding {
     BoundingFrame frame;  // orthographic along the light: V towards it; the map covers (u, w) in +-half
@@ -53,9 +57,15 @@ class CausticMapEngine {
   // The light's map from its last update_light(), if it had casters.
   std::optional<Binding> binding(std::uint32_t light) const;
 
-  void reset_stats();
-  // Counters summed over the lights since reset_stats() (read back: a stall).
-  CausticMapStats stats(bool read_gpu_counters);
+  // A frame's update_light() calls come between these: begin_frame polls
+  // earlier frames' counters (never waiting) and clears this frame's;
+  // end_frame sends them back.
+  void begin_frame(std::uint64_t frame);
+  void end_frame();
+  // Counters summed over the lights: of the latest frame whose read-back
+  // arrived, or with `wait` of the last frame, with the photons' landed
+  // power and adaptive levels (read back: a stall).
+  CausticMapStats stats(bool wait);
   std::uint64_t gpu_bytes() const;
 
  private:

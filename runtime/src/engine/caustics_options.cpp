@@ -67,6 +67,12 @@ CausticsOptions default_caustics_options(const SceneDesc& scene) {
   return o;
 }
 
+WaterLook default_water_look(const SceneDesc& scene) {
+  WaterLook look;
+  if (scene.render) look.max_texture_size = static_cast<int>(scene.render->water_texture);
+  return look;
+}
+
 std::vector<WavelengthSample> traced_wavelengths(const SceneDesc& scene, const CausticsOptions& o) {
   if (o.wavelength_nm) return {WavelengthSample{*o.wavelength_nm, {1, 1, 1}}};
   return wavelength_samples(scene_disperses(scene) ? o.wavelengths : 1);

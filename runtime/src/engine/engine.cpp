@@ -13,6 +13,7 @@
 #include "caustix/runtime/gl_objects.h"
 #include "gl_calls.h"
 #include "gl_state.h"
+#include "pass_timer.h"
 #include "causticmap.h"
 #include "glass.h"
 #include "gpu_mesh.h"
@@ -100,6 +101,15 @@ struct Engine::Impl {
   gl::Buffer blocks;
   std::size_t stride = 0;
   bool updated = false;
+  std::uint64_t frame = 0;  // update() calls so far
+  // What the light side depends on, numbered (gl/made_from.h): each light,
+  // and the objects' transforms; the water numbers its own surface.
+  std::vector<std::uint64_t> light_versions;
+  std::uint64_t transforms_version = 0;
+  FrameWork work;  // what the last update() remade and reused
+  // The blocks as last uploaded (uploaded only when they change).
+  std::vector<LightBlock> uploaded;
+  std::vector<bool> uploaded_valid;
   // The last update()'s wavelengths, for the refracted views through
   // dispersive water and glass (draw_water, draw_glass's nearby view).
   ViewSpectrum view_spectrum;
@@ -232,9 +242,14 @@ struct Engine::Impl {
 
   void upload_light(std::uint32_t li, const CausticsOptions& co) {
     for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
-      ReceiverLighting& r = lighting[slot(oi, li)];
+      const std::size_t k = slot(oi, li);
+      ReceiverLighting& r = lighting[k];
       fill_receiver(r, oi, li, co);
+      if (uploaded_valid[k] && std::memcmp(&uploaded[k], &r.block, sizeof(LightBlock)) == 0) continue;
       glNamedBufferSubData(blocks.get(), static_cast<GLintptr>(r.offset), sizeof(LightBlock), &r.block);
+      uploaded[k] = r.block;
+      uploaded_valid[k] = true;
+      ++work.blocks_uploaded;
     }
   }
 
@@ -279,7 +294,15 @@ struct Engine::Impl {
   // GL call counts (GlCalls): the frame in progress, and what set_*
   // calls issue before the next update() opens a frame.
   mutable gl::CallTally frame_calls, pending_calls;
-  gl::Counting count_frame() const { return gl::Counting(frame_calls); }
+  // GPU time per pass (gl/pass_timer.h).
+  mutable gl::PassTimer timer;
+  // An engine call's scope: its GL calls counted into the frame, its
+  // passes timed by the engine's timer.
+  struct FrameScope {
+    gl::Counting counting;
+    gl::Timing timing;
+  };
+  FrameScope count_frame() const { return FrameScope{gl::Counting(frame_calls), gl::Timing(timer)}; }
   gl::Counting count_pending() const { return gl::Counting(pending_calls); }
   void begin_frame_calls() {
     frame_calls = pending_calls;
@@ -358,7 +381,8 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   bool has_glass = false;
   for (const Object& o : s.scene.objects) has_glass = has_glass || is_transparent(o.role);
   if (has_glass) {
-    auto engine = GlassEngine::create(s.scene, scene.transport_tables, scene.spectral_tables, s.meshes, [impl](std::uint32_t i) { impl->draw_object(i); },
+    auto engine = GlassEngine::create(s.scene, scene.transport_tables, scene.spectral_tables, s.meshes, scene.meshes,
+                                      [impl](std::uint32_t i) { impl->draw_object(i); },
                                       kGlslVersion + s.lighting_prefix());
     if (!engine) return engine.error();
     s.glass = std::move(*engine);
@@ -395,6 +419,9 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   const auto a = static_cast<std::size_t>(std::max(align, 1));
   s.stride = (sizeof(LightBlock) + a - 1) / a * a;
   s.lighting.resize(s.scene.objects.size() * s.scene.lights.size());
+  s.uploaded.resize(s.lighting.size());
+  s.uploaded_valid.assign(s.lighting.size(), false);
+  s.light_versions.assign(s.scene.lights.size(), 0);
   for (std::size_t i = 0; i < s.lighting.size(); ++i) s.lighting[i].offset = i * s.stride;
   if (!s.lighting.empty()) {
     s.blocks = gl::make_buffer();
@@ -408,6 +435,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
 const SceneDesc& Engine::scene() const { return impl_->scene; }
 const Bindings& Engine::bindings() const { return impl_->bindings; }
 CausticsOptions Engine::default_options() const { return default_caustics_options(impl_->scene); }
+WaterLook Engine::default_water_look() const { return runtime::default_water_look(impl_->scene); }
 glm::vec3 Engine::bounds_min() const { return impl_->lo; }
 glm::vec3 Engine::bounds_max() const { return impl_->hi; }
 
@@ -420,9 +448,8 @@ Status Engine::set_light(std::uint32_t index, const Light& light) {
   probe.lights = {light};
   normalize_scene(probe);
   s.scene.lights[index] = probe.lights[0];
-  const gl::Counting counting = s.count_pending();
-  const gl::StateGuard guard = s.guard();
-  if (s.caustics) return s.caustics->rederive(index, std::nullopt, s.scene.lights, s.scene.water, s.world_vertices);
+  ++s.light_versions[index];
+  if (s.caustics) s.caustics->rederive(index, std::nullopt);  // at its next update (no GL here)
   return Status::success();
 }
 
@@ -435,9 +462,8 @@ Status Engine::set_object_transform(std::uint32_t index, const Mat4f& t) {
   s.scene.objects[index].transform = t;
   s.world_vertices[index] = world_points(t, s.cpu_meshes[s.scene.objects[index].mesh_index].positions);
   s.compute_bounds();
-  const gl::Counting counting = s.count_pending();
-  const gl::StateGuard guard = s.guard();
-  if (s.caustics) return s.caustics->rederive(std::nullopt, index, s.scene.lights, s.scene.water, s.world_vertices);
+  ++s.transforms_version;
+  if (s.caustics) s.caustics->rederive(std::nullopt, index);  // at the next update (no GL here)
   return Status::success();
 }
 
@@ -526,40 +552,54 @@ Status Engine::update(const FrameUpdate& f) {
   }
   if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) return usage("shadow options: vsm_bleeding must be in [0, 0.95]");
   CAUSTIX_RETURN_IF_ERROR(check_wavelengths(s.scene, f.caustics));
+  if (f.light_side_interval < 1 || f.light_side_interval > 64) {
+    return usage("update: light_side_interval must be 1..64, got " + std::to_string(f.light_side_interval));
+  }
   s.begin_frame_calls();
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
   const CausticsOptions& co = f.caustics;
-  if (s.caustics) s.caustics->reset_stats();
+  ++s.frame;
+  s.timer.begin_frame(s.frame);
+  if (s.caustics) s.caustics->begin_frame(s.frame);
   const bool caustic_maps = co.method != CausticsMethod::kNone && CausticMapEngine::needed(s.scene, co.glass_method);
   if (caustic_maps && !s.caustic_maps) {
     auto cm = CausticMapEngine::create(s.scene, [&s](std::uint32_t i) { s.draw_object(i); });
     if (!cm) return cm.error();
     s.caustic_maps = std::move(*cm);
   }
-  if (s.caustic_maps) s.caustic_maps->reset_stats();
-  if (s.water) s.water->update(f.time);
+  if (s.caustic_maps) s.caustic_maps->begin_frame(s.frame);
+  s.work = FrameWork{};
+  if (s.water) s.work.water = s.water->update(f.time);
   s.volume_options = co.volume;
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
+  FrameWork& work = s.work;
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
-    const Light& light = s.scene.lights[li];
-    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius(), co.shadows);
-    if (s.caustics) CAUSTIX_RETURN_IF_ERROR(s.caustics->update_light(li, light, co));
+    // Lights take turns when the light side runs every Nth frame.
+    const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;
+    const SceneVersions v{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0};
+    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius(), co.shadows, v, due, work.shadow_maps);
+    if (s.caustics) {
+      CAUSTIX_RETURN_IF_ERROR(s.caustics->update_light(li, s.scene.lights, s.scene.water, s.world_vertices, co, v, due, work.level_maps));
+    }
     if (s.glass && co.method != CausticsMethod::kNone) {
       s.upload_light(li, co);  // the rays read the light's block and shadow maps
       const ReceiverLighting& light_slot = s.lighting[s.slot(0, li)];
-      CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(s.scene, li, co, s.world_vertices, [&](const gl::Program& p) {
-        s.bind_slot(light_slot);
-        const LightBlock& b = light_slot.block;
-        p.set("u_light_type", b.mode.y);
-        p.set("u_light_direction", glm::vec3(b.light_direction));
-        p.set("u_light_position", glm::vec3(b.light_position));
-        p.set("u_light_power", b.light_color.w);
-      }));
+      CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(
+          s.scene, li, co, s.world_vertices,
+          [&](const gl::Program& p) {
+            s.bind_slot(light_slot);
+            const LightBlock& b = light_slot.block;
+            p.set("u_light_type", b.mode.y);
+            p.set("u_light_direction", glm::vec3(b.light_direction));
+            p.set("u_light_position", glm::vec3(b.light_position));
+            p.set("u_light_power", b.light_color.w);
+          },
+          v, due, work.glass));
     }
     if (s.caustic_maps) {
       if (caustic_maps) {
-        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes));
+        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes, v, due, work.caustic_maps));
       } else {
         s.caustic_maps->clear(li);
       }
@@ -570,9 +610,12 @@ Status Engine::update(const FrameUpdate& f) {
       const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
       const bool spectral = waves.size() > 1 || co.wavelength_nm.has_value();
       CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr, waves, spectral,
-                                                     [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }));
+                                                     [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }, co, v, due, work.media));
     }
   }
+  if (s.caustics) s.caustics->end_frame();
+  if (s.caustic_maps) s.caustic_maps->end_frame();
+  if (s.volume) s.volume->end_frame(s.frame);
   s.view_spectrum = ViewSpectrum{traced_wavelengths(s.scene, co), co.wavelength_nm.has_value()};
   s.updated = true;
   return gl::check_gl("engine update");
@@ -592,7 +635,7 @@ Result<ReceiverLighting> Engine::lighting(std::uint32_t object, std::uint32_t li
 Status Engine::bind(std::uint32_t object, std::uint32_t light) const {
   auto r = lighting(object, light);
   if (!r) return r.error();
-  const gl::Counting counting = impl_->count_frame();
+  const auto scope = impl_->count_frame();
   impl_->bind_slot(*r);
   return Status::success();
 }
@@ -607,13 +650,15 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   if (!s.water) return usage("draw_water: the scene has no water");
   if (scene_depth != 0) CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_water", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
   if (look.steps < 1 || look.steps > 64 || look.max_steps < 1 || look.max_steps > 64 || look.texture_size < 0 ||
-      look.texture_size > 8192 || !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f)) {
-    return usage("draw_water: water look: steps and max_steps must be 1..64, texture size 0 (auto) or 1..8192, FOV_ext 1..4");
+      look.texture_size > 8192 || !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f) ||
+      (look.max_texture_size != 0 && (look.max_texture_size < 16 || look.max_texture_size > 8192))) {
+    return usage("draw_water: water look: steps and max_steps must be 1..64, texture size 0 (auto) or 1..8192, its limit 0 or "
+                 "16..8192, FOV_ext 1..4");
   }
   if (!(view.aspect > 0.0f) || !(view.near_plane > 0.0f) || !(view.far_plane > view.near_plane) || !(view.fov_y_deg > 0.0f && view.fov_y_deg < 180.0f)) {
     return usage("draw_water: the view needs aspect > 0, 0 < near < far and a field of view in (0, 180) degrees");
   }
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
   GLint target_fbo = 0;
   int viewport[4] = {0, 0, 0, 0};
@@ -651,9 +696,10 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
     // Seed 001's two textures (§5.1-5.2), drawn by the application.
     cams = water_cameras(main, view.fov_y_deg, view.aspect, view.near_plane, view.far_plane, *s.scene.water, look);
     int size = look.texture_size;
-    if (size == 0) {  // auto: a texel per pixel across the extended field of view
+    if (size == 0) {  // auto: a texel per pixel across the extended field of view, within the limit
       const float pixels = look.fov_ext * static_cast<float>(std::max(viewport[2], viewport[3]));
-      size = std::clamp((static_cast<int>(std::ceil(pixels)) + 63) / 64 * 64, 64, 4096);
+      const int limit = look.max_texture_size > 0 ? look.max_texture_size : 4096;
+      size = std::min(std::clamp((static_cast<int>(std::ceil(pixels)) + 63) / 64 * 64, 64, 4096), limit);
     }
     s.water_view->ensure_targets(size);
     const int n = s.water_view->size();
@@ -666,13 +712,16 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
       WaterPass p;
       glm::vec3 clear;
     };
+    // The reflection first: the refraction's depth, drawn last into the
+    // buffer both share, is the one the surface reads.
     const Pass passes[2] = {
-        {s.water_view->refraction_fbo(),
-         WaterPass{s.water_view->refraction_fbo(), n, cams->refraction.proj * cams->refraction.view, cams->refraction_clip, false, false, cams->refraction.eye, medium.k, medium.color},
-         refr_clear},
         {s.water_view->reflection_fbo(),
          WaterPass{s.water_view->reflection_fbo(), n, cams->reflection.proj * cams->reflection.view, cams->reflection_clip, true, cams->under, cams->reflection.eye, medium.k, medium.color},
-         refl_clear}};
+         refl_clear},
+        {s.water_view->refraction_fbo(),
+         WaterPass{s.water_view->refraction_fbo(), n, cams->refraction.proj * cams->refraction.view, cams->refraction_clip, false, false, cams->refraction.eye, medium.k, medium.color},
+         refr_clear}};
+    const gl::TimedPass timed("water: refraction and reflection textures (the application's passes)", gl::PassKind::kRaster);
     for (const Pass& p : passes) {
       glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
       glViewport(0, 0, n, n);
@@ -737,7 +786,7 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
   if (!s.glass) return Status::success();
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_color, GL_RGBA32F, "scene colour"));
   CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
   s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius(),
                       options, s.view_spectrum);
@@ -767,24 +816,24 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
     }
   }
   if (std::fabs(glm::determinant(view_proj)) < 1e-30f) return usage("draw_media: the view-projection matrix is singular");
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
   s.volume->draw(s.scene, view_proj, scene_color, scene_depth, scale, s.volume_options);
   return gl::check_gl("media");
 }
 
-VolumeStats Engine::volume_stats(bool read_gpu_counters) {
+VolumeStats Engine::volume_stats(bool wait) {
   Impl& s = *impl_;
   if (!s.volume) return VolumeStats{};
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
-  return s.volume->stats(read_gpu_counters);
+  return s.volume->stats(wait);
 }
 
 Status Engine::draw_object(std::uint32_t index) const {
   const Impl& s = *impl_;
   if (index >= s.scene.objects.size()) return usage("draw_object: no object " + std::to_string(index));
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   GLint vao = 0;
   glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
   s.draw_object(index);
@@ -792,28 +841,48 @@ Status Engine::draw_object(std::uint32_t index) const {
   return Status::success();
 }
 
-CausticsStats Engine::stats(bool read_gpu_counters) {
+CausticsStats Engine::stats(bool wait) {
   Impl& s = *impl_;
-  const gl::Counting counting = s.count_frame();
-  CausticsStats st = s.caustics ? s.caustics->stats(read_gpu_counters) : CausticsStats{};
+  const auto scope = s.count_frame();
+  CausticsStats st = s.caustics ? s.caustics->stats(wait) : CausticsStats{};
+  st.frame = s.frame;
+  st.work = s.work;
+  GpuMemory& m = st.memory;
+  m.level_maps = st.gpu_bytes;  // the caustics engine's own
+  for (const GpuMesh& mesh : s.meshes) m.meshes += mesh.gpu_bytes();
+  m.shadow_maps = s.shadows->gpu_bytes();
+  if (s.water) m.water = s.water->gpu_bytes();
   if (s.glass) {
-    st.gpu_bytes += s.glass->gpu_bytes();  // tables, rays, targets, illumination textures
+    m.glass = s.glass->gpu_bytes();  // tables, rays, targets, illumination textures
+    m.views += s.glass->view_bytes();
     st.glass_wavelengths = s.glass->wavelengths();
   }
-  if (s.water_view) st.gpu_bytes += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
-  if (s.volume) st.gpu_bytes += s.volume->gpu_bytes();          // radiance and index grids
-  if (s.caustic_maps) st.gpu_bytes += s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
+  if (s.water_view) m.views += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
+  if (s.volume) {
+    m.media = s.volume->gpu_bytes();  // radiance and index grids
+    m.views += s.volume->view_bytes();
+  }
+  if (s.caustic_maps) m.caustic_maps = s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
+  m.other = std::uint64_t{s.stride} * s.lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
+  st.gpu_bytes = m.total();
   const gl::CallTally& c = s.frame_calls;
   st.gl = GlCalls{c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};
   return st;
 }
 
-CausticMapStats Engine::caustic_map_stats(bool read_gpu_counters) {
+void Engine::set_gpu_timing(bool enabled) { impl_->timer.set_enabled(enabled); }
+
+GpuTimes Engine::gpu_times() {
+  const auto scope = impl_->count_frame();
+  return impl_->timer.latest();
+}
+
+CausticMapStats Engine::caustic_map_stats(bool wait) {
   Impl& s = *impl_;
   if (!s.caustic_maps) return {};
-  const gl::Counting counting = s.count_frame();
+  const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
-  return s.caustic_maps->stats(read_gpu_counters);
+  return s.caustic_maps->stats(wait);
 }
 
 }  // namespace caustix::runtime

@@ -19,6 +19,7 @@ GpuMesh upload_mesh(const TriangleMesh& m) {
   g.indices = gl::make_buffer();
   glNamedBufferStorage(g.indices.get(), static_cast<GLsizeiptr>(m.triangles.size() * 12), m.triangles.data(), 0);
   g.index_count = static_cast<GLsizei>(m.triangles.size() * 3);
+  g.vertex_count = m.positions.size();
   g.vao = gl::make_vertex_array();
   const GLuint vao = g.vao.get();
   glVertexArrayVertexBuffer(vao, 0, g.vertices.get(), 0, 6 * sizeof(float));

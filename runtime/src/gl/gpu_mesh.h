@@ -16,6 +16,9 @@ struct GpuMesh {
   // that cut it open (seed 001 §5.1, fig. 3) may cull them.
   bool closed = false;
 
+  std::uint64_t vertex_count = 0;  // interleaved position + normal, 24 bytes each
+  std::uint64_t gpu_bytes() const { return 24 * vertex_count + 4 * static_cast<std::uint64_t>(index_count); }
+
   void draw() const {
     glBindVertexArray(vao.get());
     glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);

@@ -6,6 +6,8 @@
 
 #include <epoxy/gl.h>
 
+#include <cstdint>
+
 #include "caustix/runtime/gl_objects.h"
 
 namespace caustix::runtime::gl {
@@ -36,6 +38,7 @@ class SceneCopy {
   GLuint depth() const { return depth_.get(); }
   int width() const { return w_; }
   int height() const { return h_; }
+  std::uint64_t gpu_bytes() const { return std::uint64_t(w_) * static_cast<std::uint64_t>(h_) * (16 + 4); }
 
  private:
   Texture color_, depth_;

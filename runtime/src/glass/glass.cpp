@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/spectrum.h"
+#include "pass_timer.h"
 #include "shader_text.h"
 
 namespace caustix::runtime {
@@ -17,6 +19,11 @@ namespace {
 
 constexpr std::uint32_t kMaxGlassPlanes = 16;  // u_glass_plane_v[16] in the shaders
 constexpr std::size_t kPrimitiveBytes = 6 * 16;
+// The CPU sample of each glass's n_d table (Glass::sample): about 4 MB of
+// rows (655 vertices at the default 20 x 20 directions), never fewer than
+// 64 vertices.
+constexpr std::size_t kSampleBytes = 4u << 20;
+constexpr std::size_t kMinSampleVertices = 64;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
@@ -46,6 +53,11 @@ struct GlassEngine::Impl {
     // Each vertex's one-ring of triangles (CSR): offsets (vertices + 1),
     // triangle indices (glass_corner_intensity.comp).
     gl::Buffer ring_offsets, ring_triangles;
+    // A CPU copy of the n_d table's rows of every k-th vertex, with their
+    // positions and normals: what the mean transmitted direction is
+    // estimated from without reading the GPU's rays back (mean_travel).
+    LightTransportTable sample;
+    std::vector<std::array<float, 3>> sample_positions, sample_normals;
   };
   struct Target {
     std::uint32_t object = 0, light = 0;
@@ -76,12 +88,52 @@ struct GlassEngine::Impl {
   gl::Texture back_position, back_normal, back_depth;
   gl::Framebuffer back_fbo;
   int back_w = 0, back_h = 0;
-  gl::Buffer sum, rect_indices;
-  std::uint64_t rect_capacity = 0;
   gl::VertexArray empty_vao;
   gl::SceneCopy copy;  // of the caller's colour and depth
   bool spectral = false;  // some glass has tables at other wavelengths
+  // What each light's textures were made from (issue 44).
+  struct Key {
+    SceneVersions versions;
+    CausticsOptions options;
+    bool operator==(const Key&) const = default;
+  };
+  MadeFrom<Key> made;
   std::uint32_t traced = 1;  // wavelengths of the last update
+
+  // The average direction of the transmitted light (seed 002 §4.2: "We set
+  // a virtual camera so that the viewing direction is parallel to the
+  // average direction of the transmitted lights"), unnormalised: the exit
+  // directions weighted by their Fresnel transmittance, over the sampled
+  // vertices that face the light, looked up in the n_d table as the GPU
+  // does (formats' lookup(), which transport.glsl mirrors). An estimate
+  // from a sample, computed on the CPU, so that no frame waits for the
+  // GPU's rays (issue 44); it only orients the planes.
+  Vec3d mean_travel(const SceneDesc& scene, const Light& light) const {
+    Vec3d sum{0, 0, 0};
+    for (const Glass& g : glass) {
+      glm::mat3 rotation;
+      float scale = 1;
+      decompose(scene.objects[g.object].transform, rotation, scale);
+      const glm::mat4 model = to_glm(scene.objects[g.object].transform);
+      const glm::mat3 to_object = glm::transpose(rotation);
+      for (std::uint32_t k = 0; k < g.sample.vertex_count; ++k) {
+        const glm::vec3 p(g.sample_positions[k][0], g.sample_positions[k][1], g.sample_positions[k][2]);
+        const glm::vec3 n = glm::normalize(glm::vec3(g.sample_normals[k][0], g.sample_normals[k][1], g.sample_normals[k][2]));
+        const glm::vec3 pw(model * glm::vec4(p, 1.0f));
+        const glm::vec3 to_light_w = light.type == LightType::kDirectional
+                                         ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
+                                         : glm::normalize(glm::vec3(light.position[0], light.position[1], light.position[2]) - pw);
+        const glm::vec3 to_light = to_object * to_light_w;
+        if (glm::dot(n, to_light) <= 0.0f) continue;  // light enters only where the surface faces it
+        const TransportEntry e = lookup(g.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
+        if (e.status != TransportStatus::kLeaves) continue;
+        const glm::vec3 d = rotation * glm::vec3(static_cast<float>(e.direction[0]), static_cast<float>(e.direction[1]),
+                                                 static_cast<float>(e.direction[2]));
+        for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += static_cast<double>(d[c]) * e.transmittance;
+      }
+    }
+    return sum;
+  }
 
   static void set_table(const gl::Program& p, const Table& t) {
     const LightTransportTable& q = t.params;
@@ -93,13 +145,14 @@ struct GlassEngine::Impl {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, t.buffer.get());
   }
   // The outgoing rays of every glass vertex at one traced wavelength into
-  // each Glass::rays (§4.1), their weighted directions added into `sum`.
+  // each Glass::rays (§4.1).
   // At IOR n a glass between two tables a, b (n_a < n < n_b) traces both
   // and blends them (glass_rays_blend.comp); at a table's own index, that
   // table alone. `exact_nd`: every glass at its n_d table (one wavelength
   // traced, bit-identical to glass without dispersion).
   void trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd,
                   const std::function<void(const gl::Program&)>& set_light_uniforms) {
+    const gl::TimedPass timed("glass: rays", gl::PassKind::kCompute);
     for (Glass& g : glass) {
       const Material& m = scene.objects[g.object].material;
       const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
@@ -111,7 +164,6 @@ struct GlassEngine::Impl {
         rays.use();
         set_light_uniforms(rays);
         rays.set("u_weight", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, sum.get());
         set_table(rays, g.tables[a + static_cast<std::size_t>(pass)]);
         set_pose(rays, scene, g);
         rays.set("u_vertex_count", g.vertices);
@@ -215,7 +267,8 @@ struct GlassEngine::Impl {
         glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
         t.primitive_capacity[gi] = prims;
       }
-      ensure_rect_indices(per_plane);
+      std::optional<gl::TimedPass> timed;
+      timed.emplace("glass: geometry", gl::PassKind::kCompute);
       geometry.use();
       geometry.set("u_origin", glm::vec3(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
                                          static_cast<float>(t.frame.origin[2])));
@@ -246,30 +299,18 @@ struct GlassEngine::Impl {
         glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       }
+      timed.emplace("glass: illumination", gl::PassKind::kRaster);
       illumination.use();
       illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
       illumination.set("u_map_size", static_cast<float>(size));
       glBindTextureUnit(0, t.target.get());
       glBindVertexArray(empty_vao.get());
-      glVertexArrayElementBuffer(empty_vao.get(), rect_indices.get());
       for (std::uint32_t k = 0; k < planes; ++k) {
         glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
-        glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(per_plane * 6), GL_UNSIGNED_INT, nullptr,
-                                 static_cast<GLint>(k * per_plane * 4));
+        // Six vertices a primitive (caustics_intersect.vert), plane k's from k * per_plane.
+        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
       }
     }
-  }
-  void ensure_rect_indices(std::uint64_t prims) {
-    if (prims <= rect_capacity) return;
-    std::vector<std::uint32_t> idx(prims * 6);
-    for (std::uint64_t p = 0; p < prims; ++p) {
-      const auto b = static_cast<std::uint32_t>(4 * p);
-      const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
-      std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
-    }
-    rect_indices = gl::make_buffer();
-    glNamedBufferStorage(rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
-    rect_capacity = prims;
   }
   void ensure_target(Target& t, int size, std::uint32_t planes) {
     if (t.size == size && t.planes == planes && t.fbo.get()) return;
@@ -296,6 +337,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
                                                          const std::vector<LightTransportTable>& tables,
                                                          const std::vector<LightTransportTable>& spectral,
                                                          const std::vector<GpuMesh>& meshes,
+                                                         const std::vector<TriangleMesh>& cpu_meshes,
                                                          std::function<void(std::uint32_t)> draw_object,
                                                          const std::string& lighting_prefix) {
   std::unique_ptr<GlassEngine> e(new GlassEngine());
@@ -333,9 +375,29 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     }
     // Ascending IOR (the spectral tables descend with wavelength), n_d's among them.
     std::stable_sort(g.tables.begin(), g.tables.end(), [](const Impl::Table& a, const Impl::Table& b) { return a.params.ior < b.params.ior; });
+    const TriangleMesh& mesh = cpu_meshes[scene.objects[t.object].mesh_index];
+    if (mesh.positions.size() != t.vertex_count) return make_error(ErrorCode::kInternal, "glass mesh and its transport table disagree on vertices");
     for (std::size_t k = 0; k < g.tables.size(); ++k) {
       Impl::Table& table = g.tables[k];
-      if (table.params.wavelength_nm == 0) g.base = k;
+      if (table.params.wavelength_nm == 0) {
+        g.base = k;
+        // Every k-th vertex's rows, at most kSampleBytes of them (and at
+        // least kMinSampleVertices vertices).
+        const LightTransportTable& full = table.params;
+        const std::size_t row = std::size_t{full.resolution} * full.resolution * 4;  // words per vertex
+        const std::size_t want = std::max<std::size_t>(kMinSampleVertices, kSampleBytes / (row * 4));
+        const std::size_t stride = std::max<std::size_t>(1, (full.vertex_count + want - 1) / want);
+        g.sample = full;
+        g.sample.words.clear();
+        g.sample.vertex_count = 0;
+        for (std::size_t v = 0; v < full.vertex_count; v += stride) {
+          g.sample.words.insert(g.sample.words.end(), full.words.begin() + static_cast<std::ptrdiff_t>(v * row),
+                                full.words.begin() + static_cast<std::ptrdiff_t>((v + 1) * row));
+          g.sample_positions.push_back(mesh.positions[v]);
+          g.sample_normals.push_back(mesh.normals[v]);
+          ++g.sample.vertex_count;
+        }
+      }
       table.buffer = gl::make_buffer();
       glNamedBufferStorage(table.buffer.get(), static_cast<GLsizeiptr>(table.params.words.size() * 4), table.params.words.data(), 0);
       table.params.words.clear();
@@ -348,9 +410,10 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
       glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
       s.spectral = true;
     }
-    // One-rings from the drawn index buffer (the order the LTT indexes).
-    std::vector<std::uint32_t> idx(static_cast<std::size_t>(g.mesh->index_count));
-    glGetNamedBufferSubData(g.mesh->indices.get(), 0, static_cast<GLsizeiptr>(idx.size() * 4), idx.data());
+    // One-rings from the mesh's triangles (the order the LTT indexes and the GPU draws).
+    std::vector<std::uint32_t> idx;
+    idx.reserve(mesh.triangles.size() * 3);
+    for (const auto& tri : mesh.triangles) idx.insert(idx.end(), tri.begin(), tri.end());
     std::vector<std::uint32_t> offsets(std::size_t{g.vertices} + 1, 0), ring(idx.size());
     for (std::uint32_t v : idx) {
       if (v >= g.vertices) return make_error(ErrorCode::kInternal, "glass mesh index beyond its transport table's vertices");
@@ -376,17 +439,20 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
       s.targets.push_back(std::move(t));
     }
   }
-  s.sum = gl::make_buffer();
-  glNamedBufferStorage(s.sum.get(), 16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
   s.empty_vao = gl::make_vertex_array();
+  s.made.resize(scene.lights.size());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("glass set-up"));
   return e;
 }
 
 Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& co,
                                  const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
-                                 const std::function<void(const gl::Program&)>& set_light_uniforms) {
+                                 const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions,
+                                 bool due, EffectWork& work) {
   Impl& s = *impl_;
+  const Impl::Key key{SceneVersions{versions.light, versions.transforms, 0}, co};  // not the water's
+  if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
+  s.made.made(li, key);
   const Light& light = scene.lights[li];
   // The traced wavelengths (issue 22): a monochromatic image's, the bins of
   // dispersive glass with tables at other wavelengths, else the d line.
@@ -398,16 +464,13 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   }
   const bool exact_nd = !co.wavelength_nm && waves.size() == 1;
   s.traced = static_cast<std::uint32_t>(waves.size());
-  // 1. Outgoing rays of every transparent vertex (§4.1) and their mean
-  // direction, at the first wavelength (the frames serve every wavelength).
-  const std::int32_t zeros[4] = {0, 0, 0, 0};
-  glNamedBufferSubData(s.sum.get(), 0, sizeof zeros, zeros);
+  // 1. Outgoing rays of every transparent vertex (§4.1) at the first
+  // wavelength, and the mean transmitted direction (at n_d: the frames
+  // serve every wavelength).
   s.trace_rays(scene, waves[0], exact_nd, set_light_uniforms);
-  std::int32_t sum[4] = {};
-  glGetNamedBufferSubData(s.sum.get(), 0, sizeof sum, sum);  // one 16-byte read-back per light
-  Vec3d travel{static_cast<double>(sum[0]), static_cast<double>(sum[1]), static_cast<double>(sum[2])};
+  Vec3d travel = s.mean_travel(scene, light);
   double len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
-  if (len < 1.0) {  // nothing transmitted: any frame will do
+  if (len < 1e-9) {  // nothing transmitted: any frame will do
     travel = {light.direction[0], light.direction[1], light.direction[2]};
     if (light.type == LightType::kPoint) travel = {0, -1, 0};
     len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
@@ -448,6 +511,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
         W(t.frame.w[0], t.frame.w[1], t.frame.w[2]), half(t.frame.half[0], t.frame.half[1], t.frame.half[2]);
 
     // 3. The target's normals and depth from the virtual camera.
+    const gl::TimedPass timed("glass: targets", gl::PassKind::kRaster);
     glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.target.get(), 0);
     glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
@@ -514,6 +578,7 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
                              GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
                              const ViewSpectrum& spectrum) {
   Impl& s = *impl_;
+  const gl::TimedPass timed("glass: view", gl::PassKind::kRaster);
   s.copy.copy(scene_color, scene_depth);
   const bool nearby = options.method == GlassView::kNearby;
   if (nearby) s.draw_back_faces(scene, view_proj);
@@ -568,8 +633,12 @@ std::uint64_t GlassEngine::gpu_bytes() const {
     b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
     for (std::uint64_t c : t.primitive_capacity) b += c * kPrimitiveBytes;
   }
-  b += std::uint64_t(impl_->back_w) * static_cast<std::uint64_t>(impl_->back_h) * (16 + 8 + 4);
-  return b + impl_->rect_capacity * 24;
+  return b;
+}
+
+std::uint64_t GlassEngine::view_bytes() const {
+  const Impl& s = *impl_;
+  return std::uint64_t(s.back_w) * static_cast<std::uint64_t>(s.back_h) * (16 + 8 + 4) + s.copy.gpu_bytes();
 }
 
 std::uint32_t GlassEngine::wavelengths() const { return impl_->traced; }

@@ -20,6 +20,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "made_from.h"
 #include "view_spectrum.h"
 #include "gpu_mesh.h"
 
@@ -28,7 +29,7 @@ namespace caustix::runtime {
 class GlassEngine {
  public:
   // `meshes` are the scene's GPU meshes (by mesh index) and must outlive the
-  // engine. draw_object(i) issues object i's draw call. `lighting_prefix`
+  // engine; `cpu_meshes` the same on the CPU (read during the call). draw_object(i) issues object i's draw call. `lighting_prefix`
   // is #version plus caustix.glsl with the engine's bindings (the rays read
   // the light's block and shadow maps).
   // `spectral` are dispersive objects' tables at other wavelengths (LTTS).
@@ -36,6 +37,7 @@ class GlassEngine {
                                                      const std::vector<LightTransportTable>& tables,
                                                      const std::vector<LightTransportTable>& spectral,
                                                      const std::vector<GpuMesh>& meshes,
+                                                     const std::vector<TriangleMesh>& cpu_meshes,
                                                      std::function<void(std::uint32_t)> draw_object,
                                                      const std::string& lighting_prefix);
   ~GlassEngine();
@@ -49,9 +51,13 @@ class GlassEngine {
   // two tables whose indices bracket its own (glass_rays_blend.comp), into
   // the same illumination textures with the bin's RGB weights; else the
   // d line at n_d.
+  // Remade only when the light, the transforms or the options changed
+  // since (`versions`), and only when `due` unless none exist (issue 44);
+  // counted into `work`.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
                       const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
-                      const std::function<void(const gl::Program&)>& set_light_uniforms);
+                      const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions, bool due,
+                      EffectWork& work);
 
   struct Binding {
     BoundingFrame frame;       // virtual camera: V points back along the mean transmitted direction
@@ -71,7 +77,12 @@ class GlassEngine {
                   GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
                   const ViewSpectrum& spectrum);
 
+  // The light side's GPU memory: tables, rays, one-rings, targets,
+  // illumination textures, primitives.
   std::uint64_t gpu_bytes() const;
+  // The view's: the back faces (nearby view) and the copies of the
+  // caller's scene (draw_glass), at the viewport's size.
+  std::uint64_t view_bytes() const;
   // Wavelengths the last update_light() traced (1 without spectral tables).
   std::uint32_t wavelengths() const;
 

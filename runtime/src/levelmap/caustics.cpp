@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <map>
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/slicing.h"
+#include "pass_timer.h"
+#include "readback.h"
 #include "shader_text.h"
 
 namespace caustix::runtime {
@@ -12,10 +16,42 @@ namespace {
 
 constexpr float kEmptyV = -1.0e30f;  // position map value where there is no surface
 constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile side
-// Most primitives one map may list: 4 M ((volume, plane) pairs; 224 MB with
+// Most primitives one map may list: 4 M ((volume, plane) pairs; 288 MB with
 // their geometry).
 constexpr std::uint64_t kMaxPrimitives = 4u << 20;
 constexpr GLsizeiptr kPrimitiveBytes = 64;  // four vec4, caustics_geometry.comp
+constexpr GLsizeiptr kListBytes = 8;        // a (volume, plane) pair
+// The planes buffer: a 16-byte header (count, depth range, widest window;
+// caustics_plan.comp) and (offset, eps) per plane.
+constexpr GLsizeiptr kPlanesHeader = 16;
+constexpr GLsizeiptr kPlanesBytes = kPlanesHeader + 8 * GLsizeiptr{kMaxPlanes};
+// What each map's counters contribute to a frame's read-back slot:
+// command words 8..10 (listed, overflow, drawn) and the plane count.
+constexpr std::size_t kCounterBytes = 16;
+// A list sized from a measured count keeps this much headroom for the
+// counts of the frames until the next measurement arrives.
+constexpr double kHeadroom = 1.25;
+constexpr std::uint64_t kMinCapacity = 1024;
+
+// What a map's reference planes were made from: rebuilt when any changes.
+struct PlanKey {
+  bool smart = true;
+  std::uint32_t pieces = 0;   // uniform slicing: n pieces
+  double epsilon = 0;         // smart slicing: eps asked
+  double height = 0;          // h, the frame's extent along V
+  std::uint64_t profile = 0;  // the depth profile's version (0: as baked)
+  bool operator==(const PlanKey&) const = default;
+};
+
+// What a list sized for one plan serves: a change here means the count
+// must be measured again before it is trusted (a warm-up read-back).
+struct ListKey {
+  bool pairs = true, cull = true;
+  bool smart = true;
+  std::uint32_t pieces = 0;
+  double epsilon = 0;
+  bool operator==(const ListKey&) const = default;
+};
 
 struct MapGpu {
   LevelMap* lm = nullptr;
@@ -23,20 +59,29 @@ struct MapGpu {
   gl::Texture caustics;      // RGBA32F at caustics_size: irradiance on the plane and its direction (caustics_geometry.comp)
   gl::Framebuffer fbo;
   std::uint32_t caustics_size = 0;
-  // Planes in use, and the options they were derived with.
-  std::vector<ReferencePlane> planes;
+  // The depth profile: the baked histogram, re-made on the GPU after a
+  // light or the receiver moves (then its planes are planned there too).
+  gl::Buffer histogram;
+  std::uint64_t profile = 0;  // 0: lm's (CPU) histogram is current; else re-derived on the GPU
+  bool default_epsilon = true;  // lm->epsilon is h / (2 n): it follows h when the frame changes
+  // Planes in use: the header and planes (caustics_plan.comp's layout),
+  // planned from `plan`; on the CPU too where it knows the histogram.
   gl::Buffer planes_buffer;
-  bool planes_valid = false;
-  bool planes_smart = true;
-  std::optional<std::uint32_t> planes_n;
-  std::optional<float> planes_eps;
+  std::optional<PlanKey> plan;
+  std::optional<std::vector<ReferencePlane>> cpu_planes;
   float self_tolerance = 0;
   gl::Texture depth_tiles;  // RG32F min/max frame V per tile
   gl::Framebuffer position_fbo;  // run-time re-derivation
   gl::Texture position_depth;
-  gl::Buffer list, primitives, command, rect_indices;
-  std::uint64_t capacity = 0;   // entries the list (and the primitive buffer) may hold
-  std::uint64_t allocated = 0;  // entries the buffers are allocated for
+  gl::Buffer command;
+  // Entries its list needs (Impl::list, shared). Measured with a read-back
+  // the first time a map is drawn with a plan (warm-up), then sized from
+  // counts read asynchronously (gl::ReadbackRing): a frame that overflows
+  // draws the entries that fit and says so (CausticsStats).
+  std::uint64_t capacity = 0;
+  std::optional<ListKey> measured;
+  std::uint64_t quiet_polls = 0;  // read-backs in a row that found the list over-sized
+  bool rederive = false;          // its light or receiver moved: re-derive before the next draw
   // Volumetric baseline: receiver slices and illumination per plane.
   gl::Texture slices, illumination;
   std::uint32_t slice_count = 0, slice_size = 0;
@@ -48,17 +93,25 @@ struct MapGpu {
   std::uint64_t gpu_bytes = 0;
 };
 
-std::vector<ReferencePlane> planes_for(const LevelMap& lm, const CausticsOptions& o) {
-  const bool smart = o.method == CausticsMethod::kLevelMap;
-  if (!o.planes && !o.epsilon) return smart ? lm.smart_planes : lm.uniform_planes;
-  const double h = 2.0 * lm.frame.half[1];
-  if (!smart) {
-    const std::uint32_t n = o.planes ? *o.planes
-                                     : static_cast<std::uint32_t>(std::clamp(std::ceil(h / (2.0 * *o.epsilon)), 1.0, 4096.0));
-    return uniform_planes(h, n);
+// The plan of map `m` for the options: which slicing, and its n or eps.
+PlanKey plan_key(const MapGpu& m, const CausticsOptions& o) {
+  const LevelMap& lm = *m.lm;
+  PlanKey k;
+  k.smart = o.method == CausticsMethod::kLevelMap;
+  k.height = 2.0 * lm.frame.half[1];
+  k.profile = m.profile;
+  const double h = k.height;
+  if (!k.smart) {
+    k.pieces = o.planes ? *o.planes
+             : o.epsilon ? static_cast<std::uint32_t>(std::clamp(std::ceil(h / (2.0 * *o.epsilon)), 1.0, 4096.0))
+                         : lm.planes_requested;
+  } else {
+    k.epsilon = o.epsilon ? double{*o.epsilon}
+              : o.planes ? h / (2.0 * *o.planes)
+              : m.default_epsilon ? h / (2.0 * lm.planes_requested)
+                                  : double{lm.epsilon};
   }
-  const double eps = o.epsilon ? double{*o.epsilon} : h / (2.0 * *o.planes);
-  return smart_planes(h, static_cast<std::uint32_t>(lm.histogram.size()), lm.sub_boxes, eps, nullptr);
+  return k;
 }
 
 glm::vec3 v3(const Vec3f& v) { return {v[0], v[1], v[2]}; }
@@ -76,7 +129,7 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
-  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile, accumulate;
+  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile, accumulate, plan;
   gl::Program splat_photon, splat_points;
   // Photon splatting (one set, reused map after map): the photon texture,
   // the vertex buffer it is copied into, and the points' vertex array.
@@ -85,38 +138,171 @@ struct CausticsEngine::Impl {
   gl::Buffer photon_vbo;
   gl::VertexArray photon_vao;
   std::uint32_t photon_size = 0;
-  gl::Buffer histogram;
-  std::uint32_t histogram_levels = 0;
   gl::Buffer refracted, flux;
+  gl::Buffer list, primitives;  // every map's, one after the other
+  std::uint64_t allocated = 0;  // entries they hold
   gl::VertexArray empty_vao;
   std::function<void(std::uint32_t)> draw_object;
   std::function<glm::mat4(std::uint32_t)> model_of;
-  CausticsStats stats;
-  std::vector<std::size_t> drawn_maps;  // maps updated since reset_stats()
+  CausticsStats stats;  // the counts known on the CPU, of the last frame that drew maps
+  bool counted_this_frame = false;
+  // The maps' GPU counters (list lengths, overflow, planes) come back
+  // through `readback` a few frames late; `drawn` remembers which maps
+  // each frame in flight drew (map, its list's generation).
+  gl::ReadbackRing readback;
+  std::uint64_t frame = 0;
+  std::map<std::uint64_t, std::vector<std::pair<std::size_t, std::uint64_t>>> drawn;
+  std::vector<std::uint64_t> generation;  // per map: bumped when its list is measured again
+  std::uint64_t profiles = 0;             // depth profiles made on the GPU so far
+  gl::Buffer plan_scratch;                // caustics_plan.comp's sub-box lengths
+  GLsizeiptr plan_scratch_words = 0;
+  // What each light's maps were made from (issue 44).
+  struct Key {
+    SceneVersions versions;
+    CausticsOptions options;
+    bool operator==(const Key&) const = default;
+  };
+  MadeFrom<Key> made;
+  bool slot_open = false;  // this frame's read-back slot
+  struct GpuCounts {
+    std::uint64_t frame = 0;  // 0: none yet
+    std::uint64_t volumes_drawn = 0, planes_drawn = 0;
+    bool overflowed = false;
+  } gpu_counts;
 
-  // The plane set in use follows the method (smart or uniform) and the
-  // run-time overrides; rebuilt only when one of them changes.
-  void ensure_planes(MapGpu& m, const CausticsOptions& o) {
-    const bool smart = o.method == CausticsMethod::kLevelMap;
-    if (m.planes_valid && m.planes_smart == smart && m.planes_n == o.planes && m.planes_eps == o.epsilon) return;
-    m.planes = planes_for(*m.lm, o);
-    std::vector<float> packed;
-    float widest = 0;
-    for (const auto& p : m.planes) {
-      packed.push_back(p.offset);
-      packed.push_back(p.epsilon);
-      widest = std::max(widest, p.epsilon);
-    }
-    m.planes_buffer = gl::make_buffer();
-    if (packed.empty()) packed = {0.0f, 0.0f};  // GL refuses empty buffers; draw_map draws nothing then
-    glNamedBufferStorage(m.planes_buffer.get(), static_cast<GLsizeiptr>(packed.size() * 4), packed.data(), 0);
+  // Re-derives the frame, position map and depth profile of map m for the
+  // lights' and objects' current state (see caustics.h).
+  void rederive_map(MapGpu& m, const std::vector<Light>& lights, const std::optional<Water>& water,
+                    const std::vector<std::vector<std::array<double, 3>>>& world);
+
+  // Map i's counters of this frame (command words 8..10, the plane count)
+  // into the frame's read-back slot.
+  void read_counters_later(std::size_t i) {
+    if (!slot_open) slot_open = readback.begin();
+    if (!slot_open) return;  // every slot in flight: this frame goes uncounted
+    readback.copy(maps[i].command.get(), 32, kCounterBytes * i, 12);
+    readback.copy(maps[i].planes_buffer.get(), 0, kCounterBytes * i + 12, 4);
+    drawn[frame].emplace_back(i, generation[i]);
+  }
+
+  // The counters of every frame whose copies have landed: the latest
+  // become the stats, and each list is sized from its count.
+  void poll() {
+    readback.poll([&](std::uint64_t tag, const std::uint8_t* data) {
+      const auto it = drawn.find(tag);
+      if (it == drawn.end()) return;
+      GpuCounts c;
+      c.frame = tag;
+      for (const auto& [i, gen] : it->second) {
+        std::uint32_t w[4];
+        std::memcpy(w, data + kCounterBytes * i, sizeof w);
+        c.volumes_drawn += w[2];
+        c.overflowed = c.overflowed || w[1] != 0;
+        c.planes_drawn += w[3];
+        if (gen != generation[i]) continue;  // a list since measured again
+        size_list(maps[i], w[0]);
+        // What was drawn then misses pieces: remade at the next update,
+        // with the list grown (a still scene would keep it otherwise).
+        if (w[1] != 0) made.forget(maps[i].lm->light);
+      }
+      gpu_counts = c;
+      drawn.erase(it);
+    });
+  }
+
+  // The plane set in use follows the method (smart or uniform), the
+  // run-time overrides and the depth profile; planned again only when one
+  // of them changes. Where the CPU knows the histogram (as baked) it plans
+  // them as the baker did (formats/slicing.h); after a re-derivation the
+  // histogram is on the GPU and so are the planes (caustics_plan.comp),
+  // with no read-back.
+  void plan_planes(MapGpu& m, const CausticsOptions& o) {
+    const PlanKey key = plan_key(m, o);
+    if (m.plan == key) return;
+    const LevelMap& lm = *m.lm;
     // A point further behind the first surface than any window (or two
     // depth quanta) is self-shadowed.
-    m.self_tolerance = std::max(widest, static_cast<float>(4.0 * m.lm->frame.half[1] / kDepthQuantum));
-    m.planes_valid = true;
-    m.planes_smart = smart;
-    m.planes_n = o.planes;
-    m.planes_eps = o.epsilon;
+    const float quanta = static_cast<float>(4.0 * lm.frame.half[1] / kDepthQuantum);
+    if (!key.smart || m.profile == 0) {
+      std::vector<ReferencePlane> planes =
+          !key.smart                   ? uniform_planes(key.height, key.pieces)
+          : !o.planes && !o.epsilon    ? lm.smart_planes
+                                       : smart_planes(key.height, static_cast<std::uint32_t>(lm.histogram.size()), lm.sub_boxes,
+                                                      key.epsilon, nullptr);
+      std::vector<float> packed(4 + 2 * planes.size());
+      float lo = 1e30f, hi = -1e30f, widest = 0;
+      for (std::size_t k = 0; k < planes.size(); ++k) {
+        packed[4 + 2 * k] = planes[k].offset;
+        packed[5 + 2 * k] = planes[k].epsilon;
+        lo = std::min(lo, planes[k].offset - planes[k].epsilon);
+        hi = std::max(hi, planes[k].offset + planes[k].epsilon);
+        widest = std::max(widest, planes[k].epsilon);
+      }
+      const auto count = static_cast<std::uint32_t>(planes.size());
+      std::memcpy(&packed[0], &count, 4);
+      packed[1] = lo;
+      packed[2] = hi;
+      packed[3] = widest;
+      glNamedBufferSubData(m.planes_buffer.get(), 0, static_cast<GLsizeiptr>(packed.size() * 4), packed.data());
+      m.self_tolerance = std::max(widest, quanta);
+      m.cpu_planes = std::move(planes);
+    } else {
+      const gl::TimedPass timed("level maps: plan", gl::PassKind::kCompute);
+      const auto levels = static_cast<GLsizeiptr>(lm.histogram.size());
+      if (plan_scratch_words < 2 * levels + 2) {
+        plan_scratch = gl::make_buffer();
+        plan_scratch_words = 2 * levels + 2;
+        glNamedBufferStorage(plan_scratch.get(), 4 * plan_scratch_words, nullptr, 0);
+      }
+      glClearNamedBufferData(plan_scratch.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, plan_scratch.get());
+      plan.use();
+      plan.set("u_levels", static_cast<unsigned>(lm.histogram.size()));
+      glProgramUniform1d(plan.id(), plan.loc("u_height"), key.height);
+      glProgramUniform1d(plan.id(), plan.loc("u_epsilon"), key.epsilon);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, m.histogram.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      glDispatchCompute(1, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      // Smart windows are at most eps wide (eq. 4-22 rounds the count up).
+      m.self_tolerance = std::max(static_cast<float>(key.epsilon), quanta);
+      m.cpu_planes.reset();
+    }
+    m.plan = key;
+  }
+
+  // The list and primitive buffers, which the maps share (each is drawn
+  // before the next is culled): as large as the largest map's capacity,
+  // grown when one grew, re-made smaller when that is less than half.
+  void ensure_list() {
+    std::uint64_t want = 0;
+    for (const MapGpu& m : maps) want = std::max(want, m.capacity);
+    if (allocated >= want && allocated <= 2 * want) return;
+    list = gl::make_buffer();
+    glNamedBufferStorage(list.get(), static_cast<GLsizeiptr>(want) * kListBytes, nullptr, 0);
+    primitives = gl::make_buffer();
+    glNamedBufferStorage(primitives.get(), static_cast<GLsizeiptr>(want) * kPrimitiveBytes, nullptr, 0);
+    allocated = want;
+  }
+
+  // A list length `listed` measured for map `i` (from a read-back of any
+  // age): grow at once when it nears the capacity; shrink when it has
+  // stayed far below for a while.
+  void size_list(MapGpu& m, std::uint64_t listed) {
+    const auto want = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(static_cast<double>(listed) * kHeadroom)),
+                                                kMinCapacity, kMaxPrimitives);
+    if (static_cast<double>(listed) * 1.1 > static_cast<double>(m.capacity)) {
+      m.capacity = std::max(m.capacity, want);
+      m.quiet_polls = 0;
+    } else if (2 * want < m.capacity) {
+      if (++m.quiet_polls >= 30) {
+        m.capacity = want;
+        m.quiet_polls = 0;
+      }
+    } else {
+      m.quiet_polls = 0;
+    }
   }
 
   void ensure_caustics_target(MapGpu& m, std::uint32_t size) {
@@ -170,8 +356,10 @@ struct CausticsEngine::Impl {
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 16 * 4 / 3;  // RGBA32F and its mips
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
-    const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * (1 + 4 / 3.0);  // sum, colour and its mips
-    return pm + cm + sl + tiles + spectral + m.planes.size() * 8 + m.allocated * (8 + kPrimitiveBytes + 24) + 44;
+    const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * 7 / 3;  // sum, colour and its mips
+    const std::uint64_t depth = m.position_depth.get() ? pm : 0;  // re-derivation's depth buffer
+    const std::uint64_t profile = 4 * m.lm->histogram.size() + kPlanesBytes;
+    return pm + cm + sl + tiles + spectral + depth + profile + 44;
   }
 
   // The light and the water's IOR, for the passes that refract at the water.
@@ -204,6 +392,7 @@ struct CausticsEngine::Impl {
   // back into the map.
   void accumulate_wavelength(MapGpu& m, const WavelengthSample& w, bool first, bool last) {
     ensure_spectral(m);
+    const gl::TimedPass timed("level maps: wavelength sums", gl::PassKind::kCompute);
     accumulate.use();
     accumulate.set("u_size", static_cast<int>(m.caustics_size));
     accumulate.set("u_rgb", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]));
@@ -226,6 +415,7 @@ struct CausticsEngine::Impl {
   // pixel-pack binding (the paper's PBO route), draw it as points with
   // additive blending into the caustics map.
   void draw_splat(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
+    const gl::TimedPass timed("level maps: splats", gl::PassKind::kRaster);
     const BoundingFrame& f = m.lm->frame;
     const std::uint32_t p = o.photons;
     if (photon_size != p) {
@@ -300,6 +490,7 @@ struct CausticsEngine::Impl {
   // Alpha = the receiver's presence (caustics_presence.frag), then the mip
   // chain; m.fbo draws into the map's level 0.
   void finish_map(MapGpu& m) {
+    const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
     glViewport(0, 0, static_cast<GLsizei>(m.caustics_size), static_cast<GLsizei>(m.caustics_size));
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
@@ -316,83 +507,78 @@ struct CausticsEngine::Impl {
   // presence and mips).
   void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
-    ensure_planes(m, o);
+    plan_planes(m, o);
     ensure_caustics_target(m, o.map_size);
     if (o.method == CausticsMethod::kSplat) {
       draw_splat(m, o, light, ior);
       return;
     }
-    const auto nplanes = static_cast<std::uint32_t>(m.planes.size());
-    if (nplanes == 0) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
+    if (m.cpu_planes && m.cpu_planes->empty()) {  // a map whose sampled surface is empty (e.g. a tiny position map): no caustics
       const float none[4] = {0, 0, 0, 0};
       glClearTexImage(m.caustics.get(), 0, GL_RGBA, GL_FLOAT, none);
+      glClearNamedBufferData(m.command.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
       return;
     }
 
     // 1. Cull: volumes that miss the frame, and (level map) planes the
     // surface under a volume does not need.
     const bool pairs = o.method != CausticsMethod::kVolumetric;
-    float lo = 1e30f, hi = -1e30f;
-    for (const auto& p : m.planes) {
-      lo = std::min(lo, p.offset - p.epsilon);
-      hi = std::max(hi, p.offset + p.epsilon);
-    }
-    // The list is sized by what it last needed, not by the worst case
-    // (every volume through every plane): the count is read back after the
-    // cull, and the cull re-run with a larger list if it overflowed. Exact
-    // for a single frame, at the cost of one small read-back per map.
-    if (m.capacity == 0) m.capacity = std::min<std::uint64_t>(kMaxPrimitives, 2ull * water->triangle_count());
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      if (m.allocated < m.capacity) {
-        m.list = gl::make_buffer();
-        glNamedBufferStorage(m.list.get(), static_cast<GLsizeiptr>(m.capacity * 8), nullptr, 0);
-        m.primitives = gl::make_buffer();
-        glNamedBufferStorage(m.primitives.get(), static_cast<GLsizeiptr>(m.capacity) * kPrimitiveBytes, nullptr, 0);
-        std::vector<std::uint32_t> idx(m.capacity * 6);
-        for (std::uint64_t p = 0; p < m.capacity; ++p) {
-          const auto b = static_cast<std::uint32_t>(4 * p);
-          const std::uint32_t q[6] = {b, b + 1, b + 3, b, b + 3, b + 2};
-          std::copy(q, q + 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * p));
-        }
-        m.rect_indices = gl::make_buffer();
-        glNamedBufferStorage(m.rect_indices.get(), static_cast<GLsizeiptr>(idx.size() * 4), idx.data(), 0);
-        m.allocated = m.capacity;
-      }
-      const std::uint32_t zeros[11] = {};
-      glNamedBufferSubData(m.command.get(), 0, sizeof zeros, zeros);
+    // The list is sized by what it needs, not by the worst case (every
+    // volume through every plane). The first frame a map is drawn with a
+    // plan (the warm-up) reads the count back and re-runs the cull with a
+    // larger list if it overflowed: exact, at the cost of one small
+    // read-back. Later frames size it from counts read asynchronously
+    // (size_list), with headroom; one that still overflows draws what fits
+    // and says so (CausticsStats::overflowed).
+    const ListKey list_key{pairs, o.cull, m.plan->smart, o.planes.value_or(0), o.epsilon.value_or(0.0f)};
+    const bool measure = m.measured != list_key;
+    // Before the first measurement: a small list the warm-up re-sizes.
+    if (m.capacity == 0) m.capacity = kMinCapacity;
+    // The shared list may still feed the last map's draw.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    std::optional<gl::TimedPass> timed_cull;
+    timed_cull.emplace("level maps: cull", gl::PassKind::kCompute);
+    for (int attempt = 0; attempt < (measure ? 2 : 1); ++attempt) {
+      ensure_list();
+      glClearNamedBufferData(m.command.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
       cull.use();
       set_frame(cull, f);
       cull.set("u_triangles", water->triangle_count());
-      cull.set("u_depth_range", glm::vec2(lo, hi));
       cull.set("u_frame_cull", o.cull ? 1 : 0);
       cull.set("u_plane_cull", o.cull ? 1 : 0);
       cull.set("u_pairs", pairs ? 1 : 0);
-      cull.set("u_plane_count", static_cast<int>(nplanes));
       // Widen footprints by a caustics texel where the acceptance test
       // samples surface across it (texels coarser than the position map's);
       // at finer texels the depth tiles (8 position texels) already cover it.
       const bool coarse = m.caustics_size < m.lm->map_size;
       cull.set("u_texel", coarse ? glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(m.caustics_size)
                                  : glm::vec2(0.0f));
-      cull.set("u_capacity", static_cast<unsigned>(m.capacity));
+      cull.set("u_capacity", static_cast<unsigned>(allocated));
       glBindTextureUnit(0, m.depth_tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.list.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, m.primitives.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
       glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+      if (!measure) break;
       std::uint32_t listed = 0;
-      glGetNamedBufferSubData(m.command.get(), 32, 4, &listed);
-      if (listed <= m.capacity || m.capacity >= kMaxPrimitives) break;
-      m.capacity = std::min<std::uint64_t>(kMaxPrimitives, listed + listed / 4);
+      glGetNamedBufferSubData(m.command.get(), 32, 4, &listed);  // warm-up only
+      const bool fits = listed <= allocated || allocated >= kMaxPrimitives;
+      m.capacity = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(listed * kHeadroom)), kMinCapacity, kMaxPrimitives);
+      if (fits) break;
+    }
+    if (measure) {
+      m.measured = list_key;
+      ++generation[static_cast<std::size_t>(&m - maps.data())];
     }
     // 2. The list's length becomes the geometry dispatch and the draw count.
     fixup.use();
-    fixup.set("u_capacity", static_cast<unsigned>(m.capacity));
+    fixup.set("u_capacity", static_cast<unsigned>(allocated));
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    timed_cull.reset();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m.command.get());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m.command.get());
     geometry.use();
@@ -409,15 +595,19 @@ struct CausticsEngine::Impl {
     const float zero[4] = {0, 0, 0, 0};
     // 3. Geometry of every listed primitive, then 4. one rectangle each.
     auto geometry_then_draw = [&](const gl::Program& draw_program, int plane) {
-      geometry.use();
-      geometry.set("u_plane", plane);
-      glDispatchComputeIndirect(20);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      {
+        const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the last plane's draw read the primitives
+        geometry.use();
+        geometry.set("u_plane", plane);
+        glDispatchComputeIndirect(20);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      }
+      const gl::TimedPass timed("level maps: draw", gl::PassKind::kRaster);
       draw_program.use();
       draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
       glBindVertexArray(empty_vao.get());
-      glVertexArrayElementBuffer(empty_vao.get(), m.rect_indices.get());
-      glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr);
+      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
     };
 
     if (pairs) {
@@ -436,20 +626,25 @@ struct CausticsEngine::Impl {
     } else {
       // §5.2.1: per sample plane, the receiver's slice image, then the
       // plane's intersection triangles times that slice, then combine.
+      const std::vector<ReferencePlane>& planes = *m.cpu_planes;  // uniform: planned on the CPU
+      const auto nplanes = static_cast<std::uint32_t>(planes.size());
       ensure_slices(m, nplanes, m.caustics_size);
       glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
       glViewport(0, 0, size, size);
       for (std::uint32_t i = 0; i < nplanes; ++i) {
+        std::optional<gl::TimedPass> timed_slice;
+        timed_slice.emplace("level maps: slices (volumetric)", gl::PassKind::kRaster);
         glNamedFramebufferTextureLayer(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.slices.get(), 0, static_cast<GLint>(i));
         glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
         glDisable(GL_BLEND);
         slab.use();
         set_frame(slab, f);
         slab.set("u_write_depth", 0);
-        slab.set("u_near", m.planes[i].offset + m.planes[i].epsilon);
-        slab.set("u_far", m.planes[i].offset - m.planes[i].epsilon);
+        slab.set("u_near", planes[i].offset + planes[i].epsilon);
+        slab.set("u_far", planes[i].offset - planes[i].epsilon);
         slab.set("u_model", model_of(m.lm->object));
         draw_object(m.lm->object);
+        timed_slice.reset();
 
         glNamedFramebufferTextureLayer(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.illumination.get(), 0, static_cast<GLint>(i));
         glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
@@ -461,6 +656,7 @@ struct CausticsEngine::Impl {
       }
       glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
       glDisable(GL_BLEND);
+      const gl::TimedPass timed("level maps: combine (volumetric)", gl::PassKind::kRaster);
       combine.use();
       combine.set("u_count", static_cast<int>(nplanes));
       glBindTextureUnit(0, m.slices.get());
@@ -473,7 +669,6 @@ struct CausticsEngine::Impl {
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
     stats.volumes_total += water->triangle_count();
-    stats.planes_drawn += nplanes;
   }
 };
 
@@ -507,7 +702,8 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
        {&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
        {&s.profile, "profile", shaders::k_profile_comp_glsl},
-       {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl}}));
+       {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl},
+       {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl}}));
   s.empty_vao = gl::make_vertex_array();
 
   s.refracted = gl::make_buffer();
@@ -534,18 +730,37 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     gl::set_sampling(m.position_map.get(), GL_NEAREST);
     s.build_depth_tiles(m);
     m.command = gl::make_buffer();
-    glNamedBufferStorage(m.command.get(), 44, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(m.command.get(), 44, nullptr, 0);
+    // The baked profile, for the GPU's planning after a re-derivation.
+    m.histogram = gl::make_buffer();
+    glNamedBufferStorage(m.histogram.get(), GLsizeiptr{4} * static_cast<GLsizeiptr>(std::max<std::size_t>(lm.histogram.size(), 1)),
+                         lm.histogram.empty() ? nullptr : lm.histogram.data(), 0);
+    m.planes_buffer = gl::make_buffer();
+    glNamedBufferStorage(m.planes_buffer.get(), kPlanesBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    const double h = 2.0 * lm.frame.half[1];
+    m.default_epsilon = std::fabs(lm.epsilon - h / (2.0 * lm.planes_requested)) < 1e-6 * h;
   }
+  s.generation.assign(s.maps.size(), 0);
+  std::uint32_t lights = 0;
+  for (const LevelMap& lm : maps) lights = std::max(lights, lm.light + 1);
+  s.made.resize(lights);
+  s.readback.reserve(kCounterBytes * s.maps.size());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustics set-up"));
   return e;
 }
 
-Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object,
-                                const std::vector<Light>& lights, const std::optional<Water>& water,
-                                const std::vector<std::vector<std::array<double, 3>>>& world) {
-  Impl& s = *impl_;
-  for (MapGpu& m : s.maps) {
+void CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object) {
+  for (MapGpu& m : impl_->maps) {
     if ((light && m.lm->light != *light) || (object && m.lm->object != *object)) continue;
+    m.rederive = true;
+  }
+}
+
+void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lights, const std::optional<Water>& water,
+                                        const std::vector<std::vector<std::array<double, 3>>>& world) {
+  Impl& s = *this;
+  m.rederive = false;
+  {
     LevelMap& lm = *m.lm;
     const Light& desc = lights[lm.light];
     const auto& pts = world[lm.object];
@@ -563,10 +778,8 @@ Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optiona
       glClearTexImage(m.position_map.get(), 0, GL_RED, GL_FLOAT, &kEmptyV);
       const float empty[2] = {1e30f, -1e30f};
       glClearTexImage(m.depth_tiles.get(), 0, GL_RG, GL_FLOAT, empty);
-      continue;
+      return;
     }
-    const double h_old = 2.0 * lm.frame.half[1];
-    const bool default_eps = std::fabs(lm.epsilon - h_old / (2.0 * lm.planes_requested)) < 1e-6 * h_old;
     lm.frame = make_frame(dir->travel, pts, origin);
     const BoundingFrame& f = lm.frame;
 
@@ -579,6 +792,8 @@ Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optiona
       glNamedFramebufferTexture(m.position_fbo.get(), GL_COLOR_ATTACHMENT0, m.position_map.get(), 0);
       glNamedFramebufferTexture(m.position_fbo.get(), GL_DEPTH_ATTACHMENT, m.position_depth.get(), 0);
     }
+    std::optional<gl::TimedPass> timed_position;
+    timed_position.emplace("level maps: position maps", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.position_fbo.get());
     glViewport(0, 0, size, size);
     const float empty[4] = {kEmptyV, 0, 0, 0};
@@ -597,43 +812,42 @@ Status CausticsEngine::rederive(std::optional<std::uint32_t> light, std::optiona
     s.slab.set("u_model", model);
     s.draw_object(lm.object);
 
-    // Histogram over the depth levels, then the planes (eq. 4-21, 4-22, 4-6..4-9).
+    // The histogram over the depth levels (fig. 4-19) stays on the GPU: the
+    // next update plans the planes from it there (caustics_plan.comp).
+    timed_position.reset();
+    const gl::TimedPass timed_profile("level maps: depth profiles", gl::PassKind::kCompute);
     const auto levels = static_cast<std::uint32_t>(lm.histogram.size());
-    if (s.histogram_levels != levels) {
-      s.histogram = gl::make_buffer();
-      glNamedBufferStorage(s.histogram.get(), GLsizeiptr{4} * levels, nullptr, GL_DYNAMIC_STORAGE_BIT);
-      s.histogram_levels = levels;
-    }
-    const std::uint32_t zero = 0;
-    glClearNamedBufferData(s.histogram.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferData(m.histogram.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     s.profile.use();
     s.profile.set("u_mode", 0);
     s.profile.set("u_levels", levels);
     s.profile.set("u_half_v", f.half[1]);
     glBindTextureUnit(0, m.position_map.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, s.histogram.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, m.histogram.get());
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     glDispatchCompute((lm.map_size + 7) / 8, (lm.map_size + 7) / 8, 1);
     s.build_depth_tiles(m);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(s.histogram.get(), 0, GLsizeiptr{4} * levels, lm.histogram.data());
-    lm.sub_boxes = find_sub_boxes(lm.histogram);
-    const double h = 2.0 * f.half[1];
-    lm.uniform_planes = uniform_planes(h, lm.planes_requested);
-    double used = 0;
-    lm.smart_planes = smart_planes(h, levels, lm.sub_boxes, default_eps ? h / (2.0 * lm.planes_requested) : lm.epsilon, &used);
-    lm.epsilon = static_cast<float>(used);
-    m.planes_valid = false;  // rebuilt from the new profile on the next update
+    m.profile = ++s.profiles;
   }
   glDepthMask(GL_TRUE);
-  return gl::check_gl("level-map re-derivation");
 }
 
-Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, const CausticsOptions& o) {
+Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light>& lights, const std::optional<Water>& scene_water,
+                                    const std::vector<std::vector<std::array<double, 3>>>& world, const CausticsOptions& o,
+                                    const SceneVersions& versions, bool due, EffectWork& work) {
   Impl& s = *impl_;
   bool any = false;
   for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
   if (!any || o.method == CausticsMethod::kNone) return Status::success();
+  const Impl::Key key{versions, o};
+  if (s.made.decide(light, key, due, work) != Refresh::kRemake) return Status::success();
+  s.made.made(light, key);
+  if (!s.counted_this_frame) s.stats = CausticsStats{};  // the counts describe the last frame that drew
+  s.counted_this_frame = true;
+  const Light& desc = lights[light];
+  for (MapGpu& m : s.maps) {
+    if (m.lm->light == light && m.rederive) s.rederive_map(m, lights, scene_water, world);
+  }
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
   // disperses; issue 22): refract at every water vertex, then each
@@ -651,6 +865,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
     const float ior = spectral || o.wavelength_nm ? index_at(water.ior, water.dispersion, samples[k].nm) : water.ior;
     s.water->bind_buffers();
     if (!splat) {
+      const gl::TimedPass timed("level maps: refract at the water", gl::PassKind::kCompute);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.refracted.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
       s.prepare.use();
@@ -669,8 +884,8 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
       MapGpu& m = s.maps[i];
       if (m.lm->light != light) continue;
       s.draw_map(m, o, desc, ior);
+      if (!splat && k == 0) s.read_counters_later(i);  // one wavelength's; splatting fills no culling counters
       if (spectral) s.accumulate_wavelength(m, samples[k], k == 0, k + 1 == samples.size());
-      if (!splat && k == 0) s.drawn_maps.push_back(i);  // splatting fills no culling counters
     }
     if (k == 0) counted = s.stats;
   }
@@ -679,7 +894,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const Light& desc, cons
     if (m.lm->light != light) continue;
     m.spectral = spectral;
     s.finish_map(m);
-    m.gpu_bytes = s.bytes_of(m) + (splat ? std::uint64_t{32} * o.photons * o.photons : 0);
+    m.gpu_bytes = s.bytes_of(m);
   }
   s.stats.wavelengths = static_cast<std::uint32_t>(samples.size());
   return gl::check_gl("caustics pass");
@@ -694,25 +909,37 @@ std::optional<CausticsEngine::Binding> CausticsEngine::binding(std::uint32_t obj
   return std::nullopt;
 }
 
-CausticsStats CausticsEngine::stats(bool read_gpu_counters) {
+void CausticsEngine::begin_frame(std::uint64_t frame) {
   Impl& s = *impl_;
-  CausticsStats out = s.stats;
-  out.gpu_bytes = GLsizeiptr{16} * s.water->vertex_count() + GLsizeiptr{8} * s.water->triangle_count();
-  for (const MapGpu& m : s.maps) out.gpu_bytes += m.gpu_bytes;
-  if (read_gpu_counters) {
-    for (std::size_t i : s.drawn_maps) {
-      std::uint32_t cmd[11] = {};
-      glGetNamedBufferSubData(s.maps[i].command.get(), 0, sizeof cmd, cmd);
-      out.volumes_drawn += cmd[10];
-      out.overflowed = out.overflowed || cmd[9] != 0;
-    }
-  }
-  return out;
+  s.poll();
+  s.frame = frame;
+  s.counted_this_frame = false;
 }
 
-void CausticsEngine::reset_stats() {
-  impl_->stats = CausticsStats{};
-  impl_->drawn_maps.clear();
+void CausticsEngine::end_frame() {
+  Impl& s = *impl_;
+  if (s.slot_open) s.readback.end(s.frame);
+  s.slot_open = false;
+}
+
+CausticsStats CausticsEngine::stats(bool wait) {
+  Impl& s = *impl_;
+  if (wait && s.readback.pending()) {
+    s.readback.wait();
+    s.poll();
+  }
+  CausticsStats out = s.stats;
+  // Refracted rays and fluxes, the read-back ring, the splats' photons
+  // (one set for every map), and the maps.
+  out.gpu_bytes = std::uint64_t{16} * s.water->vertex_count() + std::uint64_t{8} * s.water->triangle_count() + s.readback.gpu_bytes() +
+                  std::uint64_t{32} * s.photon_size * s.photon_size + 4 * static_cast<std::uint64_t>(s.plan_scratch_words) +
+                  s.allocated * (kListBytes + kPrimitiveBytes);
+  for (const MapGpu& m : s.maps) out.gpu_bytes += m.gpu_bytes;
+  out.counters_frame = s.gpu_counts.frame;
+  out.volumes_drawn = s.gpu_counts.volumes_drawn;
+  out.planes_drawn = s.gpu_counts.planes_drawn;
+  out.overflowed = s.gpu_counts.overflowed;
+  return out;
 }
 
 }  // namespace caustix::runtime

@@ -14,6 +14,7 @@
 #include "caustix/formats/level_map.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "made_from.h"
 #include "water_surface.h"
 
 namespace caustix::runtime {
@@ -29,19 +30,23 @@ class CausticsEngine {
                                                         std::function<glm::mat4(std::uint32_t)> model_of);
   ~CausticsEngine();
 
-  // Re-derives the frame, position map and depth profile (and so both plane
-  // sets) of the maps of `light` (or of all lights) whose receiver is
-  // `object` (or any), for the lights' and objects' current state (seed 000
-  // §4.2; the thesis re-profiled per frame): the frame on the CPU from the
+  // Marks the maps of `light` (or of all lights) whose receiver is
+  // `object` (or any) for re-derivation: their next update_light()
+  // re-derives the frame, position map and depth profile (and so the
+  // planes) for the lights' and objects' state then (seed 000 §4.2; the
+  // thesis re-profiled per frame): the frame on the CPU from the
   // receiver's world vertices, the position map rendered on the GPU, the
-  // histogram by a compute shader, the planes from it (formats/slicing.h).
-  // world_vertices[i] are object i's vertices in world space.
-  Status rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object,
-                  const std::vector<Light>& lights, const std::optional<Water>& water,
-                  const std::vector<std::vector<std::array<double, 3>>>& world_vertices);
+  // histogram by a compute shader and the planes from it
+  // (caustics_plan.comp) without reading anything back.
+  void rederive(std::optional<std::uint32_t> light, std::optional<std::uint32_t> object);
 
-  // Caustics maps of light `light` for the water's current shape.
-  Status update_light(std::uint32_t light, const Light& desc, const CausticsOptions& options);
+  // Caustics maps of light `light` for the water's current shape, remade
+  // only when the light, the transforms, the water or the options changed
+  // since (`versions`), and only when `due` unless none exists (issue 44);
+  // counted into `work`. world[i] are object i's vertices in world space.
+  Status update_light(std::uint32_t light, const std::vector<Light>& lights, const std::optional<Water>& water,
+                      const std::vector<std::vector<std::array<double, 3>>>& world, const CausticsOptions& options,
+                      const SceneVersions& versions, bool due, EffectWork& work);
 
   struct Binding {
     const LevelMap* map;
@@ -53,9 +58,15 @@ class CausticsEngine {
   // The map of (object, light), or nothing if none was baked.
   std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
 
-  // Counters of the last update_light() calls since reset_stats().
-  CausticsStats stats(bool read_gpu_counters);
-  void reset_stats();
+  // A frame's update_light() calls come between these two: begin_frame
+  // polls the read-backs of earlier frames (never waiting) and resets the
+  // frame's counts; end_frame sends this frame's GPU counters back.
+  void begin_frame(std::uint64_t frame);
+  void end_frame();
+  // The frame's counts; the GPU's (volumes and planes drawn, overflow) are
+  // of the latest frame whose read-back has arrived (counters_frame), or of
+  // the last frame with `wait` (a stall).
+  CausticsStats stats(bool wait);
 
  private:
   CausticsEngine() = default;

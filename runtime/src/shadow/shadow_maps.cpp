@@ -1,11 +1,13 @@
 #include "shadow_maps.h"
 
 #include <cmath>
+#include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix_shaders.h"
+#include "pass_timer.h"
 
 namespace caustix::runtime {
 namespace {
@@ -14,7 +16,10 @@ glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 
 gl::Texture make_shadow_texture(GLenum target, int size) {
   gl::Texture t = gl::make_texture(target);
-  glTextureStorage2D(t.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
+  // 16 bits: the depth range is the scene's (4 r along the light, or the
+  // point light's far plane), so a step is 4 r / 65535 (0.2 mm in a 3 m
+  // scene), far below a texel (2 r / 2048) and the include's bias.
+  glTextureStorage2D(t.get(), 1, GL_DEPTH_COMPONENT16, size, size);
   glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(t.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -55,7 +60,7 @@ Result<ShadowMaps> ShadowMaps::create(const SceneDesc& scene, std::function<void
     const bool dir = l.type == LightType::kDirectional;
     const int size = dir ? kSize : kCubeSize;
     const GLenum target = dir ? GL_TEXTURE_2D : GL_TEXTURE_CUBE_MAP;
-    const std::uint64_t bytes = std::uint64_t{4} * static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(size) * (dir ? 1 : 6);
+    const std::uint64_t bytes = std::uint64_t{2} * static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(size) * (dir ? 1 : 6);
     p.opaque = make_shadow_texture(target, size);
     s.bytes_ += bytes;
     if (s.glass_) {
@@ -64,6 +69,7 @@ Result<ShadowMaps> ShadowMaps::create(const SceneDesc& scene, std::function<void
     }
     s.lights_.push_back(std::move(p));
   }
+  s.made_.resize(scene.lights.size());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("shadow maps set-up"));
   return s;
 }
@@ -141,7 +147,13 @@ void ShadowMaps::filter_moments(GLuint depth, GLuint moments, std::uint32_t widt
   glTextureParameteri(depth, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
 }
 
-void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options) {
+void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options,
+                        const SceneVersions& versions, bool due, EffectWork& work) {
+  const Key key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
+  if (made_.decide(li, key, due, work) != Refresh::kRemake) return;
+  made_.made(li, key);
+  std::optional<gl::TimedPass> timed;
+  timed.emplace("shadow maps", gl::PassKind::kRaster);
   const Light& light = scene.lights[li];
   PerLight& p = lights_[li];
   glDisable(GL_BLEND);
@@ -155,7 +167,9 @@ void ShadowMaps::render(const SceneDesc& scene, std::uint32_t li, const glm::vec
     if (glass_) render_directional(scene, dir, p.glass.get(), true, center, radius);
     p.texel = 2.0f * radius / kSize;
     p.vsm = options.filter == ShadowFilter::kVsm;
+    timed.reset();
     if (p.vsm) {
+      const gl::TimedPass moments("shadow maps: moments (VSM)", gl::PassKind::kCompute);
       const std::uint64_t bytes = std::uint64_t{8} * kSize * kSize;
       if (!vsm_scratch_.get()) {
         vsm_scratch_ = make_moments_texture(kSize);

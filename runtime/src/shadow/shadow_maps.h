@@ -20,6 +20,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "made_from.h"
 
 namespace caustix::runtime {
 
@@ -31,8 +32,12 @@ class ShadowMaps {
   // draw_object(i) issues object i's draw call with u_model set by the caller of draw_casters.
   static Result<ShadowMaps> create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object);
 
-  // Renders light `li`'s maps; `center`, `radius` bound the scene.
-  void render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options);
+  // Renders light `li`'s maps; `center`, `radius` bound the scene. Only
+  // when the light, the transforms (`versions`) or the options changed
+  // since they were last rendered, or when `due` is false and they exist
+  // (issue 44); counted into `work`.
+  void render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options,
+              const SceneVersions& versions, bool due, EffectWork& work);
 
   struct Maps {
     GLuint opaque_2d, opaque_cube, glass_2d, glass_cube;  // valid textures (1x1 where unused)
@@ -71,6 +76,12 @@ class ShadowMaps {
   gl::Texture vsm_scratch_, dummy_vsm_;
   gl::Framebuffer fbo_;
   std::vector<PerLight> lights_;
+  struct Key {
+    SceneVersions versions;
+    ShadowOptions options;
+    bool operator==(const Key&) const = default;
+  };
+  MadeFrom<Key> made_;
   gl::Texture dummy_2d_, dummy_cube_;
   bool glass_ = false;
   std::uint64_t bytes_ = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -10,6 +12,8 @@
 
 #include "caustix_shaders.h"
 #include "scene_copy.h"
+#include "pass_timer.h"
+#include "readback.h"
 #include "shader_text.h"
 #include "water_surface.h"
 
@@ -62,7 +66,9 @@ struct VolumeEngine::Impl {
   struct PerLight {
     gl::Texture source, direction;
     gl::Query march, resolve;
-    bool timed = false;
+    double march_ms = 0, resolve_ms = 0;  // the latest timer results ready
+    bool valid = false;  // source and direction hold this light's radiance for the current grid
+    bool timed = false;  // remade this frame: its photons and timer queries are this frame's
     double scale = 1, tally_scale = 1;  // fixed-point units per unit of power (light units)
     std::uint64_t photons = 0;
   };
@@ -81,7 +87,38 @@ struct VolumeEngine::Impl {
   gl::VertexArray empty_vao;
   std::vector<PerLight> lights;
   std::uint64_t index_bytes = 0;
-  bool ran = false;
+  bool ran = false;        // the effect is on and has a grid
+  bool counting = false;   // some light was remade this frame: its tallies are this frame's
+  // What each light's radiance was made from (issue 44).
+  struct Key {
+    SceneVersions versions;
+    CausticsOptions options;
+    bool operator==(const Key&) const = default;
+  };
+  MadeFrom<Key> made;
+  // Each frame's tallies come back through `readback` without a stall:
+  // `tallied` holds the latest that arrived (of frame `tallied_frame`),
+  // with the scales and photon counts of the lights as they were then.
+  gl::ReadbackRing readback;
+  struct Tallied {
+    std::vector<std::uint32_t> words;
+    std::vector<double> scale, tally_scale;
+    std::vector<std::uint64_t> photons;
+    std::vector<bool> timed;
+  } tallied;
+  std::uint64_t tallied_frame = 0;
+  std::map<std::uint64_t, Tallied> in_flight;  // the lights' scales per frame in flight
+  void poll() {
+    readback.poll([&](std::uint64_t tag, const std::uint8_t* data) {
+      const auto it = in_flight.find(tag);
+      if (it == in_flight.end()) return;
+      tallied = std::move(it->second);
+      tallied.words.resize(kTallyWords * lights.size());
+      std::memcpy(tallied.words.data(), data, tallied.words.size() * 4);
+      tallied_frame = tag;
+      in_flight.erase(it);
+    });
+  }
 
   std::uint64_t voxels() const { return std::uint64_t(grid_n.x) * std::uint64_t(grid_n.y) * std::uint64_t(grid_n.z); }
 
@@ -244,19 +281,22 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
                                               {&s.view, "volume_view", shaders::k_fullscreen_vert_glsl, view_src.c_str()}}));
   s.empty_vao = gl::make_vertex_array();
   s.lights.resize(scene.lights.size());
+  s.made.resize(scene.lights.size());
   for (Impl::PerLight& l : s.lights) {
     l.march = gl::make_query(GL_TIME_ELAPSED);
     l.resolve = gl::make_query(GL_TIME_ELAPSED);
   }
   s.tally = gl::make_buffer();
-  glNamedBufferStorage(s.tally.get(), GLsizeiptr{4} * kTallyWords * static_cast<GLsizeiptr>(std::max<std::size_t>(1, s.lights.size())), nullptr,
-                       GL_DYNAMIC_STORAGE_BIT);
+  const std::size_t tally_bytes = std::size_t{4} * kTallyWords * std::max<std::size_t>(1, s.lights.size());
+  glNamedBufferStorage(s.tally.get(), static_cast<GLsizeiptr>(tally_bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  s.readback.reserve(tally_bytes);
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("volume set-up"));
   return e;
 }
 
 Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o) {
   Impl& s = *impl_;
+  s.poll();
   s.ran = false;
   if (!o.enabled) return Status::success();
   if (o.photons < 1 || o.photons > 8192 || o.grid < 2 || o.grid > 1024 || !(o.step >= 0.05f && o.step <= 16.0f) ||
@@ -278,6 +318,8 @@ Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o)
   s.grid_box = box;
   if (n != s.grid_n) {
     s.grid_n = n;
+    s.made.forget_all();  // new grids: every light's radiance is remade
+    for (Impl::PerLight& l : s.lights) l.valid = false;
     s.accumulator = gl::make_buffer();
     glNamedBufferStorage(s.accumulator.get(), static_cast<GLsizeiptr>(voxels * 6 * 4), nullptr, 0);
     for (Impl::PerLight& l : s.lights) {
@@ -291,19 +333,23 @@ Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o)
     }
   }
   glClearNamedBufferData(s.tally.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-  for (Impl::PerLight& l : s.lights) {
-    l.timed = false;
-    l.photons = 0;
-  }
+  for (Impl::PerLight& l : s.lights) l.timed = false;
+  s.counting = false;
   s.ran = true;
   return gl::check_gl("volume grids");
 }
 
 Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& o, const WaterSurface* water,
-                                  const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light) {
+                                  const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light,
+                                  const CausticsOptions& caustics, const SceneVersions& versions, bool due, EffectWork& work) {
   Impl& s = *impl_;
   if (!s.ran) return Status::success();
+  const Impl::Key key{SceneVersions{versions.light, versions.transforms, water ? versions.water : 0}, caustics};
+  if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
+  s.made.made(li, key);
+  s.counting = true;
   Impl::PerLight& pl = s.lights[li];
+  pl.photons = 0;
   const Light& light = scene.lights[li];
   const bool point = light.type == LightType::kPoint;
   const glm::vec3 lp = to_glm(light.position);
@@ -391,6 +437,8 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, s.tally.get());
   }
   const GLuint groups = (o.photons * o.photons + 63) / 64;
+  std::optional<gl::TimedPass> timed;
+  timed.emplace("media: photons", gl::PassKind::kCompute);
   glBeginQuery(GL_TIME_ELAPSED, pl.march.get());
   // Per traced wavelength (dispersion): the same photons (same seed: the
   // channels' noise stays correlated, no coloured grain), the bin's share
@@ -414,6 +462,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   glEndQuery(GL_TIME_ELAPSED);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
+  timed.emplace("media: radiance grid", gl::PassKind::kCompute);
   glBeginQuery(GL_TIME_ELAPSED, pl.resolve.get());
   s.resolve.use();
   glProgramUniform3i(s.resolve.id(), s.resolve.loc("u_grid_n"), s.grid_n.x, s.grid_n.y, s.grid_n.z);
@@ -424,7 +473,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   glDispatchCompute(static_cast<GLuint>((s.voxels() + 63) / 64), 1, 1);
   glEndQuery(GL_TIME_ELAPSED);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-  pl.timed = true;
+  pl.timed = pl.valid = true;
   return gl::check_gl("volume photons");
 }
 
@@ -432,6 +481,7 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
                         const VolumeOptions& o) {
   Impl& s = *impl_;
   if (!s.ran) return;
+  const gl::TimedPass timed("media: view", gl::PassKind::kRaster);
   GLint vp[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, vp);
   s.copy.copy(scene_color, scene_depth);
@@ -459,7 +509,7 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   glBindVertexArray(s.empty_vao.get());
   bool first = true;
   for (std::size_t li = 0; li < s.lights.size(); ++li) {
-    if (!s.lights[li].timed) continue;  // no photons this frame
+    if (!s.lights[li].valid) continue;  // no photons yet
     const bool composite = scene_color != 0 && first;
     first = false;
     p.set("u_composite", composite ? 1 : 0);
@@ -476,21 +526,35 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   glBindVertexArray(0);
 }
 
-VolumeStats VolumeEngine::stats(bool read_gpu) {
+void VolumeEngine::end_frame(std::uint64_t frame) {
+  Impl& s = *impl_;
+  if (!s.ran || !s.counting || !s.readback.begin()) return;
+  s.readback.copy(s.tally.get(), 0, 0, static_cast<GLsizeiptr>(std::size_t{4} * kTallyWords * s.lights.size()));
+  s.readback.end(frame);
+  Impl::Tallied& t = s.in_flight[frame];
+  for (const Impl::PerLight& l : s.lights) {
+    t.scale.push_back(l.scale);
+    t.tally_scale.push_back(l.tally_scale);
+    t.photons.push_back(l.photons);
+    t.timed.push_back(l.timed);
+  }
+}
+
+VolumeStats VolumeEngine::stats(bool wait) {
   Impl& s = *impl_;
   VolumeStats st;
   st.active = s.ran;
   st.grid_size = {static_cast<std::uint32_t>(s.grid_n.x), static_cast<std::uint32_t>(s.grid_n.y), static_cast<std::uint32_t>(s.grid_n.z)};
   st.grid_bytes = gpu_bytes();
-  if (!s.ran || !read_gpu) return st;
-  std::vector<std::uint32_t> t(kTallyWords * s.lights.size());
-  glGetNamedBufferSubData(s.tally.get(), 0, static_cast<GLsizeiptr>(t.size() * 4), t.data());
-  for (std::size_t li = 0; li < s.lights.size(); ++li) {
-    const Impl::PerLight& l = s.lights[li];
-    if (!l.timed) continue;
-    const std::uint32_t* w = &t[kTallyWords * li];
-    const double k = 1.0 / (l.tally_scale * s.e0);
-    st.photons += l.photons;
+  if (wait && s.readback.pending()) s.readback.wait();
+  s.poll();
+  const Impl::Tallied& t = s.tallied;
+  st.tallies_frame = s.tallied_frame;
+  for (std::size_t li = 0; li < t.timed.size(); ++li) {
+    if (!t.timed[li]) continue;
+    const std::uint32_t* w = &t.words[kTallyWords * li];
+    const double k = 1.0 / (t.tally_scale[li] * s.e0);
+    st.photons += t.photons[li];
     st.power_in += w[0] * k;
     st.scattered += w[1] * k;
     st.absorbed += w[2] * k;
@@ -499,20 +563,32 @@ VolumeStats VolumeEngine::stats(bool read_gpu) {
     st.truncated += w[5] * k;
     st.steps += w[6] + (std::uint64_t{w[7]} << 32);
     st.grid_steps += w[8] + (std::uint64_t{w[9]} << 32);
-    st.deposited += (w[10] + std::ldexp(double(w[11]), 32)) / (l.scale * s.e0);
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(l.march.get(), GL_QUERY_RESULT, &ns);
-    st.march_ms += static_cast<double>(ns) * 1e-6;
-    glGetQueryObjectui64v(l.resolve.get(), GL_QUERY_RESULT, &ns);
-    st.resolve_ms += static_cast<double>(ns) * 1e-6;
+    st.deposited += (w[10] + std::ldexp(double(w[11]), 32)) / (t.scale[li] * s.e0);
+  }
+  for (Impl::PerLight& l : s.lights) {
+    if (!l.valid) continue;
+    // The latest times ready (or, waiting, the last frame's).
+    for (auto [q, ms] : {std::pair{l.march.get(), &l.march_ms}, std::pair{l.resolve.get(), &l.resolve_ms}}) {
+      GLint ready = GL_FALSE;
+      if (!wait) glGetQueryObjectiv(q, GL_QUERY_RESULT_AVAILABLE, &ready);
+      if (!wait && !ready) continue;
+      GLuint64 ns = 0;
+      glGetQueryObjectui64v(q, wait ? GL_QUERY_RESULT : GL_QUERY_RESULT_NO_WAIT, &ns);
+      *ms = static_cast<double>(ns) * 1e-6;
+    }
+    st.march_ms += l.march_ms;
+    st.resolve_ms += l.resolve_ms;
   }
   return st;
 }
 
+std::uint64_t VolumeEngine::view_bytes() const { return impl_->copy.gpu_bytes(); }
+
 std::uint64_t VolumeEngine::gpu_bytes() const {
   const Impl& s = *impl_;
   // Accumulator (6 x 4 B) and per light RGBA32F + RGBA16F per voxel; index grids RG16.
-  return s.voxels() * (24 + 24 * s.lights.size()) + s.index_bytes;
+  return s.voxels() * (24 + 24 * s.lights.size()) + s.index_bytes + s.readback.gpu_bytes() +
+         std::uint64_t{4} * kTallyWords * s.lights.size();
 }
 
 }  // namespace caustix::runtime

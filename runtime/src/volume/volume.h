@@ -23,6 +23,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "made_from.h"
 
 namespace caustix::runtime {
 
@@ -52,8 +53,12 @@ class VolumeEngine {
   // sample of `waves` (traced_wavelengths; issue 22), carrying the light's
   // colour times the sample's RGB weights, every index (water, glass) at
   // the sample's wavelength when `spectral` (else n_d).
+  // Remade only when the light, the transforms, the water or the options
+  // (`caustics`, which holds `options`) changed since (`versions`), and
+  // only when `due` unless none exists (issue 44); counted into `work`.
   Status update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& options, const WaterSurface* water,
-                      const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light);
+                      const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light,
+                      const CausticsOptions& caustics, const SceneVersions& versions, bool due, EffectWork& work);
   // The viewing pass into the bound framebuffer and viewport, through
   // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
   // the viewport's size) each pixel becomes colour x T + L x scale, else
@@ -61,8 +66,14 @@ class VolumeEngine {
   void draw(const SceneDesc& scene, const glm::mat4& view_proj, GLuint scene_color, GLuint scene_depth, float scale,
             const VolumeOptions& options);
 
-  VolumeStats stats(bool read_gpu);
+  // Sends this frame's tallies back (after the lights' update_light).
+  void end_frame(std::uint64_t frame);
+  // The tallies of the latest frame whose read-back arrived (never
+  // waiting), or with `wait` of the last frame (a stall).
+  VolumeStats stats(bool wait);
   std::uint64_t gpu_bytes() const;
+  // The copies of the caller's scene the viewing pass reads.
+  std::uint64_t view_bytes() const;
 
  private:
   VolumeEngine() = default;

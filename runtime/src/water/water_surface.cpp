@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "caustix_shaders.h"
+#include "pass_timer.h"
 
 namespace caustix::runtime {
 namespace {
@@ -57,8 +58,10 @@ Result<WaterSurface> WaterSurface::create(const Water& w) {
     block->b[i] = glm::vec4(k * wave.speed, wave.phase, 0, 0);
   }
   block->count = glm::ivec4(static_cast<int>(n), 0, 0, 0);
+  for (const Wave& wave : w.waves) s.moving_waves_ = s.moving_waves_ || (wave.amplitude != 0.0f && wave.speed != 0.0f);
   s.waves_ = gl::make_buffer();
   glNamedBufferStorage(s.waves_.get(), sizeof(WaveBlock), block.get(), 0);
+  s.wave_bytes_ = sizeof(WaveBlock);
   s.heights_ = gl::make_buffer();
   glNamedBufferStorage(s.heights_.get(), GLsizeiptr{4} * s.vertices_, nullptr, GL_DYNAMIC_STORAGE_BIT);
   for (const gl::Program* p : {&s.update_, &s.from_heights_}) {
@@ -78,12 +81,12 @@ void WaterSurface::bind_buffers() const {
 
 void WaterSurface::set_heights(const float* heights) {
   glNamedBufferSubData(heights_.get(), 0, GLsizeiptr{4} * vertices_, heights);
-  use_heights_ = true;
+  use_heights_ = heights_dirty_ = true;
 }
 
 void WaterSurface::copy_heights_from_buffer(GLuint buffer, GLintptr offset) {
   glCopyNamedBufferSubData(buffer, heights_.get(), offset, 0, GLsizeiptr{4} * vertices_);
-  use_heights_ = true;
+  use_heights_ = heights_dirty_ = true;
 }
 
 void WaterSurface::copy_heights_from_texture(GLuint texture) {
@@ -93,19 +96,31 @@ void WaterSurface::copy_heights_from_texture(GLuint texture) {
   glGetTextureImage(texture, 0, GL_RED, GL_FLOAT, GLsizei{4} * static_cast<GLsizei>(vertices_), nullptr);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT);
-  use_heights_ = true;
+  use_heights_ = heights_dirty_ = true;
 }
 
-void WaterSurface::update(float time) {
+bool WaterSurface::update(float time) {
   if (use_heights_) {
+    if (!heights_dirty_) return false;
+    heights_dirty_ = false;
+    ++version_;
+    const gl::TimedPass timed("water: surface", gl::PassKind::kCompute);
     from_heights_.use();
     bind_buffers();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, heights_.get());
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
     glDispatchCompute((vertices_ + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    return;
+    return true;
   }
+  // Without moving waves the surface is the same at every time.
+  const float t = moving_waves_ ? time : 0.0f;
+  if (!heights_dirty_ && version_ > 0 && t == last_time_ && amplitude_scale_ == last_scale_) return false;
+  heights_dirty_ = false;
+  last_time_ = t;
+  last_scale_ = amplitude_scale_;
+  ++version_;
+  const gl::TimedPass timed("water: surface", gl::PassKind::kCompute);
   update_.use();
   update_.set("u_time", time);
   update_.set("u_amplitude_scale", amplitude_scale_);
@@ -113,6 +128,7 @@ void WaterSurface::update(float time) {
   bind_buffers();
   glDispatchCompute((vertices_ + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  return true;
 }
 
 void WaterSurface::draw() const {

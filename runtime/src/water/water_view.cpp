@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "pass_timer.h"
 #include "shader_text.h"
 #include "view_spectrum.h"
 
@@ -49,7 +50,7 @@ WaterCameras water_cameras(const ViewCamera& main, float fov_y_deg, float aspect
   return c;
 }
 
-WaterView::Target WaterView::make_target(int w, int h) {
+WaterView::Target WaterView::make_target(int w, int h, GLuint depth) {
   // Colour filtered (bent lookups fall between texels), depth read exactly.
   auto texture = [&](GLenum format, GLenum filter) {
     gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
@@ -60,9 +61,12 @@ WaterView::Target WaterView::make_target(int w, int h) {
   Target t;
   t.fbo = gl::make_framebuffer();
   t.color = texture(kColorFormat, GL_LINEAR);
-  t.depth = texture(GL_DEPTH_COMPONENT32F, GL_NEAREST);
+  if (depth == 0) {
+    t.depth = texture(GL_DEPTH_COMPONENT32F, GL_NEAREST);
+    depth = t.depth.get();
+  }
   glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
-  glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+  glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, depth, 0);
   return t;
 }
 
@@ -79,12 +83,15 @@ Result<WaterView> WaterView::create() {
 
 void WaterView::ensure_targets(int size) {
   if (size == size_) return;
+  // One depth buffer for both: the reflection is drawn first, and the
+  // refraction's depth, which the surface reads, last.
   refraction_ = make_target(size, size);
-  reflection_ = make_target(size, size);
+  reflection_ = make_target(size, size, refraction_.depth.get());
   size_ = size;
 }
 
 void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const {
+  const gl::TimedPass timed("water: surface view", gl::PassKind::kRaster);
   const WaterCameras& c = *p.cameras;
   const gl::Program& s = surface_;
   s.use();
@@ -118,13 +125,18 @@ void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, cons
 
 void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint target_fbo, const int viewport[4],
                           GLuint scene_depth, const std::function<void()>& draw_water) {
+  const gl::TimedPass timed("water: glow", gl::PassKind::kRaster);
   const int width = viewport[2], height = viewport[3];
   const int w = std::max(1, width / 4), h = std::max(1, height / 4);
   if (w != glow_w_ || h != glow_h_) {
-    glow_target_ = make_target(w, h);
+    glow_target_ = make_glow_target(w, h);
     glow_w_ = w;
     glow_h_ = h;
   }
+  // The highlight in units of the sun's brightest channel, so that half
+  // floats hold it whatever E0 (a real sun's W/m^2 times the specular peak
+  // would pass 65504).
+  const float scale = std::max({p.sun_color.r, p.sun_color.g, p.sun_color.b, 1e-30f});
   glBindFramebuffer(GL_FRAMEBUFFER, glow_target_.fbo.get());
   glViewport(0, 0, w, h);
   const float zero[4] = {0, 0, 0, 0};
@@ -138,7 +150,7 @@ void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint 
   highlight_.set("u_view_proj", p.view_proj);
   highlight_.set("u_eye", p.eye);
   highlight_.set("u_sun_direction", p.sun_direction);
-  highlight_.set("u_sun_color", p.sun_color);
+  highlight_.set("u_sun_color", p.sun_color / scale);
   highlight_.set("u_scene_depth_bound", scene_depth != 0 ? 1 : 0);
   highlight_.set("u_glow_size", glm::vec2(static_cast<float>(w), static_cast<float>(h)));
   highlight_.set("u_viewport", glm::vec4(static_cast<float>(viewport[0]), static_cast<float>(viewport[1]),
@@ -153,6 +165,7 @@ void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint 
   glBlendFunc(GL_ONE, GL_ONE);
   glow_.use();
   glow_.set("u_star", look.glow_star ? 1 : 0);
+  glow_.set("u_scale", scale);
   glBindTextureUnit(0, glow_target_.color.get());
   glBindVertexArray(empty_vao_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -161,10 +174,23 @@ void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint 
   glEnable(GL_DEPTH_TEST);
 }
 
+WaterView::Target WaterView::make_glow_target(int w, int h) {
+  Target t;
+  t.fbo = gl::make_framebuffer();
+  t.color = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.color.get(), 1, GL_RGBA16F, w, h);
+  gl::set_sampling(t.color.get(), GL_LINEAR);
+  t.depth = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT16, w, h);  // only which water fragment is nearest
+  glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
+  glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+  return t;
+}
+
 std::uint64_t WaterView::gpu_bytes() const {
   const std::uint64_t s = static_cast<std::uint64_t>(size_) * static_cast<std::uint64_t>(size_);
   const std::uint64_t g = static_cast<std::uint64_t>(glow_w_) * static_cast<std::uint64_t>(glow_h_);
-  return s * (kColorBytes + 4) * 2 + g * (kColorBytes + 4);  // colour + 32-bit depth
+  return s * (2 * kColorBytes + 4) + g * (8 + 2);  // two colours and a 32-bit depth; the glow's half floats and 16-bit depth
 }
 
 }  // namespace caustix::runtime

@@ -44,7 +44,8 @@ class WaterView {
  public:
   static Result<WaterView> create();
 
-  // Colour + depth targets of the two textures (texture_size^2).
+  // Colour targets of the two textures (texture_size^2) and their one
+  // depth buffer: the reflection's pass must come first.
   void ensure_targets(int size);
   GLuint refraction_fbo() const { return refraction_.fbo.get(); }
   GLuint reflection_fbo() const { return reflection_.fbo.get(); }
@@ -81,7 +82,9 @@ class WaterView {
   // (Water.BrightSunScalesLinearlyPastHalfFloat, docs/robustness.md).
   static constexpr GLenum kColorFormat = GL_RGBA32F;
   static constexpr std::uint64_t kColorBytes = 16;
-  static Target make_target(int w, int h);  // colour + 32-bit depth
+  // Colour and a 32-bit depth (its own, or `depth` if given).
+  static Target make_target(int w, int h, GLuint depth = 0);
+  static Target make_glow_target(int w, int h);  // RGBA16F (the highlight scaled) and a 16-bit depth
   gl::Program surface_, highlight_, glow_;
   gl::VertexArray empty_vao_;
   Target refraction_, reflection_, glow_target_;

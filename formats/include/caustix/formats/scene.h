@@ -159,6 +159,10 @@ struct RenderDefaults {
   std::uint32_t cmap_map_size = 512;
   std::uint32_t cmap_adaptive_levels = 0;
   std::uint32_t cmap_photon_budget = 1u << 16;
+  // The water surface's refraction and reflection textures (issue 44;
+  // seed 001 §5.1-5.2): the largest side the automatic size (a texel per
+  // pixel) may reach, 16..8192, or 0 for no limit but the driver's.
+  std::uint32_t water_texture = 512;
 };
 
 struct SceneDesc {

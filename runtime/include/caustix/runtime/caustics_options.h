@@ -12,6 +12,7 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
 #include "caustix/formats/spectrum.h"
+#include "caustix/runtime/water_look.h"
 
 namespace caustix::runtime {
 
@@ -45,6 +46,7 @@ struct VolumeOptions {
   bool octree = true;
   // Viewing pass: steps along the camera's rays, in radiance-grid voxels.
   float view_step = 0.5f;
+  bool operator==(const VolumeOptions&) const = default;
 };
 inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
 
@@ -76,6 +78,7 @@ struct GlassViewOptions {
   GlassView method = GlassView::kTable;
   std::uint32_t iterations = 10;      // nearby: landing iterations against the scene's depth (1..64)
   std::uint32_t exit_iterations = 4;  // nearby: exit-point iterations against the back faces (1..64)
+  bool operator==(const GlassViewOptions&) const = default;
 };
 
 // Image-space caustic maps (seed 003, Shah, Konttinen & Pattanaik 2007;
@@ -102,6 +105,7 @@ struct CausticMapOptions {
   // normal turns first, until photon_budget photons.
   std::uint32_t adaptive_levels = 0;
   std::uint32_t photon_budget = 1u << 16;  // adaptive: most photons traced (>= the coarsest level's cells; <= 2^24)
+  bool operator==(const CausticMapOptions&) const = default;
 };
 
 // Shadows of the direct light (caustix.glsl's caustix_shadow_visibility)
@@ -117,6 +121,7 @@ struct ShadowOptions {
   ShadowFilter filter = ShadowFilter::kPcf;
   std::uint32_t vsm_filter = 5;  // VSM: box filter width over the moments, texels (odd, 1..63; the blog: 5)
   float vsm_bleeding = 0.2f;     // VSM light-bleeding reduction: bounds below this read as shadow, the rest rescaled ([0, 0.95])
+  bool operator==(const ShadowOptions&) const = default;
 };
 
 struct CausticsOptions {
@@ -181,6 +186,7 @@ struct CausticsOptions {
   // object lit by its light-transport table when the file has its table at
   // n_d only (baked with --ltt-wavelengths 0): use GlassMethod::kCausticMap.
   std::optional<float> wavelength_nm;
+  bool operator==(const CausticsOptions&) const = default;
 };
 
 // The wavelengths the caustic maps trace for `scene` under `options`
@@ -201,6 +207,9 @@ void apply_render_defaults(CausticsOptions& options, const RenderDefaults& rende
 // The options a renderer starts from for this scene: the built-in defaults
 // above, or the runtime defaults a bake preset recorded.
 CausticsOptions default_caustics_options(const SceneDesc& scene);
+// The water's look a renderer starts from: WaterLook's defaults with the
+// preset's texture limit (RenderDefaults::water_texture).
+WaterLook default_water_look(const SceneDesc& scene);
 
 // The OpenGL calls the engine made in one frame (issue 44): those of the
 // set_* calls before an update(), of update() itself and of every call
@@ -218,14 +227,70 @@ struct GlCalls {
   std::uint64_t upload_bytes = 0;  // CPU -> GPU buffer uploads (glBufferSubData)
 };
 
+// How many of one light-side product a frame remade and how many it kept.
+struct EffectWork {
+  std::uint32_t updated = 0;   // remade this frame
+  std::uint32_t reused = 0;    // still valid: nothing it depends on changed
+  std::uint32_t deferred = 0;  // out of date but kept (FrameUpdate::light_side_interval)
+};
+struct FrameWork {
+  bool water = false;          // the water's surface moved (waves in time, new heights)
+  EffectWork shadow_maps;      // per light
+  EffectWork level_maps;       // per light: its caustics maps (level map, uniform, volumetric, splat)
+  EffectWork glass;            // per light: the glass illumination textures of every receiver
+  EffectWork caustic_maps;     // per light
+  EffectWork media;            // per light: the radiance grid
+  std::uint32_t blocks_uploaded = 0;  // (receiver, light) uniform blocks re-uploaded (changed)
+};
+
+// GPU time of the engine's passes in one frame (timer queries read without
+// waiting: a frame or more old), each named ("level maps: cull", "glass:
+// illumination", "water: surface"...) and labelled compute or raster;
+// passes of one name (per light, per map) are summed. docs/runtime-speed.md
+// lists them.
+struct GpuPassTime {
+  std::string name;
+  bool compute = false;    // a compute pass (else rasterisation)
+  double ms = 0;
+  std::uint32_t count = 0;  // how many passes of this name the frame ran
+};
+struct GpuTimes {
+  std::uint64_t frame = 0;  // the update() count of the frame measured; 0: none yet
+  std::vector<GpuPassTime> passes;
+  double compute_ms = 0, raster_ms = 0;
+};
+
+// Bytes the engine holds on the GPU, by effect (textures at their mip
+// chains, buffers at their allocated size).
+struct GpuMemory {
+  std::uint64_t meshes = 0;        // the scene's vertex and index buffers
+  std::uint64_t shadow_maps = 0;   // depth maps, their moments (VSM)
+  std::uint64_t water = 0;         // the surface's buffers
+  std::uint64_t level_maps = 0;    // position and caustics maps, lists, slices (seed 000, 001 ch. 8)
+  std::uint64_t glass = 0;         // transport tables, rays, targets, illumination textures (seed 002)
+  std::uint64_t caustic_maps = 0;  // caster and caustic maps, photons (seed 003)
+  std::uint64_t media = 0;         // radiance and index grids (seed 004)
+  std::uint64_t views = 0;         // the view side: water textures and glow, copies of the caller's scene
+  std::uint64_t other = 0;         // light blocks, read-back rings
+  std::uint64_t total() const {
+    return meshes + shadow_maps + water + level_maps + glass + caustic_maps + media + views + other;
+  }
+};
+
 // What the last frame's caustics pass did, per level map (for benchmarks).
 struct CausticsStats {
+  std::uint64_t frame = 0;            // update() calls so far
   std::uint64_t water_triangles = 0;  // per light
+  // Counted on the GPU and read back without stalling (issue 44): these
+  // three are of frame `counters_frame` (the update() count; 0 before any
+  // has arrived), a few frames before the current one, or of the current
+  // one when Engine::stats() is asked to wait.
+  std::uint64_t counters_frame = 0;
   std::uint64_t volumes_drawn = 0;    // primitives drawn: (volume, plane) pairs, or volumes when not culling
-  bool overflowed = false;            // a map's pair list was full (pieces missing)
-  std::uint64_t volumes_total = 0;    // before culling, summed over maps
+  bool overflowed = false;            // a map's pair list was full: it drew the pieces that fitted (the list grows)
   std::uint64_t planes_drawn = 0;     // summed over maps
-  std::uint64_t gpu_bytes = 0;        // caustics-pass allocations (maps, slices, buffers; glass tables and textures; media grids)
+  std::uint64_t volumes_total = 0;    // before culling, summed over maps
+  std::uint64_t gpu_bytes = 0;        // everything the engine holds on the GPU (memory below, by effect)
   // Wavelengths the water passes traced (several only when the water
   // disperses). The counters above are one wavelength's pass: the passes
   // ran this many times over the same volumes and planes.
@@ -235,16 +300,22 @@ struct CausticsStats {
   std::uint32_t glass_wavelengths = 1;
   // The GL calls of the current frame so far (see GlCalls).
   GlCalls gl;
+  // What the current frame's update() recomputed and what it reused
+  // (issue 44): each light-side product is remade only when what it was
+  // made from changed (its light, the objects' transforms, the water's
+  // surface, the options), or kept by FrameUpdate::light_side_interval.
+  FrameWork work;
+  // GPU memory by effect; gpu_bytes is their sum.
+  GpuMemory memory;
 };
 
-// What the last update()'s photon marching did (seed 004), summed over
-// lights. Energies are luminance-weighted photon power divided by E0 (the
-// first directional light's irradiance, else 1), m^2; read back from the
-// GPU (a stall). in = scattered + absorbed + leaving + reflected + truncated
-// up to the fixed-point rounding of the GPU's integer atomics.
 // What the last update()'s caustic maps did (issue 20), summed over lights.
 struct CausticMapStats {
   bool active = false;                // some light had casters
+  // The counters below are of frame `counters_frame` (update() calls),
+  // read back without stalling a few frames late, or of the last frame
+  // when Engine::caustic_map_stats() waits.
+  std::uint64_t counters_frame = 0;
   std::uint64_t photons = 0;          // emitted (grid texels covered by a caster)
   std::uint64_t landed = 0;           // splatted onto a receiver
   std::uint64_t reflections = 0;      // mirror reflections
@@ -255,12 +326,13 @@ struct CausticMapStats {
   std::uint64_t too_far = 0;          // travelled farther than max_travel after a mirror
   std::uint64_t lost = 0;             // no receiver seen from the light where they land
   std::uint64_t out_of_bounces = 0;   // met a mirror after the last reflection allowed (ended there)
-  double landed_power = 0;            // sum of the landed photons' luminance flux, W (read back)
+  double landed_power = 0;            // sum of the landed photons' luminance flux, W (only when waiting)
   // Adaptive: photons traced per traversal level (0: one grid texel; level
-  // k: a cell of 4^k texels), read back.
+  // k: a cell of 4^k texels), only when waiting.
   std::array<std::uint64_t, 9> photons_per_level{};
-  // GPU time of the last light's passes (timer queries); photons and
-  // splats summed over the traced wavelengths.
+  // GPU time of the last light's passes (timer queries: the latest ready,
+  // or the last frame's when waiting); photons and splats summed over the
+  // traced wavelengths.
   double capture_ms = 0, photon_ms = 0, splat_ms = 0;
   std::uint64_t gpu_bytes = 0;
   // Wavelengths traced (dispersion). The counters above sum over them;
@@ -269,8 +341,17 @@ struct CausticMapStats {
   std::uint32_t wavelengths = 1;
 };
 
+// What the photon marching did (seed 004), summed over lights. Energies
+// are luminance-weighted photon power divided by E0 (the first directional
+// light's irradiance, else 1), m^2. in = scattered + absorbed + leaving +
+// reflected + truncated up to the fixed-point rounding of the GPU's
+// integer atomics.
 struct VolumeStats {
   bool active = false;                 // the scene has media and the effect ran
+  // The tallies below are of frame `tallies_frame` (update() calls), read
+  // back without stalling a few frames late, or of the last frame when
+  // Engine::volume_stats() waits.
+  std::uint64_t tallies_frame = 0;
   std::uint64_t photons = 0;           // emitted
   std::uint64_t steps = 0;             // marching steps (curved steps in index grids + straight runs)
   std::uint64_t grid_steps = 0;        // of which inside index grids

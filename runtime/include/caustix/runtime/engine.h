@@ -217,6 +217,14 @@ struct WaterMedium {
 struct FrameUpdate {
   float time = 0.0f;         // seconds: drives the scene's waves (not the application's heights)
   CausticsOptions caustics;  // method and its knobs; Engine::default_options() is the scene's preset
+  // The light side at a lower rate than the frame (docs/runtime-speed.md,
+  // "Updating the light side less often"): 1 remakes whatever changed every
+  // update(); N > 1 remakes each light's out-of-date products only every
+  // Nth update() (light i on the updates k with (k + i) mod N = 0, so that
+  // lights take turns), keeping them meanwhile: the caustics then lag
+  // behind moving water, lights and objects by up to N - 1 frames. A
+  // product that does not exist yet is always made. 1..64.
+  std::uint32_t light_side_interval = 1;
 };
 
 class Engine {
@@ -233,6 +241,8 @@ class Engine {
   const Bindings& bindings() const;
   // The options the scene's bake preset chose (RNDR chunk), else the defaults.
   CausticsOptions default_options() const;
+  // The water's look with the preset's texture limit (WaterLook::max_texture_size).
+  WaterLook default_water_look() const;
   // World bounds of all objects at their current transforms.
   glm::vec3 bounds_min() const;
   glm::vec3 bounds_max() const;
@@ -335,20 +345,32 @@ class Engine {
   // to the bound framebuffer. Writes colour only. No-op without media.
   Status draw_media(const glm::mat4& view_proj, unsigned scene_color, unsigned scene_depth, float scale = 1.0f);
   bool has_media() const;
-  // What the last update()'s photon marching did (read back: a stall).
-  VolumeStats volume_stats(bool read_gpu_counters = true);
+  // What the photon marching did. Its tallies come back from the GPU
+  // without stalling and are a few frames old (VolumeStats::tallies_frame);
+  // with `wait` they are the last update()'s (a synchronisation, counted in
+  // GlCalls::syncs: for tools and tests).
+  VolumeStats volume_stats(bool wait = false);
 
   // Draws object `index`'s mesh (attribute 0: object-space position, 1:
   // normal; GL_TRIANGLES, uint32 indices) with whatever program the caller
   // has bound: for applications that draw the scene's own meshes.
   Status draw_object(std::uint32_t index) const;
 
-  // What the last update()'s caustics passes did (GPU counters read back
-  // when asked: a pipeline stall).
-  CausticsStats stats(bool read_gpu_counters = true);
-  // What the last update()'s image-space caustic maps did, summed over
-  // lights (counters and photons read back when asked: a stall).
-  CausticMapStats caustic_map_stats(bool read_gpu_counters = true);
+  // What the current frame did and costs: the caustics passes' counts,
+  // the GL calls (GlCalls: none synchronise in a steady frame), GPU memory.
+  // Counts made on the GPU come back without stalling and are a few frames
+  // old (CausticsStats::counters_frame); with `wait` they are the last
+  // update()'s (a synchronisation, counted in GlCalls::syncs).
+  CausticsStats stats(bool wait = false);
+  // GPU time per pass (GpuTimes): off until enabled (then each pass costs
+  // two timestamp queries); the times are of the latest frame whose
+  // queries have completed, read without waiting.
+  void set_gpu_timing(bool enabled);
+  GpuTimes gpu_times();
+  // What the image-space caustic maps did, summed over lights; counters as
+  // stats(). With `wait` also the photons' landed power and adaptive levels
+  // (read back: a stall).
+  CausticMapStats caustic_map_stats(bool wait = false);
 
  private:
   Engine();

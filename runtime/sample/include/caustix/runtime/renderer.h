@@ -173,7 +173,7 @@ class Renderer {
   PassTimes pass_times();
 
   // What the caustics passes of the last render did.
-  CausticsStats caustics_stats(bool read_gpu_counters = true);
+  CausticsStats caustics_stats(bool wait = false);
   // The last frame through its FrameParams::display transform into
   // `framebuffer` (0: the window).
   void present(unsigned framebuffer, int width, int height);
