@@ -30,6 +30,9 @@ layout(binding = 0) uniform sampler2D u_scene_color;
 layout(binding = 1) uniform sampler2D u_scene_depth;
 layout(binding = 2) uniform sampler2D u_back_position;
 layout(binding = 3) uniform sampler2D u_back_normal;
+// The back-face textures cover the glass's rectangle of the screen: uv
+// (0..1 over the frame) minus xy, divided by zw.
+uniform vec4 u_back_window;
 uniform mat4 u_view_proj;
 uniform mat4 u_inv_view_proj;
 uniform vec3 u_eye;
@@ -73,6 +76,13 @@ vec3 scene_along(vec3 x, vec3 d) {
   return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : u_sky;
 }
 
+// The back face behind frame coordinate uv (w 0: none).
+vec4 back_position(vec2 uv) {
+  vec2 b = (uv - u_back_window.xy) / u_back_window.zw;
+  return all(greaterThanEqual(b, vec2(0.0))) && all(lessThanEqual(b, vec2(1.0))) ? texture(u_back_position, b) : vec4(0.0);
+}
+vec3 back_normal(vec2 uv) { return normalize(texture(u_back_normal, (uv - u_back_window.xy) / u_back_window.zw).xyz); }
+
 // Steps 1-4 at index `ior`, with the sky seen by reflection: what the pixel
 // shows at one wavelength.
 vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
@@ -88,17 +98,17 @@ vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
   float t = 0.0;
   vec3 ne = -n;
   if (to_screen(x, uv)) {
-    vec4 bp = texture(u_back_position, uv);
+    vec4 bp = back_position(uv);
     if (bp.w > 0.5) {
       t = max(dot(bp.xyz - x, t1), 0.0);
-      ne = normalize(texture(u_back_normal, uv).xyz);
+      ne = back_normal(uv);
     }
   }
   for (int k = 0; k < u_exit_iterations; ++k) {
     if (!to_screen(x + t * t1, uv)) break;
-    vec4 bp = texture(u_back_position, uv);
+    vec4 bp = back_position(uv);
     if (bp.w < 0.5) break;
-    vec3 nb = normalize(texture(u_back_normal, uv).xyz);
+    vec3 nb = back_normal(uv);
     float dn = dot(t1, nb);
     if (dn < 1e-3) break;  // the back face must face away from the ray
     ne = nb;

@@ -12,6 +12,10 @@ uniform float u_scale;
 uniform mat4 u_view_proj;
 uniform vec3 u_eye;
 uniform vec3 u_glass_absorption;
+// Where the pass draws into a window of the frame (the glass view draws
+// into a target that covers only the glass's rectangle): NDC x, y scaled
+// and offset (identity by default).
+uniform vec4 u_ndc_window = vec4(1.0, 1.0, 0.0, 0.0);
 
 out vec3 v_world;
 out vec3 v_normal;
@@ -28,4 +32,5 @@ void main() {
   v_exit_dir = t.leaves ? u_rotation * t.dir : normalize(w - u_eye);
   v_transmitted = t.leaves ? t.transmittance * exp(-u_glass_absorption * t.path * u_scale) : vec3(0.0);
   gl_Position = u_view_proj * vec4(w, 1.0);
+  gl_Position.xy = gl_Position.xy * u_ndc_window.xy + u_ndc_window.zw * gl_Position.w;
 }

@@ -11,6 +11,10 @@ uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_proj;
 uniform vec4 u_clip_plane;
+// Where the pass draws into a window of the frame (the glass view draws
+// into a target that covers only the glass's rectangle): NDC x, y scaled
+// and offset (identity by default).
+uniform vec4 u_ndc_window = vec4(1.0, 1.0, 0.0, 0.0);
 
 out vec3 v_world;
 out vec3 v_normal;
@@ -20,5 +24,6 @@ void main() {
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   gl_Position = u_view_proj * world;
+  gl_Position.xy = gl_Position.xy * u_ndc_window.xy + u_ndc_window.zw * gl_Position.w;
   gl_ClipDistance[0] = dot(u_clip_plane, vec4(world.xyz, 1.0));
 }

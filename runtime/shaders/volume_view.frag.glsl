@@ -6,7 +6,9 @@
 // transmittance T = e^(-sum sigma_t ds); it stops behind the opaque scene
 // (its depth at the point's pixel). Output: L x u_scale, plus the scene's
 // colour x T when composited (blending adds further lights' L).
-layout(location = 0) out vec4 o_color;
+layout(location = 0, index = 0) out vec4 o_color;
+// Compositing by dual-source blending (u_composite 2): the transmittance.
+layout(location = 0, index = 1) out vec4 o_transmittance;
 
 layout(binding = 4) uniform sampler3D u_source;     // per light: rgb S (volume_resolve)
 layout(binding = 5) uniform sampler3D u_direction;  // per light: mean direction of travel
@@ -14,7 +16,7 @@ layout(binding = 6) uniform sampler2D u_scene_depth;
 layout(binding = 7) uniform sampler2D u_scene_color;
 uniform mat4 u_view_proj, u_inv_view_proj;
 uniform vec2 u_viewport_origin, u_viewport_size;
-uniform int u_composite;        // 1: colour x T + L; 0: L only
+uniform int u_composite;        // 1: colour x T + L; 2: L, and T for blending over the colour; 0: L only
 uniform int u_water_excluded;   // composite: the water's own attenuation is the water surface's
 uniform float u_scale;
 uniform float u_view_step;      // metres
@@ -104,7 +106,10 @@ void main() {
       if (!(wet && u_water_excluded != 0)) tau_scene += m.st * len;
     }
   }
-  if (u_composite != 0) {
+  o_transmittance = vec4(exp(-tau_scene), 0.0);
+  if (u_composite == 2) {
+    o_color = vec4(L * u_scale, 1.0);  // blended: L + dst x T, alpha 1
+  } else if (u_composite != 0) {
     vec3 c = texelFetch(u_scene_color, ivec2(gl_FragCoord.xy - u_viewport_origin), 0).rgb;
     // The glass's own Fresnel is in its colour already (draw_glass); the
     // in-scatter behind its surfaces is seen through them (tr).

@@ -11,6 +11,7 @@ void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
 void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
 void delete_query(GLuint id) { glDeleteQueries(1, &id); }
+void delete_sampler(GLuint id) { glDeleteSamplers(1, &id); }
 
 Buffer make_buffer() { GLuint id = 0; glCreateBuffers(1, &id); return Buffer(id); }
 VertexArray make_vertex_array() { GLuint id = 0; glCreateVertexArrays(1, &id); return VertexArray(id); }
@@ -24,6 +25,15 @@ void set_sampling(GLuint texture, GLenum filter) {
 }
 Framebuffer make_framebuffer() { GLuint id = 0; glCreateFramebuffers(1, &id); return Framebuffer(id); }
 Query make_query(GLenum target) { GLuint id = 0; glCreateQueries(target, 1, &id); return Query(id); }
+Sampler make_nearest_sampler() {
+  GLuint id = 0;
+  glCreateSamplers(1, &id);
+  glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return Sampler(id);
+}
 
 namespace {
 

@@ -1,7 +1,5 @@
 #include "glass.h"
 
-#include "scene_copy.h"
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -73,23 +71,28 @@ struct GlassEngine::Impl {
     std::optional<Vec3d> flat_normal;
     std::optional<Mat4f> flat_checked_at;
     bool valid = false;
-    // One primitive buffer per glass object: a buffer reused by the next
-    // target could be overwritten by its compute pass before a deferred
-    // renderer (llvmpipe bins draws until a flush) has read it.
-    std::vector<gl::Buffer> primitives;
-    std::vector<std::uint64_t> primitive_capacity;
   };
   std::vector<Glass> glass;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
   gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
-  // (world position, outward normal), the size of the scene copy.
+  // (world position, outward normal), over the glass's window.
   gl::Texture back_position, back_normal, back_depth;
   gl::Framebuffer back_fbo;
   int back_w = 0, back_h = 0;
+  // The view is drawn into a target over the glass's rectangle of the
+  // frame (its window), sampling the caller's scene directly, then copied
+  // into the caller's framebuffer: memory follows the glass's size on
+  // screen, not the frame's (issue 44).
+  gl::Texture window_color, window_depth;
+  gl::Framebuffer window_fbo;
+  int window_w = 0, window_h = 0;
+  gl::Program composite;
+  gl::Buffer primitives;  // the illumination volumes' intersections, target after target
+  std::uint64_t primitive_capacity = 0;
+  gl::Sampler nearest;  // the caller's textures read texel by texel, whatever their own parameters
   gl::VertexArray empty_vao;
-  gl::SceneCopy copy;  // of the caller's colour and depth
   bool spectral = false;  // some glass has tables at other wavelengths
   // What each light's textures were made from (issue 44).
   struct Key {
@@ -198,32 +201,43 @@ struct GlassEngine::Impl {
     p.set("u_model", model);
     p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
   }
-  // The back faces into back_fbo; the caller's draw framebuffer and
-  // viewport are put back.
-  void draw_back_faces(const SceneDesc& scene, const glm::mat4& view_proj) {
-    const int w = copy.width(), h = copy.height();
-    if (w != back_w || h != back_h) {
-      back_position = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(back_position.get(), 1, GL_RGBA32F, w, h);
-      back_normal = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(back_normal.get(), 1, GL_RGBA16F, w, h);
-      back_depth = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(back_depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-      for (GLuint tex : {back_position.get(), back_normal.get()}) {
-        gl::set_sampling(tex, GL_NEAREST);
-      }
-      back_fbo = gl::make_framebuffer();
-      glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT0, back_position.get(), 0);
-      glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT1, back_normal.get(), 0);
-      glNamedFramebufferTexture(back_fbo.get(), GL_DEPTH_ATTACHMENT, back_depth.get(), 0);
-      const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-      glNamedFramebufferDrawBuffers(back_fbo.get(), 2, bufs);
-      back_w = w;
-      back_h = h;
+  // The window's targets (and the back faces' for the nearby view) at
+  // least w x h: grown in steps of 64 texels, re-made smaller when a
+  // quarter of them would do.
+  void ensure_window(int w, int h, bool back) {
+    auto fits = [&](int aw, int ah) { return aw >= w && ah >= h && std::int64_t{aw} * ah <= 4 * std::int64_t{std::max(w, 64)} * std::max(h, 64); };
+    auto round = [](int v) { return (v + 63) / 64 * 64; };
+    if (!fits(window_w, window_h)) {
+      window_w = round(w);
+      window_h = round(h);
+      window_color = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(window_color.get(), 1, GL_RGBA32F, window_w, window_h);
+      window_depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT32F, window_w, window_h);
+      window_fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(window_fbo.get(), GL_COLOR_ATTACHMENT0, window_color.get(), 0);
+      glNamedFramebufferTexture(window_fbo.get(), GL_DEPTH_ATTACHMENT, window_depth.get(), 0);
     }
-    GLint caller_fbo = 0, viewport[4] = {0, 0, 0, 0};
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &caller_fbo);
-    glGetIntegerv(GL_VIEWPORT, viewport);
+    if (!back || fits(back_w, back_h)) return;
+    back_w = round(w);
+    back_h = round(h);
+    back_position = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(back_position.get(), 1, GL_RGBA32F, back_w, back_h);
+    back_normal = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(back_normal.get(), 1, GL_RGBA16F, back_w, back_h);
+    back_depth = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(back_depth.get(), 1, GL_DEPTH_COMPONENT32F, back_w, back_h);
+    for (GLuint tex : {back_position.get(), back_normal.get()}) gl::set_sampling(tex, GL_NEAREST);
+    back_fbo = gl::make_framebuffer();
+    glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT0, back_position.get(), 0);
+    glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT1, back_normal.get(), 0);
+    glNamedFramebufferTexture(back_fbo.get(), GL_DEPTH_ATTACHMENT, back_depth.get(), 0);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(back_fbo.get(), 2, bufs);
+  }
+  // The back faces over the window (w x h texels; `ndc_window` maps the
+  // window's NDC rectangle onto them) into back_fbo.
+  void draw_back_faces(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, int w, int h) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, back_fbo.get());
     glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
@@ -239,14 +253,39 @@ struct GlassEngine::Impl {
     glCullFace(GL_FRONT);
     back_faces.use();
     back_faces.set("u_view_proj", view_proj);
+    back_faces.set("u_ndc_window", ndc_window);
     back_faces.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
     for (const Glass& g : glass) {
       set_mesh_pose(back_faces, scene.objects[g.object]);
       g.mesh->draw();
     }
     glCullFace(GL_BACK);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(caller_fbo));
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  }
+  // The glass's rectangle in the frame's pixels (x0, y0, x1, y1: what its
+  // objects' world boxes project to, a pixel wider), or nothing when none
+  // of it is in view. All of the frame when a box reaches behind the eye.
+  std::optional<glm::ivec4> window_of(const SceneDesc& scene, const glm::mat4& view_proj, int width, int height) const {
+    glm::vec2 lo(1.0f), hi(-1.0f);
+    for (const Glass& g : glass) {
+      const Object& o = scene.objects[g.object];
+      const MeshInfo& mi = scene.meshes[o.mesh_index];
+      const glm::mat4 mvp = view_proj * to_glm(o.transform);
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec4 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
+                               (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2], 1.0f);
+        const glm::vec4 q = mvp * corner;
+        if (!(q.w > 1e-6f)) return glm::ivec4(0, 0, width, height);
+        lo = glm::min(lo, glm::vec2(q) / q.w);
+        hi = glm::max(hi, glm::vec2(q) / q.w);
+      }
+    }
+    lo = glm::clamp(lo, glm::vec2(-1.0f), glm::vec2(1.0f));
+    hi = glm::clamp(hi, glm::vec2(-1.0f), glm::vec2(1.0f));
+    const glm::vec2 size(static_cast<float>(width), static_cast<float>(height));
+    const glm::ivec2 a = glm::max(glm::ivec2(glm::floor((lo * 0.5f + 0.5f) * size)) - 1, glm::ivec2(0));
+    const glm::ivec2 b = glm::min(glm::ivec2(glm::ceil((hi * 0.5f + 0.5f) * size)) + 1, glm::ivec2(width, height));
+    if (b.x <= a.x || b.y <= a.y) return std::nullopt;
+    return glm::ivec4(a, b);
   }
   // Step 4 of update_light for one target and the rays of one wavelength
   // (blending adds into its illumination textures).
@@ -256,17 +295,19 @@ struct GlassEngine::Impl {
     const std::uint32_t planes = t.planes;
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
     glViewport(0, 0, size, size);
-    t.primitives.resize(glass.size());
-    t.primitive_capacity.resize(glass.size(), 0);
     for (std::size_t gi = 0; gi < glass.size(); ++gi) {
       Glass& g = glass[gi];
       const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
       const std::uint64_t prims = per_plane * planes;
-      if (prims > t.primitive_capacity[gi]) {
-        t.primitives[gi] = gl::make_buffer();
-        glNamedBufferStorage(t.primitives[gi].get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
-        t.primitive_capacity[gi] = prims;
+      // One buffer for every target and glass object, one after the
+      // other: the barrier keeps the last one's draws from seeing this
+      // one's geometry (llvmpipe bins draws until it flushes).
+      if (prims > primitive_capacity) {
+        primitives = gl::make_buffer();
+        glNamedBufferStorage(primitives.get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
+        primitive_capacity = prims;
       }
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       std::optional<gl::TimedPass> timed;
       timed.emplace("glass: geometry", gl::PassKind::kCompute);
       geometry.use();
@@ -286,7 +327,7 @@ struct GlassEngine::Impl {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, t.primitives[gi].get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
       glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       // Smooth caustics: each whole triangle's corner intensities.
@@ -361,7 +402,9 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
        {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
        {&s.back_faces, "glass_back", shaders::k_mesh_vert_glsl, shaders::k_glass_back_frag_glsl},
-       {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()}}));
+       {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()},
+       {&s.composite, "glass_composite", shaders::k_fullscreen_vert_glsl, shaders::k_glass_composite_frag_glsl}}));
+  s.nearest = gl::make_nearest_sampler();
 
   for (const LightTransportTable& t : tables) {
     Impl::Glass g;
@@ -579,9 +622,28 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
                              const ViewSpectrum& spectrum) {
   Impl& s = *impl_;
   const gl::TimedPass timed("glass: view", gl::PassKind::kRaster);
-  s.copy.copy(scene_color, scene_depth);
+  GLint caller_fbo = 0, vp[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &caller_fbo);
+  glGetIntegerv(GL_VIEWPORT, vp);
+  const auto rect = s.window_of(scene, view_proj, vp[2], vp[3]);
+  if (!rect) return;  // no glass in view
+  const int x0 = (*rect)[0], y0 = (*rect)[1], w = (*rect)[2] - x0, h = (*rect)[3] - y0;
   const bool nearby = options.method == GlassView::kNearby;
-  if (nearby) s.draw_back_faces(scene, view_proj);
+  s.ensure_window(w, h, nearby);
+  // NDC of the window's rectangle onto its targets' [-1, 1].
+  const glm::vec2 n0(2.0f * static_cast<float>(x0) / static_cast<float>(vp[2]) - 1.0f, 2.0f * static_cast<float>(y0) / static_cast<float>(vp[3]) - 1.0f);
+  const glm::vec2 n1(2.0f * static_cast<float>(x0 + w) / static_cast<float>(vp[2]) - 1.0f,
+                     2.0f * static_cast<float>(y0 + h) / static_cast<float>(vp[3]) - 1.0f);
+  const glm::vec4 ndc_window(2.0f / (n1 - n0), -(n0 + n1) / (n1 - n0));
+  if (nearby) s.draw_back_faces(scene, view_proj, ndc_window, w, h);
+
+  // 1. The glass into the window, depth-tested against the scene's depth
+  // there (copied in), reading the caller's colour and depth directly.
+  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, x0, y0, 0, s.window_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s.window_fbo.get());
+  glViewport(0, 0, w, h);
+  const float none[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(s.window_fbo.get(), GL_COLOR, 0, none);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -591,15 +653,23 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   const gl::Program& p = nearby ? s.nearby : s.surface;
   p.use();
   p.set("u_view_proj", view_proj);
+  p.set("u_ndc_window", ndc_window);
   p.set("u_eye", eye);
   p.set("u_sky", sky);
-  glBindTextureUnit(0, s.copy.color());
-  glBindTextureUnit(1, s.copy.depth());
+  glBindTextureUnit(0, scene_color);
+  glBindTextureUnit(1, scene_depth);
+  glBindSampler(0, s.nearest.get());
+  glBindSampler(1, s.nearest.get());
   if (nearby) {
     p.set("u_inv_view_proj", glm::inverse(view_proj));
     p.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
     p.set("u_iterations", static_cast<int>(options.iterations));
     p.set("u_exit_iterations", static_cast<int>(options.exit_iterations));
+    // Frame uv -> back-face texture coordinate: minus the window's corner,
+    // over the textures' extent in frame uv.
+    p.set("u_back_window", glm::vec4(static_cast<float>(x0) / static_cast<float>(vp[2]), static_cast<float>(y0) / static_cast<float>(vp[3]),
+                                     static_cast<float>(s.back_w) / static_cast<float>(vp[2]),
+                                     static_cast<float>(s.back_h) / static_cast<float>(vp[3])));
     glBindTextureUnit(2, s.back_position.get());
     glBindTextureUnit(3, s.back_normal.get());
   } else {
@@ -620,7 +690,22 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
     g.mesh->draw();
   }
   glDisable(GL_CULL_FACE);
+  glBindSampler(0, 0);
+  glBindSampler(1, 0);
+
+  // 2. Where glass was drawn, its colour and depth into the caller's framebuffer.
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(caller_fbo));
+  glViewport(vp[0] + x0, vp[1] + y0, w, h);
+  glDepthFunc(GL_ALWAYS);  // tested against the scene's depth in the window already
+  s.composite.use();
+  glProgramUniform2i(s.composite.id(), s.composite.loc("u_origin"), vp[0] + x0, vp[1] + y0);
+  glBindTextureUnit(0, s.window_color.get());
+  glBindTextureUnit(1, s.window_depth.get());
+  glBindVertexArray(s.empty_vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
+  glDepthFunc(GL_LESS);
+  glViewport(vp[0], vp[1], vp[2], vp[3]);
 }
 
 std::uint64_t GlassEngine::gpu_bytes() const {
@@ -631,14 +716,14 @@ std::uint64_t GlassEngine::gpu_bytes() const {
   }
   for (const Impl::Target& t : impl_->targets) {
     b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
-    for (std::uint64_t c : t.primitive_capacity) b += c * kPrimitiveBytes;
   }
-  return b;
+  return b + impl_->primitive_capacity * kPrimitiveBytes;
 }
 
 std::uint64_t GlassEngine::view_bytes() const {
   const Impl& s = *impl_;
-  return std::uint64_t(s.back_w) * static_cast<std::uint64_t>(s.back_h) * (16 + 8 + 4) + s.copy.gpu_bytes();
+  return std::uint64_t(s.back_w) * static_cast<std::uint64_t>(s.back_h) * (16 + 8 + 4) +
+         std::uint64_t(s.window_w) * static_cast<std::uint64_t>(s.window_h) * (16 + 4);
 }
 
 std::uint32_t GlassEngine::wavelengths() const { return impl_->traced; }

@@ -83,7 +83,8 @@ struct VolumeEngine::Impl {
   gl::Program photons, resolve, view;
   gl::Buffer accumulator, tally;
   gl::Texture dummy_3d;
-  gl::SceneCopy copy;  // of the caller's colour and depth
+  gl::SceneCopy copy;  // of the caller's colour and depth, where the bound framebuffer holds them
+  gl::Sampler nearest;
   gl::VertexArray empty_vao;
   std::vector<PerLight> lights;
   std::uint64_t index_bytes = 0;
@@ -280,6 +281,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
                                               {&s.resolve, "volume_resolve", shaders::k_volume_resolve_comp_glsl},
                                               {&s.view, "volume_view", shaders::k_fullscreen_vert_glsl, view_src.c_str()}}));
   s.empty_vao = gl::make_vertex_array();
+  s.nearest = gl::make_nearest_sampler();
   s.lights.resize(scene.lights.size());
   s.made.resize(scene.lights.size());
   for (Impl::PerLight& l : s.lights) {
@@ -484,7 +486,14 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   const gl::TimedPass timed("media: view", gl::PassKind::kRaster);
   GLint vp[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, vp);
-  s.copy.copy(scene_color, scene_depth);
+  // The caller's textures are read in place unless the bound framebuffer
+  // holds them (issue 44: no full-frame copies where none is needed).
+  // Compositing over the colour the framebuffer draws into is blending
+  // (dual-source: dst x T + L), which needs no read of it at all.
+  const bool blend_over = scene_color != 0 && gl::draws_only_into(scene_color);
+  const bool copy_color = scene_color != 0 && !blend_over && gl::attached_to_draw_framebuffer(scene_color);
+  const bool copy_depth = gl::attached_to_draw_framebuffer(scene_depth);
+  if (copy_color || copy_depth) s.copy.copy(copy_color ? scene_color : 0, copy_depth ? scene_depth : 0);
 
   const gl::Program& p = s.view;
   p.use();
@@ -501,8 +510,10 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
   s.bind_index_grids();
-  glBindTextureUnit(kDepthUnit, s.copy.depth());
-  glBindTextureUnit(kColorUnit, s.copy.color());
+  glBindTextureUnit(kDepthUnit, copy_depth ? s.copy.depth() : scene_depth);
+  glBindTextureUnit(kColorUnit, copy_color ? s.copy.color() : scene_color);
+  glBindSampler(kDepthUnit, s.nearest.get());
+  glBindSampler(kColorUnit, s.nearest.get());
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glDisable(GL_CULL_FACE);
@@ -512,8 +523,11 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
     if (!s.lights[li].valid) continue;  // no photons yet
     const bool composite = scene_color != 0 && first;
     first = false;
-    p.set("u_composite", composite ? 1 : 0);
-    if (composite) {
+    p.set("u_composite", !composite ? 0 : blend_over ? 2 : 1);
+    if (composite && blend_over) {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_SRC1_COLOR);  // L + dst x T
+    } else if (composite) {
       glDisable(GL_BLEND);
     } else {
       glEnable(GL_BLEND);
@@ -524,6 +538,8 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
   glBindVertexArray(0);
+  glBindSampler(kDepthUnit, 0);
+  glBindSampler(kColorUnit, 0);
 }
 
 void VolumeEngine::end_frame(std::uint64_t frame) {

@@ -249,11 +249,15 @@ class Engine {
 
   // ---- light side ----
   // Moves light `index` (directional: direction of travel; point: its
-  // position; the type cannot change) and re-derives its level maps on the
-  // GPU (frame, position map, depth profile: seed 000 §4.2, §4.7.2).
+  // position; the type cannot change). No GL call: the next update()
+  // re-derives its level maps on the GPU (frame, position map, depth
+  // profile and planes: seed 000 §4.2, §4.7.2) and remakes its other
+  // light-side products.
   Status set_light(std::uint32_t index, const Light& light);
   // Moves object `index` (rigid or similarity: its object -> world matrix,
-  // column-major) and re-derives its level maps.
+  // column-major). No GL call: the next update() re-derives its level
+  // maps and remakes what the object's place changes (every light's
+  // shadow maps, glass and caustic maps, media).
   Status set_object_transform(std::uint32_t index, const Mat4f& transform);
   // Scales every wave's amplitude of the scene's wave list (1 = as baked).
   void set_wave_scale(float scale);
@@ -277,7 +281,11 @@ class Engine {
   // Animates the water and renders every light's shadow maps, caustics
   // maps and glass illumination textures for the current lights,
   // transforms and water. Afterwards lighting()/bind() of every pair are
-  // valid until the next update().
+  // valid until the next update(). A product is remade only when what it
+  // depends on changed (its light, the transforms, the water's surface,
+  // the options) or FrameUpdate::light_side_interval says it is due; a
+  // still scene costs no GPU work here (stats().work). Once warmed up it
+  // never waits for the GPU (stats().gl.syncs; docs/embedding.md).
   Status update(const FrameUpdate& frame);
 
   // The resources of (receiver object, light) from the last update(). An
@@ -297,7 +305,9 @@ class Engine {
   // The water surface (seed 001) into the framebuffer bound to
   // GL_DRAW_FRAMEBUFFER with the current viewport, depth-tested against
   // its depth buffer (without writing it). `draw_scene` renders the
-  // refraction and reflection textures (see WaterPass); with
+  // reflection texture, then the refraction texture (see WaterPass: the
+  // two share one depth buffer, sized by look.texture_size or, automatic,
+  // a texel per pixel up to look.max_texture_size); with
   // look.textures false, or no callback, the plain surface (sky
   // reflection, Fresnel) is drawn instead. With look.glow the glow of §9.3
   // is added to the bound framebuffer's colour; given `scene_depth` (a 2D
@@ -319,7 +329,9 @@ class Engine {
   // 003), with the Fresnel reflection of the sky. `scene_color` and
   // `scene_depth` are 2D textures (RGBA float colour, depth) of the opaque
   // scene as the caller rendered it with `view`, the size of the viewport;
-  // they are copied, so they may be attached to the bound framebuffer.
+  // they may be attached to the bound framebuffer (the glass is drawn
+  // into a target over its rectangle of the frame, reading them, and then
+  // copied in).
   // Dispersive glass (issue 22) seen through the nearby view refracts once
   // per wavelength the last update() traced, as draw_water(); the table
   // view refracts at n_d. Writes colour and depth. No-op without
@@ -341,8 +353,11 @@ class Engine {
   // water's own attenuation is the water surface's, draw_water()); with 0
   // it adds scale x L (additive blending) to what is bound, for images of
   // the in-scatter alone. L is radiance in the lights' units (E0 or I
-  // times their colour). Both textures are copied, so they may be attached
-  // to the bound framebuffer. Writes colour only. No-op without media.
+  // times their colour). Both may be attached to the bound framebuffer:
+  // a colour it draws into alone is composited over by blending (dual
+  // source), another is copied; so is an attached depth texture. Textures
+  // not attached are read in place. Writes colour only. No-op without
+  // media.
   Status draw_media(const glm::mat4& view_proj, unsigned scene_color, unsigned scene_depth, float scale = 1.0f);
   bool has_media() const;
   // What the photon marching did. Its tallies come back from the GPU

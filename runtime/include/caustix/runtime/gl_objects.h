@@ -47,12 +47,14 @@ void delete_texture(GLuint id);
 void delete_framebuffer(GLuint id);
 void delete_program(GLuint id);
 void delete_query(GLuint id);
+void delete_sampler(GLuint id);
 
 using Buffer = Handle<delete_buffer>;
 using VertexArray = Handle<delete_vertex_array>;
 using Texture = Handle<delete_texture>;
 using Framebuffer = Handle<delete_framebuffer>;
 using Query = Handle<delete_query>;
+using Sampler = Handle<delete_sampler>;
 
 Buffer make_buffer();
 VertexArray make_vertex_array();
@@ -61,6 +63,9 @@ Texture make_texture(GLenum target);
 void set_sampling(GLuint texture, GLenum filter);
 Framebuffer make_framebuffer();
 Query make_query(GLenum target);
+// A sampler object reading texel by texel (nearest, clamped to the edge,
+// no comparison), whatever the bound texture's own parameters.
+Sampler make_nearest_sampler();
 
 class Program {
  public:
