@@ -24,6 +24,8 @@ out=${1:-docs/results}
 FRAMES=${FRAMES:-3}
 WARMUP=${WARMUP:-2}
 SCENES=${SCENES:-"thesis_teapot glass_ball mirror_ring fog_ball dispersive_pool flat_pool wavy_pool glass_teapot default"}
+# Memory of every canonical scene (and the dispersive pool).
+MEMORY_SCENES=${MEMORY_SCENES:-"$(ls assets/scenes | sed 's/\.json$//' | tr '\n' ' ') dispersive_pool"}
 B=build
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
@@ -40,8 +42,8 @@ j["water"]["waves"][0]["speed"] = 0.5
 json.dump(j, open(sys.argv[1], "w"))
 PY
 src() { [ "$1" = dispersive_pool ] && echo "$T/dispersive_pool.json" || echo "assets/scenes/$1.json"; }
+for s in $MEMORY_SCENES; do $B/bake/caustix-bake "$(src "$s")" -o "$T/$s.cxb" --preset balanced -q; done
 for s in $SCENES; do
-  $B/bake/caustix-bake "$(src "$s")" -o "$T/$s.cxb" --preset balanced -q
   if [ -n "${OLD:-}" ]; then "$OLD/caustix-bake" "$(src "$s")" -o "$T/${s}_old.cxb" --preset balanced -q; fi
 done
 
@@ -63,14 +65,20 @@ print(",".join([build, s, case, f[2], f[3], f[6]] + counts + [f[11], '"' + f[-1]
 PY
   tail -1 "$frames"
 }
-both() {
+both() {  # scene case args...
   row after "$@"
-  if [ -n "${OLD:-}" ]; then row before "$@"; fi
+  [ -n "${OLD:-}" ] || return 0
+  local s=$1 case=$2 args=()
+  shift 2
+  # The old bench has no --still; without water its frames are still anyway.
+  for a in "$@"; do [ "$a" = --still ] || args+=("$a"); done
+  if [ ${#args[@]} -lt $# ] && grep -q '"water"' "$(src "$s")"; then return 0; fi
+  row before "$s" "$case" ${args[@]+"${args[@]}"}
 }
 for s in $SCENES; do
   both "$s" animated
   both "$s" still --still
-  both "$s" "no caustics, still" --still --method none
+  both "$s" "no caustics (still)" --still --method none
   both "$s" "light turning" --move-light
 done
 for m in levelmap uniform volumetric; do
@@ -80,7 +88,7 @@ done
 # 2. Memory per effect at 1280 x 800 (caustix-render's default 2 x 2 supersampling).
 memory=$out/frame_cost_memory_llvmpipe.csv
 echo "scene,size,total_mb,level_maps,shadow_maps,glass,caustic_maps,media,water,views,meshes,other" >"$memory"
-for s in $SCENES; do
+for s in $MEMORY_SCENES; do
   $B/runtime/caustix-render "$T/$s.cxb" -o "$T/$s.png" --size 1280x800 -v | /usr/bin/python3 -c '
 import re, sys
 s = sys.argv[1]

@@ -16,7 +16,7 @@ out = sys.argv[1] if len(sys.argv) > 1 else "docs/results"
 
 rows = list(csv.DictReader(open(os.path.join(out, "frame_cost_memory_llvmpipe.csv"))))
 effects = ["level_maps", "shadow_maps", "glass", "caustic_maps", "media", "water", "views", "meshes", "other"]
-fig, ax = plt.subplots(figsize=(9, 4.5))
+fig, ax = plt.subplots(figsize=(11, 4.8))
 bottom = [0.0] * len(rows)
 for e in effects:
     v = [float(r[e]) for r in rows]
@@ -26,14 +26,15 @@ ax.axhline(48, color="k", lw=0.8, ls="--")
 ax.text(len(rows) - 0.5, 49, "48 MB", ha="right", va="bottom", fontsize=8)
 ax.axhline(96, color="k", lw=0.8, ls=":")
 ax.text(len(rows) - 0.5, 97, "96 MB", ha="right", va="bottom", fontsize=8)
-ax.set_ylabel("engine GPU memory, MB (balanced, 1280x800, 2x2 supersampled)")
+ax.set_ylabel("engine GPU memory, MB")
+ax.set_title("balanced preset, caustix-render 1280x800 (2x2 supersampled)", fontsize=9)
 ax.tick_params(axis="x", rotation=30)
 ax.legend(fontsize=7, ncol=3)
 fig.tight_layout()
 fig.savefig(os.path.join(out, "frame_cost_memory.png"), dpi=110)
 
 frames = list(csv.DictReader(open(os.path.join(out, "frame_cost_llvmpipe.csv"))))
-cases = ["animated", "still", "no caustics, still", "light turning"]
+cases = ["animated", "still", "no caustics (still)", "light turning"]
 scenes = [s for s in dict.fromkeys(r["scene"] for r in frames if r["case"] in cases)]
 builds = [b for b in ("before", "after") if any(r["build"] == b for r in frames)]
 fig, ax = plt.subplots(figsize=(10, 4.5))

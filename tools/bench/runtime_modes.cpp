@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -42,7 +43,7 @@ void write_passes(const std::string& path, const std::string& label, const std::
     }
   }
   auto row = [&](const std::string& name, const char* kind, std::uint32_t n, double ms) {
-    out << label << "," << cxb << "," << runtime::to_string(co.method) << "," << width << "x" << height << ",\"" << name << "\","
+    out << label << "," << std::filesystem::path(cxb).filename().string() << "," << runtime::to_string(co.method) << "," << width << "x" << height << ",\"" << name << "\","
         << kind << "," << n << "," << ms << ",\"" << renderer << "\"\n";
   };
   for (const auto& [name, compute] : order) {

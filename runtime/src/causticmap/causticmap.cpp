@@ -96,12 +96,7 @@ struct CausticMapEngine::Impl {
   std::uint64_t counted_frame = 0, frame = 0;
   bool counting = false;
   // What each light's map was made from (issue 44).
-  struct Key {
-    SceneVersions versions;
-    CausticsOptions options;
-    bool operator==(const Key&) const = default;
-  };
-  MadeFrom<Key> made;
+  MadeFrom<LightInputs> made;
   void poll() {
     readback.poll([&](std::uint64_t tag, const std::uint8_t* data) {
       std::memcpy(counted.data(), data, sizeof counted);
@@ -300,7 +295,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
                                       const std::vector<std::array<glm::vec3, 2>>& world_boxes, const SceneVersions& versions,
                                       bool due, EffectWork& work) {
   Impl& s = *impl_;
-  const Impl::Key key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
+  const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(li, key);
   Impl::PerLight& pl = s.lights[li];

@@ -23,6 +23,14 @@ struct SceneVersions {
   bool operator==(const SceneVersions&) const = default;
 };
 
+// What most products depend on: the versions (those of them the effect
+// reads) and the options.
+struct LightInputs {
+  SceneVersions versions;
+  CausticsOptions options;
+  bool operator==(const LightInputs&) const = default;
+};
+
 // What update() does with one light's product this frame.
 enum class Refresh {
   kRemake,  // out of date (or never made), and due

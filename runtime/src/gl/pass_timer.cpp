@@ -11,7 +11,9 @@ void PassTimer::begin_frame(std::uint64_t frame) {
   for (int i = 0; i < kFrames; ++i) {
     Frame& f = frames_[static_cast<std::size_t>(i)];
     if (f.pending) continue;
-    f = Frame{frame, true, false, {}, std::move(f.queries), 0};
+    // Pending from now: a frame with no pass (everything reused) arrives
+    // too, with no times.
+    f = Frame{frame, true, true, {}, std::move(f.queries), 0};
     current_ = i;
     return;
   }
@@ -24,7 +26,6 @@ void PassTimer::begin(const char* name, PassKind kind) {
   f.passes.push_back(Pass{name, kind, f.used});
   glQueryCounter(f.queries[f.used].get(), GL_TIMESTAMP);
   f.used += 2;
-  f.pending = true;
 }
 
 void PassTimer::end() {

@@ -95,12 +95,7 @@ struct GlassEngine::Impl {
   gl::VertexArray empty_vao;
   bool spectral = false;  // some glass has tables at other wavelengths
   // What each light's textures were made from (issue 44).
-  struct Key {
-    SceneVersions versions;
-    CausticsOptions options;
-    bool operator==(const Key&) const = default;
-  };
-  MadeFrom<Key> made;
+  MadeFrom<LightInputs> made;
   std::uint32_t traced = 1;  // wavelengths of the last update
 
   // The average direction of the transmitted light (seed 002 §4.2: "We set
@@ -493,7 +488,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
                                  const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions,
                                  bool due, EffectWork& work) {
   Impl& s = *impl_;
-  const Impl::Key key{SceneVersions{versions.light, versions.transforms, 0}, co};  // not the water's
+  const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, co};  // not the water's
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(li, key);
   const Light& light = scene.lights[li];

@@ -157,12 +157,7 @@ struct CausticsEngine::Impl {
   gl::Buffer plan_scratch;                // caustics_plan.comp's sub-box lengths
   GLsizeiptr plan_scratch_words = 0;
   // What each light's maps were made from (issue 44).
-  struct Key {
-    SceneVersions versions;
-    CausticsOptions options;
-    bool operator==(const Key&) const = default;
-  };
-  MadeFrom<Key> made;
+  MadeFrom<LightInputs> made;
   bool slot_open = false;  // this frame's read-back slot
   struct GpuCounts {
     std::uint64_t frame = 0;  // 0: none yet
@@ -839,7 +834,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   bool any = false;
   for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
   if (!any || o.method == CausticsMethod::kNone) return Status::success();
-  const Impl::Key key{versions, o};
+  const LightInputs key{versions, o};
   if (s.made.decide(light, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(light, key);
   if (!s.counted_this_frame) s.stats = CausticsStats{};  // the counts describe the last frame that drew

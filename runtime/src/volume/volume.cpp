@@ -91,12 +91,7 @@ struct VolumeEngine::Impl {
   bool ran = false;        // the effect is on and has a grid
   bool counting = false;   // some light was remade this frame: its tallies are this frame's
   // What each light's radiance was made from (issue 44).
-  struct Key {
-    SceneVersions versions;
-    CausticsOptions options;
-    bool operator==(const Key&) const = default;
-  };
-  MadeFrom<Key> made;
+  MadeFrom<LightInputs> made;
   // Each frame's tallies come back through `readback` without a stall:
   // `tallied` holds the latest that arrived (of frame `tallied_frame`),
   // with the scales and photon counts of the lights as they were then.
@@ -346,7 +341,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
                                   const CausticsOptions& caustics, const SceneVersions& versions, bool due, EffectWork& work) {
   Impl& s = *impl_;
   if (!s.ran) return Status::success();
-  const Impl::Key key{SceneVersions{versions.light, versions.transforms, water ? versions.water : 0}, caustics};
+  const LightInputs key{SceneVersions{versions.light, versions.transforms, water ? versions.water : 0}, caustics};
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(li, key);
   s.counting = true;
