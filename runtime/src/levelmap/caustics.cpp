@@ -50,6 +50,7 @@ struct ListKey {
   bool smart = true;
   std::uint32_t pieces = 0;
   double epsilon = 0;
+  std::uint32_t map_size = 0;  // coarser texels widen the footprints the cull lists
   bool operator==(const ListKey&) const = default;
 };
 
@@ -525,7 +526,7 @@ struct CausticsEngine::Impl {
     // read-back. Later frames size it from counts read asynchronously
     // (size_list), with headroom; one that still overflows draws what fits
     // and says so (CausticsStats::overflowed).
-    const ListKey list_key{pairs, o.cull, m.plan->smart, o.planes.value_or(0), o.epsilon.value_or(0.0f)};
+    const ListKey list_key{pairs, o.cull, m.plan->smart, o.planes.value_or(0), o.epsilon.value_or(0.0f), o.map_size};
     const bool measure = m.measured != list_key;
     // Before the first measurement: a small list the warm-up re-sizes.
     if (m.capacity == 0) m.capacity = kMinCapacity;
