@@ -189,7 +189,9 @@ TEST_F(Gltf, GlbWithExternalBufferAndHierarchy) {
   auto baked = bake::bake_scene(gltf.string(), {});
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   EXPECT_EQ(baked->inputs, (std::vector<std::string>{gltf.string(), (dir_ / "tree.bin").string()}));
-  EXPECT_NE(std::find(baked->warnings.begin(), baked->warnings.end(), gltf.string() + ": the scene has no lights (KHR_lights_punctual); everything will be dark"),
+  EXPECT_NE(std::find_if(baked->warnings.begin(), baked->warnings.end(), [&](const std::string& w) {
+              return w.rfind(gltf.string() + ": the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual", 0) == 0;
+            }),
             baked->warnings.end());
 }
 
@@ -461,8 +463,8 @@ TEST_F(Gltf, MalformedFilesAreRefusedWithThePointer) {
     g.doc["materials"][1]["extensions"]["KHR_materials_dispersion"]["dispersion"] = -1.0;
     EXPECT_NE(error_of(g).find("/materials/1/extensions/KHR_materials_dispersion/dispersion: must be a number in [0,"), std::string::npos);
     g = pool_scene();
-    g.doc["nodes"][1]["scale"] = {0.0, 1.0, 1.0};
-    EXPECT_NE(error_of(g).find("/nodes/1: the node's world transform is singular"), std::string::npos);
+    g.doc["nodes"][0]["scale"] = {0.0, 1.0, 1.0};
+    EXPECT_NE(error_of(g).find("/nodes/0 ('Floor')/transform: is degenerate"), std::string::npos) << error_of(g);
     g = pool_scene();
     g.doc["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = 4;
     EXPECT_NE(error_of(g).find("/nodes/2/extensions/KHR_lights_punctual/light: light 4 does not exist"), std::string::npos);

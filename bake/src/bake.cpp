@@ -155,6 +155,12 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   }
   for (const Object& o : scene.objects) {
     if (auto w = float_precision_warning(o, meshes[o.mesh_index])) out.warnings.push_back(*w);
+    double scale = 0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      scale = std::max(scale, std::hypot(double{o.transform[c * 4]}, double{o.transform[c * 4 + 1]}, double{o.transform[c * 4 + 2]}));
+    }
+    MeshStats& st = out.meshes[o.mesh_index];
+    st.max_world_error = std::max(st.max_world_error, st.max_position_error * scale);
   }
   auto t0 = Clock::now();
   auto stage = bake_level_maps(scene, meshes, options.level_maps);

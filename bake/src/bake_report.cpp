@@ -49,7 +49,8 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
   for (const auto& m : r.meshes) {
     j["meshes"].push_back({{"path", m.path}, {"vertices", m.vertices}, {"triangles", m.triangles},
                            {"raw_bytes", m.raw_bytes}, {"draco_bytes", m.draco_bytes},
-                           {"max_position_error_m", m.max_position_error},
+                           {"max_position_error", m.max_position_error},
+                           {"max_world_error_m", m.max_world_error},
                            {"normals_from_file", m.normals_from_file}});
   }
   j["level_maps"] = nlohmann::ordered_json::array();
@@ -132,7 +133,7 @@ std::string report_text(const BakeResult& r) {
   for (const auto& m : r.meshes) {
     std::snprintf(line, sizeof line, "  mesh %-36s %7u vertices %7u triangles  raw %8llu B  draco %7llu B  max error %.3g m%s\n",
                   m.path.c_str(), m.vertices, m.triangles, static_cast<unsigned long long>(m.raw_bytes),
-                  static_cast<unsigned long long>(m.draco_bytes), m.max_position_error,
+                  static_cast<unsigned long long>(m.draco_bytes), m.max_world_error,
                   m.normals_from_file ? "" : "  (normals computed)");
     s << line;
   }

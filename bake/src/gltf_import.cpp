@@ -47,6 +47,21 @@ const std::set<std::string> kSupported{"KHR_draco_mesh_compression", "KHR_mesh_q
                                        "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion",
                                        "KHR_lights_punctual"};
 
+// Extensions a file may require that caustix can still import without them.
+// The rule: an extension is ignorable when what it changes is something
+// caustix does not read at all, so that ignoring it cannot change where
+// light goes or how much of it: how textures are stored or placed (caustix
+// reads no texture of such a file's materials), and material layers that
+// only add to a surface's own look (sheen, clearcoat, specular colour,
+// iridescence, anisotropy, emission strength) -- each named in a warning.
+// Not ignorable: anything that changes geometry (EXT_meshopt_compression,
+// KHR_mesh_gpu_instancing would add objects) or what the base colour
+// means (KHR_materials_pbrSpecularGlossiness).
+const std::set<std::string> kIgnorable{"KHR_texture_transform",        "KHR_texture_basisu",         "EXT_texture_webp",
+                                       "EXT_texture_avif",             "KHR_materials_emissive_strength", "KHR_materials_clearcoat",
+                                       "KHR_materials_sheen",          "KHR_materials_specular",     "KHR_materials_iridescence",
+                                       "KHR_materials_anisotropy",     "KHR_materials_variants",     "KHR_xmp_json_ld"};
+
 Mat4d mul(const Mat4d& a, const Mat4d& b) {
   Mat4d r{};
   for (std::size_t c = 0; c < 4; ++c) {
@@ -67,9 +82,6 @@ V3 normalized(const V3& v) {
   return {v[0] / len, v[1] / len, v[2] / len};
 }
 Vec3f to_f(const V3& v) { return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])}; }
-double det3(const Mat4d& m) {
-  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
-}
 
 // A value of an extension object, or nullptr.
 const tinygltf::Value* field(const tinygltf::Value& obj, const char* key) {
@@ -379,7 +391,15 @@ struct GltfFile::Impl {
   // Primitives -> one imported mesh. Corners at the same position (and,
   // without `weld`, the same normal) are merged; merged normals are summed
   // and renormalised by mesh_from_soup.
-  Result<ImportedMesh> make_mesh(const std::vector<Corners>& parts, bool weld, const std::string& pointer) const {
+  Result<ImportedMesh> make_mesh(std::vector<Corners> parts, bool weld, const std::string& pointer) const {
+    // Seam copies a few ulps apart become one position first
+    // (snap_close_points), so that welding and the topology checks see them.
+    std::vector<V3> all;
+    for (const Corners& c : parts) all.insert(all.end(), c.positions.begin(), c.positions.end());
+    snap_close_points(all);
+    for (std::size_t i = 0; Corners& c : parts) {
+      for (V3& p : c.positions) p = all[i++];
+    }
     PolygonSoup soup;
     std::map<std::array<float, 6>, std::uint32_t> index;
     const bool normals = std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.normals.empty(); });
@@ -479,7 +499,9 @@ struct GltfFile::Impl {
     }
     std::vector<std::string> ignored;
     if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (the base colour factor is used)");
+    if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture (the factors are used)");
     if (gm.normalTexture.index >= 0) ignored.push_back("normalTexture");
+    if (gm.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
     if (gm.emissiveTexture.index >= 0 || (gm.emissiveFactor.size() == 3 && (gm.emissiveFactor[0] > 0 || gm.emissiveFactor[1] > 0 || gm.emissiveFactor[2] > 0))) {
       ignored.push_back("emission");
     }
@@ -498,9 +520,25 @@ struct GltfFile::Impl {
       }
       if (field(*transmission, "transmissionTexture")) ignored.push_back("transmissionTexture");
     }
+    // glTF 2.0 Appendix B and KHR_materials_transmission: transmission is a
+    // part of the dielectric lobe, which metallic blends away (the metal
+    // base = mix(dielectric, metal, metallic)). caustix's objects are one
+    // or the other: the larger part wins, and the other is named.
+    const double metallic = std::clamp(pbr.metallicFactor, 0.0, 1.0);
+    if (tf > 0 && metallic >= 0.5) {
+      warn(mp + ": " + label + " is metallic (" + std::to_string(metallic) + ") and transmissive: glTF blends the transmission away with metallic, so it is imported as a metal, without transmission", warns);
+      tf = 0;
+    } else if (tf > 0 && metallic > 0) {
+      warn(mp + ": " + label + ": its metallic part (" + std::to_string(metallic) + ") is ignored; imported as glass", warns);
+    }
     Role role = Role::kReceiver;
     if (tf > 0) {
       role = Role::kTransparent;
+      if (pbr.roughnessFactor > 0.05) {
+        warn(mp + ": " + label + ": roughnessFactor " + std::to_string(pbr.roughnessFactor) +
+                 " on a transmissive material is ignored: caustix's glass refracts as a smooth surface, so its caustics are sharper than the author's",
+             warns);
+      }
       mat.transparent = true;
       if (tf < 1) warn(mp + ": " + label + " transmits " + std::to_string(tf) + " of the light; caustix's glass transmits all that Fresnel lets through", warns);
       if (base[0] < 1 || base[1] < 1 || base[2] < 1) warn(mp + ": " + label + ": the base colour's tint of transmitted light is ignored; use KHR_materials_volume's attenuation", warns);
@@ -620,13 +658,19 @@ Result<GltfFile> GltfFile::load(const std::string& path) {
   }
   const tinygltf::Model& m = impl->model;
   for (std::size_t i = 0; i < m.extensionsRequired.size(); ++i) {
-    if (!kSupported.count(m.extensionsRequired[i])) {
+    if (!kSupported.count(m.extensionsRequired[i]) && !kIgnorable.count(m.extensionsRequired[i])) {
       return impl->fail("/extensionsRequired/" + std::to_string(i),
                         "the file requires extension " + m.extensionsRequired[i] + ", which caustix does not support");
     }
   }
   for (const std::string& e : m.extensionsUsed) {
-    if (!kSupported.count(e)) impl->warn("extension " + e + " is not supported; what it adds is ignored", impl->warnings);
+    const bool required = std::find(m.extensionsRequired.begin(), m.extensionsRequired.end(), e) != m.extensionsRequired.end();
+    if (!kSupported.count(e)) {
+      impl->warn("extension " + e + (required ? " (required by the file)" : "") +
+                     " is not supported; what it adds is ignored" +
+                     (required ? ", which cannot change the light: caustix reads nothing it changes" : ""),
+                 impl->warnings);
+    }
   }
   if (!m.animations.empty()) impl->warn(std::to_string(m.animations.size()) + " animation(s) ignored: the bake takes the rest pose", impl->warnings);
   if (!m.skins.empty()) impl->warn(std::to_string(m.skins.size()) + " skin(s) ignored: skinned meshes are baked in their bind pose", impl->warnings);
@@ -655,7 +699,7 @@ Result<ImportedMesh> GltfFile::node_mesh(const std::string& node, bool weld) con
     if (!c) return c.error();
     parts.push_back(std::move(*c));
   }
-  auto mesh = im.make_mesh(parts, weld, "/meshes/" + std::to_string(m));
+  auto mesh = im.make_mesh(std::move(parts), weld, "/meshes/" + std::to_string(m));
   if (!mesh) return mesh.error();
   for (auto& w : warns) mesh->warnings.push_back(std::move(w));
   return mesh;
@@ -677,7 +721,12 @@ Result<GltfScene> GltfFile::scene() const {
       if (auto e = im.check_index(model.defaultScene, model.scenes, "scene", "/scene")) return *e;
       s = static_cast<std::size_t>(model.defaultScene);
     }
-    if (model.scenes.size() > 1) im.warn("scene " + std::to_string(s) + " of " + std::to_string(model.scenes.size()) + " imported; the others are ignored", out.warnings);
+    if (model.scenes.size() > 1) {
+      im.warn("the file has " + std::to_string(model.scenes.size()) + " scenes; imported /scenes/" + std::to_string(s) +
+                  (model.scenes[s].name.empty() ? "" : " ('" + model.scenes[s].name + "')") +
+                  (model.defaultScene >= 0 ? " (the default scene)" : " (the first: the file names no default)") + ", the others are ignored",
+              out.warnings);
+    }
     roots = model.scenes[s].nodes;
     roots_ptr = "/scenes/" + std::to_string(s) + "/nodes";
     out.scene.name = model.scenes[s].name;
@@ -716,7 +765,23 @@ Result<GltfScene> GltfFile::scene() const {
     for (std::size_t c = ch.size(); c-- > 0;) stack.emplace_back(ch[c], "/nodes/" + std::to_string(i) + "/children/" + std::to_string(c), world);
   }
 
+  // Where each imported object and light came from, for messages.
+  struct Origins {
+    std::vector<std::string> objects, lights;
+    // "/objects/3/transform" -> "/nodes/7 ('Lens')/transform"
+    std::string locate(const std::string& pointer) const {
+      for (const auto& [prefix, list] : {std::pair{std::string("/objects/"), &objects}, std::pair{std::string("/lights/"), &lights}}) {
+        if (pointer.rfind(prefix, 0) != 0) continue;
+        const std::size_t end = pointer.find('/', prefix.size());
+        const std::string digits = pointer.substr(prefix.size(), end - prefix.size());
+        const std::size_t k = digits.empty() ? list->size() : std::stoul(digits);
+        if (k < list->size()) return (*list)[k] + (end == std::string::npos ? "" : pointer.substr(end));
+      }
+      return "the imported scene's " + pointer;
+    }
+  } where;
   std::map<std::tuple<std::size_t, std::size_t, bool>, std::uint32_t> mesh_of;  // (mesh, primitive, weld) -> index
+  std::map<int, std::pair<Role, Material>> materials;
   std::set<std::string> names;
   bool camera_taken = false;
   for (const Visit& v : order) {
@@ -725,13 +790,18 @@ Result<GltfScene> GltfFile::scene() const {
     if (n.skin >= 0) im.warn(np + ": skin ignored", out.warnings);
     if (n.mesh >= 0) {
       if (auto e = im.check_index(n.mesh, model.meshes, "mesh", np + "/mesh")) return *e;
-      if (!(std::fabs(det3(v.world)) > 1e-18)) return im.fail(np, "the node's world transform is singular (a zero scale?)");
       const auto m = static_cast<std::size_t>(n.mesh);
       const auto& prims = model.meshes[m].primitives;
       for (std::size_t k = 0; k < prims.size(); ++k) {
         const std::string pp = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k);
-        auto mat = im.material(prims[k].material, pp + "/material", out.warnings);
-        if (!mat) return mat.error();
+        // Each material read (and warned about) once, however many nodes use it.
+        auto cached = materials.find(prims[k].material);
+        if (cached == materials.end()) {
+          auto read = im.material(prims[k].material, pp + "/material", out.warnings);
+          if (!read) return read.error();
+          cached = materials.emplace(prims[k].material, *read).first;
+        }
+        const auto* mat = &cached->second;
         const bool weld = is_transparent(mat->first);
         const auto key = std::tuple{m, k, weld};
         auto found = mesh_of.find(key);
@@ -765,6 +835,7 @@ Result<GltfScene> GltfFile::scene() const {
         o.material = mat->second;
         for (std::size_t c = 0; c < 16; ++c) o.transform[c] = static_cast<float>(v.world[c]);
         out.scene.objects.push_back(o);
+        where.objects.push_back(np + " ('" + im.node_name(v.node) + "')");
       }
     }
     if (const tinygltf::Value* lp = extension(n.extensions, "KHR_lights_punctual")) {
@@ -798,6 +869,7 @@ Result<GltfScene> GltfFile::scene() const {
         return im.fail(gp + "/type", "unknown light type '" + gl.type + "'");
       }
       out.scene.lights.push_back(l);
+      where.lights.push_back(gp + " (node '" + im.node_name(v.node) + "')");
     }
     if (n.camera >= 0) {
       if (auto e = im.check_index(n.camera, model.cameras, "camera", np + "/camera")) return *e;
@@ -828,6 +900,8 @@ Result<GltfScene> GltfFile::scene() const {
     }
   }
   if (out.scene.objects.empty()) return im.fail(roots_ptr, "the scene has no triangle meshes");
+  // scene.json's value rules, said of the glTF node they break.
+  if (auto issue = validate_scene(out.scene, /*check_meshes=*/false)) return im.fail(where.locate(issue->pointer), issue->message);
   return out;
 }
 

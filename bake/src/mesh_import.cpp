@@ -4,6 +4,7 @@
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
+#include <unordered_map>
 
 #include "caustix/common/mesh_topology.h"
 #include "mesh_soup.h"
@@ -46,6 +47,53 @@ struct FaceTally {
 
 }  // namespace
 
+std::size_t snap_close_points(std::vector<P3>& points) {
+  if (points.empty()) return 0;
+  P3 lo = points.front(), hi = lo;
+  for (const P3& p : points) {
+    for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
+  const double tol = kSnapTolerance * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(tol > 0) || !std::isfinite(tol)) return 0;
+  // Cells of side tol: a point's neighbours within tol lie in the 27 cells
+  // around its own. Only points that stayed put are candidates, so moves
+  // never chain.
+  using Cell = std::array<std::int64_t, 3>;
+  struct CellHash {
+    std::size_t operator()(const Cell& c) const {
+      return std::hash<std::int64_t>()(c[0] * 73856093 ^ c[1] * 19349663 ^ c[2] * 83492791);
+    }
+  };
+  std::unordered_map<Cell, std::vector<std::uint32_t>, CellHash> grid;
+  grid.reserve(points.size());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    P3& p = points[i];
+    Cell c{};
+    for (std::size_t k = 0; k < 3; ++k) c[k] = static_cast<std::int64_t>(std::floor((p[k] - lo[k]) / tol));
+    std::uint32_t best = UINT32_MAX;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t j : it->second) {
+            const P3 d = sub(points[j], p);
+            if (j < best && dot(d, d) <= tol * tol) best = j;
+          }
+        }
+      }
+    }
+    if (best == UINT32_MAX) {
+      grid[c].push_back(static_cast<std::uint32_t>(i));
+    } else if (points[best] != p) {
+      p = points[best];
+      ++moved;
+    }
+  }
+  return moved;
+}
+
 Result<ImportedMesh> import_mesh(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -84,6 +132,7 @@ Result<ImportedMesh> mesh_from_soup(PolygonSoup&& soup) {
       return refuse("vertex " + std::to_string(i) + " has a coordinate beyond the float range");
     }
   }
+  snap_close_points(soup.points);
   const auto n_points = static_cast<std::uint64_t>(soup.points.size());
   for (std::size_t f = 0; f < soup.polygon_count(); ++f) {
     for (std::uint32_t k = soup.offsets[f]; k < soup.offsets[f + 1]; ++k) {

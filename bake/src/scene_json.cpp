@@ -528,7 +528,10 @@ Result<SceneDocument> parse_scene_json(const std::string& text, const std::strin
       !parse_water(w, root, out.scene) || !parse_medium(w, root, out.scene) || !parse_camera(w, root, out.scene)) {
     return *w.error();
   }
-  if (out.scene.lights.empty()) w.warn("/lights", "the scene has no lights; everything will be dark");
+  if (out.scene.lights.empty()) {
+    w.warn("/lights", "the scene has no lights; everything will be dark: add \"lights\": [{\"type\": \"directional\", "
+                      "\"direction\": [0.3, -1, 0.2], \"irradiance\": 1}] (docs/scene-format.md)");
+  }
   if (auto issue = validate_scene(out.scene, /*check_meshes=*/false)) {
     w.fail(issue->pointer, issue->message);
     return *w.error();
@@ -554,7 +557,11 @@ Result<SceneDocument> load_scene(const std::string& path) {
   out.inputs = file->inputs();
   out.warnings = file->warnings();
   for (auto& s : gs->warnings) out.warnings.push_back(std::move(s));
-  if (out.scene.lights.empty()) out.warnings.push_back(path + ": the scene has no lights (KHR_lights_punctual); everything will be dark");
+  if (out.scene.lights.empty()) {
+    out.warnings.push_back(path + ": the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual "
+                                  "(Blender: glTF export, Include > Punctual Lights), or bake a scene.json that names this file "
+                                  "(\"gltf\") and adds \"lights\" (docs/scene-format.md)");
+  }
   if (auto issue = validate_scene(out.scene, /*check_meshes=*/false)) {
     return make_error(ErrorCode::kInput, path + ": the imported scene's " + issue->pointer + ": " + issue->message);
   }

@@ -1,6 +1,7 @@
 // The value rules of a scene: one place, used by the JSON front end (which
 // turns the JSON pointer into line and column) and by the .cxb decoder.
 
+#include <cfloat>
 #include <cmath>
 #include <set>
 
@@ -41,12 +42,25 @@ struct Checker {
   }
 };
 
-float determinant3(const Mat4f& m) {
-  // Upper-left 3x3 of a column-major 4x4.
-  const float a = m[0], b = m[4], c = m[8];
-  const float d = m[1], e = m[5], f = m[9];
-  const float g = m[2], h = m[6], i = m[10];
-  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+// A transform is degenerate relative to its own scale, never by an absolute
+// determinant: KHR_mesh_quantization files carry node scales of 1e-6 over
+// integer positions and centimetre exports 1e-4, and both are as regular
+// as a unit scale. The upper 3x3's columns span a parallelepiped; it is
+// degenerate when its volume is under 1e-6 of the product of the columns'
+// lengths (one direction flattened a million times more than the others:
+// the mesh's own extent collapses along it) or a column is shorter than
+// the smallest normal float. In double: (1e-6)^3 is far below float range.
+bool is_degenerate(const Mat4f& m) {
+  double col[3][3], len[3];
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) col[c][r] = m[c * 4 + r];
+    len[c] = std::sqrt(col[c][0] * col[c][0] + col[c][1] * col[c][1] + col[c][2] * col[c][2]);
+    if (!(len[c] >= FLT_MIN)) return true;
+  }
+  const double det = col[0][0] * (col[1][1] * col[2][2] - col[2][1] * col[1][2]) -
+                     col[1][0] * (col[0][1] * col[2][2] - col[2][1] * col[0][2]) +
+                     col[2][0] * (col[0][1] * col[1][2] - col[1][1] * col[0][2]);
+  return !(std::fabs(det) > 1e-6 * len[0] * len[1] * len[2]);
 }
 
 // Columns of the upper 3x3 orthogonal and of equal length (relative 1e-4).
@@ -124,8 +138,8 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(finite_transform, p + "/transform", "must be finite numbers");
     c.expect(o.transform[3] == 0 && o.transform[7] == 0 && o.transform[11] == 0 && o.transform[15] == 1,
              p + "/transform", "must be affine (last row 0 0 0 1)");
-    c.expect(std::fabs(determinant3(o.transform)) > 1e-12f, p + "/transform",
-             "is singular (zero scale?)");
+    c.expect(!finite_transform || !is_degenerate(o.transform), p + "/transform",
+             "is degenerate: it flattens the object (a zero scale, or one direction scaled under 1e-6 of another)");
   }
 
   for (std::size_t i = 0; i < s.lights.size(); ++i) {
