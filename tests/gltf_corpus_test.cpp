@@ -314,12 +314,29 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          g.doc["scenes"][0]["name"] = "Main";
        },
        {"the file has 2 scenes; imported /scenes/0 ('Main') (the default scene)"}},
-      {"spot_light",
+      {"spot_light_turned_down",  // a spot's cone about its node's -z, the node turned to face the floor
        [](GltfBuilder& g) {
-         g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "spot"}, {"intensity", 50.0}, {"spot", {{"outerConeAngle", 0.5}}}});
-         add_root(g, {{"name", "Lamp"}, {"translation", {0.0, 3.0, 0.0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+         g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back(
+             {{"type", "spot"}, {"name", "Lamp"}, {"intensity", 50.0}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}});
+         const double s = std::sqrt(0.5);
+         add_root(g, {{"name", "LampNode"}, {"translation", {0.0, 3.0, 0.0}}, {"rotation", {-s, 0.0, 0.0, s}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
        },
-       {"spot light 'Lamp' imported as a point light"}},
+       {}, true,
+       [](const bake::BakeResult& r) {
+         ASSERT_EQ(r.scene.lights.size(), 2u);
+         const Light& l = r.scene.lights[1];
+         EXPECT_TRUE(l.spot);
+         EXPECT_EQ(l.type, LightType::kPoint);
+         EXPECT_NEAR(l.direction[1], -1.0, 1e-6);
+         EXPECT_FLOAT_EQ(l.inner_cone, 0.2f);
+         EXPECT_FLOAT_EQ(l.outer_cone, 0.5f);
+       }},
+      {"spot_cone_out_of_range",
+       [](GltfBuilder& g) {
+         g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}});
+         add_root(g, {{"name", "Bad"}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+       },
+       {"/extensions/KHR_lights_punctual/lights/1/spot/innerConeAngle: must be in [0, outerConeAngle)"}, false},
       {"no_lights",
        [](GltfBuilder& g) {
          g.doc["extensions"].erase("KHR_lights_punctual");

@@ -325,10 +325,16 @@ TEST_F(Gltf, MirrorsPointAndSpotLightsAndNamedWarnings) {
   EXPECT_NEAR(doc->scene.lights[1].intensity, 0.1, 1e-6);  // 68.3 cd
   EXPECT_FLOAT_EQ(doc->scene.lights[1].position[2], 3.0f);
   EXPECT_EQ(doc->scene.lights[2].type, LightType::kPoint);
+  // KHR_lights_punctual's spot: its cone about the node's -z (no rotation: -z).
+  EXPECT_TRUE(doc->scene.lights[2].spot);
+  EXPECT_FALSE(doc->scene.lights[1].spot);
+  EXPECT_FLOAT_EQ(doc->scene.lights[2].inner_cone, 0.0f);
+  EXPECT_FLOAT_EQ(doc->scene.lights[2].outer_cone, 0.5f);
+  EXPECT_FLOAT_EQ(doc->scene.lights[2].direction[2], -1.0f);
   std::string all;
   for (const auto& w : doc->warnings) all += w + "\n";
   for (const char* named : {"baseColorTexture", "KHR_materials_clearcoat",
-                            "1 animation(s) ignored", "spot light 'Spot' imported as a point light"}) {
+                            "1 animation(s) ignored"}) {
     EXPECT_NE(all.find(named), std::string::npos) << named << " not in:\n" << all;
   }
   EXPECT_EQ(all.find("KHR_materials_dispersion"), std::string::npos) << all;

@@ -11,6 +11,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -116,6 +117,48 @@ TEST(Reference, SlantedSunOnABareFloorIsUniform) {
               err, cos_theta, worst, img->relative_noise);
   EXPECT_NEAR(mean, cos_theta, 4 * err);
   EXPECT_LT(worst, 5 * img->relative_noise);  // 144 pixels: 5 sigma is a 1-in-10^4 event for each
+}
+
+// A spot light over a bare floor (issue 45): each pixel is the pixel's mean
+// of I f(a) cos(theta) / r^2, f KHR_lights_punctual's falloff written here
+// from the angles (tests/spot_light_test.cpp has the runtime's).
+TEST(Reference, SpotLightOnABareFloorIsTheFalloffTimesTheInverseSquare) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  j["objects"].erase(1);
+  const double lp[3] = {0.2, 3.0, -0.1}, axis_len = std::sqrt(0.2 * 0.2 + 1.0);
+  const double axis[3] = {0.2 / axis_len, -1.0 / axis_len, 0.0};
+  j["lights"] = {{{"type", "spot"}, {"position", {lp[0], lp[1], lp[2]}}, {"direction", {axis[0], axis[1], axis[2]}},
+                  {"intensity", 9.0}, {"inner_cone_deg", 15}, {"outer_cone_deg", 30}}};
+  Request q{test::write_scene(j, "reference_spot"), "floor", -2, -2, 2, 2, 16, 16, 0, 1'600'000, 32, 5};
+  auto img = trace(q);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  const double co = std::cos(30 * kPi / 180), ci = std::cos(15 * kPi / 180);
+  double worst = 0, sum = 0, sum_expected = 0, var = 0;
+  for (int row = 0; row < 16; ++row) {
+    for (int col = 0; col < 16; ++col) {
+      double expected = 0;
+      for (int a = 0; a < 16; ++a) {
+        for (int b = 0; b < 16; ++b) {
+          const double x = -2 + (col + (a + 0.5) / 16) * 0.25, z = -2 + (row + (b + 0.5) / 16) * 0.25;
+          const double d[3] = {x - lp[0], -lp[1], z - lp[2]};
+          const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], r = std::sqrt(r2);
+          const double t = std::clamp(((d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2]) / r - co) / (ci - co), 0.0, 1.0);
+          expected += 9.0 * t * t * (lp[1] / r) / r2 / 256;
+        }
+      }
+      const std::size_t i = std::size_t(row) * 16 + std::size_t(col);
+      const double got = img->rgb[3 * i + 1], sigma = img->sigma[i];
+      sum += got;
+      sum_expected += expected;
+      var += sigma * sigma;
+      worst = std::max(worst, std::fabs(got - expected) / std::max(sigma, 1e-4));
+    }
+  }
+  std::printf("[reference spot] power %.4f vs %.4f (+- %.4f); worst pixel %.2f sigma\n", sum, sum_expected, std::sqrt(var), worst);
+  EXPECT_NEAR(sum, sum_expected, 4 * std::sqrt(var));
+  // Each pixel's sigma comes from 32 batches (Student's t, 31 degrees of
+  // freedom): 5.5 of them is a 1-in-10^5 event per pixel.
+  EXPECT_LT(worst, 5.5);
 }
 
 // The ball lens of glass_ball (radius 0.5, centre 0.75, n = 1.5, light

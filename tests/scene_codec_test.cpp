@@ -373,6 +373,49 @@ TEST(SceneCodec, MirrorsAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagMirrors).empty());
 }
 
+// Spot lights (issue 45): the cone survives in the SPOT chunk (required: a
+// reader that ignored it would light the whole scene); bad angles are
+// refused by name; a record for a directional light is refused with the
+// chunk named; a scene without spots has no SPOT chunk, so its bytes are
+// unchanged.
+TEST(SceneCodec, SpotConesAreStoredAndValidated) {
+  SceneDesc s = full_scene();
+  s.lights[1].spot = true;
+  s.lights[1].direction = {0, -1, 0};
+  s.lights[1].inner_cone = 0.2f;
+  s.lights[1].outer_cone = 0.5f;
+  auto b = encode_scene(s, {{0}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_TRUE(d->scene.lights[1].spot);
+  EXPECT_FALSE(d->scene.lights[0].spot);
+  EXPECT_EQ(d->scene.lights[1].inner_cone, 0.2f);
+  EXPECT_EQ(d->scene.lights[1].outer_cone, 0.5f);
+
+  SceneDesc bad = s;
+  bad.lights[1].inner_cone = 0.6f;
+  d = decode(encode_scene(bad, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/lights/1/inner_cone_deg"), std::string::npos) << d.error().message;
+
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t spot = c->find(cxb::kTagSpots).at(0);
+  EXPECT_TRUE(c->chunks()[spot].flags & cxb::kChunkRequired);
+  const std::uint32_t directional = 0;  // light 0 is the sun
+  std::memcpy(b.data() + c->chunks()[spot].offset + 4, &directional, 4);
+  test::reseal_payload(b, spot);
+  d = decode(b);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'SPOT'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("not a point light"), std::string::npos) << d.error().message;
+
+  auto plain = encode_scene(full_scene(), {{0}});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagSpots).empty());
+}
+
 // Dispersion (issue 22): the water's and a transparent object's survive in
 // the DISP chunk (required: a reader that ignored it would render no
 // colour fringes); out-of-range values are refused by name; a record for

@@ -130,9 +130,36 @@ TEST(SceneJson, HugeNumbersAndLightTypes) {
   EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "directional", "direction": [1e300, 0, 0]}]})")
                 .find("/lights/0/direction/0"),
             std::string::npos);
-  EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot"}]})")
+  EXPECT_NE(error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "area"}]})")
                 .find("/lights/0/type"),
             std::string::npos);
+}
+
+// Spot lights (issue 45): a point light with KHR_lights_punctual's cone,
+// half-angles in degrees (inner 0 and outer 45 unless given), pointing
+// down unless given; bad cones are located.
+TEST(SceneJson, SpotLights) {
+  auto r = parse_scene_json(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [
+    {"type": "spot", "position": [0, 3, 0], "intensity": 5, "direction": [0, -2, 0], "inner_cone_deg": 10, "outer_cone_deg": 30},
+    {"type": "spot", "position": [1, 3, 0]}]})", "scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Light& a = r->scene.lights[0];
+  EXPECT_TRUE(a.spot);
+  EXPECT_EQ(a.type, LightType::kPoint);
+  EXPECT_FLOAT_EQ(a.direction[1], -1.0f);  // normalised
+  EXPECT_NEAR(a.inner_cone, 10 * 3.14159265 / 180, 1e-6);
+  EXPECT_NEAR(a.outer_cone, 30 * 3.14159265 / 180, 1e-6);
+  const Light& b = r->scene.lights[1];
+  EXPECT_TRUE(b.spot);
+  EXPECT_FLOAT_EQ(b.inner_cone, 0.0f);
+  EXPECT_NEAR(b.outer_cone, 3.14159265 / 4, 1e-6);
+  EXPECT_FLOAT_EQ(b.direction[1], -1.0f);
+  std::string msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot", "position": [0, 3, 0], "outer_cone_deg": 100}]})");
+  EXPECT_NE(msg.find("/lights/0/outer_cone_deg: must be in (0, 90] degrees"), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot", "position": [0, 3, 0], "inner_cone_deg": 50, "outer_cone_deg": 40}]})");
+  EXPECT_NE(msg.find("/lights/0/inner_cone_deg"), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot", "position": [0, 3, 0], "direction": [0, 0, 0]}]})");
+  EXPECT_NE(msg.find("/lights/0/direction"), std::string::npos) << msg;
 }
 
 // Media (issue 19): the medium box, scattering water and milky glass, with

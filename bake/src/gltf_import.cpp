@@ -861,10 +861,19 @@ Result<GltfScene> GltfFile::scene() const {
         l.direction = to_f(normalized(apply_dir(v.world, {0, 0, -1})));
         l.irradiance = static_cast<float>(gl.intensity / kLumensPerWatt);
       } else if (gl.type == "point" || gl.type == "spot") {
-        if (gl.type == "spot") im.warn(gp + ": spot light '" + l.name + "' imported as a point light (caustix has no cone)", out.warnings);
         l.type = LightType::kPoint;
         l.position = to_f({v.world[12], v.world[13], v.world[14]});
         l.intensity = static_cast<float>(gl.intensity / kLumensPerWatt);
+        if (gl.type == "spot") {
+          // KHR_lights_punctual: the cone about the node's -z.
+          const double inner = gl.spot.innerConeAngle, outer = gl.spot.outerConeAngle;
+          if (!(outer > 0 && outer <= kPi / 2)) return im.fail(gp + "/spot/outerConeAngle", "must be in (0, pi/2]");
+          if (!(inner >= 0 && inner < outer)) return im.fail(gp + "/spot/innerConeAngle", "must be in [0, outerConeAngle)");
+          l.spot = true;
+          l.direction = to_f(normalized(apply_dir(v.world, {0, 0, -1})));
+          l.inner_cone = static_cast<float>(inner);
+          l.outer_cone = static_cast<float>(outer);
+        }
       } else {
         return im.fail(gp + "/type", "unknown light type '" + gl.type + "'");
       }

@@ -369,12 +369,27 @@ bool parse_lights(Walker& w, const json& root, SceneDesc& scene) {
       const json* d = w.member(l, ptr, "direction");
       if (!d || !w.numbers(*d, ptr + "/direction", light.direction)) return false;
       if (const json* j = Walker::optional_member(l, "irradiance"); j && !w.number(*j, ptr + "/irradiance", light.irradiance)) return false;
-    } else if (type == "point") {
-      w.check_fields(l, ptr, {"type", "name", "color", "position", "intensity"});
+    } else if (type == "point" || type == "spot") {
+      light.spot = type == "spot";
+      if (light.spot) {
+        w.check_fields(l, ptr, {"type", "name", "color", "position", "intensity", "direction", "inner_cone_deg", "outer_cone_deg"});
+      } else {
+        w.check_fields(l, ptr, {"type", "name", "color", "position", "intensity"});
+      }
       light.type = LightType::kPoint;
       const json* p = w.member(l, ptr, "position");
       if (!p || !w.numbers(*p, ptr + "/position", light.position)) return false;
       if (const json* j = Walker::optional_member(l, "intensity"); j && !w.number(*j, ptr + "/intensity", light.intensity)) return false;
+      if (light.spot) {
+        // KHR_lights_punctual's spot: half-angles, inner 0 and outer 45
+        // degrees unless given; pointing down unless given.
+        float inner = 0, outer = 45;
+        if (const json* j = Walker::optional_member(l, "direction"); j && !w.numbers(*j, ptr + "/direction", light.direction)) return false;
+        if (const json* j = Walker::optional_member(l, "inner_cone_deg"); j && !w.number(*j, ptr + "/inner_cone_deg", inner)) return false;
+        if (const json* j = Walker::optional_member(l, "outer_cone_deg"); j && !w.number(*j, ptr + "/outer_cone_deg", outer)) return false;
+        light.inner_cone = inner * 0.017453292f;
+        light.outer_cone = outer * 0.017453292f;
+      }
     } else if (type == "linear") {
       // Seed 002 fig. 6d: a linear light approximated by N point lights at
       // the centres of N equal pieces of the segment, each with 1/N of the
@@ -411,7 +426,7 @@ bool parse_lights(Walker& w, const json& root, SceneDesc& scene) {
       }
       continue;
     } else {
-      return w.fail(ptr + "/type", "expected \"directional\", \"point\" or \"linear\", got \"" + type + "\"");
+      return w.fail(ptr + "/type", "expected \"directional\", \"point\", \"spot\" or \"linear\", got \"" + type + "\"");
     }
     scene.lights.push_back(light);
   }

@@ -163,6 +163,23 @@ std::vector<std::uint8_t> encode_mirrors(const SceneDesc& s) {
   return w.take();
 }
 
+// SPOT (issue 45): u32 count; per spot light, in light order: u32 light
+// index, f32 inner and f32 outer half-angle (radians).
+bool has_spots(const SceneDesc& s) {
+  return std::any_of(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.spot; });
+}
+std::vector<std::uint8_t> encode_spots(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.spot; })));
+  for (std::uint32_t i = 0; i < s.lights.size(); ++i) {
+    if (!s.lights[i].spot) continue;
+    w.u32(i);
+    w.f32(s.lights[i].inner_cone);
+    w.f32(s.lights[i].outer_cone);
+  }
+  return w.take();
+}
+
 // DISP (issue 22): f32 water dispersion (0 without water); u32 count; per
 // transparent object with dispersion > 0, in object order: u32 object
 // index, f32 dispersion.
@@ -362,6 +379,24 @@ bool decode_mirrors(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.lights.size(), 12, "spot light")) return false;
+  if (n == 0) return d.fail("a 'SPOT' chunk lists no spot light");
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t li = 0;
+    if (!d.u32(li, "spot light index")) return false;
+    if (li >= s.lights.size() || (k > 0 && li <= prev) || s.lights[li].type != LightType::kPoint) {
+      return d.fail("spot light index " + std::to_string(li) + " is out of range, out of order or not a point light");
+    }
+    prev = li;
+    Light& l = s.lights[li];
+    l.spot = true;
+    if (!d.f32(l.inner_cone, "spot inner cone") || !d.f32(l.outer_cone, "spot outer cone")) return false;
+  }
+  return d.finish();
+}
+
 bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
   float water = 0;
   if (!d.f32(water, "water dispersion")) return false;
@@ -402,6 +437,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (scene.medium || scene_scatters(scene)) w.add_chunk(cxb::kTagMedia, cxb::kChunkRequired, encode_media(scene));
   if (has_mirrors(scene)) w.add_chunk(cxb::kTagMirrors, cxb::kChunkRequired, encode_mirrors(scene));
   if (scene_disperses(scene)) w.add_chunk(cxb::kTagDispersion, cxb::kChunkRequired, encode_dispersion(scene));
+  if (has_spots(scene)) w.add_chunk(cxb::kTagSpots, cxb::kChunkRequired, encode_spots(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -469,6 +505,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!disp) return disp.error();
   if (*disp) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagDispersion, **disp, [&](ChunkDecoder& d) { return decode_dispersion(d, s); }));
+  }
+  auto spot = single(cxb::kTagSpots, false);
+  if (!spot) return spot.error();
+  if (*spot) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSpots, **spot, [&](ChunkDecoder& d) { return decode_spots(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

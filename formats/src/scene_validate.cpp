@@ -157,6 +157,14 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.finite_vec(l.position, p + "/position");
       c.range(l.intensity, 0.0f, 1e9f, p + "/intensity", "must be in [0, 1e9] W/sr");
     }
+    if (l.spot) {
+      c.expect(l.type == LightType::kPoint, p + "/type", "only a point light can have a cone");
+      c.expect(finite(l.direction) && length(l.direction) > 1e-6f, p + "/direction",
+               "a spot light's axis must be a finite, non-zero vector");
+      c.range(l.outer_cone, 1e-4f, 1.5707964f, p + "/outer_cone_deg", "must be in (0, 90] degrees");
+      c.expect(finite(l.inner_cone) && l.inner_cone >= 0.0f && l.inner_cone < l.outer_cone, p + "/inner_cone_deg",
+               "must be >= 0 and less than the outer cone");
+    }
   }
 
   if (s.water) {

@@ -56,6 +56,7 @@ uniform int u_light_type;      // 1 directional, 2 point
 uniform vec3 u_light_dir;
 uniform vec3 u_light_pos;
 uniform float u_light_power;   // E0 or I
+uniform vec3 u_spot;           // a spot's cone about u_light_dir (caustix_spot_factor)
 uniform vec3 u_weight;         // the traced wavelength's RGB weights (dispersion, issue 22); (1, 1, 1) without
 uniform int u_iterations;
 uniform int u_exit_iterations;
@@ -209,7 +210,7 @@ void main() {
   } else {
     vec3 to = x - u_light_pos;
     d = normalize(to);
-    power = u_light_power * area * abs(dot(d, u_v)) / max(dot(to, to), 1e-12);
+    power = u_light_power * area * abs(dot(d, u_v)) / max(dot(to, to), 1e-12) * caustix_spot_factor(d, u_light_dir, u_spot);
   }
   vec3 flux = power * u_weight;
   vec3 d0 = d;

@@ -18,6 +18,7 @@ uniform int u_light_type;  // 1 directional, 2 point
 uniform vec3 u_light_direction;
 uniform vec3 u_light_position;
 uniform float u_light_power;  // E0 (W/m^2) or I (W/sr)
+uniform vec3 u_spot;          // a spot's cone about u_light_direction (caustix_spot_factor)
 uniform float u_ior;
 
 vec3 incident(vec3 p) { return u_light_type == 1 ? u_light_direction : normalize(p - u_light_position); }
@@ -49,6 +50,7 @@ void main() {
   vec3 l = incident(centre);
   float cos_i = max(0.0, -dot(l, nf));
   float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(centre - u_light_position, centre - u_light_position), 1e-12);
+  if (u_light_type == 2) e_in *= caustix_spot_factor(l, u_light_direction, u_spot);
   float beam = 0.5 * twice_area * cos_i;
   flux[i] = vec2(e_in * caustix_fresnel_transmittance(cos_i, u_ior) * beam, beam);
 }

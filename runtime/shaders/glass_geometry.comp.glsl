@@ -27,6 +27,7 @@ uniform int u_light_type;
 uniform vec3 u_light_direction;
 uniform vec3 u_light_position;
 uniform float u_light_power;
+uniform vec3 u_spot;  // a spot's cone about u_light_direction (caustix_spot_factor)
 uniform vec3 u_origin;
 uniform vec3 u_U;
 uniform vec3 u_V;
@@ -62,7 +63,7 @@ void main() {
   vec3 centre = (pw[0] + pw[1] + pw[2]) / 3.0;
   vec3 to_light = u_light_type == 1 ? -u_light_direction : normalize(u_light_position - centre);
   float cos_theta = area > 0.0 ? dot(c, to_light) / (2.0 * area) : 0.0;
-  float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(u_light_position - centre, u_light_position - centre), 1e-12);
+  float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(u_light_position - centre, u_light_position - centre), 1e-12) * caustix_spot_factor(-to_light, u_light_direction, u_spot);
   float beam = area * max(cos_theta, 0.0);
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);
   vec4 o[3];

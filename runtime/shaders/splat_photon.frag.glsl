@@ -20,6 +20,7 @@ uniform int u_light_type;  // 1 directional, 2 point
 uniform vec3 u_light_direction;
 uniform vec3 u_light_position;
 uniform float u_light_power;
+uniform vec3 u_spot;  // a spot's cone about u_light_direction (caustix_spot_factor)
 uniform float u_ior;
 uniform float u_pixel_area;  // of a photon-texture pixel, in the frame's U-W plane (m^2)
 uniform float u_texel_area;  // of a caustics-map texel (m^2)
@@ -35,7 +36,7 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 d = v_world - u_light_position;
   vec3 l = u_light_type == 1 ? normalize(u_light_direction) : normalize(d);
-  float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(d, d), 1e-12);
+  float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(d, d), 1e-12) * caustix_spot_factor(l, normalize(u_light_direction), u_spot);
   float cos_i = -dot(l, n);
   if (cos_i <= 0.0) return;
   vec3 t = refract(l, n, 1.0 / u_ior);

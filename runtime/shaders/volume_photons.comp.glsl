@@ -169,7 +169,7 @@ void main() {
   if (u_source == 0) {
     x = vec3(xz.x, u_window_y, xz.y);
     d = point ? normalize(x - lp) : caustix_light.light_direction.xyz;
-    float e = point ? abs(d.y) / dot(x - lp, x - lp) : abs(d.y);
+    float e = point ? abs(d.y) / dot(x - lp, x - lp) * caustix_spot_factor(d, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : abs(d.y);
     p = u_light_color * (e * area);
   } else {
     // On the water surface as the caustics see it this frame (seed 004:
@@ -186,7 +186,7 @@ void main() {
     float cos_i = -dot(din, n);
     if (point && lp.y <= y) return;
     if (cos_i <= 0.0) return;
-    float e = point ? abs(din.y) / dot(x - lp, x - lp) : abs(din.y);
+    float e = point ? abs(din.y) / dot(x - lp, x - lp) * caustix_spot_factor(din, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : abs(din.y);
     float tr = 1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / u_water_ior);
     d = refract(din, n, 1.0 / u_water_ior);
     p = u_light_color * (e * area * tr);

@@ -340,7 +340,8 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           const Vec3d to = add(origin, lp, -1);
           const double r2 = dot(to, to);
           dir = normalize(to);
-          flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
+          flux = light.intensity * -dir[1] / r2 * area / double(per_batch) *
+                 spot_factor(light, {static_cast<float>(dir[0]), static_cast<float>(dir[1]), static_cast<float>(dir[2])});
         }
         Rgb power{flux * light.color[0] / e0, flux * light.color[1] / e0, flux * light.color[2] / e0};
         const double nm = photon_wavelength(q.wavelength_nm, disperses, [&] { return u01(rng); }, power);

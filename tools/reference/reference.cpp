@@ -174,7 +174,8 @@ Result<Image> trace(const Request& q) {
           const double r2 = dot(to, to);
           dir = normalize(to);
           origin = target;
-          flux = light.intensity * -dir[1] / r2 * area / double(per_batch);
+          flux = light.intensity * -dir[1] / r2 * area / double(per_batch) *
+                 spot_factor(light, {static_cast<float>(dir[0]), static_cast<float>(dir[1]), static_cast<float>(dir[2])});
         }
         std::array<double, 3> rgb{flux * light.color[0], flux * light.color[1], flux * light.color[2]};
         const double nm = photon_wavelength(q.wavelength_nm, disperses, [&] { return u01(rng); }, rgb);

@@ -452,6 +452,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   p.set("u_light_dir", glm::normalize(to_glm(light.direction)));
   p.set("u_light_pos", to_glm(light.position));
   p.set("u_light_power", directional ? light.irradiance : light.intensity);
+  const auto cone = spot_terms(light);
+  p.set("u_spot", glm::vec3(cone[0], cone[1], cone[2]));
   p.set("u_iterations", static_cast<int>(o.iterations));
   p.set("u_exit_iterations", static_cast<int>(o.exit_iterations));
   p.set("u_bounces", static_cast<int>(o.bounces));

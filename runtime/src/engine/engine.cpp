@@ -158,6 +158,8 @@ struct Engine::Impl {
     b.light_direction = glm::vec4(glm::normalize(to_glm(light.direction)), m.vsm ? 1.0f : 0.0f);
     b.light_position = vec4_of(light.position, m.vsm ? so.vsm_bleeding : 0.0f);
     b.light_color = vec4_of(light.color, dir ? light.irradiance : light.intensity);
+    const auto cone = spot_terms(light);
+    b.spot = glm::vec4(cone[0], cone[1], cone[2], 0.0f);
     b.world_to_shadow = m.world_to_shadow;
     b.water = glm::vec4(-1e30f, 1.0f, m.far, m.texel);
     b.absorption = glm::vec4(0.0f);
@@ -594,6 +596,7 @@ Status Engine::update(const FrameUpdate& f) {
             p.set("u_light_direction", glm::vec3(b.light_direction));
             p.set("u_light_position", glm::vec3(b.light_position));
             p.set("u_light_power", b.light_color.w);
+            p.set("u_spot", glm::vec3(b.spot));
           },
           v, due, work.glass));
     }

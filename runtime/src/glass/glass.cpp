@@ -388,10 +388,11 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string stride = "#define PRIM_STRIDE 6\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
+  const std::string geometry_src = insert_after_version(shaders::k_glass_geometry_comp_glsl, std::string("#define CAUSTIX_OPTICS_ONLY\n") + shaders::k_caustix_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.rays, "glass_rays", rays_src.c_str()},
        {&s.rays_blend, "glass_rays_blend", shaders::k_glass_rays_blend_comp_glsl},
-       {&s.geometry, "glass_geometry", shaders::k_glass_geometry_comp_glsl},
+       {&s.geometry, "glass_geometry", geometry_src.c_str()},
        {&s.corner_intensity, "glass_corner_intensity", shaders::k_glass_corner_intensity_comp_glsl},
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},

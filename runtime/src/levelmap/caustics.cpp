@@ -364,6 +364,8 @@ struct CausticsEngine::Impl {
     p.set("u_light_direction", v3(light.direction));
     p.set("u_light_position", v3(light.position));
     p.set("u_light_power", light.type == LightType::kDirectional ? light.irradiance : light.intensity);
+    const auto cone = spot_terms(light);
+    p.set("u_spot", glm::vec3(cone[0], cone[1], cone[2]));
     p.set("u_ior", ior);
   }
 

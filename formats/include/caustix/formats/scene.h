@@ -10,7 +10,9 @@
 // float is checked, and an error names the chunk, the byte offset in its
 // payload and the field.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -95,11 +97,40 @@ struct Light {
   LightType type = LightType::kDirectional;
   std::string name;
   Vec3f color{1, 1, 1};            // linear RGB tint, each >= 0
-  Vec3f direction{0, -1, 0};       // directional: unit direction of travel
+  Vec3f direction{0, -1, 0};       // directional: unit direction of travel; spot: unit axis (where it points)
   float irradiance = 1.0f;         // directional: E0 in W/m^2, >= 0
   Vec3f position{0, 5, 0};         // point
-  float intensity = 1.0f;          // point: W/sr, >= 0
+  float intensity = 1.0f;          // point: W/sr, >= 0 (a spot's, along its axis)
+  // A spot light is a point light whose intensity falls off outside a cone
+  // about `direction` (KHR_lights_punctual's spot: half-angles in radians,
+  // 0 <= inner < outer <= pi/2; spot_factor()).
+  bool spot = false;
+  float inner_cone = 0.0f;
+  float outer_cone = 0.78539816f;  // pi/4, glTF's default
 };
+
+// The cone's terms as the shaders take them: x cos(outer), y 1 / (cos(inner)
+// - cos(outer)), z 1 for a spot (0: no cone).
+inline std::array<float, 3> spot_terms(const Light& l) {
+  if (!l.spot) return {-1.0f, 1.0f, 0.0f};
+  const float co = std::cos(l.outer_cone), ci = std::cos(l.inner_cone);
+  return {co, 1.0f / std::max(ci - co, 1e-4f), 1.0f};
+}
+
+// A point light's intensity towards unit direction `travel` (away from the
+// light) relative to its `intensity`: 1 without a cone; for a spot, the
+// falloff of the KHR_lights_punctual specification's reference
+// implementation, t^2 with t = clamp((cos a - cos outer) / (cos inner -
+// cos outer), 0, 1) and a the angle from the axis -- 1 inside the inner
+// cone, 0 outside the outer one, smooth between. The GLSL twin is
+// caustix_spot_factor() in caustix.glsl.
+inline float spot_factor(const Light& l, const Vec3f& travel) {
+  if (!l.spot) return 1.0f;
+  const auto t = spot_terms(l);
+  const float c = travel[0] * l.direction[0] + travel[1] * l.direction[1] + travel[2] * l.direction[2];
+  const float x = std::clamp((c - t[0]) * t[1], 0.0f, 1.0f);
+  return x * x;
+}
 
 // Water height y(x, z, t) = level + sum_i A_i sin(k_i (d_i . (x, z) - c_i t) + phi_i),
 // k_i = 2 pi / wavelength_i, d_i a unit 2-D direction.

@@ -29,6 +29,7 @@ inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh,
 inline constexpr Tag kTagMedia = make_tag("MDIA");    // required if present, at most once: media and scattering
 inline constexpr Tag kTagMirrors = make_tag("MIRR");  // required if present, at most once: mirrors' reflectance
 inline constexpr Tag kTagDispersion = make_tag("DISP");  // required if present, at most once: dispersion (issue 22)
+inline constexpr Tag kTagSpots = make_tag("SPOT");       // required if present, at most once: spot lights' cones (issue 45)
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once

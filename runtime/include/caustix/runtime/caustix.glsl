@@ -33,6 +33,17 @@ float caustix_fresnel_reflectance(float cos_i, float eta) {
 // Exact Fresnel transmittance, unpolarised, from air (n = 1) into n2.
 float caustix_fresnel_transmittance(float cos_i, float n2) { return 1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / n2); }
 
+// A point light's intensity towards unit direction `travel` (away from the
+// light) relative to its own: 1 without a cone; for a spot light
+// (KHR_lights_punctual), t^2 with t = clamp((travel . axis - cos outer) /
+// (cos inner - cos outer), 0, 1). `spot` is (cos outer, 1 / (cos inner -
+// cos outer), 1 for a spot or 0); formats' spot_factor() is its twin.
+float caustix_spot_factor(vec3 travel, vec3 axis, vec3 spot) {
+  if (spot.z == 0.0) return 1.0;
+  float t = clamp((dot(travel, axis) - spot.x) * spot.y, 0.0, 1.0);
+  return t * t;
+}
+
 #ifndef CAUSTIX_OPTICS_ONLY
 
 #ifndef CAUSTIX_BLOCK_NAME
@@ -122,6 +133,7 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   vec4 cmap_v;           // w visibility tolerance along V
   vec4 cmap_w;
   vec4 cmap_half;
+  vec4 spot;             // xyz a spot light's cone (caustix_spot_factor; axis light_direction.xyz), z 0 without one
 } caustix_light;
 
 layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
@@ -276,6 +288,7 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
   }
   vec3 l = caustix_light.mode.y == 1 ? caustix_light.light_direction.xyz : normalize(p - caustix_light.light_position.xyz);
   float e_in = caustix_light.mode.y == 1 ? caustix_light.light_color.w : caustix_light.light_color.w / max(dot(p - caustix_light.light_position.xyz, p - caustix_light.light_position.xyz), 1e-12);
+  if (caustix_light.mode.y == 2) e_in *= caustix_spot_factor(l, caustix_light.light_direction.xyz, caustix_light.spot.xyz);
   if (caustix_light.mode.x == 1) {
     float cos_i = max(-l.y, 0.0);
     vec3 travel = caustix_light.mode.y == 1 ? caustix_light.refracted.xyz : refract(l, vec3(0.0, 1.0, 0.0), 1.0 / caustix_light.water.y);

@@ -104,7 +104,7 @@ enum class LightMode : int {
 // buffer, another shading language) find every field here. Vectors carry
 // extra scalars in w where noted.
 struct LightBlock {
-  glm::ivec4 mode{0};           // x LightMode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
+  glm::ivec4 mode{0};           // x LightMode, y light type (1 directional, 2 point or spot), z glass textures bound, w scene has glass
   glm::vec4 light_direction{0}; // xyz: unit direction of travel (directional); w: 1 variance shadow maps, 0 PCF
   glm::vec4 light_position{0};  // xyz: position (point); w: VSM light-bleeding reduction
   glm::vec4 light_color{0};     // rgb: linear colour; w: E0 (W/m^2, directional) or I (W/sr, point)
@@ -136,8 +136,12 @@ struct LightBlock {
   glm::vec4 cmap_v{0};          // w: visibility tolerance along V (m)
   glm::vec4 cmap_w{0};
   glm::vec4 cmap_half{0};
+  // A spot light's cone (issue 45): x cos(outer), y 1 / (cos(inner) -
+  // cos(outer)), z 1 for a spot, 0 for a light without a cone; the axis is
+  // light_direction.xyz. caustix_spot_factor() in caustix.glsl.
+  glm::vec4 spot{0};
 };
-static_assert(sizeof(LightBlock) == 30 * 16, "LightBlock must match the std140 block of caustix.glsl");
+static_assert(sizeof(LightBlock) == 31 * 16, "LightBlock must match the std140 block of caustix.glsl");
 
 // Everything the GLSL include reads for one (receiver, light), as plain data.
 struct ReceiverLighting {
