@@ -76,9 +76,17 @@ TEST_F(Display, PixelsFollowExposureAutoExposureAndToneCurve) {
     frame(n, n, c.d, hdr, out);
     double scale = std::exp2(c.d.exposure_ev);
     if (c.d.auto_exposure) {
-      double sum = 0;  // Reinhard et al. 2002, eq. 1, as luminance.frag (delta 1e-4)
-      for (std::size_t i = 0; i < hdr.size(); i += 4) sum += std::log(1e-4 + luminance(&hdr[i]));
-      scale *= 0.18 / std::exp(sum / (n * n));
+      // Reinhard et al. 2002, eq. 1, as luminance.frag (delta 1e-4), over
+      // the lit scene: the sky (the frame's clear colour, where nothing was
+      // drawn) weighs 1/1000 of a surface.
+      double sum = 0, weights = 0;
+      for (std::size_t i = 0; i < hdr.size(); i += 4) {
+        const bool sky = hdr[i] == runtime::kSkyColor[0] && hdr[i + 1] == runtime::kSkyColor[1] && hdr[i + 2] == runtime::kSkyColor[2];
+        const double w = sky ? 1e-3 : 1.0;
+        sum += w * std::log(1e-4 + luminance(&hdr[i]));
+        weights += w;
+      }
+      scale *= 0.18 / std::exp(sum / weights);
     }
     double worst = 0;
     for (std::size_t i = 0; i < hdr.size(); i += 4) {

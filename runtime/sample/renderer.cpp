@@ -588,7 +588,7 @@ void Renderer::present(unsigned framebuffer, int width, int height) {
       s.log_luminance_h = s.frame().height;
       s.log_luminance_levels = 1 + static_cast<int>(std::floor(std::log2(std::max(s.frame().width, s.frame().height))));
       s.log_luminance = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(s.log_luminance.get(), s.log_luminance_levels, GL_R32F, s.frame().width, s.frame().height);
+      glTextureStorage2D(s.log_luminance.get(), s.log_luminance_levels, GL_RG32F, s.frame().width, s.frame().height);
       glTextureParameteri(s.log_luminance.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
       s.log_luminance_fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(s.log_luminance_fbo.get(), GL_COLOR_ATTACHMENT0, s.log_luminance.get(), 0);
@@ -596,6 +596,7 @@ void Renderer::present(unsigned framebuffer, int width, int height) {
     glBindFramebuffer(GL_FRAMEBUFFER, s.log_luminance_fbo.get());
     glViewport(0, 0, s.frame().width, s.frame().height);
     s.luminance.use();
+    glBindTextureUnit(2, s.hdr.depth.get());  // the full-size frame's depth: where nothing was drawn is sky
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glGenerateTextureMipmap(s.log_luminance.get());
     glBindTextureUnit(1, s.log_luminance.get());

@@ -28,7 +28,10 @@ vec3 filmic(vec3 x) {
 
 void main() {
   vec3 c = max(texture(u_hdr, v_uv).rgb, vec3(0.0)) * u_exposure;
-  if (u_auto_exposure) c *= 0.18 / exp(textureLod(u_log_luminance, vec2(0.5), u_last_level).r);
+  if (u_auto_exposure) {
+    const vec2 m = textureLod(u_log_luminance, vec2(0.5), u_last_level).rg;
+    c *= 0.18 / exp(m.r / max(m.g, 1e-6));
+  }
   c = u_tone_map == 0 ? filmic(c) : 1.0 - exp(-c);
   o_color = vec4(srgb_encode(c), 1.0);
 }
