@@ -16,6 +16,8 @@
 #include "gl_fixture.h"
 #include "scene_fixture.h"
 
+#include <nlohmann/json.hpp>
+
 namespace caustix {
 namespace {
 
@@ -185,6 +187,34 @@ TEST_F(Display, SupersamplingSmoothsStairSteps) {
   EXPECT_NEAR(r1, 1 / std::sqrt(12.0), 0.05);
   EXPECT_LT(r2, 1 / std::sqrt(12.0) / 2);
   EXPECT_LT(r3, 1 / std::sqrt(12.0) / 3);
+}
+
+// A glTF lamp's room (issue 45): 10 cd is 0.0146 W/sr, whose floor at 2 m
+// is 0.0037 W/m^2 -- black at the sun scenes' -1 EV. The default exposure
+// is -1 EV relative to the brightest point light's irradiance at the
+// scene's centre, so the floor under the lamp shows as a sunlit floor does
+// (sRGB 0.71; the sun test above holds it in [0.62, 0.78]).
+TEST_F(Display, ALampLitRoomStartsAtASunlitFloorsExposure) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  j["objects"].erase(1);
+  j["lights"] = {{{"type", "point"}, {"position", {0.0, 2.0, 0.0}}, {"intensity", 10.0 / 683}}};
+  j.erase("camera");
+  auto lamp = test::bake_and_create(test::write_scene(j, "display_lamp"));
+  ASSERT_TRUE(lamp);
+  const float ev = lamp->default_exposure_ev();
+  EXPECT_NEAR(ev, -1 - std::log2(10.0 / 683 / 4), 1e-3);  // the bounds' centre is the floor's, 2 m below the lamp
+  EXPECT_FLOAT_EQ(r_->default_exposure_ev(), -1.0f);       // a sun of E0 = 1: as before
+  FrameParams f;
+  f.camera.position = {0.0f, 1.0f, 0.01f};
+  f.camera.target = {0.0f, 0.0f, 0.0f};
+  f.width = f.height = 32;
+  f.display.exposure_ev = ev;
+  ASSERT_TRUE(lamp->render(f).ok());
+  const auto out = lamp->read_display();
+  const double centre = out[4 * (16 * 32 + 16) + 1] / 255.0;
+  std::cout << "floor under the lamp at the default exposure: sRGB " << centre << "\n";
+  EXPECT_GT(centre, 0.62);
+  EXPECT_LT(centre, 0.80);
 }
 
 TEST_F(Display, AbsurdKnobsAreRefused) {

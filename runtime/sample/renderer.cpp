@@ -21,6 +21,23 @@
 namespace caustix::runtime {
 namespace {
 
+// The irradiance the display's exposure, the ambient term and the sky are
+// relative to (renderer.h, default_exposure_ev): the first directional
+// light's E0, else the largest I / d^2 of the point and spot lights at
+// `centre`; 1 for a scene whose lights give nothing.
+float reference_irradiance(const SceneDesc& scene, const glm::vec3& centre) {
+  float reference = 0;
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kDirectional) {
+      reference = l.irradiance;
+      break;
+    }
+    const glm::vec3 d = centre - glm::vec3(l.position[0], l.position[1], l.position[2]);
+    reference = std::max(reference, l.intensity / std::max(glm::dot(d, d), 1e-12f));
+  }
+  return reference > 0 && std::isfinite(reference) ? reference : 1.0f;
+}
+
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 
 // A colour (+ auxiliary colour) + depth render target of a given size.
@@ -87,6 +104,7 @@ struct Renderer::Impl {
   gl::Texture log_luminance;
   gl::Framebuffer log_luminance_fbo;
   int log_luminance_w = 0, log_luminance_h = 0, log_luminance_levels = 0;
+  float reference = 1.0f;  // reference_irradiance() of the scene
 
   // Pass timing: kSlots frames of PassTimes::kCount + 1 timestamps in
   // flight, read back when available.
@@ -169,7 +187,7 @@ struct Renderer::Impl {
     p.set("u_view_proj", v.view_proj);
     p.set("u_clip_plane", v.clip.value_or(glm::vec4(0.0f)));
     p.set("u_pass", pass);
-    p.set("u_ambient", kAmbient * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]));
+    p.set("u_ambient", reference * kAmbient * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]));
     p.set("u_fog", v.fog ? 1 : 0);
     p.set("u_fog_eye", v.fog_eye);
     p.set("u_fog_k", medium.k);
@@ -198,6 +216,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   auto engine = Engine::create(scene);
   if (!engine) return engine.error();
   s.engine = std::move(*engine);
+  s.reference = reference_irradiance(scene.desc, 0.5f * (s.engine->bounds_min() + s.engine->bounds_max()));
   const std::string lighting = std::string("#version 450 core\n") + s.engine->glsl_include();
   const std::string receiver_fs = lighting + sample_shaders::k_receiver_frag_glsl;
   const std::string irradiance_fs = lighting + sample_shaders::k_irradiance_frag_glsl;
@@ -230,7 +249,11 @@ Status Renderer::render(const FrameParams& f) {
   }
   s.display_options = f.display;
   const SceneDesc& scene = s.scene();
-  const WaterLook& look = f.water;
+  // The sky's radiance scales with the scene's light level, as the ambient
+  // term does (reference_irradiance): a lamp-lit room's sky is not 100
+  // times brighter than its floor.
+  WaterLook look = f.water;
+  look.sky *= s.reference;
   s.hdr.ensure(width, height, GL_RGBA32F, true);
   if (s.timing) {
     s.collect();
@@ -248,7 +271,7 @@ Status Renderer::render(const FrameParams& f) {
   view.near_plane = f.camera.near_plane;
   view.far_plane = f.camera.far_plane;
   const glm::mat4 view_proj = view.projection() * view.view;
-  const glm::vec3 sky(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
+  const glm::vec3 sky = s.reference * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
   const WaterMedium medium = s.engine->water_medium(view, look);
 
   PassView main{s.hdr.fbo.get(), width, height, view_proj, std::nullopt, false, false, view.eye(), sky};
@@ -659,6 +682,8 @@ Camera Renderer::default_camera() const {
   c.far_plane = 10.0f * r;
   return c;
 }
+
+float Renderer::default_exposure_ev() const { return std::clamp(-1.0f - std::log2(impl_->reference), -16.0f, 16.0f); }
 
 glm::vec3 Renderer::bounds_min() const { return impl_->engine->bounds_min(); }
 glm::vec3 Renderer::bounds_max() const { return impl_->engine->bounds_max(); }

@@ -140,7 +140,9 @@ int main(int argc, char** argv) {
   std::string tone_map = to_string(display.tone_map);
   app.add_option("--tone-map", tone_map, "display images (PNG, ...): filmic (ACES fit) or exponential (1 - e^-x); EXR stays linear")
       ->check(CLI::IsMember({"filmic", "exponential"}))->capture_default_str();
-  app.add_option("--exposure", display.exposure_ev, "display images: exposure, stops (EV) added to the auto exposure's when both")
+  app.add_option("--exposure", display.exposure_ev,
+                 "display images: exposure, stops (EV) added to the auto exposure's when both; default -1 EV relative to the scene's "
+                 "sun, or to its brightest point light at the scene's centre")
       ->check(CLI::Range(-16.0f, 16.0f))->capture_default_str();
   app.add_flag("--auto-exposure", display.auto_exposure, "display images: scale the log-average luminance to 0.18 first");
   int supersample = 2;
@@ -247,6 +249,7 @@ int main(int argc, char** argv) {
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);
   display.tone_map = *parse_tone_map(tone_map);
+  if (app.count("--exposure") == 0 && !display.auto_exposure) display.exposure_ev = (*renderer)->default_exposure_ev();
   // The bake preset's caustic-map defaults unless given here.
   if (app.count("--cmap-photons") == 0) cmap.photons = caustics.caustic_map.photons;
   if (app.count("--cmap-size") == 0) cmap.map_size = caustics.caustic_map.map_size;

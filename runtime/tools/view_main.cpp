@@ -413,6 +413,7 @@ int main(int argc, char** argv) {
     state.caustics = default_caustics_options(scene->desc);
     state.look = default_water_look(scene->desc);
     state.orbit = state.home = Orbit::from((*renderer)->default_camera());
+    state.display.exposure_ev = (*renderer)->default_exposure_ev();
     glfwSetWindowUserPointer(window, &state);
     // The first light's direction as elevation above the horizon and azimuth.
     if (!(*renderer)->scene().lights.empty()) {

@@ -185,6 +185,12 @@ class Renderer {
 
   // The scene's camera, or one that frames the scene's bounds.
   Camera default_camera() const;
+  // The exposure (EV) a display should start at for this scene: -1 EV
+  // relative to its reference irradiance -- the first directional light's
+  // E0, else the largest I / d^2 of its point and spot lights at the centre
+  // of the scene's bounds, so that a glTF lamp's room shows as a sun's pool
+  // does; in [-16, 16].
+  float default_exposure_ev() const;
   glm::vec3 bounds_min() const;
   glm::vec3 bounds_max() const;
 
