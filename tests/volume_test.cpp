@@ -87,6 +87,52 @@ TEST_F(Volume, FogWithoutObjectsIsTheAnalyticIntegral) {
   EXPECT_EQ(v.grid_size[0], 64u);
 }
 
+// A spot light over the fog box (issue 45): the power entering the fog is
+// the integral over the box's top of I f(a) cos(theta) / r^2, f
+// KHR_lights_punctual's falloff written here from the angles; against the
+// same light without its cone (which takes the integral without f).
+TEST_F(Volume, SpotLightFeedsTheFogItsFalloff) {
+  const double lp[3] = {0.2, 4.0, 0.0}, tilt = 12 * 3.14159265358979 / 180;
+  const double axis[3] = {std::sin(tilt), -std::cos(tilt), 0.0};
+  const double co = std::cos(35 * 3.14159265358979 / 180), ci = std::cos(15 * 3.14159265358979 / 180);
+  double with = 0, without = 0;
+  const int n = 400;
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      const double d[3] = {-1 + 2 * (a + 0.5) / n - lp[0], 2 - lp[1], -1 + 2 * (b + 0.5) / n - lp[2]};
+      const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], r = std::sqrt(r2);
+      const double t = std::clamp(((d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2]) / r - co) / (ci - co), 0.0, 1.0);
+      const double e = 3.0 * (-d[1] / r) / r2 * (4.0 / (n * n));
+      with += t * t * e;
+      without += e;
+    }
+  }
+  double power[2] = {0, 0};
+  for (int cone = 0; cone < 2; ++cone) {
+    nlohmann::json j = fog_box(0.5, 0.25);
+    nlohmann::json l{{"type", cone ? "spot" : "point"}, {"position", {lp[0], lp[1], lp[2]}}, {"intensity", 3.0}};
+    if (cone) {
+      l["direction"] = {axis[0], axis[1], axis[2]};
+      l["inner_cone_deg"] = 15;
+      l["outer_cone_deg"] = 35;
+    }
+    j["lights"] = nlohmann::json::array({l});
+    auto r = make(j, "volume_spot");
+    ASSERT_TRUE(r);
+    InscatterRequest q;
+    q.x0 = -1.5, q.y0 = -0.5, q.x1 = 1.5, q.y1 = 2.5;
+    q.width = q.height = 8;
+    q.caustics = r->engine().default_options();
+    const InscatterImage img = inscatter(*r, q);
+    expect_energy_balance(img.stats);
+    power[cone] = img.stats.power_in;
+  }
+  std::printf("[volume spot] power in: point %.4f (oracle %.4f), spot %.4f (oracle %.4f)\n", power[0], without, power[1], with);
+  EXPECT_NEAR(power[0] / without, 1.0, 0.005);  // stratified photons, one per cell of the window
+  EXPECT_NEAR(power[1] / with, 1.0, 0.005);
+  EXPECT_LT(with, 0.8 * without);  // the cone cuts a part worth seeing
+}
+
 // Schlick with k = 0 is the isotropic image (bit for bit: the same photons
 // and the same phase value); with k the image scales by p_k(0) / p_0 =
 // 1 - k^2 (light down, camera along z: cos a = 0 exactly).
