@@ -249,5 +249,57 @@ TEST_F(GlassView, NearbyViewRefractsEachWavelengthAtItsIndex) {
   EXPECT_TRUE(image(*dispersive, f) == image(*renderer_, f)) << "one wavelength must be the slab without dispersion";
 }
 
+// An object inside the glass (issue 45: MosquitoInAmber's insect turned
+// the whole amber black in the table view). The table view maps the
+// glass's front straight to its exit; its exit ray starts behind anything
+// inside, so a surface nearer than the exit point is not what it meets.
+// glass_ball with a 6 cm opaque cube at the ball's centre against the same
+// view without it: the ball's pixels keep their light (the cube, seen from
+// the exit side, covers a few of them); the march that took the cube for a
+// hit wherever it covered an exit point's pixel left 6 % of their light.
+TEST_F(GlassView, AnObjectInsideTheGlassDoesNotBlackenTheTableView) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  const auto ball_mean = [&](const nlohmann::json& scene, const char* tag) {
+    bake::BakeOptions opt;
+    opt.transport.resolution = 8;  // the view's exit points, not the caustic, are under test
+    auto loaded = test::bake_and_load(test::write_scene(scene, tag), opt);
+    EXPECT_TRUE(loaded);
+    auto r = runtime::Renderer::create(*loaded);
+    EXPECT_TRUE(r.ok());
+    runtime::FrameParams f;
+    f.camera = (*r)->default_camera();
+    f.width = f.height = 128;
+    EXPECT_TRUE((*r)->render(f).ok());
+    const std::vector<float> hdr = (*r)->read_hdr();
+    // The ball's disc on screen: the pixels whose ray passes within 0.45 m
+    // of its centre (0, 0.75, 0).
+    const glm::vec3 eye(f.camera.position[0], f.camera.position[1], f.camera.position[2]);
+    const glm::mat4 inv = glm::inverse(glm::perspective(glm::radians(f.camera.fov_y_deg), 1.0f, f.camera.near_plane, f.camera.far_plane) *
+                                       glm::lookAt(eye, glm::vec3(f.camera.target[0], f.camera.target[1], f.camera.target[2]), glm::vec3(0, 1, 0)));
+    double sum = 0;
+    int n = 0;
+    for (int row = 0; row < 128; ++row) {
+      for (int col = 0; col < 128; ++col) {
+        const glm::vec4 far = inv * glm::vec4((col + 0.5f) / 64.0f - 1.0f, 1.0f - (row + 0.5f) / 64.0f, 1.0f, 1.0f);
+        const glm::vec3 d = glm::normalize(glm::vec3(far) / far.w - eye), c = glm::vec3(0, 0.75f, 0) - eye;
+        if (glm::length(c - glm::dot(c, d) * d) > 0.45f) continue;
+        const std::size_t i = (static_cast<std::size_t>(row) * 128 + col) * 4;
+        sum += hdr[i] + hdr[i + 1] + hdr[i + 2];
+        ++n;
+      }
+    }
+    EXPECT_GT(n, 500);
+    return sum / std::max(n, 1);
+  };
+  const double clear = ball_mean(j, "glass_view_clear");
+  j["objects"].push_back({{"name", "insect"},
+                          {"mesh", test::kScenes + "../meshes/box.obj"},
+                          {"material", {{"albedo", 0.5}}},
+                          {"transform", {{"translate", {0, 0.75, 0}}, {"scale", 0.06}}}});
+  const double inside = ball_mean(j, "glass_view_insect");
+  std::printf("[glass view] ball's mean radiance with an object inside / without: %.3f\n", inside / clear);
+  EXPECT_GT(inside / clear, 0.9);
+}
+
 }  // namespace
 }  // namespace caustix

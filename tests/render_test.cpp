@@ -43,21 +43,23 @@ Image render(const std::string& scene_json, int w, int h, float time = 0.0f) {
 TEST(Render, LitReceiverBackgroundAndShadow) {
   // tests/data/lit_box.json: a 3 m floor and a red unit box seen from 6 m
   // above; sun travelling along (1, -1, 0) with E0 = 2.
+  // The sky and the ambient term are relative to the scene's light level
+  // (E0: renderer.h, kSkyColor).
   const Image img = render("tests/data/lit_box.json", 96, 96);
   const float* corner = img.at(0, 0);
-  EXPECT_EQ(corner[0], runtime::kSkyColor[0]);
-  EXPECT_EQ(corner[1], runtime::kSkyColor[1]);
-  EXPECT_EQ(corner[2], runtime::kSkyColor[2]);
+  EXPECT_EQ(corner[0], 2.0f * runtime::kSkyColor[0]);
+  EXPECT_EQ(corner[1], 2.0f * runtime::kSkyColor[1]);
+  EXPECT_EQ(corner[2], 2.0f * runtime::kSkyColor[2]);
 
   // Box top: albedo 0.9 red * (ambient + E0 cos 45deg = 1.41).
   const float* box = img.at(48, 48);
-  EXPECT_NEAR(box[0], 0.9f * (0.12f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_NEAR(box[0], 0.9f * (0.12f * 2.0f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
   EXPECT_LT(box[1], box[0] * 0.5f);
 
   // Floor left of the box is lit; right of it (downwind) is in its shadow.
   const float* lit = img.at(48, 26);
   const float* shadow = img.at(48, 70);
-  EXPECT_NEAR(lit[0], 0.8f * (0.12f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_NEAR(lit[0], 0.8f * (0.12f * 2.0f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
   EXPECT_LT(shadow[0], 0.15f * lit[0]);
 }
 

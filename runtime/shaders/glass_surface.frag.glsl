@@ -22,6 +22,15 @@ out vec4 o_color;
 
 vec3 scene_along(vec3 o, vec3 d) {
   const int kSteps = 48;
+  // A surface nearer the camera than the exit point is not what the exit
+  // ray meets (it starts behind it): an object inside the glass, or in
+  // front of its far side, would otherwise be "hit" at the first sample
+  // wherever it covers the exit point's pixel (issue 45: an insect in
+  // amber turned the whole block black). The table view maps the glass's
+  // front straight to its exit, so what is inside it is not seen here
+  // (GlassView::kNearby sees it).
+  vec4 cs = u_view_proj * vec4(o, 1.0);
+  float start = cs.w > 0.0 ? cs.z / cs.w * 0.5 + 0.5 : 0.0;
   for (int k = 1; k <= kSteps; ++k) {
     float t = u_march_length * float(k * k) / float(kSteps * kSteps);  // denser near the glass
     vec4 c = u_view_proj * vec4(o + d * t, 1.0);
@@ -30,7 +39,7 @@ vec3 scene_along(vec3 o, vec3 d) {
     if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) break;
     vec2 uv = ndc.xy * 0.5 + 0.5;
     float depth = texture(u_scene_depth, uv).r;
-    if (depth < 1.0 && ndc.z * 0.5 + 0.5 >= depth) return texture(u_scene_color, uv).rgb;
+    if (depth < 1.0 && depth >= start && ndc.z * 0.5 + 0.5 >= depth) return texture(u_scene_color, uv).rgb;
   }
   return u_sky;
 }

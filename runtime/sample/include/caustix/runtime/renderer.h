@@ -134,7 +134,10 @@ struct PassTimes {
   float total_ms() const;
 };
 
-// The sky's linear colour: the beauty image's background.
+// The sky's linear colour: the beauty image's background, times the
+// scene's reference irradiance (default_exposure_ev(): E0 of a sun, else
+// the brightest lamp's irradiance at the scene's centre), as the ambient
+// term (0.12 of it) is.
 inline constexpr float kSkyColor[3] = {0.42f, 0.58f, 0.78f};
 
 class Renderer {
