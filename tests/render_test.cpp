@@ -4,9 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include "bake_fixture.h"
+#include "scene_fixture.h"
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/runtime/renderer.h"
@@ -61,6 +67,37 @@ TEST(Render, LitReceiverBackgroundAndShadow) {
   const float* shadow = img.at(48, 70);
   EXPECT_NEAR(lit[0], 0.8f * (0.12f * 2.0f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
   EXPECT_LT(shadow[0], 0.15f * lit[0]);
+}
+
+// The automatic camera (a scene without one; issue 45: it was loose on
+// wide, flat scenes): the bounds' eight corners all inside a 4:3 frame,
+// and the frame filled to within 10 % along one axis. glass_ball's 4 m
+// floor and its ball, once framed by the bounding sphere at 2.8 radii
+// (the corners reached 0.77 of the frame; now 0.95).
+TEST(Render, TheAutomaticCameraFillsTheFrameWithTheScene) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  j.erase("camera");
+  auto scene = test::bake_and_load(test::write_scene(j, "render_auto_camera"));
+  ASSERT_TRUE(scene);
+  auto ctx = HeadlessContext::create();
+  ASSERT_TRUE(ctx.ok());
+  auto r = Renderer::create(*scene);
+  ASSERT_TRUE(r.ok());
+  const Camera c = (*r)->default_camera();
+  const glm::mat4 vp = glm::perspective(glm::radians(c.fov_y_deg), 4.0f / 3.0f, c.near_plane, c.far_plane) *
+                       glm::lookAt(glm::vec3(c.position[0], c.position[1], c.position[2]), glm::vec3(c.target[0], c.target[1], c.target[2]),
+                                   glm::vec3(c.up[0], c.up[1], c.up[2]));
+  const glm::vec3 lo = (*r)->bounds_min(), hi = (*r)->bounds_max();
+  float reach = 0;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec4 p = vp * glm::vec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0f);
+    ASSERT_GT(p.w, 0.0f);
+    EXPECT_LE(std::fabs(p.x / p.w), 1.0f);
+    EXPECT_LE(std::fabs(p.y / p.w), 1.0f);
+    reach = std::max({reach, std::fabs(p.x / p.w), std::fabs(p.y / p.w)});
+  }
+  std::printf("[auto camera] the bounds' corners reach %.3f of the frame\n", reach);
+  EXPECT_GT(reach, 0.9f);
 }
 
 TEST(Render, DefaultSceneHasNoNanAndIsNotEmpty) {

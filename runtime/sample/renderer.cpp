@@ -675,11 +675,48 @@ Camera Renderer::default_camera() const {
   const glm::vec3 lo = impl_->engine->bounds_min(), hi = impl_->engine->bounds_max();
   const glm::vec3 center = 0.5f * (lo + hi);
   const float r = 0.5f * glm::length(hi - lo) + 1e-3f;
-  const glm::vec3 eye = center + glm::normalize(glm::vec3(0.6f, 0.7f, 1.0f)) * (2.8f * r);
+  // From above one corner, at the distance where the bounds' eight
+  // corners just fit the vertical field of view and a 4:3 frame's
+  // horizontal one (wider frames have room to spare; a square one crops
+  // the far corners a little), with 5 % to spare: a wide, flat scene (a
+  // floor and small objects) fills the frame, where the bounding sphere's
+  // distance left it small (issue 45).
+  const glm::vec3 back = glm::normalize(glm::vec3(0.6f, 0.7f, 1.0f));
+  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0, 1, 0), back)), up = glm::cross(back, right);
+  const float slope_y = std::tan(0.5f * glm::radians(c.fov_y_deg)), slope_x = slope_y * 4.0f / 3.0f;
+  const auto corner = [&](int k) { return glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z); };
+  // The distance from `target` along `back` at which every corner fits.
+  const auto fit = [&](const glm::vec3& target) {
+    float d = 0;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 p = corner(k) - target;
+      const float nearer = glm::dot(p, back);  // how much nearer the eye than the target
+      d = std::max({d, std::fabs(glm::dot(p, right)) / slope_x + nearer, std::fabs(glm::dot(p, up)) / slope_y + nearer});
+    }
+    return d;
+  };
+  // Then the target moves across the view to the middle of the corners'
+  // projections (a floor below the bounds' centre sat low in the frame),
+  // and the distance is fitted again: twice is enough to settle.
+  glm::vec3 target = center;
+  float distance = fit(target);
+  for (int pass = 0; pass < 2; ++pass) {
+    float x0 = 1e30f, x1 = -1e30f, y0 = 1e30f, y1 = -1e30f;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 p = corner(k) - target;
+      const float z = distance - glm::dot(p, back);
+      x0 = std::min(x0, glm::dot(p, right) / z), x1 = std::max(x1, glm::dot(p, right) / z);
+      y0 = std::min(y0, glm::dot(p, up) / z), y1 = std::max(y1, glm::dot(p, up) / z);
+    }
+    target += distance * (0.5f * (x0 + x1) * right + 0.5f * (y0 + y1) * up);
+    distance = fit(target);
+  }
+  distance = std::max(1.05f * distance, 1.2f * r);  // outside the bounding sphere
+  const glm::vec3 eye = target + back * distance;
   c.position = {eye.x, eye.y, eye.z};
-  c.target = {center.x, center.y, center.z};
+  c.target = {target.x, target.y, target.z};
   c.near_plane = 0.01f * r;
-  c.far_plane = 10.0f * r;
+  c.far_plane = distance + 2.0f * r;
   return c;
 }
 
