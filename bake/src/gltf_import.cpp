@@ -25,6 +25,7 @@
 #include <map>
 #include <set>
 
+#include "caustix/common/mesh_topology.h"
 #include "caustix/formats/file_io.h"
 #include "mesh_soup.h"
 
@@ -531,6 +532,12 @@ struct GltfFile::Impl {
     } else if (tf > 0 && metallic > 0) {
       warn(mp + ": " + label + ": its metallic part (" + std::to_string(metallic) + ") is ignored; imported as glass", warns);
     }
+    if (tf == 0) {
+      // What only transmission reads, on a material that transmits nothing.
+      for (const char* e : {"KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion"}) {
+        if (extension(gm.extensions, e)) ignored.push_back(std::string(e) + " (the material transmits no light)");
+      }
+    }
     Role role = Role::kReceiver;
     if (tf > 0) {
       role = Role::kTransparent;
@@ -782,6 +789,7 @@ Result<GltfScene> GltfFile::scene() const {
   } where;
   std::map<std::tuple<std::size_t, std::size_t, bool>, std::uint32_t> mesh_of;  // (mesh, primitive, weld) -> index
   std::map<int, std::pair<Role, Material>> materials;
+  std::map<std::tuple<std::size_t, std::size_t, bool>, std::size_t> open_transmissive;  // key -> boundary edges
   std::set<std::string> names;
   bool camera_taken = false;
   for (const Visit& v : order) {
@@ -804,6 +812,21 @@ Result<GltfScene> GltfFile::scene() const {
         const auto* mat = &cached->second;
         const bool weld = is_transparent(mat->first);
         const auto key = std::tuple{m, k, weld};
+        // A transmissive surface that bounds no solid (a window pane, a lamp
+        // shade: glTF's thin-walled transmission) has no inside for a
+        // light-transport table. caustix cannot draw or light thin-walled
+        // glass yet (issue 45); rather than refuse the whole file it leaves
+        // the surface out, naming it: light passes where it stands.
+        const auto leave_out = [&](std::size_t open_edges) {
+          im.warn(np + " ('" + im.node_name(v.node) + "'): " + pp + " is transmissive but open (" + std::to_string(open_edges) +
+                      " boundary edges): glTF makes it thin-walled, which caustix cannot draw or light yet; left out of the scene "
+                      "(light passes where it stands, without its Fresnel loss or tint)",
+                  out.warnings);
+        };
+        if (const auto open = open_transmissive.find(key); open != open_transmissive.end()) {
+          leave_out(open->second);
+          continue;
+        }
         auto found = mesh_of.find(key);
         if (found == mesh_of.end()) {
           std::vector<std::string> warns;
@@ -815,6 +838,14 @@ Result<GltfScene> GltfFile::scene() const {
           if (!mesh) return mesh.error();
           for (const auto& w : mesh->warnings) out.warnings.push_back(im.path + ": " + pp + ": " + w);
           mesh->warnings.clear();
+          if (weld) {
+            const EdgeCensus census = census_edges(mesh->mesh);
+            if (!census.open.empty()) {
+              open_transmissive.emplace(key, census.open.size());
+              leave_out(census.open.size());
+              continue;
+            }
+          }
           MeshInfo info;
           info.source = file + "#" + pp;
           found = mesh_of.emplace(key, static_cast<std::uint32_t>(out.meshes.size())).first;
@@ -907,6 +938,10 @@ Result<GltfScene> GltfFile::scene() const {
         camera_taken = true;
       }
     }
+  }
+  if (out.scene.objects.empty() && !open_transmissive.empty()) {
+    return im.fail(roots_ptr, "the scene has no triangle meshes caustix can bake: its only ones are open transmissive surfaces (thin-walled "
+                              "in glTF), which caustix cannot draw or light yet");
   }
   if (out.scene.objects.empty()) return im.fail(roots_ptr, "the scene has no triangle meshes");
   // scene.json's value rules, said of the glTF node they break.
