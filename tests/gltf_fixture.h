@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "caustix/common/mesh.h"
+
 namespace caustix::test {
 
 class GltfBuilder {
@@ -66,6 +68,22 @@ class GltfBuilder {
   void scene(const std::vector<int>& roots) {
     doc["scenes"] = nlohmann::json::array({{{"nodes", roots}}});
     doc["scene"] = 0;
+  }
+  // A KHR_draco_mesh_compression primitive (POSITION and NORMAL, Draco
+  // attribute ids 0 and 1) over `stream`, a Draco mesh of `vertices`
+  // points and `triangles` triangles within [-half, half]^3: its accessors
+  // have no buffer views, as the extension writes them.
+  nlohmann::json draco_primitive(const std::vector<std::uint8_t>& stream, int vertices, int triangles, float half, int material = -1) {
+    const int v = view(stream.data(), stream.size());
+    const int pa = static_cast<int>(doc["accessors"].size());
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}, {"min", {-half, -half, -half}}, {"max", {half, half, half}}});
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}});
+    doc["accessors"].push_back({{"componentType", 5125}, {"count", 3 * triangles}, {"type", "SCALAR"}});
+    nlohmann::json prim{{"attributes", {{"POSITION", pa}, {"NORMAL", pa + 1}}},
+                        {"indices", pa + 2},
+                        {"extensions", {{"KHR_draco_mesh_compression", {{"bufferView", v}, {"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}}}}}};
+    if (material >= 0) prim["material"] = material;
+    return prim;
   }
   void use_extension(const std::string& name, bool required = false) {
     doc["extensionsUsed"].push_back(name);
@@ -158,6 +176,14 @@ struct SplitCube {
         else indices.insert(indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
       }
     }
+  }
+  // The same cube as the baker's mesh type (to encode with Draco).
+  TriangleMesh triangle_mesh() const {
+    TriangleMesh tm;
+    tm.positions = positions;
+    tm.normals = normals;
+    for (std::size_t i = 0; i < indices.size(); i += 3) tm.triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
+    return tm;
   }
 };
 

@@ -216,24 +216,14 @@ TEST_F(Gltf, ReceiverKeepsHardEdgesGlassIsWelded) {
 
 TEST_F(Gltf, DracoCompressedPrimitive) {
   const SplitCube cube(0.25f);
-  TriangleMesh tm;
-  tm.positions = cube.positions;
-  tm.normals = cube.normals;
-  for (std::size_t i = 0; i < cube.indices.size(); i += 3) tm.triangles.push_back({cube.indices[i], cube.indices[i + 1], cube.indices[i + 2]});
   bake::DracoOptions opt;
   opt.position_bits = 14;
-  auto stream = bake::encode_draco(tm, opt);
+  auto stream = bake::encode_draco(cube.triangle_mesh(), opt);
   ASSERT_TRUE(stream.ok()) << stream.error().message;
   GltfBuilder g;
   g.use_extension("KHR_draco_mesh_compression", true);
-  const int view = g.view(stream->data(), stream->size());
-  // Accessors without buffer views, as KHR_draco_mesh_compression writes them.
-  const int pa = static_cast<int>(g.doc["accessors"].size());
-  g.doc["accessors"].push_back({{"componentType", 5126}, {"count", 24}, {"type", "VEC3"}, {"min", {-0.25, -0.25, -0.25}}, {"max", {0.25, 0.25, 0.25}}});
-  g.doc["accessors"].push_back({{"componentType", 5126}, {"count", 24}, {"type", "VEC3"}});
-  g.doc["accessors"].push_back({{"componentType", 5125}, {"count", 36}, {"type", "SCALAR"}});
-  const int mesh = g.mesh(json::array({{{"attributes", {{"POSITION", pa}, {"NORMAL", pa + 1}}}, {"indices", pa + 2},
-                                        {"extensions", {{"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}}}}}}}));
+  const int mesh = g.mesh(json::array({g.draco_primitive(*stream, 24, 12, 0.25f)}));
+  const int view = g.doc["meshes"][mesh]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"].get<int>();
   g.scene({g.node({{"name", "D"}, {"mesh", mesh}})});
   const fs::path p = dir_ / "draco.glb";
   g.write_glb(p);
