@@ -153,6 +153,32 @@ TEST_F(SpotLight, ThroughFlatWaterTheFalloffFollowsTheRefractedPath) {
   EXPECT_NEAR(sum_spot / sum_oracle, 1.0, 0.01) << "power on the floor against the falloff along Snell's path";
 }
 
+// Water cells wider than the cone (wavy_pool's 3 m cells across its waves
+// put every cell's centre outside a 0.7 m cone, and the level map's floor
+// went dark): each water triangle takes its falloff averaged over itself,
+// so the level map's power on the floor stays the photon splats' (which
+// take it per photon) within what a cell's single Fresnel and cosine cost.
+TEST_F(SpotLight, WaterCellsWiderThanTheConeKeepItsPower) {
+  const Spot s{{0.3, 4.0, 0.2}, unit({0.1, -1.0, -0.05}), 10, 22};
+  for (const auto& cells : {std::array<int, 2>{8, 8}, std::array<int, 2>{48, 4}}) {
+    nlohmann::json j = test::canonical_scene("flat_pool");
+    j["water"]["grid"]["cells"] = cells;
+    j["lights"] = s.json(true);
+    auto r = test::bake_and_create(test::write_scene(j, "spot_light_cells"));
+    ASSERT_TRUE(r);
+    double power[2] = {0, 0};
+    for (int m = 0; m < 2; ++m) {
+      IrradianceRequest q{"floor", -6, -6, 6, 6, 96, 96, 0.0f, {}};
+      q.caustics.method = m == 0 ? CausticsMethod::kLevelMap : CausticsMethod::kSplat;
+      auto img = r->render_irradiance(q);
+      ASSERT_TRUE(img.ok()) << img.error().message;
+      for (std::size_t i = 0; i < img->rgb.size(); i += 3) power[m] += img->rgb[i];
+    }
+    std::printf("[spot] %d x %d water cells: level map / splat power %.4f\n", cells[0], cells[1], power[0] / power[1]);
+    EXPECT_NEAR(power[0] / power[1], 1.0, 0.05);  // before: 1.083 at 8 x 8, 0 at 48 x 4
+  }
+}
+
 // A glass ball in the falloff: the light through it, by tables and by caustic
 // maps, is the point light's times the falloff averaged over the ball's
 // disc seen from the light (each entry direction's own factor), and dark

@@ -50,7 +50,31 @@ void main() {
   vec3 l = incident(centre);
   float cos_i = max(0.0, -dot(l, nf));
   float e_in = u_light_type == 1 ? u_light_power : u_light_power / max(dot(centre - u_light_position, centre - u_light_position), 1e-12);
-  if (u_light_type == 2) e_in *= caustix_spot_factor(l, u_light_direction, u_spot);
   float beam = 0.5 * twice_area * cos_i;
+  if (u_light_type == 2 && u_spot.z != 0.0) {
+    // A spot's transmitted flux integrated over the triangle, at the
+    // centroids of its 8 x 8 equal sub-triangles (falloff, 1 / r^2, cosine
+    // and Fresnel at each): one value at the centre would lose a cone
+    // narrower than the water's cells (wavy_pool's 3 m cells across its
+    // waves put every centre outside a 0.7 m cone, and the floor went
+    // dark), as the level map spreads each triangle's flux over its
+    // footprint anyway.
+    const int kN = 8;
+    float sum = 0.0;
+    for (int a = 0; a < kN; ++a) {
+      for (int b = 0; a + b < kN; ++b) {
+        for (int k = 0; k < 2; ++k) {
+          if (k == 1 && a + b == kN - 1) break;
+          vec2 w = (vec2(a, b) + (k == 0 ? 1.0 : 2.0) / 3.0) / float(kN);
+          vec3 d = p0 + w.x * (p1 - p0) + w.y * (p2 - p0) - u_light_position;
+          vec3 ld = normalize(d);
+          float cs = max(0.0, -dot(ld, nf));
+          sum += caustix_spot_factor(ld, u_light_direction, u_spot) / max(dot(d, d), 1e-12) * cs * caustix_fresnel_transmittance(cs, u_ior);
+        }
+      }
+    }
+    flux[i] = vec2(u_light_power * sum / float(kN * kN) * 0.5 * twice_area, beam);
+    return;
+  }
   flux[i] = vec2(e_in * caustix_fresnel_transmittance(cos_i, u_ior) * beam, beam);
 }
