@@ -101,6 +101,26 @@ int glass_cube(GltfBuilder& g, float half = 0.25f) {
   return mesh_of(g, c.positions, c.normals, c.indices, g.material(kGlass));
 }
 
+// The floor with TEXCOORD_0 and a base-colour texture: the default
+// scene's 256 x 256 tile PNG embedded in a buffer view, or an external
+// file that is not there.
+void textured_floor(GltfBuilder& g, bool missing_file) {
+  g.use_extension("KHR_texture_transform", true);
+  json& prim = g.doc["meshes"][0]["primitives"][0];
+  prim["attributes"]["TEXCOORD_0"] = g.accessor(std::vector<float>{0, 0, 1, 0, 1, 1, 0, 1}, 5126, "VEC2", 4);
+  if (missing_file) {
+    g.doc["images"] = json::array({{{"uri", "missing%20tiles.png"}}});
+  } else {
+    std::ifstream in(std::string(CAUSTIX_SOURCE_DIR) + "/assets/textures/pool_tiles.png", std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    g.doc["images"] = json::array({{{"bufferView", g.view(bytes.data(), bytes.size())}, {"mimeType", "image/png"}}});
+  }
+  g.doc["samplers"] = json::array({{{"wrapS", 33648}, {"wrapT", 33071}}});
+  g.doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}});
+  g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.5}}, {"rotation", 1.5707963267948966}, {"scale", {4, 2}}}}}}};
+}
+
 struct Case {
   const char* name;
   std::function<void(GltfBuilder&)> build;
@@ -252,14 +272,40 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          add_root(g, {{"name", "Insect"}, {"mesh", mesh_of(g, inner.positions, inner.normals, inner.indices, -1)}, {"translation", {0.0, 0.5, 0.0}}});
        },
        {}},
-      {"texture_transform_required",  // caustix reads no texture: ignoring it cannot change the light
+      {"texture_without_texcoords",  // a baseColorTexture but no TEXCOORD_0 on the primitive: the base colour is used
        [](GltfBuilder& g) {
          g.use_extension("KHR_texture_transform", true);
          g.doc["images"] = json::array({{{"uri", "tiles.png"}}});
          g.doc["textures"] = json::array({{{"source", 0}}});
          g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {4, 4}}}}}}};
        },
-       {"extension KHR_texture_transform (required by the file) is not supported", "baseColorTexture"}},
+       {"no TEXCOORD_0 for its material's baseColorTexture; drawn with the base colour factor"}, true,
+       [](const bake::BakeResult& r) { EXPECT_FALSE(named(r.scene, "Floor")->material.albedo_texture); }},
+      {"textured_floor_embedded_png",  // a GLB's image in a buffer view, a repeating sampler, KHR_texture_transform required
+       [](GltfBuilder& g) { textured_floor(g, false); },
+       {}, true,
+       [](const bake::BakeResult& r) {
+         const Object* floor = named(r.scene, "Floor");
+         ASSERT_TRUE(floor && floor->material.albedo_texture);
+         const AlbedoTexture& t = *floor->material.albedo_texture;
+         EXPECT_EQ(t.projection, TextureProjection::kUv);
+         EXPECT_EQ(t.wrap_s, TextureWrap::kMirror);
+         EXPECT_EQ(t.wrap_t, TextureWrap::kClamp);
+         // offset (0.25, 0.5), rotation pi/2, scale (4, 2): rows (c sx, s sy, ox), (-s sx, c sy, oy).
+         const std::array<float, 6> want{0, 2, 0.25f, -4, 0, 0.5f};
+         for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(t.transform[k], want[k], 1e-6f) << k;
+         ASSERT_EQ(r.scene.images.size(), 1u);
+         EXPECT_EQ(r.scene.images[0].width, 256u);
+         EXPECT_EQ(r.scene.images[0].rgb.size(), 256u * 256u * 3u);
+         EXPECT_EQ(floor->material.albedo, (Vec3f{0.8f, 0.8f, 0.8f}));  // the factor still multiplies
+       }},
+      {"texture_file_missing",  // an external image that is not there: warned, the base colour is used
+       [](GltfBuilder& g) { textured_floor(g, true); },
+       {"cannot be read", "drawn with their base colour factor"}, true,
+       [](const bake::BakeResult& r) {
+         EXPECT_FALSE(named(r.scene, "Floor")->material.albedo_texture);
+         EXPECT_TRUE(r.scene.images.empty());
+       }},
       {"meshopt_required",
        [](GltfBuilder& g) { g.use_extension("EXT_meshopt_compression", true); },
        {"/extensionsRequired/0: the file requires extension EXT_meshopt_compression"}, false},

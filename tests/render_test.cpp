@@ -15,7 +15,9 @@
 #include "scene_fixture.h"
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/image_output.h"
 #include "caustix/runtime/renderer.h"
+#include "gltf_fixture.h"
 
 namespace caustix {
 namespace {
@@ -116,6 +118,108 @@ TEST(Render, WavesMoveWithTime) {
   const Image a = render("assets/scenes/default.json", 80, 60, 0.0f);
   const Image b = render("assets/scenes/default.json", 80, 60, 1.0f);
   EXPECT_NE(a.rgba, b.rgba);
+}
+
+
+// Albedo textures (issue 45): a 3 m floor under a sun straight down, seen
+// from above (image right = +x, image up = -z), textured with a 64 x 64
+// image whose red is sRGB 60 on its left half and 200 on its right, green
+// 200 on its top rows and 60 on its bottom ones, blue 128. Ambient and sun
+// both scale with the albedo, so two texels' pixels stand in the ratio of
+// their linear albedos -- the sRGB transfer function of IEC 61966-2-1,
+// written here -- whatever the light level; blue, equal everywhere, is
+// the same at all four places. The image's first row is its top, glTF's
+// v = 0. Once with box projection in world metres, once through a glTF
+// quad's TEXCOORD_0 shifted by KHR_texture_transform (offset 0.5 on a
+// repeating sampler puts the image's right half on the floor's left).
+double srgb_to_linear(double c) {
+  c /= 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+std::string write_quadrant_png(const std::string& tag) {
+  std::vector<std::uint8_t> px(64 * 64 * 3);
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      std::uint8_t* p = &px[static_cast<std::size_t>(y * 64 + x) * 3];
+      p[0] = x < 32 ? 60 : 200;
+      p[1] = y < 32 ? 200 : 60;
+      p[2] = 128;
+    }
+  }
+  const std::string path = (std::filesystem::temp_directory_path() / ("caustix_" + tag + ".png")).string();
+  EXPECT_TRUE(runtime::write_u8_image(path, 64, 64, 3, px).ok());
+  return path;
+}
+
+void expect_texture_ratios(const Image& img, bool swapped_s) {
+  // Pixel centres of the floor's four quadrants (world x, z = +-0.75).
+  const float* tl = img.at(img.h / 4, img.w / 4);
+  const float* tr = img.at(img.h / 4, 3 * img.w / 4);
+  const float* bl = img.at(3 * img.h / 4, img.w / 4);
+  const double red = srgb_to_linear(60) / srgb_to_linear(200), green = srgb_to_linear(200) / srgb_to_linear(60);
+  const double left_over_right = swapped_s ? 1.0 / red : red;
+  EXPECT_NEAR(tl[0] / tr[0], left_over_right, 0.01 * left_over_right);
+  EXPECT_NEAR(tl[1] / bl[1], green, 0.01 * green);
+  EXPECT_NEAR(tl[2] / tr[2], 1.0, 0.01);
+  EXPECT_NEAR(tl[2] / bl[2], 1.0, 0.01);
+  std::printf("[albedo texture] red left/right %.4f (expected %.4f), green top/bottom %.4f (expected %.4f)\n", tl[0] / tr[0],
+              left_over_right, tl[1] / bl[1], green);
+}
+
+nlohmann::json top_down_scene() {
+  return {{"name", "textured floor"},
+          {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1.0}}}},
+          {"camera", {{"position", {0, 4.2, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov_y_deg", 39.3}}}};
+}
+
+Image render_file(const std::string& path, int w, int h) {
+  auto scene = test::bake_and_load(path);
+  EXPECT_TRUE(scene);
+  auto ctx = HeadlessContext::create();
+  EXPECT_TRUE(ctx.ok());
+  auto r = Renderer::create(*scene);
+  EXPECT_TRUE(r.ok()) << r.error().message;
+  FrameParams f;
+  f.camera = (*r)->default_camera();
+  f.width = w;
+  f.height = h;
+  EXPECT_TRUE((*r)->render(f).ok());
+  return Image{w, h, (*r)->read_hdr()};
+}
+
+TEST(Render, AnAlbedoTextureScalesEachTexelsLightByItsLinearAlbedo) {
+  const std::string png = write_quadrant_png("quadrants");
+  nlohmann::json j = top_down_scene();
+  j["objects"] = {{{"name", "floor"},
+                   {"mesh", std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/plane.obj"},
+                   {"material", {{"albedo_texture", {{"file", png}, {"projection", "box"}, {"scale", 1.0 / 3.0}, {"offset", {0.5, 0.5}}}}}},
+                   {"transform", {{"scale", {3, 1, 3}}}}}};
+  expect_texture_ratios(render_file(test::write_scene(j, "textured_box"), 64, 64), false);
+
+  // The same floor as a glTF quad with TEXCOORD_0 (0..1 over it, v = 0 at
+  // z = -1.5) and the image embedded in a buffer view.
+  test::GltfBuilder b;
+  const int pos = b.positions({{-1.5f, 0, -1.5f}, {-1.5f, 0, 1.5f}, {1.5f, 0, 1.5f}, {1.5f, 0, -1.5f}});
+  const int nrm = b.normals({{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}});
+  const int uv = b.accessor(std::vector<float>{0, 0, 0, 1, 1, 1, 1, 0}, 5126, "VEC2", 4);
+  const int idx = b.indices({0, 1, 2, 0, 2, 3});
+  std::ifstream in(png, std::ios::binary);
+  const std::vector<std::uint8_t> png_bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  b.doc["images"] = {{{"bufferView", b.view(png_bytes.data(), png_bytes.size())}, {"mimeType", "image/png"}}};
+  b.doc["samplers"] = {{{"wrapS", 10497}, {"wrapT", 10497}}};
+  b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  b.use_extension("KHR_texture_transform", true);
+  const int mat = b.material({{"pbrMetallicRoughness",
+                               {{"metallicFactor", 0.0},
+                                {"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}}}}}}}});
+  const int mesh = b.mesh({{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", uv}}}, {"indices", idx}, {"material", mat}}});
+  b.scene({b.node({{"name", "floor"}, {"mesh", mesh}})});
+  const auto gltf = std::filesystem::temp_directory_path() / "caustix_textured_quad.gltf";
+  b.write_embedded(gltf);
+  nlohmann::json g = top_down_scene();
+  g["gltf"] = gltf.string();
+  expect_texture_ratios(render_file(test::write_scene(g, "textured_gltf"), 64, 64), true);
 }
 
 }  // namespace

@@ -12,6 +12,8 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
               256 segments, smooth outward normals (a mirror ring, issue 20)
   box.obj     unit cube centred on the origin (flat-shaded faces)
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
+  deck.obj    the paving around such a pool: a square frame in y = 0 between
+              |x|, |z| = 0.5 and 1.5, normal +y
   teapot.obj  the Utah teapot from teapot_patches.txt, 12 x 12 quads per patch,
               y up, 1 m tall, base at y = 0 (about 9k triangles)
   teapot_solid.obj  the teapot closed for glass: the gap between lid and
@@ -277,6 +279,22 @@ def organic(seg=72, rings=36):
     return verts, faces
 
 
+def deck():
+    # a 3 x 3 grid of 1 x 1 cells over [-1.5, 1.5]^2 without its centre
+    # cell, vertices shared, facing +y
+    c = (-1.5, -0.5, 0.5, 1.5)
+    verts = [(x, 0, z) for z in c for x in c]
+    faces = []
+    for j in range(3):
+        for i in range(3):
+            if i == 1 and j == 1:
+                continue
+            a = j * 4 + i
+            # counter-clockwise seen from +y, as plane()
+            faces.append((a, a + 4, a + 5, a + 1))
+    return verts, faces, [(0, 1, 0)] * len(verts)
+
+
 if __name__ == "__main__":
     v, f = plane()
     write_obj("plane.obj", v, f, comment="Unit square in y = 0, 8 x 8 quads.")
@@ -292,6 +310,8 @@ if __name__ == "__main__":
     write_obj("box.obj", v, f, n, comment="Unit cube centred on the origin.")
     v, f, n = walls()
     write_obj("walls.obj", v, f, n, comment="Four walls of a unit pool, inward normals.")
+    v, f, n = deck()
+    write_obj("deck.obj", v, f, n, comment="Paving around a unit pool: a square frame in y = 0 out to |x|, |z| = 1.5.")
     v, f = teapot()
     write_obj("teapot.obj", v, f, comment="Utah teapot (Newell's patch data), 1 m tall.")
     v, f = teapot_solid()

@@ -10,6 +10,7 @@
 #include "caustix/bake/light_transport.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/bake/scene_json.h"
+#include "caustix/bake/texture_import.h"
 #include "caustix/common/mesh_topology.h"
 #include "caustix/formats/frame.h"
 #include "caustix/formats/mesh_decode.h"
@@ -126,6 +127,16 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     }
     out.seconds_import += seconds_since(t0);
 
+    // Texture coordinates travel only for receivers textured through them;
+    // everything else pays nothing for them.
+    const bool wants_uvs = std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) {
+      return o.mesh_index == i && o.material.albedo_texture && o.material.albedo_texture->projection == TextureProjection::kUv;
+    });
+    if (!wants_uvs) mesh.uvs.clear();
+    if (wants_uvs && mesh.uvs.size() != mesh.positions.size()) {
+      return make_error(ErrorCode::kInput, path + ": the mesh has no texture coordinates for its albedo texture; give the texture "
+                                                 "\"projection\": \"box\" (tiles in metres) or export the mesh with UVs (glTF TEXCOORD_0)");
+    }
     t0 = Clock::now();
     auto stream = encode_draco(mesh, options.draco);
     if (!stream) return Error{stream.error().code, path + ": " + stream.error().message};
@@ -150,6 +161,31 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     meshes.push_back(std::move(imported->mesh));
   }
 
+  // Albedo textures' images, each read once (formats/scene.h TextureImage).
+  std::vector<std::optional<std::uint32_t>> image_index(doc->images.size());
+  std::vector<bool> used(doc->images.size(), false);
+  for (const Object& o : scene.objects) {
+    if (o.material.albedo_texture) used[o.material.albedo_texture->image] = true;
+  }
+  for (std::size_t i = 0; i < doc->images.size(); ++i) {
+    const ImageSource& src = doc->images[i];
+    if (!used[i]) continue;
+    if (!src.path.empty()) out.inputs.push_back(src.path);
+    auto image = read_texture(src, options.max_texture_size);
+    if (!image && !src.fall_back) return image.error();
+    if (!image) {
+      out.warnings.push_back(image.error().message + "; its receivers are drawn with their base colour factor");
+      continue;
+    }
+    image_index[i] = static_cast<std::uint32_t>(scene.images.size());
+    scene.images.push_back(std::move(*image));
+  }
+  for (Object& o : scene.objects) {
+    auto& t = o.material.albedo_texture;
+    if (!t) continue;
+    if (image_index[t->image]) t->image = *image_index[t->image];
+    else t.reset();
+  }
   if (auto issue = validate_scene(scene)) {
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
   }

@@ -46,22 +46,39 @@ constexpr std::uint64_t kMaxFileBytes = std::uint64_t{2} << 30;
 // Extensions whose content caustix uses.
 const std::set<std::string> kSupported{"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_materials_transmission",
                                        "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion",
-                                       "KHR_lights_punctual"};
+                                       "KHR_lights_punctual", "KHR_texture_transform"};
 
 // Extensions a file may require that caustix can still import without them.
 // The rule: an extension is ignorable when what it changes is something
 // caustix does not read at all, so that ignoring it cannot change where
-// light goes or how much of it: how textures are stored or placed (caustix
-// reads no texture of such a file's materials), and material layers that
+// light goes or how much of it: how textures are stored (a texture caustix
+// cannot read falls back to its base colour factor, which changes only a
+// receiver's colour, never the light that reaches it), and material layers that
 // only add to a surface's own look (sheen, clearcoat, specular colour,
 // iridescence, anisotropy, emission strength) -- each named in a warning.
 // Not ignorable: anything that changes geometry (EXT_meshopt_compression,
 // KHR_mesh_gpu_instancing would add objects) or what the base colour
 // means (KHR_materials_pbrSpecularGlossiness).
-const std::set<std::string> kIgnorable{"KHR_texture_transform",        "KHR_texture_basisu",         "EXT_texture_webp",
+const std::set<std::string> kIgnorable{"KHR_texture_basisu",         "EXT_texture_webp",
                                        "EXT_texture_avif",             "KHR_materials_emissive_strength", "KHR_materials_clearcoat",
                                        "KHR_materials_sheen",          "KHR_materials_specular",     "KHR_materials_iridescence",
                                        "KHR_materials_anisotropy",     "KHR_materials_variants",     "KHR_xmp_json_ld"};
+
+// A URI's %XX escapes decoded (glTF 2.0 §3.2: URIs are RFC 3986; file
+// names with spaces arrive as %20).
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out.push_back(static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16)));
+      i += 2;
+    } else {
+      out.push_back(uri[i]);
+    }
+  }
+  return out;
+}
 
 Mat4d mul(const Mat4d& a, const Mat4d& b) {
   Mat4d r{};
@@ -276,10 +293,11 @@ struct GltfFile::Impl {
   struct Corners {
     std::vector<V3> positions;
     std::vector<V3> normals;  // empty, or one per position
+    std::vector<std::array<float, 2>> uvs;  // empty, or one per position (the base-colour texture's set)
     std::vector<std::array<std::uint32_t, 3>> triangles;
   };
 
-  Result<Corners> decode_draco_primitive(const tinygltf::Value& ext, const std::string& pp) const {
+  Result<Corners> decode_draco_primitive(const tinygltf::Value& ext, const std::string& pp, int texcoord) const {
     const std::string ep = pp + "/extensions/KHR_draco_mesh_compression";
     const tinygltf::Value* view = field(ext, "bufferView");
     const tinygltf::Value* attrs = field(ext, "attributes");
@@ -299,7 +317,10 @@ struct GltfFile::Impl {
       const tinygltf::Value* id = field(*attrs, name);
       if (!id) return static_cast<const draco::PointAttribute*>(nullptr);
       const draco::PointAttribute* a = id->IsInt() ? mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id->GetNumberAsInt())) : nullptr;
-      if (!a || a->num_components() != 3) return fail(ep + "/attributes/" + name, "no 3-component Draco attribute with this id");
+      const int want = std::string_view(name).rfind("TEXCOORD_", 0) == 0 ? 2 : 3;
+      if (!a || a->num_components() != want) {
+        return fail(ep + "/attributes/" + name, "no " + std::to_string(want) + "-component Draco attribute with this id");
+      }
       return a;
     };
     auto pos = attribute("POSITION");
@@ -307,6 +328,9 @@ struct GltfFile::Impl {
     if (!*pos) return fail(ep + "/attributes", "no POSITION");
     auto nrm = attribute("NORMAL");
     if (!nrm) return nrm.error();
+    const std::string uv_name = "TEXCOORD_" + std::to_string(std::max(texcoord, 0));
+    auto tex = texcoord >= 0 ? attribute(uv_name.c_str()) : Result<const draco::PointAttribute*>(static_cast<const draco::PointAttribute*>(nullptr));
+    if (!tex) return tex.error();
     if (mesh->num_points() > kMaxMeshVertices) return fail(ep, "more than " + std::to_string(kMaxMeshVertices) + " vertices");
     Corners c;
     c.positions.resize(mesh->num_points());
@@ -319,6 +343,13 @@ struct GltfFile::Impl {
       }
       c.positions[i.value()] = {p[0], p[1], p[2]};
       if (*nrm) c.normals[i.value()] = {n[0], n[1], n[2]};
+      if (*tex) {
+        std::array<float, 2> uv{};
+        if (!(*tex)->ConvertValue<float, 2>((*tex)->mapped_index(i), uv.data()) || !std::isfinite(uv[0]) || !std::isfinite(uv[1])) {
+          return fail(ep, "cannot read the texture coordinates of Draco point " + std::to_string(i.value()));
+        }
+        c.uvs.push_back(uv);
+      }
     }
     for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
       const auto& face = mesh->face(f);
@@ -329,7 +360,8 @@ struct GltfFile::Impl {
 
   // The triangles of primitive k of mesh m (an empty result for points and
   // lines, with a warning).
-  Result<Corners> primitive_corners(std::size_t m, std::size_t k, std::vector<std::string>& warns) const {
+  // With `texcoord` >= 0, TEXCOORD_<texcoord> too (a textured receiver's).
+  Result<Corners> primitive_corners(std::size_t m, std::size_t k, std::vector<std::string>& warns, int texcoord = -1) const {
     const tinygltf::Primitive& prim = model.meshes[m].primitives[k];
     const std::string pp = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k);
     const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
@@ -340,7 +372,7 @@ struct GltfFile::Impl {
     }
     if (!prim.targets.empty()) warn(pp + ": " + std::to_string(prim.targets.size()) + " morph target(s) ignored (the bake takes the base shape)", warns);
     if (const tinygltf::Value* draco = extension(prim.extensions, "KHR_draco_mesh_compression")) {
-      return decode_draco_primitive(*draco, pp);
+      return decode_draco_primitive(*draco, pp, texcoord);
     }
     const auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) return fail(pp + "/attributes", "no POSITION attribute");
@@ -358,6 +390,15 @@ struct GltfFile::Impl {
       if (!nrm) return nrm.error();
       if (nrm->size() != pos->size()) return fail(pp + "/attributes/NORMAL", "count differs from POSITION's " + std::to_string(n));
       for (std::size_t i = 0; i < n; ++i) c.normals.push_back({(*nrm)[3 * i], (*nrm)[3 * i + 1], (*nrm)[3 * i + 2]});
+    }
+    if (texcoord >= 0) {
+      const std::string name = "TEXCOORD_" + std::to_string(texcoord);
+      const auto it = prim.attributes.find(name);
+      if (it == prim.attributes.end()) return fail(pp + "/attributes", "no " + name + " for its material's baseColorTexture");
+      auto uv = read_accessor(it->second, pp + "/attributes/" + name, TINYGLTF_TYPE_VEC2, any_type);
+      if (!uv) return uv.error();
+      if (uv->size() != 2 * n) return fail(pp + "/attributes/" + name, "count differs from POSITION's " + std::to_string(n));
+      for (std::size_t i = 0; i < n; ++i) c.uvs.push_back({static_cast<float>((*uv)[2 * i]), static_cast<float>((*uv)[2 * i + 1])});
     }
     std::vector<std::uint32_t> idx;
     if (prim.indices >= 0) {
@@ -402,22 +443,29 @@ struct GltfFile::Impl {
       for (V3& p : c.positions) p = all[i++];
     }
     PolygonSoup soup;
-    std::map<std::array<float, 6>, std::uint32_t> index;
+    std::map<std::array<float, 8>, std::uint32_t> index;
     const bool normals = std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.normals.empty(); });
+    // Texture coordinates split vertices as normals do (a UV seam), unless welded.
+    const bool uvs = !weld && std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.uvs.empty() && c.uvs.size() == c.positions.size(); });
     std::vector<V3> normal_sum;
     for (const Corners& c : parts) {
       std::vector<std::uint32_t> remap(c.positions.size());
       for (std::size_t i = 0; i < c.positions.size(); ++i) {
         const V3& p = c.positions[i];
         const V3 n = normals ? c.normals[i] : V3{0, 0, 0};
-        std::array<float, 6> key{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]), 0, 0, 0};
+        std::array<float, 8> key{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]), 0, 0, 0, 0, 0};
         if (!weld) {
           for (std::size_t k = 0; k < 3; ++k) key[3 + k] = static_cast<float>(n[k]);
+        }
+        if (uvs) {
+          key[6] = c.uvs[i][0];
+          key[7] = c.uvs[i][1];
         }
         const auto [it, inserted] = index.emplace(key, static_cast<std::uint32_t>(soup.points.size()));
         if (inserted) {
           soup.points.push_back(p);
           normal_sum.push_back({0, 0, 0});
+          if (uvs) soup.uvs.push_back(c.uvs[i]);
         }
         if (normals) {
           const V3 u = normalized(n);
@@ -482,6 +530,90 @@ struct GltfFile::Impl {
     return model.nodes[i].name.empty() ? "node" + std::to_string(i) : model.nodes[i].name;
   }
 
+  // The base-colour texture of receiver material `index` (glTF 2.0
+  // §3.9.2: sRGB, TEXCOORD_n, the sampler's wraps; KHR_texture_transform),
+  // with the texture-coordinate set it reads; nullopt when it has none or
+  // caustix cannot read its image (said in a warning). Images are listed
+  // once each in `images` (image_of: glTF image -> index there).
+  Result<std::optional<std::pair<AlbedoTexture, int>>> albedo_texture(int index, std::vector<ImageSource>& images,
+                                                                     std::map<int, std::uint32_t>& image_of,
+                                                                     std::vector<std::string>& warns) const {
+    const tinygltf::TextureInfo& ti = model.materials[static_cast<std::size_t>(index)].pbrMetallicRoughness.baseColorTexture;
+    if (ti.index < 0) return std::optional<std::pair<AlbedoTexture, int>>{};
+    const std::string tp = "/materials/" + std::to_string(index) + "/pbrMetallicRoughness/baseColorTexture";
+    if (auto e = check_index(ti.index, model.textures, "texture", tp + "/index")) return *e;
+    const tinygltf::Texture& t = model.textures[static_cast<std::size_t>(ti.index)];
+    const std::string xp = "/textures/" + std::to_string(ti.index);
+    if (t.source < 0) {
+      warn(xp + ": no PNG or JPEG source (a KHR_texture_basisu, EXT_texture_webp or EXT_texture_avif image only); the base colour factor is used", warns);
+      return std::optional<std::pair<AlbedoTexture, int>>{};
+    }
+    if (auto e = check_index(t.source, model.images, "image", xp + "/source")) return *e;
+    AlbedoTexture a;
+    int texcoord = ti.texCoord;
+    if (t.sampler >= 0) {
+      if (auto e = check_index(t.sampler, model.samplers, "sampler", xp + "/sampler")) return *e;
+      const tinygltf::Sampler& smp = model.samplers[static_cast<std::size_t>(t.sampler)];
+      const auto wrap = [](int w) {
+        return w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ? TextureWrap::kClamp
+                                                        : (w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? TextureWrap::kMirror : TextureWrap::kRepeat);
+      };
+      a.wrap_s = wrap(smp.wrapS);
+      a.wrap_t = wrap(smp.wrapT);
+    }
+    if (const tinygltf::Value* tt = extension(ti.extensions, "KHR_texture_transform")) {
+      const std::string ep = tp + "/extensions/KHR_texture_transform";
+      std::array<float, 2> offset{0, 0}, scale{1, 1};
+      float rotation = 0;
+      for (const auto& [name, out] : {std::pair{"offset", &offset}, std::pair{"scale", &scale}}) {
+        const tinygltf::Value* v = field(*tt, name);
+        if (!v) continue;
+        if (!v->IsArray() || v->ArrayLen() != 2) return fail(ep + "/" + name, "expected 2 numbers");
+        for (int k = 0; k < 2; ++k) {
+          const tinygltf::Value& x = v->Get(k);
+          if (!x.IsNumber() || !(std::fabs(x.GetNumberAsDouble()) < 1e6)) return fail(ep + "/" + name + "/" + std::to_string(k), "must be a number below 1e6 in magnitude");
+          (*out)[static_cast<std::size_t>(k)] = static_cast<float>(x.GetNumberAsDouble());
+        }
+      }
+      if (const tinygltf::Value* v = field(*tt, "rotation")) {
+        if (!v->IsNumber() || !std::isfinite(v->GetNumberAsDouble())) return fail(ep + "/rotation", "must be a number");
+        rotation = static_cast<float>(v->GetNumberAsDouble());
+      }
+      if (const tinygltf::Value* v = field(*tt, "texCoord")) {
+        if (!v->IsInt() || v->GetNumberAsInt() < 0) return fail(ep + "/texCoord", "must be a whole number >= 0");
+        texcoord = v->GetNumberAsInt();
+      }
+      a.transform = texture_transform(offset, rotation, scale);
+    }
+    const auto [at, added] = image_of.emplace(t.source, static_cast<std::uint32_t>(images.size()));
+    if (added) {
+      const tinygltf::Image& gi = model.images[static_cast<std::size_t>(t.source)];
+      const std::string ip = "/images/" + std::to_string(t.source);
+      ImageSource src;
+      src.where = path + ": " + ip;
+      src.fall_back = true;
+      if (!gi.uri.empty()) {
+        src.path = (std::filesystem::path(path).parent_path() / percent_decoded(gi.uri)).lexically_normal().string();
+        src.name = src.path;
+      } else {
+        src.name = ip + (gi.name.empty() ? "" : " ('" + gi.name + "')");
+        src.mime_type = gi.mimeType;
+        if (gi.bufferView >= 0) {
+          if (auto e = check_index(gi.bufferView, model.bufferViews, "buffer view", ip + "/bufferView")) return *e;
+          const auto length = model.bufferViews[static_cast<std::size_t>(gi.bufferView)].byteLength;
+          auto bytes = view_bytes(gi.bufferView, 0, length, ip + "/bufferView");
+          if (!bytes) return bytes.error();
+          src.bytes.assign(*bytes, *bytes + length);
+        } else {
+          src.bytes = gi.image;  // a data URI's bytes (the image loader kept them)
+        }
+      }
+      images.push_back(std::move(src));
+    }
+    a.image = at->second;
+    return std::optional{std::pair{a, texcoord}};
+  }
+
   // Which of the model's materials maps to what (docs/scene-format.md).
   Result<std::pair<Role, Material>> material(int index, const std::string& pointer, std::vector<std::string>& warns) const {
     Material mat;
@@ -499,7 +631,6 @@ struct GltfFile::Impl {
       base[k] = static_cast<float>(c);
     }
     std::vector<std::string> ignored;
-    if (pbr.baseColorTexture.index >= 0) ignored.push_back("baseColorTexture (the base colour factor is used)");
     if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture (the factors are used)");
     if (gm.normalTexture.index >= 0) ignored.push_back("normalTexture");
     if (gm.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
@@ -600,7 +731,11 @@ struct GltfFile::Impl {
       role = Role::kMirror;
       mat.reflectance = base;
     } else {
-      mat.albedo = base;
+      mat.albedo = base;  // a baseColorTexture multiplies it (albedo_texture())
+    }
+    if (pbr.baseColorTexture.index >= 0 && role != Role::kReceiver) {
+      ignored.push_back(std::string("baseColorTexture (the base colour factor is used: ") +
+                        (role == Role::kMirror ? "a mirror's reflectance" : "glass is not textured") + ")");
     }
     if (!ignored.empty()) {
       std::string list;
@@ -638,9 +773,16 @@ Result<GltfFile> GltfFile::load(const std::string& path) {
   without_draco_indices(*bytes);
 
   tinygltf::TinyGLTF loader;
-  // Images are not used: accept them undecoded (TINYGLTF_NO_STB_IMAGE).
-  loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) { return true; },
-                        nullptr);
+  // Images stay encoded (TINYGLTF_NO_STB_IMAGE): a data URI's bytes are
+  // kept in Image::image for the baker's OpenImageIO reader
+  // (bake/texture_import.h); external files keep their uri, buffer views
+  // their view.
+  loader.SetImageLoader(
+      [](tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size, void*) {
+        image->image.assign(bytes, bytes + size);
+        return true;
+      },
+      nullptr);
   std::string err, warn;
   const std::string base = std::filesystem::path(path).parent_path().string();
   const auto length = static_cast<unsigned int>(bytes->size());
@@ -787,9 +929,11 @@ Result<GltfScene> GltfFile::scene() const {
       return "the imported scene's " + pointer;
     }
   } where;
-  std::map<std::tuple<std::size_t, std::size_t, bool>, std::uint32_t> mesh_of;  // (mesh, primitive, weld) -> index
+  std::map<std::tuple<std::size_t, std::size_t, bool, int>, std::uint32_t> mesh_of;  // (mesh, primitive, weld, texcoord) -> index
   std::map<int, std::pair<Role, Material>> materials;
-  std::map<std::tuple<std::size_t, std::size_t, bool>, std::size_t> open_transmissive;  // key -> boundary edges
+  std::map<int, int> texcoord_of;  // textured material -> its TEXCOORD set
+  std::map<int, std::uint32_t> image_of;
+  std::map<std::tuple<std::size_t, std::size_t, bool, int>, std::size_t> open_transmissive;  // key -> boundary edges
   std::set<std::string> names;
   bool camera_taken = false;
   for (const Visit& v : order) {
@@ -807,11 +951,28 @@ Result<GltfScene> GltfFile::scene() const {
         if (cached == materials.end()) {
           auto read = im.material(prims[k].material, pp + "/material", out.warnings);
           if (!read) return read.error();
+          if (read->first == Role::kReceiver && prims[k].material >= 0) {
+            auto tex = im.albedo_texture(prims[k].material, out.images, image_of, out.warnings);
+            if (!tex) return tex.error();
+            if (*tex) {
+              read->second.albedo_texture = (*tex)->first;
+              texcoord_of[prims[k].material] = (*tex)->second;
+            }
+          }
           cached = materials.emplace(prims[k].material, *read).first;
         }
         const auto* mat = &cached->second;
+        // The texture's coordinate set, when this primitive has it.
+        int texcoord = -1;
+        if (const auto tc = texcoord_of.find(prims[k].material); tc != texcoord_of.end()) {
+          texcoord = tc->second;
+          if (!prims[k].attributes.count("TEXCOORD_" + std::to_string(texcoord))) {
+            im.warn(pp + ": no TEXCOORD_" + std::to_string(texcoord) + " for its material's baseColorTexture; drawn with the base colour factor", out.warnings);
+            texcoord = -1;
+          }
+        }
         const bool weld = is_transparent(mat->first);
-        const auto key = std::tuple{m, k, weld};
+        const auto key = std::tuple{m, k, weld, texcoord};
         // A transmissive surface that bounds no solid (a window pane, a lamp
         // shade: glTF's thin-walled transmission) has no inside for a
         // light-transport table. caustix cannot draw or light thin-walled
@@ -830,7 +991,7 @@ Result<GltfScene> GltfFile::scene() const {
         auto found = mesh_of.find(key);
         if (found == mesh_of.end()) {
           std::vector<std::string> warns;
-          auto c = im.primitive_corners(m, k, warns);
+          auto c = im.primitive_corners(m, k, warns, texcoord);
           if (!c) return c.error();
           for (auto& w : warns) out.warnings.push_back(std::move(w));
           if (c->triangles.empty()) continue;  // points or lines: warned
@@ -864,6 +1025,7 @@ Result<GltfScene> GltfFile::scene() const {
         o.mesh_index = found->second;
         o.role = mat->first;
         o.material = mat->second;
+        if (texcoord < 0) o.material.albedo_texture.reset();
         for (std::size_t c = 0; c < 16; ++c) o.transform[c] = static_cast<float>(v.world[c]);
         out.scene.objects.push_back(o);
         where.objects.push_back(np + " ('" + im.node_name(v.node) + "')");

@@ -52,6 +52,7 @@ enum class MeshFormat { kObj, kOff, kPly, kStl };
 struct PolygonSoup {
   std::vector<std::array<double, 3>> points;
   std::vector<std::array<double, 3>> normals;  // empty, or one per point as the file gave them
+  std::vector<std::array<float, 2>> uvs;       // empty, or one per point (glTF TEXCOORD_n)
   // Polygon i is corners[offsets[i] .. offsets[i + 1]) (point indices, not
   // yet range-checked); offsets.size() == polygons + 1.
   std::vector<std::uint32_t> corners;

@@ -207,9 +207,58 @@ bool parse_scattering(Walker& w, const json& v, const std::string& ptr, Scatteri
   return true;
 }
 
-bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out) {
+// "albedo_texture": a file name (mapped by the mesh's texture coordinates),
+// or {"file", "projection": "uv" | "box", "scale": s or [su, sv], "offset":
+// [ou, ov], "rotation_deg", "wrap": "repeat" | "clamp" | "mirror"}; the
+// transform is KHR_texture_transform's T * R * S (rotation counter-clockwise
+// in UV space, as the Khronos sample viewer applies it).
+bool parse_albedo_texture(Walker& w, const json& v, const std::string& ptr, AlbedoTexture& out, std::string& file) {
+  if (v.is_string()) return w.string(v, ptr, file);
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "transparent", "ior", "dispersion", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
+  w.check_fields(v, ptr, {"file", "projection", "scale", "offset", "rotation_deg", "wrap"});
+  const json* f = w.member(v, ptr, "file");
+  if (!f || !w.string(*f, ptr + "/file", file)) return false;
+  if (file.empty()) return w.fail(ptr + "/file", "the file name is empty");
+  if (const json* j = Walker::optional_member(v, "projection")) {
+    std::string p;
+    if (!w.string(*j, ptr + "/projection", p)) return false;
+    if (p == "uv") out.projection = TextureProjection::kUv;
+    else if (p == "box") out.projection = TextureProjection::kBox;
+    else return w.fail(ptr + "/projection", "expected \"uv\" or \"box\", got \"" + p + "\"");
+  }
+  if (const json* j = Walker::optional_member(v, "wrap")) {
+    std::string m;
+    if (!w.string(*j, ptr + "/wrap", m)) return false;
+    if (m == "repeat") out.wrap_s = TextureWrap::kRepeat;
+    else if (m == "clamp") out.wrap_s = TextureWrap::kClamp;
+    else if (m == "mirror") out.wrap_s = TextureWrap::kMirror;
+    else return w.fail(ptr + "/wrap", "expected \"repeat\", \"clamp\" or \"mirror\", got \"" + m + "\"");
+    out.wrap_t = out.wrap_s;
+  }
+  std::array<float, 2> scale{1, 1}, offset{0, 0};
+  float rotation = 0;
+  if (const json* j = Walker::optional_member(v, "scale")) {
+    if (j->is_number()) {
+      if (!w.number(*j, ptr + "/scale", scale[0])) return false;
+      scale[1] = scale[0];
+    } else if (!w.numbers(*j, ptr + "/scale", scale)) {
+      return false;
+    }
+  }
+  if (const json* j = Walker::optional_member(v, "offset"); j && !w.numbers(*j, ptr + "/offset", offset)) return false;
+  if (const json* j = Walker::optional_member(v, "rotation_deg"); j && !w.number(*j, ptr + "/rotation_deg", rotation)) return false;
+  out.transform = texture_transform(offset, static_cast<float>(rotation * kPi / 180.0), scale);
+  return true;
+}
+
+bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file) {
+  if (!w.object(v, ptr)) return false;
+  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "ior", "dispersion", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
+  if (const json* j = Walker::optional_member(v, "albedo_texture")) {
+    out.albedo_texture.emplace();
+    if (!parse_albedo_texture(w, *j, ptr + "/albedo_texture", *out.albedo_texture, texture_file)) return false;
+    out.albedo = {1, 1, 1};  // the texture alone, unless "albedo" tints it
+  }
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
   if (const json* j = Walker::optional_member(v, "ior")) {
@@ -267,10 +316,13 @@ bool parse_gltf(Walker& w, const json& root, SceneDocument& doc, const std::file
   auto gs = file->scene();
   if (!gs) return w.fail("/gltf", gs.error().message);
   const auto offset = static_cast<std::uint32_t>(doc.scene.meshes.size());
+  const auto image_offset = static_cast<std::uint32_t>(doc.images.size());
   for (Object o : gs->scene.objects) {
     o.mesh_index += offset;
+    if (o.material.albedo_texture) o.material.albedo_texture->image += image_offset;
     doc.scene.objects.push_back(std::move(o));
   }
+  for (auto& im : gs->images) doc.images.push_back(std::move(im));
   for (std::size_t i = 0; i < gs->meshes.size(); ++i) {
     const std::string& source = gs->scene.meshes[i].source;
     doc.mesh_paths.push_back(resolved + source.substr(source.find('#')));
@@ -289,6 +341,7 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
   if (!objs) return false;
   if (!objs->is_array()) return w.fail("/objects", "expected an array of objects, got " + Walker::type_of(*objs));
   std::map<std::pair<std::string, bool>, std::uint32_t> mesh_by_path;  // (resolved source, welded)
+  std::map<std::string, std::uint32_t> image_by_path;
   for (std::size_t i = 0; i < objs->size(); ++i) {
     const json& o = (*objs)[i];
     const std::string ptr = "/objects/" + std::to_string(i);
@@ -310,7 +363,20 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       else if (role == "mirror") obj.role = Role::kMirror;
       else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\", \"both\" or \"mirror\", got \"" + role + "\"");
     }
-    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material)) return false;
+    std::string texture_file;
+    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, texture_file)) return false;
+    if (!texture_file.empty()) {
+      // One image per distinct resolved file.
+      const std::string file = (base / texture_file).lexically_normal().string();
+      const auto [at, added] = image_by_path.emplace(file, static_cast<std::uint32_t>(doc.images.size()));
+      if (added) {
+        ImageSource src;
+        src.name = src.path = file;
+        src.where = w.where(ptr + "/material/albedo_texture") + ": " + ptr + "/material/albedo_texture";
+        doc.images.push_back(std::move(src));
+      }
+      obj.material.albedo_texture->image = at->second;
+    }
     if (const json* j = Walker::optional_member(o, "transform"); j && !parse_transform(w, *j, ptr + "/transform", obj.transform)) return false;
     if (!is_mirror(obj.role) && o.contains("material") && o["material"].contains("reflectance")) {
       w.warn(ptr + "/material/reflectance", "\"reflectance\" has no effect on an object that is not a mirror");
@@ -564,6 +630,7 @@ Result<SceneDocument> load_scene(const std::string& path) {
   if (!gs) return gs.error();
   SceneDocument out;
   out.scene = std::move(gs->scene);
+  out.images = std::move(gs->images);
   for (std::size_t i = 0; i < gs->meshes.size(); ++i) {
     const std::string& source = out.scene.meshes[i].source;
     out.mesh_paths.push_back(path + source.substr(source.find('#')));

@@ -67,6 +67,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(8, 30))->capture_default_str();
   app.add_option("--normal-bits", opt.draco.normal_bits, "Draco quantisation of normals, bits")
       ->check(CLI::Range(6, 30))->capture_default_str();
+  app.add_option("--max-texture-size", opt.max_texture_size,
+                 "albedo textures larger than this many texels a side are filtered down to fit")
+      ->check(CLI::Range(1u, kMaxTextureSize))->capture_default_str();
   app.add_option("--draco-speed", opt.draco.speed, "Draco speed: 0 smallest file .. 10 fastest")
       ->check(CLI::Range(0, 10))->capture_default_str();
   app.add_option("--planes", lm.slicing.planes,

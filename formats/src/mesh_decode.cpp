@@ -38,6 +38,9 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   const draco::PointAttribute* nrm = mesh->GetNamedAttribute(draco::GeometryAttribute::NORMAL);
   if (!pos || pos->num_components() != 3) return mesh_error(info, "no 3-component position attribute");
   if (!nrm || nrm->num_components() != 3) return mesh_error(info, "no 3-component normal attribute");
+  // Texture coordinates are optional (receivers with a base-colour texture).
+  const draco::PointAttribute* tex = mesh->GetNamedAttribute(draco::GeometryAttribute::TEX_COORD);
+  if (tex && tex->num_components() != 2) return mesh_error(info, "texture coordinates with " + std::to_string(tex->num_components()) + " components (2 expected)");
   // Edgebreaker keeps every triangle but may split non-manifold vertices, so
   // the triangle count must match exactly and the vertex count is bounded.
   if (mesh->num_faces() != info.triangle_count || mesh->num_points() == 0 ||
@@ -50,6 +53,7 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   TriangleMesh out;
   out.positions.resize(mesh->num_points());
   out.normals.resize(mesh->num_points());
+  if (tex) out.uvs.resize(mesh->num_points());
   // Decoded positions may sit up to half a quantisation step outside the
   // source bounds (8 bits: 0.2 % of the extent); allow 1.5 times that.
   const double slack = 1.5 * position_error_bound(info.bounds_min, info.bounds_max, info.position_bits);
@@ -68,6 +72,12 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
     const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!std::isfinite(len) || len < 0.5f) return mesh_error(info, "vertex " + std::to_string(i.value()) + " has an invalid normal");
     for (float& c : n) c /= len;
+    if (tex) {
+      auto& uv = out.uvs[i.value()];
+      if (!tex->ConvertValue<float, 2>(tex->mapped_index(i), uv.data()) || !std::isfinite(uv[0]) || !std::isfinite(uv[1])) {
+        return mesh_error(info, "vertex " + std::to_string(i.value()) + " has invalid texture coordinates");
+      }
+    }
   }
   out.triangles.resize(mesh->num_faces());
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {

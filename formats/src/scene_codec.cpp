@@ -6,6 +6,7 @@
 #include "bytes.h"
 #include "caustix/formats/scene.h"
 #include "chunk_decoder.h"
+#include "zstd_frame.h"
 
 namespace caustix {
 namespace {
@@ -176,6 +177,39 @@ std::vector<std::uint8_t> encode_spots(const SceneDesc& s) {
     w.u32(i);
     w.f32(s.lights[i].inner_cone);
     w.f32(s.lights[i].outer_cone);
+  }
+  return w.take();
+}
+
+// TEXR (issue 45): u32 image count; per image: string source, u32 width,
+// u32 height, u32 data size, one zstd frame of width * height * 3 bytes
+// (sRGB RGB, top row first); u32 texture count; per textured receiver, in
+// object order: u32 object index, u32 image index, u8 projection, u8 wrap
+// s, u8 wrap t, u8 zero, 6 x f32 transform.
+constexpr int kTextureZstdLevel = 3;
+bool has_textures(const SceneDesc& s) {
+  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.albedo_texture.has_value(); });
+}
+std::vector<std::uint8_t> encode_textures(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(s.images.size()));
+  for (const TextureImage& im : s.images) {
+    w.str(im.source);
+    w.u32(im.width);
+    w.u32(im.height);
+    cxb::detail::write_zstd_frame(w, im.rgb, kTextureZstdLevel);
+  }
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.albedo_texture.has_value(); })));
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    const auto& t = s.objects[i].material.albedo_texture;
+    if (!t) continue;
+    w.u32(i);
+    w.u32(t->image);
+    w.u8(static_cast<std::uint8_t>(t->projection));
+    w.u8(static_cast<std::uint8_t>(t->wrap_s));
+    w.u8(static_cast<std::uint8_t>(t->wrap_t));
+    w.u8(0);
+    for (float f : t->transform) w.f32(f);
   }
   return w.take();
 }
@@ -397,6 +431,48 @@ bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, 65536, 16, "texture image")) return false;
+  s.images.resize(n);
+  for (TextureImage& im : s.images) {
+    std::uint32_t packed_size = 0;
+    std::span<const std::uint8_t> packed;
+    if (!d.str(im.source, "image source") || !d.u32(im.width, "image width") || !d.u32(im.height, "image height")) return false;
+    if (im.width < 1 || im.width > kMaxTextureSize || im.height < 1 || im.height > kMaxTextureSize) {
+      return d.fail("image '" + im.source + "' is " + std::to_string(im.width) + " x " + std::to_string(im.height) +
+                    " texels (1.." + std::to_string(kMaxTextureSize) + " a side)");
+    }
+    if (!d.u32(packed_size, "image data size") || !d.span(packed, packed_size, "image data")) return false;
+    const std::size_t texels = std::size_t{im.width} * im.height;
+    if (!cxb::detail::zstd_decompress_exact(d, packed, 3 * texels, "image data", std::to_string(texels) + " RGB texels", im.rgb)) return false;
+  }
+  std::uint32_t m = 0;
+  if (!d.count(m, s.objects.size(), 36, "textured object")) return false;
+  for (std::uint32_t k = 0, prev = 0; k < m; ++k) {
+    std::uint32_t obj = 0;
+    AlbedoTexture t;
+    std::uint8_t projection = 0, wrap_s = 0, wrap_t = 0, zero = 0;
+    if (!d.u32(obj, "textured object index")) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev)) {
+      return d.fail("textured object index " + std::to_string(obj) + " is out of range or out of order");
+    }
+    prev = obj;
+    if (!d.u32(t.image, "texture image index") || !d.u8(projection, "texture projection") || !d.u8(wrap_s, "texture wrap s") ||
+        !d.u8(wrap_t, "texture wrap t") || !d.u8(zero, "texture reserved byte")) {
+      return false;
+    }
+    t.projection = static_cast<TextureProjection>(projection);
+    t.wrap_s = static_cast<TextureWrap>(wrap_s);
+    t.wrap_t = static_cast<TextureWrap>(wrap_t);
+    for (float& f : t.transform) {
+      if (!d.f32(f, "texture transform")) return false;
+    }
+    s.objects[obj].material.albedo_texture = t;  // values checked by validate_scene
+  }
+  return d.finish();
+}
+
 bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
   float water = 0;
   if (!d.f32(water, "water dispersion")) return false;
@@ -438,6 +514,9 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (has_mirrors(scene)) w.add_chunk(cxb::kTagMirrors, cxb::kChunkRequired, encode_mirrors(scene));
   if (scene_disperses(scene)) w.add_chunk(cxb::kTagDispersion, cxb::kChunkRequired, encode_dispersion(scene));
   if (has_spots(scene)) w.add_chunk(cxb::kTagSpots, cxb::kChunkRequired, encode_spots(scene));
+  // Optional: a reader that predates it draws the receivers untextured; the
+  // light does not depend on it.
+  if (has_textures(scene)) w.add_chunk(cxb::kTagTextures, 0, encode_textures(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -510,6 +589,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!spot) return spot.error();
   if (*spot) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSpots, **spot, [&](ChunkDecoder& d) { return decode_spots(d, s); }));
+  }
+  auto texr = single(cxb::kTagTextures, false);
+  if (!texr) return texr.error();
+  if (*texr) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagTextures, **texr, [&](ChunkDecoder& d) { return decode_textures(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

@@ -99,6 +99,14 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(finite(m.bounds_min) && finite(m.bounds_max), p + "/bounds", "must be finite");
   }
 
+  for (std::size_t i = 0; i < s.images.size(); ++i) {
+    const TextureImage& im = s.images[i];
+    const std::string p = "/images/" + std::to_string(i);
+    c.expect(im.width >= 1 && im.width <= kMaxTextureSize && im.height >= 1 && im.height <= kMaxTextureSize, p,
+             "must be 1.." + std::to_string(kMaxTextureSize) + " texels a side");
+    c.expect(im.rgb.size() == std::size_t{im.width} * im.height * 3, p, "holds " + std::to_string(im.rgb.size()) + " bytes, not width x height x 3");
+  }
+
   std::set<std::string> names;
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     const Object& o = s.objects[i];
@@ -117,6 +125,18 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     }
     for (float a : o.material.albedo) {
       c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
+    }
+    if (const auto& t = o.material.albedo_texture) {
+      const std::string tp = p + "/material/albedo_texture";
+      c.expect(o.role == Role::kReceiver, tp, "only a receiver takes an albedo texture");
+      c.expect(!check_meshes || t->image < s.images.size(), tp, "image " + std::to_string(t->image) + " is out of range");
+      c.expect(t->projection == TextureProjection::kUv || t->projection == TextureProjection::kBox, tp + "/projection", "must be uv or box");
+      for (TextureWrap w : {t->wrap_s, t->wrap_t}) {
+        c.expect(w == TextureWrap::kRepeat || w == TextureWrap::kClamp || w == TextureWrap::kMirror, tp + "/wrap", "must be repeat, clamp or mirror");
+      }
+      bool finite_transform = true;
+      for (float f : t->transform) finite_transform = finite_transform && finite(f) && std::fabs(f) < 1e6f;
+      c.expect(finite_transform, tp + "/transform", "must be finite numbers below 1e6 in magnitude");
     }
     if (o.material.transparent || is_transparent(o.role)) {
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");

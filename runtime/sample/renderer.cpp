@@ -140,8 +140,9 @@ struct Renderer::Impl {
     p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
   }
 
+  // `textured`: p is the receiver program, which takes albedo textures.
   Status draw_receivers(const gl::Program& p, int pass, std::uint32_t li, std::optional<std::uint32_t> only,
-                        bool cull_closed = false) const {
+                        bool cull_closed = false, bool textured = false) const {
     for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
       if (only && *only != i) continue;
       if (is_transparent(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)
@@ -152,6 +153,15 @@ struct Renderer::Impl {
       }
       set_model(p, i);
       p.set("u_albedo", to_glm(scene().objects[i].material.albedo));
+      if (textured) {
+        const std::optional<AlbedoMap> map = engine->albedo_map(i);
+        p.set("u_albedo_projection", map ? static_cast<int>(map->projection) : 0);
+        if (map) {
+          p.set("u_albedo_rows[0]", glm::vec3(map->transform[0], map->transform[1], map->transform[2]));
+          p.set("u_albedo_rows[1]", glm::vec3(map->transform[3], map->transform[4], map->transform[5]));
+          glBindTextureUnit(0, map->texture);
+        }
+      }
       if (pass != 0) CAUSTIX_RETURN_IF_ERROR(engine->bind(i, li));
       CAUSTIX_RETURN_IF_ERROR(engine->draw_object(i));
     }
@@ -192,7 +202,7 @@ struct Renderer::Impl {
     p.set("u_fog_eye", v.fog_eye);
     p.set("u_fog_k", medium.k);
     p.set("u_water_color", medium.color);
-    const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value());
+    const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value(), /*textured=*/true);
     glDisable(GL_CLIP_DISTANCE0);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);

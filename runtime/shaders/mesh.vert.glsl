@@ -6,6 +6,7 @@
 // where the renderer enables GL_CLIP_DISTANCE0.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;  // texture coordinates where the mesh has them ((0, 0) otherwise)
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
@@ -18,11 +19,13 @@ uniform vec4 u_ndc_window = vec4(1.0, 1.0, 0.0, 0.0);
 
 out vec3 v_world;
 out vec3 v_normal;
+out vec2 v_uv;
 
 void main() {
   vec4 world = u_model * vec4(a_position, 1.0);
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
+  v_uv = a_uv;
   gl_Position = u_view_proj * world;
   gl_Position.xy = gl_Position.xy * u_ndc_window.xy + u_ndc_window.zw * gl_Position.w;
   gl_ClipDistance[0] = dot(u_clip_plane, vec4(world.xyz, 1.0));

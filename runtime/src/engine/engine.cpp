@@ -16,6 +16,7 @@
 #include "pass_timer.h"
 #include "causticmap.h"
 #include "glass.h"
+#include "albedo_textures.h"
 #include "gpu_mesh.h"
 #include "shader_text.h"
 #include "shadow_maps.h"
@@ -81,6 +82,7 @@ struct Engine::Impl {
   std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
   std::vector<TriangleMesh> cpu_meshes;                             // object space, for moving objects
   std::vector<GpuMesh> meshes;
+  AlbedoTextures albedo;  // receivers' base-colour textures (issue 45)
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
 
@@ -365,6 +367,8 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   const gl::StateGuard guard = s.guard();
 
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
+  s.albedo = upload_albedo_textures(s.scene);
+  for (TextureImage& im : s.scene.images) std::vector<std::uint8_t>().swap(im.rgb);  // on the GPU now
   s.cpu_meshes = scene.meshes;
   for (const Object& o : s.scene.objects) s.world_vertices.push_back(world_points(o.transform, scene.meshes[o.mesh_index].positions));
   s.compute_bounds();
@@ -833,6 +837,13 @@ VolumeStats Engine::volume_stats(bool wait) {
   return s.volume->stats(wait);
 }
 
+std::optional<AlbedoMap> Engine::albedo_map(std::uint32_t index) const {
+  const Impl& s = *impl_;
+  if (index >= s.scene.objects.size() || s.albedo.of_object[index] == 0) return std::nullopt;
+  const AlbedoTexture& t = *s.scene.objects[index].material.albedo_texture;
+  return AlbedoMap{s.albedo.of_object[index], t.projection, t.transform};
+}
+
 Status Engine::draw_object(std::uint32_t index) const {
   const Impl& s = *impl_;
   if (index >= s.scene.objects.size()) return usage("draw_object: no object " + std::to_string(index));
@@ -853,6 +864,7 @@ CausticsStats Engine::stats(bool wait) {
   GpuMemory& m = st.memory;
   m.level_maps = st.gpu_bytes;  // the caustics engine's own
   for (const GpuMesh& mesh : s.meshes) m.meshes += mesh.gpu_bytes();
+  m.meshes += s.albedo.gpu_bytes;
   m.shadow_maps = s.shadows->gpu_bytes();
   if (s.water) m.water = s.water->gpu_bytes();
   if (s.glass) {

@@ -30,6 +30,15 @@ GpuMesh upload_mesh(const TriangleMesh& m) {
   glEnableVertexArrayAttrib(vao, 1);
   glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
   glVertexArrayAttribBinding(vao, 1, 0);
+  if (!m.uvs.empty() && m.uvs.size() == m.positions.size()) {
+    g.uvs = gl::make_buffer();
+    glNamedBufferStorage(g.uvs.get(), static_cast<GLsizeiptr>(m.uvs.size() * 8), m.uvs.data(), 0);
+    g.has_uvs = true;
+    glVertexArrayVertexBuffer(vao, 1, g.uvs.get(), 0, 2 * sizeof(float));
+    glEnableVertexArrayAttrib(vao, 2);
+    glVertexArrayAttribFormat(vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 2, 1);
+  }
   g.closed = !m.triangles.empty() && census_edges(m).closed();
   return g;
 }

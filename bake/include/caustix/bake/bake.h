@@ -30,6 +30,9 @@ struct BakeOptions {
   // 1..kMaxWaterCells): the runtime's caustics cost is linear in the grid's
   // triangles (docs/tradeoff.md).
   double water_grid_scale = 1.0;
+  // Albedo textures larger than this many texels a side are filtered down
+  // to fit (bake/texture_import.h).
+  std::uint32_t max_texture_size = 2048;
   // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
   std::optional<RenderDefaults> render;
 };

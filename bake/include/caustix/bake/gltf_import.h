@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "caustix/bake/mesh_import.h"
+#include "caustix/bake/texture_import.h"
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
 
@@ -39,6 +40,9 @@ struct GltfScene {
   // ("file.glb#/meshes/0/primitives/1") and meshes[i] holds it.
   SceneDesc scene;
   std::vector<ImportedMesh> meshes;
+  // Receivers' base-colour textures' images, not yet read:
+  // AlbedoTexture::image indexes this list (scene.images is empty).
+  std::vector<ImageSource> images;
   std::vector<std::string> warnings;  // each starts with the file's path (load's own are in GltfFile::warnings())
 };
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "caustix/bake/mesh_import.h"
+#include "caustix/bake/texture_import.h"
 
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
@@ -29,6 +30,9 @@ struct SceneDocument {
   // Meshes already read from glTF files (bake/gltf_import.h); empty for a
   // mesh file, which the baker imports (mesh_import.h).
   std::vector<std::optional<ImportedMesh>> imported;
+  // The albedo textures' images, not yet read (the baker reads them):
+  // AlbedoTexture::image indexes this list, scene.images is empty.
+  std::vector<ImageSource> images;
   // Every file read so far (the scene, glTF files and their buffers).
   std::vector<std::string> inputs;
   std::vector<std::string> warnings;

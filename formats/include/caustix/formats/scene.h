@@ -56,6 +56,45 @@ struct Scattering {
   bool scatters() const { return coefficient[0] > 0 || coefficient[1] > 0 || coefficient[2] > 0; }
 };
 
+// A base-colour texture on a receiver (issue 45; the TEXR chunk): the
+// diffuse reflectance is albedo times the texture's linear colour. Where
+// the texture is looked up:
+//  kUv   the mesh's texture coordinates (glTF TEXCOORD_0; (0, 0) is the
+//        image's top-left texel);
+//  kBox  world-space metres on the axis plane the surface faces most (box or
+//        triplanar projection: a face whose normal is mostly x takes (z, y),
+//        mostly y (x, z), mostly z (x, y)) -- tiles of a given size in metres
+//        across every wall, for meshes without texture coordinates.
+// The coordinates then go through `transform`, row-major 2 x 3:
+// (s, t) = (m0 u + m1 v + m2, m3 u + m4 v + m5) (KHR_texture_transform's
+// offset, rotation and scale; for kBox, repeats per metre).
+enum class TextureProjection : std::uint8_t { kUv = 1, kBox = 2 };
+enum class TextureWrap : std::uint8_t { kRepeat = 1, kClamp = 2, kMirror = 3 };  // glTF sampler wrapS / wrapT
+struct AlbedoTexture {
+  std::uint32_t image = 0;  // index into SceneDesc::images
+  TextureProjection projection = TextureProjection::kUv;
+  TextureWrap wrap_s = TextureWrap::kRepeat;
+  TextureWrap wrap_t = TextureWrap::kRepeat;
+  std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
+};
+
+// KHR_texture_transform's T * R * S (offset, rotation in radians, scale) as
+// AlbedoTexture::transform; the rotation turns UVs counter-clockwise, as
+// the Khronos sample viewer applies it (rows (c, s) and (-s, c)).
+inline std::array<float, 6> texture_transform(const std::array<float, 2>& offset, float rotation, const std::array<float, 2>& scale) {
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  return {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+}
+
+// An image as the .cxb stores it: 8-bit sRGB-encoded RGB, top row first
+// (the baker reads files through OpenImageIO and drops alpha).
+inline constexpr std::uint32_t kMaxTextureSize = 8192;
+struct TextureImage {
+  std::string source;  // the file or glTF image it came from, for messages
+  std::uint32_t width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // width * height * 3
+};
+
 struct Material {
   Vec3f albedo{0.8f, 0.8f, 0.8f};  // diffuse reflectance, each in [0, 1]
   bool transparent = false;
@@ -71,6 +110,7 @@ struct Material {
   // and by decode_scene, not stored in OBJS). 0: the caustics from its
   // tables refract at n_d only.
   std::uint32_t spectral_tables = 0;
+  std::optional<AlbedoTexture> albedo_texture;  // receivers only: multiplies albedo (the TEXR chunk)
 };
 
 // What the baker recorded about an encoded mesh; the runtime checks the
@@ -205,6 +245,7 @@ struct SceneDesc {
   std::optional<Medium> medium;
   std::optional<Camera> camera;
   std::optional<RenderDefaults> render;
+  std::vector<TextureImage> images;  // the albedo textures' images (TEXR)
 };
 
 // Limits that keep hostile or absurd inputs bounded (also documented in
@@ -240,7 +281,8 @@ struct ValidationIssue {
 
 // Checks every value rule of the scene (ranges, finiteness, indices, unique
 // names). Returns the first issue found, in document order. With
-// check_meshes false the mesh records (not yet imported) are not checked.
+// check_meshes false the mesh records and the textures' image indices (not
+// yet imported) are not checked.
 std::optional<ValidationIssue> validate_scene(const SceneDesc& scene, bool check_meshes = true);
 
 // Normalises directions in place (lights, waves); call before encoding.

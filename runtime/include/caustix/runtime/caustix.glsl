@@ -44,6 +44,20 @@ float caustix_spot_factor(vec3 travel, vec3 axis, vec3 spot) {
   return t * t;
 }
 
+// Where a receiver's albedo texture is looked up (Engine::albedo_map;
+// formats/scene.h AlbedoTexture): projection 1 takes the mesh's texture
+// coordinates `uv` (attribute 2), projection 2 world metres on the axis
+// plane the world normal `n` faces most (x: (z, y), y: (x, z), z: (x, y));
+// then (s, t) = (dot(row0, (u, v, 1)), dot(row1, (u, v, 1))).
+vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 world, vec3 n) {
+  vec2 c = uv;
+  if (projection == 2) {
+    vec3 a = abs(n);
+    c = a.x >= a.y && a.x >= a.z ? world.zy : (a.y >= a.z ? world.xz : world.xy);
+  }
+  return vec2(dot(row0, vec3(c, 1.0)), dot(row1, vec3(c, 1.0)));
+}
+
 #ifndef CAUSTIX_OPTICS_ONLY
 
 #ifndef CAUSTIX_BLOCK_NAME

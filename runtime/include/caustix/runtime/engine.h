@@ -166,6 +166,19 @@ struct ReceiverLighting {
   std::size_t offset = 0;
 };
 
+// A receiver's base-colour texture (Engine::albedo_map; issue 45).
+struct AlbedoMap {
+  // GL_TEXTURE_2D, GL_SRGB8_ALPHA8 with a full mip chain (sampling returns
+  // linear colour); wrap and trilinear filtering are set on the texture, so
+  // bind it with no sampler object.
+  unsigned texture = 0;
+  // kUv: the mesh's texture coordinates (draw_object's attribute 2); kBox:
+  // world metres on the axis plane the surface faces most (formats/scene.h).
+  TextureProjection projection = TextureProjection::kUv;
+  // Row-major 2 x 3: (s, t) = (m0 u + m1 v + m2, m3 u + m4 v + m5).
+  std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
+};
+
 // The water grid an application's heights must cover: columns x rows
 // vertices, vertex (i, j) at x = x0 + i (x1 - x0)/(columns - 1),
 // z = z0 + j (z1 - z0)/(rows - 1), stored at index j * columns + i.
@@ -371,9 +384,16 @@ class Engine {
   VolumeStats volume_stats(bool wait = false);
 
   // Draws object `index`'s mesh (attribute 0: object-space position, 1:
-  // normal; GL_TRIANGLES, uint32 indices) with whatever program the caller
-  // has bound: for applications that draw the scene's own meshes.
+  // normal, 2: texture coordinates where the mesh has them -- receivers
+  // whose albedo texture is mapped by them; GL_TRIANGLES, uint32 indices)
+  // with whatever program the caller has bound: for applications that
+  // draw the scene's own meshes.
   Status draw_object(std::uint32_t index) const;
+  // Receiver `index`'s base-colour texture (scene.json albedo_texture,
+  // glTF baseColorTexture), nullopt for an untextured object. Its
+  // diffuse reflectance is material.albedo times the texture's colour at
+  // caustix_texture_coords() (caustix.glsl).
+  std::optional<AlbedoMap> albedo_map(std::uint32_t index) const;
 
   // What the current frame did and costs: the caustics passes' counts,
   // the GL calls (GlCalls: none synchronise in a steady frame), GPU memory.
