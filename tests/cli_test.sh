@@ -37,6 +37,7 @@ contains "unknown option named" "$tmp/err" "--bogus"
 cmp -s "$tmp/a.cxb" "$tmp/b.cxb"; check "bakes are byte-identical" 0 $?
 contains "depfile lists the scene" "$tmp/a.d" "default.json"
 contains "depfile lists meshes" "$tmp/a.d" "sphere.obj"
+contains "depfile lists textures" "$tmp/a.d" "pool_tiles.png"
 contains "report has meshes" "$tmp/a.json" "draco_bytes"
 contains "report has level maps" "$tmp/a.json" "planes_smart"
 "$bake" "$scene" -o "$tmp/v.cxb" -v --map-size 64 >"$tmp/vout"; check "bake -v" 0 $?

@@ -416,6 +416,79 @@ TEST(SceneCodec, SpotConesAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagSpots).empty());
 }
 
+// Albedo textures (issue 45): the image and the receiver's mapping survive
+// in the optional TEXR chunk; a scene without textures has none; a
+// texture on a non-receiver, an image index out of range, a wrong texel
+// count in the frame and a bad projection are refused by name.
+TEST(SceneCodec, AlbedoTexturesAreStoredAndValidated) {
+  SceneDesc s = full_scene();
+  TextureImage im;
+  im.source = "tiles.png";
+  im.width = 3;
+  im.height = 2;
+  for (std::uint8_t i = 0; i < 18; ++i) im.rgb.push_back(static_cast<std::uint8_t>(i * 13));
+  s.images = {im};
+  AlbedoTexture t;
+  t.projection = TextureProjection::kBox;
+  t.wrap_s = TextureWrap::kMirror;
+  t.wrap_t = TextureWrap::kClamp;
+  t.transform = texture_transform({0.25f, 0.5f}, 0.3f, {2.0f, 3.0f});
+  s.objects[0].material.albedo_texture = t;
+  auto b = encode_scene(s, {{0}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_EQ(d->scene.images.size(), 1u);
+  EXPECT_EQ(d->scene.images[0].source, "tiles.png");
+  EXPECT_EQ(d->scene.images[0].width, 3u);
+  EXPECT_EQ(d->scene.images[0].rgb, im.rgb);
+  ASSERT_TRUE(d->scene.objects[0].material.albedo_texture);
+  const AlbedoTexture& r = *d->scene.objects[0].material.albedo_texture;
+  EXPECT_EQ(r.projection, TextureProjection::kBox);
+  EXPECT_EQ(r.wrap_s, TextureWrap::kMirror);
+  EXPECT_EQ(r.wrap_t, TextureWrap::kClamp);
+  EXPECT_EQ(r.transform, t.transform);
+
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  const std::size_t texr = c->find(cxb::kTagTextures).at(0);
+  EXPECT_FALSE(c->chunks()[texr].flags & cxb::kChunkRequired);  // a reader without it draws untextured
+
+  SceneDesc glass = s;
+  glass.objects[0].role = Role::kBoth;
+  d = decode(encode_scene(glass, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/0/material/albedo_texture: only a receiver"), std::string::npos) << d.error().message;
+
+  SceneDesc out_of_range = s;
+  out_of_range.objects[0].material.albedo_texture->image = 1;
+  d = decode(encode_scene(out_of_range, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("image 1 is out of range"), std::string::npos) << d.error().message;
+
+  // The frame must hold width x height x 3 bytes: say 4 x 2.
+  std::vector<std::uint8_t> wide = b;
+  auto wc = cxb::read_container(wide.data(), wide.size());
+  const std::size_t at = wc->chunks()[texr].offset + 4 + 4 + im.source.size();  // count, string length, string
+  const std::uint32_t four = 4;
+  std::memcpy(wide.data() + at, &four, 4);
+  test::reseal_payload(wide, texr);
+  d = decode(wide);
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'TEXR'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("image data does not hold 8 RGB texels"), std::string::npos) << d.error().message;
+
+  SceneDesc bad = s;
+  bad.objects[0].material.albedo_texture->projection = static_cast<TextureProjection>(7);
+  d = decode(encode_scene(bad, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("albedo_texture/projection"), std::string::npos) << d.error().message;
+
+  auto plain = encode_scene(full_scene(), {{0}});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagTextures).empty());
+}
+
 // Dispersion (issue 22): the water's and a transparent object's survive in
 // the DISP chunk (required: a reader that ignored it would render no
 // colour fringes); out-of-range values are refused by name; a record for

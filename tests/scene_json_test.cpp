@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include "caustix/bake/bake.h"
 #include "caustix/bake/scene_json.h"
 
 namespace caustix::bake {
@@ -160,6 +164,74 @@ TEST(SceneJson, SpotLights) {
   EXPECT_NE(msg.find("/lights/0/inner_cone_deg"), std::string::npos) << msg;
   msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj"}], "lights": [{"type": "spot", "position": [0, 3, 0], "direction": [0, 0, 0]}]})");
   EXPECT_NE(msg.find("/lights/0/direction"), std::string::npos) << msg;
+}
+
+// Albedo textures (issue 45): a file name (mesh UVs), or the object form
+// with box projection and KHR_texture_transform's parts; one image per
+// distinct file; the albedo defaults to 1 under a texture and tints it
+// when given; bad values are located; a texture on glass is refused.
+TEST(SceneJson, AlbedoTextures) {
+  auto r = parse_scene_json(R"({"objects": [
+      {"name": "a", "mesh": "m.obj", "material": {"albedo_texture": "tex/tiles.png"}},
+      {"name": "b", "mesh": "n.obj", "material": {"albedo": [1, 0.5, 0.5],
+        "albedo_texture": {"file": "./tex/tiles.png", "projection": "box", "scale": [2, 4], "offset": [0.5, 0], "rotation_deg": 90, "wrap": "mirror"}}},
+      {"name": "c", "mesh": "n.obj", "material": {"albedo_texture": {"file": "stone.jpg"}}}]})", "dir/scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->images.size(), 2u);
+  EXPECT_EQ(r->images[0].path, "dir/tex/tiles.png");
+  EXPECT_NE(r->images[0].where.find("dir/scene.json:2:"), std::string::npos) << r->images[0].where;
+  EXPECT_EQ(r->images[1].path, "dir/stone.jpg");
+  const auto& a = r->scene.objects[0].material;
+  ASSERT_TRUE(a.albedo_texture);
+  EXPECT_EQ(a.albedo, (Vec3f{1, 1, 1}));
+  EXPECT_EQ(a.albedo_texture->projection, TextureProjection::kUv);
+  EXPECT_EQ(a.albedo_texture->transform, (std::array<float, 6>{1, 0, 0, 0, 1, 0}));
+  const auto& b = r->scene.objects[1].material;
+  ASSERT_TRUE(b.albedo_texture);
+  EXPECT_EQ(b.albedo_texture->image, 0u);
+  EXPECT_EQ(b.albedo, (Vec3f{1, 0.5f, 0.5f}));
+  EXPECT_EQ(b.albedo_texture->projection, TextureProjection::kBox);
+  EXPECT_EQ(b.albedo_texture->wrap_s, TextureWrap::kMirror);
+  EXPECT_EQ(b.albedo_texture->wrap_t, TextureWrap::kMirror);
+  // rotation 90 deg: rows (c sx, s sy, ox) = (0, 4, 0.5) and (-s sx, c sy, oy) = (-2, 0, 0).
+  const std::array<float, 6> want{0, 4, 0.5f, -2, 0, 0};
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(b.albedo_texture->transform[k], want[k], 1e-6f) << k;
+  EXPECT_EQ(r->scene.objects[2].material.albedo_texture->image, 1u);
+
+  std::string msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj",
+      "material": {"albedo_texture": {"file": "t.png", "projection": "sphere"}}}]})");
+  EXPECT_NE(msg.find("scene.json:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("/objects/0/material/albedo_texture/projection: expected \"uv\" or \"box\""), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj", "material": {"albedo_texture": {"scale": 2}}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/albedo_texture: missing required field \"file\""), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "transparent",
+      "material": {"transparent": true, "albedo_texture": "t.png"}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/albedo_texture: only a receiver takes an albedo texture"), std::string::npos) << msg;
+}
+
+// What the baker says of a texture it cannot use: a file that is not there
+// (named with the scene's line and column, nothing written), and a mesh
+// without texture coordinates under "uv" (the fix named).
+TEST(SceneJson, TextureErrorsAtBakeNameThePlace) {
+  const auto dir = std::filesystem::temp_directory_path() / "caustix_texture_errors";
+  std::filesystem::create_directories(dir);
+  const std::string plane = std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/plane.obj";
+  const auto write = [&](const std::string& material) {
+    const auto path = dir / "scene.json";
+    std::ofstream(path) << R"({"objects": [{"name": "floor", "mesh": ")" << plane << R"(",
+  "material": )" << material << "}]}";
+    return path.string();
+  };
+  auto baked = bake_scene(write(R"({"albedo_texture": "nowhere.png"})"), BakeOptions{});
+  ASSERT_FALSE(baked.ok());
+  EXPECT_EQ(baked.error().code, ErrorCode::kInput);
+  EXPECT_NE(baked.error().message.find("scene.json:2:16: /objects/0/material/albedo_texture: image '"), std::string::npos) << baked.error().message;
+  EXPECT_NE(baked.error().message.find("nowhere.png': cannot be read"), std::string::npos) << baked.error().message;
+  baked = bake_scene(write(R"({"albedo_texture": ")" + std::string(CAUSTIX_SOURCE_DIR) + R"(/assets/textures/pool_tiles.png"})"), BakeOptions{});
+  ASSERT_FALSE(baked.ok());
+  EXPECT_NE(baked.error().message.find("plane.obj: the mesh has no texture coordinates for its albedo texture; give the texture \"projection\": \"box\""),
+            std::string::npos) << baked.error().message;
+  std::filesystem::remove_all(dir);
 }
 
 // Media (issue 19): the medium box, scattering water and milky glass, with

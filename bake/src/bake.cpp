@@ -95,6 +95,32 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     }
   }
 
+  // Albedo textures' images, each read once (formats/scene.h TextureImage).
+  std::vector<std::optional<std::uint32_t>> image_index(doc->images.size());
+  std::vector<bool> used(doc->images.size(), false);
+  for (const Object& o : scene.objects) {
+    if (o.material.albedo_texture) used[o.material.albedo_texture->image] = true;
+  }
+  for (std::size_t i = 0; i < doc->images.size(); ++i) {
+    const ImageSource& src = doc->images[i];
+    if (!used[i]) continue;
+    if (!src.path.empty()) out.inputs.push_back(src.path);
+    auto image = read_texture(src, options.max_texture_size);
+    if (!image && !src.fall_back) return image.error();
+    if (!image) {
+      out.warnings.push_back(image.error().message + "; its receivers are drawn with their base colour factor");
+      continue;
+    }
+    image_index[i] = static_cast<std::uint32_t>(scene.images.size());
+    scene.images.push_back(std::move(*image));
+  }
+  for (Object& o : scene.objects) {
+    auto& t = o.material.albedo_texture;
+    if (!t) continue;
+    if (image_index[t->image]) t->image = *image_index[t->image];
+    else t.reset();
+  }
+
   std::vector<std::vector<std::uint8_t>> draco_streams;
   std::vector<TriangleMesh> meshes;
   for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
@@ -161,31 +187,6 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     meshes.push_back(std::move(imported->mesh));
   }
 
-  // Albedo textures' images, each read once (formats/scene.h TextureImage).
-  std::vector<std::optional<std::uint32_t>> image_index(doc->images.size());
-  std::vector<bool> used(doc->images.size(), false);
-  for (const Object& o : scene.objects) {
-    if (o.material.albedo_texture) used[o.material.albedo_texture->image] = true;
-  }
-  for (std::size_t i = 0; i < doc->images.size(); ++i) {
-    const ImageSource& src = doc->images[i];
-    if (!used[i]) continue;
-    if (!src.path.empty()) out.inputs.push_back(src.path);
-    auto image = read_texture(src, options.max_texture_size);
-    if (!image && !src.fall_back) return image.error();
-    if (!image) {
-      out.warnings.push_back(image.error().message + "; its receivers are drawn with their base colour factor");
-      continue;
-    }
-    image_index[i] = static_cast<std::uint32_t>(scene.images.size());
-    scene.images.push_back(std::move(*image));
-  }
-  for (Object& o : scene.objects) {
-    auto& t = o.material.albedo_texture;
-    if (!t) continue;
-    if (image_index[t->image]) t->image = *image_index[t->image];
-    else t.reset();
-  }
   if (auto issue = validate_scene(scene)) {
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
   }
