@@ -222,5 +222,43 @@ TEST(Render, AnAlbedoTextureScalesEachTexelsLightByItsLinearAlbedo) {
   expect_texture_ratios(render_file(test::write_scene(g, "textured_gltf"), 64, 64), true);
 }
 
+// The analytic sky (FrameParams::sky; Preetham, Shirley & Smits 1999): a
+// camera at the floor looking straight up under a sun 45 degrees high
+// towards +z. The zenith has the flat sky's luminance (what the model is
+// scaled to), the circumsolar sky towards the sun is brighter than the
+// sky 90 degrees away from it on the other side, and the zenith is bluer
+// than it is red (a clear day).
+TEST(Render, TheAnalyticSkyIsScaledToTheFlatSkyAtTheZenithAndBrightAboutTheSun) {
+  nlohmann::json j{{"name", "sky"},
+                   {"objects", {{{"name", "floor"}, {"mesh", std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/plane.obj"}}}},
+                   {"lights", {{{"type", "directional"}, {"direction", {0, -1, -1}}, {"irradiance", 1.0}}}},
+                   {"camera", {{"position", {0, 0.5, 0}}, {"target", {0, 1.5, 0}}, {"up", {0, 0, -1}}, {"fov_y_deg", 90}}}};
+  auto scene = test::bake_and_load(test::write_scene(j, "analytic_sky"));
+  ASSERT_TRUE(scene);
+  auto ctx = HeadlessContext::create();
+  ASSERT_TRUE(ctx.ok());
+  auto r = Renderer::create(*scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  FrameParams f;
+  f.camera = (*r)->default_camera();
+  f.width = f.height = 64;
+  f.sky = runtime::SkyModel::kAnalytic;
+  ASSERT_TRUE((*r)->render(f).ok());
+  const Image img{64, 64, (*r)->read_hdr()};
+  const auto luminance = [](const float* c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; };
+  const double flat = luminance(runtime::kSkyColor);
+  // The four centre pixels straddle the zenith (0.7 degrees off it).
+  double zenith = 0;
+  for (int k = 0; k < 4; ++k) zenith += 0.25 * luminance(img.at(31 + k / 2, 31 + k % 2));
+  EXPECT_NEAR(zenith, flat, 0.01 * flat);
+  const float* towards_sun = img.at(60, 32);  // image bottom: +z
+  const float* away = img.at(3, 32);
+  EXPECT_GT(luminance(towards_sun), 2.0 * luminance(away));
+  const float* z = img.at(31, 31);
+  EXPECT_GT(z[2], z[0]);
+  std::printf("[analytic sky] zenith luminance %.4f (flat sky %.4f), towards the sun %.3f, away %.3f\n", zenith, flat,
+              luminance(towards_sun), luminance(away));
+}
+
 }  // namespace
 }  // namespace caustix

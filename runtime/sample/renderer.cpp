@@ -85,12 +85,53 @@ struct PassView {
 
 constexpr float kAmbient = 0.12f;
 
+// The analytic sky's terms (Preetham, Shirley & Smits 1999, appendix A.2)
+// for turbidity t and the sun at theta_s from the zenith: Perez's A..E for
+// (Y, x, y) and the zenith's (Y, x, y) divided by F(0, theta_s), so that the
+// shader's value is zenith x F(theta, gamma) / F(0, theta_s) (sky.frag.glsl).
+struct SkyTerms {
+  std::array<glm::vec3, 5> perez;
+  glm::vec3 zenith_over_f0{0.0f};
+  float zenith_luminance = 1.0f;  // Y_z in kcd/m^2
+};
+SkyTerms sky_terms(float t, float theta_s) {
+  SkyTerms k;
+  k.perez = {glm::vec3(0.1787f * t - 1.4630f, -0.0193f * t - 0.2592f, -0.0167f * t - 0.2608f),
+             glm::vec3(-0.3554f * t + 0.4275f, -0.0665f * t + 0.0008f, -0.0950f * t + 0.0092f),
+             glm::vec3(-0.0227f * t + 5.3251f, -0.0004f * t + 0.2125f, -0.0079f * t + 0.2102f),
+             glm::vec3(0.1206f * t - 2.5771f, -0.0641f * t - 0.8989f, -0.0441f * t - 1.6537f),
+             glm::vec3(-0.0670f * t + 0.3703f, -0.0033f * t + 0.0452f, -0.0109f * t + 0.0529f)};
+  const float th = theta_s, th2 = th * th, th3 = th2 * th;
+  const float chi = (4.0f / 9.0f - t / 120.0f) * (3.14159265f - 2.0f * th);
+  const float yz = (4.0453f * t - 4.9710f) * std::tan(chi) - 0.2155f * t + 2.4192f;
+  const float xz = t * t * (0.00166f * th3 - 0.00375f * th2 + 0.00209f * th) +
+                   t * (-0.02903f * th3 + 0.06377f * th2 - 0.03202f * th + 0.00394f) +
+                   (0.11693f * th3 - 0.21196f * th2 + 0.06052f * th + 0.25886f);
+  const float yyz = t * t * (0.00275f * th3 - 0.00610f * th2 + 0.00317f * th) +
+                    t * (-0.04214f * th3 + 0.08970f * th2 - 0.04153f * th + 0.00516f) +
+                    (0.15346f * th3 - 0.26756f * th2 + 0.06670f * th + 0.26688f);
+  // F(0, theta_s): the zenith (cos theta = 1), gamma = theta_s.
+  const glm::vec3 f0 = (1.0f + k.perez[0] * glm::exp(k.perez[1])) *
+                       (1.0f + k.perez[2] * glm::exp(k.perez[3] * th) + k.perez[4] * std::cos(th) * std::cos(th));
+  k.zenith_over_f0 = glm::vec3(yz, xz, yyz) / f0;
+  k.zenith_luminance = yz;
+  return k;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
   std::unique_ptr<Engine> engine;
   std::vector<bool> closed;  // per mesh: closed and consistently wound
-  gl::Program receiver, irradiance, present, luminance, downsample;
+  gl::Program receiver, irradiance, present, luminance, downsample, sky;
+  // This frame's analytic sky (FrameParams::sky), when it has one: the
+  // direction towards the sun and the model's terms.
+  struct AnalyticSky {
+    glm::vec3 to_sun{0.0f, 1.0f, 0.0f};
+    SkyTerms terms;
+    float scale = 1.0f;
+  };
+  std::optional<AnalyticSky> analytic_sky;
   gl::VertexArray empty_vao;
   Target hdr, display, irradiance_target, inscatter_target;
   Target resolved;      // the frame box-filtered down when supersampled
@@ -204,9 +245,28 @@ struct Renderer::Impl {
     p.set("u_water_color", medium.color);
     const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value(), /*textured=*/true);
     glDisable(GL_CLIP_DISTANCE0);
+    if (pass == 0 && analytic_sky && !v.fog) draw_sky(v);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     return st;
+  }
+
+  // The analytic sky where nothing was drawn (depth still 1).
+  void draw_sky(const PassView& v) const {
+    const AnalyticSky& a = *analytic_sky;
+    glDisable(GL_CULL_FACE);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    sky.use();
+    sky.set("u_inv_view_proj", glm::inverse(v.view_proj));
+    sky.set("u_to_sun", a.to_sun);
+    for (int k = 0; k < 5; ++k) sky.set(("u_perez[" + std::to_string(k) + "]").c_str(), a.terms.perez[static_cast<std::size_t>(k)]);
+    sky.set("u_zenith_over_f0", a.terms.zenith_over_f0);
+    sky.set("u_scale", a.scale);
+    glBindVertexArray(empty_vao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
   }
 
   // Ambient, then one additive pass per light.
@@ -234,6 +294,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
       gl::build_programs({{&s.receiver, "receiver", sample_shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
                           {&s.irradiance, "irradiance", sample_shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
                           {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl},
+                          {&s.sky, "sky", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_sky_frag_glsl},
                           {&s.luminance, "luminance", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_luminance_frag_glsl},
                           {&s.downsample, "downsample", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_downsample_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
@@ -282,6 +343,19 @@ Status Renderer::render(const FrameParams& f) {
   view.far_plane = f.camera.far_plane;
   const glm::mat4 view_proj = view.projection() * view.view;
   const glm::vec3 sky = s.reference * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
+  s.analytic_sky.reset();
+  if (f.sky == SkyModel::kAnalytic) {
+    const auto sun = std::find_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type == LightType::kDirectional; });
+    if (sun != scene.lights.end()) {
+      Impl::AnalyticSky a;
+      a.to_sun = -glm::normalize(to_glm(sun->direction));
+      // A sun below the horizon lights nothing; its sky is the sky at the horizon.
+      const float theta_s = std::acos(std::clamp(a.to_sun.y, 0.0f, 1.0f));
+      a.terms = sky_terms(2.5f, theta_s);
+      a.scale = glm::dot(sky, glm::vec3(0.2126f, 0.7152f, 0.0722f)) / a.terms.zenith_luminance;
+      s.analytic_sky = a;
+    }
+  }
   const WaterMedium medium = s.engine->water_medium(view, look);
 
   PassView main{s.hdr.fbo.get(), width, height, view_proj, std::nullopt, false, false, view.eye(), sky};

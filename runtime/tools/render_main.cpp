@@ -135,6 +135,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 8))->capture_default_str();
   app.add_option("--cmap-budget", cmap.photon_budget, "caustic maps, adaptive: most photons traced per light")
       ->check(CLI::Range(1, 1 << 24))->capture_default_str();
+  std::string sky = "analytic";
+  app.add_option("--sky", sky, "the background and what the water reflects: analytic (Preetham's daylight for the scene's sun) or flat")
+      ->check(CLI::IsMember({"analytic", "flat"}))->capture_default_str();
   // Display images (docs/display.md); EXR output stays linear.
   DisplayOptions display;
   std::string tone_map = to_string(display.tone_map);
@@ -249,6 +252,7 @@ int main(int argc, char** argv) {
   caustics.glass_method = *parse_glass_method(glass_method);
   view_options.method = *parse_glass_view(glass_view);
   display.tone_map = *parse_tone_map(tone_map);
+  const SkyModel sky_model = sky == "flat" ? SkyModel::kFlat : SkyModel::kAnalytic;
   if (app.count("--exposure") == 0 && !display.auto_exposure) display.exposure_ev = (*renderer)->default_exposure_ev();
   // The bake preset's caustic-map defaults unless given here.
   if (app.count("--cmap-photons") == 0) cmap.photons = caustics.caustic_map.photons;
@@ -375,7 +379,7 @@ int main(int argc, char** argv) {
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (written && !aux_path.empty()) written = write_float_image(aux_path, width, height, 3, img->aux, attributes);
   } else if (is_float_image_path(out_path)) {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample, sky_model};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<float> rgba = (*renderer)->read_hdr();
     std::vector<float> rgb;
@@ -392,7 +396,7 @@ int main(int argc, char** argv) {
     }
     written = write_float_image(out_path, width, height, 3, rgb);
   } else {
-    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample};
+    const FrameParams frame{camera, time, width, height, caustics, look, view_options, display, supersample, sky_model};
     if (Status st = (*renderer)->render(frame); !st) return fail(st.error());
     const std::vector<std::uint8_t> rgba = (*renderer)->read_display();
     std::vector<std::uint8_t> rgb;

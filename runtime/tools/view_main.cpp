@@ -77,6 +77,7 @@ struct Orbit {
 struct ViewState {
   Orbit orbit, home;
   bool paused = false;
+  bool flat_sky = false;  // the analytic sky unless asked
   double last_x = 0, last_y = 0;
   bool rotating = false, panning = false;
   caustix::runtime::CausticsOptions caustics;
@@ -333,6 +334,7 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
     combo("tone curve", st.display.tone_map, {{ToneMap::kFilmic, "filmic (ACES fit)"}, {ToneMap::kExponential, "1 - e^-x"}});
     ImGui::SliderFloat("exposure (EV)", &st.display.exposure_ev, -8.0f, 8.0f, "%+.1f");
     ImGui::Checkbox("auto exposure", &st.display.auto_exposure);
+    ImGui::Checkbox("flat sky", &st.flat_sky);
     ImGui::SliderInt("supersampling", &st.supersample, 1, 3, "%dx");
   }
   ImGui::End();
@@ -621,6 +623,7 @@ int main(int argc, char** argv) {
       frame.glass_view = state.glass_view;
       frame.display = state.display;
       frame.supersample = state.supersample;
+      frame.sky = state.flat_sky ? SkyModel::kFlat : SkyModel::kAnalytic;
       if (Status st = (*renderer)->render(frame); !st) {
         rc = fail(st.error());
         break;

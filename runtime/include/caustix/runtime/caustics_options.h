@@ -263,7 +263,7 @@ struct GpuTimes {
 // Bytes the engine holds on the GPU, by effect (textures at their mip
 // chains, buffers at their allocated size).
 struct GpuMemory {
-  std::uint64_t meshes = 0;        // the scene's vertex and index buffers
+  std::uint64_t meshes = 0;        // the scene's vertex and index buffers and albedo textures
   std::uint64_t shadow_maps = 0;   // depth maps, their moments (VSM)
   std::uint64_t water = 0;         // the surface's buffers
   std::uint64_t level_maps = 0;    // position and caustics maps, lists, slices (seed 000, 001 ch. 8)

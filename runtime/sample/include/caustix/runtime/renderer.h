@@ -53,6 +53,18 @@ struct DisplayOptions {
 const char* to_string(ToneMap t);
 std::optional<ToneMap> parse_tone_map(const std::string& name);  // "filmic", "exponential"
 
+// What is seen where no receiver is: above the water, in its reflection and
+// through it from below.
+enum class SkyModel {
+  kFlat,      // kSkyColor everywhere (times the scene's reference irradiance)
+  // Preetham, Shirley & Smits's analytic daylight (1999; turbidity 2.5:
+  // a clear day) for the scene's first directional light as the sun,
+  // scaled so that the zenith has kSkyColor's luminance: blue overhead,
+  // paler towards the horizon, bright about the sun. Flat in a scene
+  // without a directional light.
+  kAnalytic,
+};
+
 struct FrameParams {
   Camera camera;
   float time = 0.0f;  // seconds, drives the waves
@@ -67,6 +79,9 @@ struct FrameParams {
   // width x height (linear, so read_hdr() and EXR output are antialiased
   // too). 1..4; the cost grows with its square.
   int supersample = 1;
+  // The background (caustix-render and caustix-view draw kAnalytic unless
+  // told --sky flat; the library's default keeps tests' backgrounds exact).
+  SkyModel sky = SkyModel::kFlat;
 };
 
 // shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
