@@ -13,8 +13,12 @@ trap 'rm -rf "$T"' EXIT
 mkdir -p docs/gallery
 for json in assets/scenes/*.json; do
   s=$(basename "$json" .json)
-  [ "$s" = default ] && continue
   $B/bake/caustix-bake "$json" -o "$T/$s.cxb" -q
+  if [ "$s" = default ]; then
+    # The README's picture (default_before.png is the scene before issue 45, kept as it was).
+    $B/runtime/caustix-render "$T/$s.cxb" -o docs/gallery/default_after.png --size 960x540 --time 2.0 -q
+    continue
+  fi
   $B/runtime/caustix-render "$T/$s.cxb" -o "docs/gallery/${s}_above.png" --size 640x400 -q
   # Under the water: a third of the way from the target to the camera,
   # 0.35 m below the rest level, looking across the pool and a little

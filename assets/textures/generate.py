@@ -3,8 +3,8 @@
 re-run to regenerate; deterministic). 8-bit sRGB PNG, written with the
 standard library only (zlib).
 
-  pool_tiles.png  256 x 256: 4 x 4 glazed pool tiles (white with a faint
-                  aqua tint, each tile a little different) and grey grout
+  pool_tiles.png  256 x 256: 4 x 4 glazed pool tiles (light aqua, each
+                  tile a little different) and grey grout
                   lines 4 texels wide -- with "projection": "box" and
                   "scale": 1.25 the image covers 0.8 m, tiles of 0.2 m
   deck_stone.png  256 x 256: 2 x 2 sandstone slabs with fine grain and
@@ -61,7 +61,7 @@ def pool_tiles():
         if gx < grout or gy < grout:
             return (150, 158, 160)
         s = shade[y // step][x // step] * (0.97 + 0.03 * noise(x / size, y / size))
-        return (222 * s, 240 * s, 244 * s)
+        return (150 * s, 208 * s, 228 * s)
 
     write_png("pool_tiles.png", size, size, pixel)
 

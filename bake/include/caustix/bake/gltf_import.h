@@ -9,9 +9,11 @@
 //    (index from KHR_materials_ior, absorption from KHR_materials_volume's
 //    attenuation); metallic >= 0.9 with roughness <= 0.2 makes a mirror
 //    (reflectance: the base colour); anything else is a receiver whose
-//    albedo is the base colour.
-//  - KHR_lights_punctual's directional and point lights (spot lights as
-//    point lights, with a warning), photometric units over 683 lm/W; the
+//    albedo is the base colour, textured by its baseColorTexture (through
+//    TEXCOORD_n, the sampler's wraps and KHR_texture_transform; the images
+//    listed in GltfScene::images for the baker to read).
+//  - KHR_lights_punctual's directional, point and spot lights (with their
+//    cones), photometric units over 683 lm/W; the
 //    first camera in node order.
 //  - KHR_draco_mesh_compression and KHR_mesh_quantization are read.
 //
@@ -20,7 +22,7 @@
 // buffer views or node hierarchy are inconsistent is refused (kInput) with
 // "FILE: /json/pointer: what is wrong" (tinygltf's own parse errors carry
 // its message instead of a pointer). What the file holds and caustix does
-// not use (textures, animations, skins, morph targets, lines and points,
+// not use (other textures, animations, skins, morph targets, lines and points,
 // unknown optional extensions) is named in a warning, never dropped
 // silently.
 

@@ -254,6 +254,9 @@ class Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
+  // The scene as the engine holds it (lights and transforms as last set).
+  // Its images keep their sizes but not their texels, which live on the
+  // GPU (albedo_map()).
   const SceneDesc& scene() const;
   const Bindings& bindings() const;
   // The options the scene's bake preset chose (RNDR chunk), else the defaults.
