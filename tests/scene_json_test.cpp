@@ -7,6 +7,7 @@
 
 #include "caustix/bake/bake.h"
 #include "caustix/bake/scene_json.h"
+#include "caustix/bake/texture_import.h"
 
 namespace caustix::bake {
 namespace {
@@ -232,6 +233,54 @@ TEST(SceneJson, TextureErrorsAtBakeNameThePlace) {
   EXPECT_NE(baked.error().message.find("plane.obj: the mesh has no texture coordinates for its albedo texture; give the texture \"projection\": \"box\""),
             std::string::npos) << baked.error().message;
   std::filesystem::remove_all(dir);
+}
+
+// The texture reader (bake/texture_import.h): a file and the same bytes
+// embedded give the same texels; an image over max_size is filtered down
+// to fit, keeping its mean colour (a box-like filter: within 1 %); bytes
+// that are not an image and a MIME type glTF does not allow are refused
+// naming the image and where it was named.
+TEST(TextureImport, FilesBytesFittingAndRefusals) {
+  const std::string path = std::string(CAUSTIX_SOURCE_DIR) + "/assets/textures/pool_tiles.png";
+  ImageSource file;
+  file.name = file.path = path;
+  auto a = read_texture(file);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  EXPECT_EQ(a->width, 256u);
+  EXPECT_EQ(a->height, 256u);
+  ImageSource embedded;
+  embedded.name = "/images/0";
+  embedded.mime_type = "image/png";
+  std::ifstream in(path, std::ios::binary);
+  embedded.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  auto b = read_texture(embedded);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  EXPECT_EQ(b->rgb, a->rgb);
+
+  auto small = read_texture(file, 64);
+  ASSERT_TRUE(small.ok()) << small.error().message;
+  EXPECT_EQ(small->width, 64u);
+  EXPECT_EQ(small->height, 64u);
+  const auto mean = [](const TextureImage& t, std::size_t k) {
+    double m = 0;
+    for (std::size_t i = k; i < t.rgb.size(); i += 3) m += t.rgb[i];
+    return m / (t.rgb.size() / 3);
+  };
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(mean(*small, k), mean(*a, k), 0.01 * mean(*a, k)) << k;
+
+  ImageSource junk;
+  junk.name = "/images/1";
+  junk.mime_type = "image/png";
+  junk.where = "lamp.glb: /images/1";
+  junk.bytes = {'n', 'o', 't', ' ', 'a', ' ', 'p', 'n', 'g'};
+  auto c = read_texture(junk);
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().code, ErrorCode::kInput);
+  EXPECT_NE(c.error().message.find("lamp.glb: /images/1: image '/images/1': cannot be read"), std::string::npos) << c.error().message;
+  junk.mime_type = "image/gif";
+  c = read_texture(junk);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.error().message.find("glTF allows image/png and image/jpeg"), std::string::npos) << c.error().message;
 }
 
 // Media (issue 19): the medium box, scattering water and milky glass, with

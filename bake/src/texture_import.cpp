@@ -27,36 +27,31 @@ Result<TextureImage> read_texture(const ImageSource& src, std::uint32_t max_size
   // OpenImageIO which reader to use.
   OIIO::Filesystem::IOMemReader memory(src.bytes.data(), src.bytes.size());
   std::string open_name = src.path;
-  OIIO::ImageSpec config;
   if (src.path.empty()) {
     if (src.mime_type == "image/png") open_name = "embedded.png";
     else if (src.mime_type == "image/jpeg") open_name = "embedded.jpg";
     else return fail("embedded image of type '" + src.mime_type + "' (glTF allows image/png and image/jpeg)");
-    OIIO::Filesystem::IOProxy* proxy = &memory;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   }
-  auto in = OIIO::ImageInput::open(open_name, &config);
-  if (!in) return fail("cannot be read: " + OIIO::geterror());
-  const OIIO::ImageSpec spec = in->spec();
-  if (spec.width < 1 || spec.height < 1 || spec.width > 65536 || spec.height > 65536 || spec.nchannels < 1) {
-    return fail("is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " with " +
-                std::to_string(spec.nchannels) + " channel(s); 1..65536 a side and at least one channel expected");
+  OIIO::ImageBuf in(open_name, 0, 0, nullptr, nullptr, src.path.empty() ? &memory : nullptr);
+  const OIIO::ImageSpec spec = in.spec();  // the header only
+  if (in.has_error() || spec.width < 1 || spec.height < 1 || spec.nchannels < 1) {
+    const std::string why = in.geterror();
+    return fail("cannot be read: " + (why.empty() ? std::string("not an image") : why));
+  }
+  // The pixels are held in their own type (8 bits: one byte a channel), so
+  // the largest image this reads is 16384^2 x 4 channels, 1 GiB.
+  if (spec.width > 16384 || spec.height > 16384) {
+    return fail("is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels; at most 16384 a side is read");
   }
   const bool linear = spec.format.is_floating_point();
-  std::vector<float> px(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) * static_cast<std::size_t>(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data())) return fail("cannot be decoded: " + in->geterror());
-  in->close();
+  if (!in.read(0, 0, /*force=*/true)) return fail("cannot be decoded: " + in.geterror());
 
-  // RGB floats (grey replicated, alpha dropped), then fitted to max_size.
-  OIIO::ImageBuf rgb(OIIO::ImageSpec(spec.width, spec.height, 3, OIIO::TypeDesc::FLOAT));
-  {
-    std::vector<float> three(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) * 3);
-    const auto nc = static_cast<std::size_t>(spec.nchannels);
-    for (std::size_t i = 0; i < three.size() / 3; ++i) {
-      for (std::size_t k = 0; k < 3; ++k) three[3 * i + k] = px[nc * i + (nc >= 3 ? k : 0)];
-    }
-    rgb.set_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, three.data());
-  }
+  // RGB (grey replicated, alpha and further channels dropped), then fitted
+  // to max_size.
+  const int grey = spec.nchannels < 3 ? 0 : 1;
+  const int order[3] = {0, grey, 2 * grey};
+  OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(in, 3, order);
+  if (rgb.has_error()) return fail("cannot be converted: " + rgb.geterror());
   int w = spec.width, h = spec.height;
   const int limit = static_cast<int>(std::clamp<std::uint32_t>(max_size, 1, kMaxTextureSize));
   if (w > limit || h > limit) {
