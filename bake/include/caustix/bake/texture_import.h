@@ -11,6 +11,8 @@
 //    (a receiver is opaque).
 //  - An image larger than `max_size` texels a side is filtered down to fit
 //    (aspect ratio kept; OpenImageIO's resize with its default filter).
+//  - Images over 16384 texels a side are refused: their pixels are held in
+//    their own type before filtering (1 GiB for 16384^2 8-bit RGBA).
 //
 // Errors (kInput) name the image and say where it was named from.
 
