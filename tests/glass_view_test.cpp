@@ -9,13 +9,15 @@
 // one and 64 iterations stay finite; iterations out of 1..64 are refused by
 // name. Dispersion (issue 22): through a dispersive slab the nearby view
 // puts the edge where Snell puts it at each wavelength's index, and the
-// RGB image is the wavelengths' images times their weights.
+// RGB image is the wavelengths' images times their weights. A tinted slab
+// (issue 45) darkens the floor seen through it by tint^2.
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -53,7 +55,7 @@ std::string write_slab() {
   return path.string();
 }
 
-nlohmann::json slab_scene(double dispersion = 0.0) {
+nlohmann::json slab_scene(double dispersion = 0.0, std::array<double, 3> tint = {1, 1, 1}) {
   const std::string meshes = test::kScenes + "../meshes/";
   return {{"name", "glass_view_slab"},
           {"objects",
@@ -65,7 +67,7 @@ nlohmann::json slab_scene(double dispersion = 0.0) {
             {{"name", "slab"},
              {"mesh", write_slab()},
              {"role", "transparent"},
-             {"material", {{"transparent", true}, {"ior", kIor}, {"dispersion", dispersion}}}}}},
+             {"material", {{"transparent", true}, {"ior", kIor}, {"dispersion", dispersion}, {"tint", tint}}}}}},
           {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1.0}}}},
           {"camera", {{"position", {kEye.x, kEye.y, kEye.z}}, {"target", {0, 0, 0}}, {"fov_y_deg", 45}}}};
 }
@@ -299,6 +301,59 @@ TEST_F(GlassView, AnObjectInsideTheGlassDoesNotBlackenTheTableView) {
   const double inside = ball_mean(j, "glass_view_insect");
   std::printf("[glass view] ball's mean radiance with an object inside / without: %.3f\n", inside / clear);
   EXPECT_GT(inside / clear, 0.9);
+}
+
+// The floor seen through a tinted slab (issue 45). A low sun (10 degrees,
+// travelling along -x) reaches the floor under the slab at x = 0.4 beneath
+// the slab (the light through the slab lands at -0.35 < x < 0), so the
+// floor there is lit as brightly whatever the tint, and the view ray
+// crossing the slab's two faces takes tint^2. What the slab adds by itself
+// -- its Fresnel reflection of the sky -- is the image with a black tint
+// (0), so per channel (P(tint) - P(0)) / (P(1) - P(0)) = tint^2, in both
+// views.
+TEST_F(GlassView, ATintedSlabDarkensTheFloorSeenThroughItByTintSquared) {
+  const std::array<double, 3> tint{0.5, 0.8, 0.9};
+  const double row0 = image_row(apparent_edge()) - 14;  // the floor in front of the strip, seen through the slab, 70 columns right of the middle
+  double mean[3][2][3] = {};  // [black, tinted, clear][table, nearby][channel]
+  const std::array<double, 3> tints[3] = {{0, 0, 0}, tint, {1, 1, 1}};
+  // Baked once, tinted (the tint through the .cxb); black and clear by
+  // editing the loaded scene's material.
+  nlohmann::json j = slab_scene(0.0, tint);
+  const double sun = 10 * std::acos(-1.0) / 180;
+  j["lights"][0]["direction"] = {-std::cos(sun), -std::sin(sun), 0};
+  bake::BakeOptions opt;
+  opt.transport.resolution = 8;  // the view, not the slab's caustic, is under test
+  const auto baked = test::bake_and_load(test::write_scene(j, "glass_view_tint"), opt);
+  ASSERT_TRUE(baked);
+  ASSERT_EQ(baked->desc.objects[2].material.tint, (Vec3f{0.5f, 0.8f, 0.9f}));
+  for (int k = 0; k < 3; ++k) {
+    runtime::RuntimeScene scene = *baked;
+    for (std::size_t c = 0; c < 3; ++c) scene.desc.objects[2].material.tint[c] = static_cast<float>(tints[k][c]);
+    auto r = runtime::Renderer::create(scene);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    for (int v = 0; v < 2; ++v) {
+      runtime::GlassViewOptions o;
+      o.method = v == 0 ? runtime::GlassView::kTable : runtime::GlassView::kNearby;
+      runtime::FrameParams f = frame(o);
+      ASSERT_TRUE((*r)->render(f).ok());
+      const std::vector<float> hdr = (*r)->read_hdr();
+      for (int row = static_cast<int>(row0) - 4; row <= static_cast<int>(row0) + 4; ++row) {
+        for (int col = kSize / 2 + 66; col <= kSize / 2 + 74; ++col) {
+          const std::size_t i = (static_cast<std::size_t>(kSize - 1 - row) * kSize + col) * 4;
+          for (int c = 0; c < 3; ++c) mean[k][v][c] += hdr[i + c] / 81.0;
+        }
+      }
+    }
+  }
+  for (int v = 0; v < 2; ++v) {
+    for (int c = 0; c < 3; ++c) {
+      const double seen = (mean[1][v][c] - mean[0][v][c]) / (mean[2][v][c] - mean[0][v][c]), want = tint[c] * tint[c];
+      std::printf("[tinted slab, %s view] channel %d: floor behind it %.4f of the clear slab's (reflection %.4f of %.4f); tint^2 %.4f\n",
+                  v == 0 ? "table" : "nearby", c, seen, mean[0][v][c], mean[2][v][c], want);
+      EXPECT_GT(mean[2][v][c] - mean[0][v][c], 4 * mean[0][v][c]) << "the floor, not the reflection, must dominate";
+      EXPECT_NEAR(seen, want, 0.002 * want);  // measured within 0.01 %
+    }
+  }
 }
 
 }  // namespace

@@ -306,6 +306,22 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          EXPECT_FALSE(named(r.scene, "Floor")->material.albedo_texture);
          EXPECT_TRUE(r.scene.images.empty());
        }},
+      {"tinted_glass",  // KHR_materials_transmission: the base colour tints the transmitted light
+       [](GltfBuilder& g) {
+         json m = kGlass;
+         m["pbrMetallicRoughness"]["baseColorFactor"] = {0.5, 0.8, 1.0, 1.0};
+         use_transmission(g);
+         const SplitCube c(0.2f);
+         add_root(g, {{"name", "Bottle"}, {"mesh", mesh_of(g, c.positions, c.normals, c.indices, g.material(m))}, {"translation", {0.0, 0.5, 0.0}}});
+       },
+       {}, true,
+       [](const bake::BakeResult& r) {
+         const Object* bottle = named(r.scene, "Bottle");
+         ASSERT_TRUE(bottle);
+         EXPECT_EQ(bottle->role, Role::kTransparent);
+         EXPECT_EQ(bottle->material.tint, (Vec3f{0.5f, 0.8f, 1.0f}));
+         for (const auto& w : r.warnings) EXPECT_EQ(w.find("tint"), std::string::npos) << w;
+       }},
       {"meshopt_required",
        [](GltfBuilder& g) { g.use_extension("EXT_meshopt_compression", true); },
        {"/extensionsRequired/0: the file requires extension EXT_meshopt_compression"}, false},

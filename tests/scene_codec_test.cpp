@@ -567,6 +567,41 @@ TEST(SceneCodec, DispersionIsStoredAndValidated) {
 // after its LTTB, required, each at the lens's index at its wavelength;
 // refused out of order, at another index, for an object that does not
 // disperse, outside 380..780 nm, or unlike the object's LTTB.
+// Tints of transparent objects (issue 45): stored in the required TINT
+// chunk (a reader that skipped it would render tinted glass clear); a tint
+// on an object that is not transparent and a component outside [0, 1] are
+// refused by name; a scene without tints has no TINT chunk.
+TEST(SceneCodec, TintsAreStoredAndValidated) {
+  LightTransportTable table;
+  SceneDesc s = dispersive_scene(table);
+  s.objects[1].material.tint = {0.5f, 0.8f, 1.0f};
+  auto b = encode_scene(s, {{0}}, {}, {}, {table});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.objects[1].material.tint, (Vec3f{0.5f, 0.8f, 1.0f}));
+  EXPECT_EQ(d->scene.objects[0].material.tint, (Vec3f{1, 1, 1}));
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  EXPECT_TRUE(c->chunks()[c->find(cxb::kTagTint).at(0)].flags & cxb::kChunkRequired);
+
+  SceneDesc bad = s;
+  bad.objects[1].material.tint[2] = 1.5f;
+  d = decode(encode_scene(bad, {{0}}, {}, {}, {table}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/1/material/tint"), std::string::npos) << d.error().message;
+  bad = s;
+  bad.objects[0].material.tint = {0.5f, 0.5f, 0.5f};  // object 0 is a receiver
+  d = decode(encode_scene(bad, {{0}}, {}, {}, {table}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("not transparent"), std::string::npos) << d.error().message;
+
+  LightTransportTable plain_table;
+  auto plain = encode_scene(dispersive_scene(plain_table), {{0}}, {}, {}, {plain_table});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagTint).empty());
+}
+
 TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
   LightTransportTable base;
   const SceneDesc s = dispersive_scene(base);

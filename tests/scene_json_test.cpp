@@ -283,6 +283,23 @@ TEST(TextureImport, FilesBytesFittingAndRefusals) {
   EXPECT_NE(c.error().message.find("glTF allows image/png and image/jpeg"), std::string::npos) << c.error().message;
 }
 
+// A glass's tint (issue 45): a number or [r, g, b]; on an opaque
+// material a warning and no effect; out of range, located.
+TEST(SceneJson, GlassTint) {
+  auto r = parse_scene_json(R"({"objects": [
+      {"name": "g", "mesh": "m.obj", "role": "transparent", "material": {"transparent": true, "tint": [0.5, 0.8, 1]}},
+      {"name": "h", "mesh": "n.obj", "material": {"tint": 0.5}}],
+      "lights": [{"type": "directional", "direction": [0, -1, 0]}]})", "scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->scene.objects[0].material.tint, (Vec3f{0.5f, 0.8f, 1.0f}));
+  EXPECT_EQ(r->scene.objects[1].material.tint, (Vec3f{1, 1, 1}));
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_NE(r->warnings[0].find("/objects/1/material/tint: \"tint\" has no effect on an opaque material"), std::string::npos) << r->warnings[0];
+  const std::string msg = error_of(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "transparent",
+      "material": {"transparent": true, "tint": [0.5, 2, 1]}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/tint"), std::string::npos) << msg;
+}
+
 // Media (issue 19): the medium box, scattering water and milky glass, with
 // their phase functions; bad values are located.
 TEST(SceneJson, MediaAndScattering) {

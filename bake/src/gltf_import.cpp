@@ -679,7 +679,10 @@ struct GltfFile::Impl {
       }
       mat.transparent = true;
       if (tf < 1) warn(mp + ": " + label + " transmits " + std::to_string(tf) + " of the light; caustix's glass transmits all that Fresnel lets through", warns);
-      if (base[0] < 1 || base[1] < 1 || base[2] < 1) warn(mp + ": " + label + ": the base colour's tint of transmitted light is ignored; use KHR_materials_volume's attenuation", warns);
+      // KHR_materials_transmission: the base colour tints the transmitted
+      // light, at each crossing of the surface (the BTDF is base colour x
+      // the specular transmission lobe).
+      mat.tint = base;
       mat.ior = 1.5f;  // KHR_materials_ior's default
       if (const tinygltf::Value* ior = extension(gm.extensions, "KHR_materials_ior")) {
         if (const tinygltf::Value* v = field(*ior, "ior")) {

@@ -253,7 +253,7 @@ bool parse_albedo_texture(Walker& w, const json& v, const std::string& ptr, Albe
 
 bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "ior", "dispersion", "absorption", "scattering", "phase", "anisotropy", "reflectance"});
+  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance"});
   if (const json* j = Walker::optional_member(v, "albedo_texture")) {
     out.albedo_texture.emplace();
     if (!parse_albedo_texture(w, *j, ptr + "/albedo_texture", *out.albedo_texture, texture_file)) return false;
@@ -272,6 +272,13 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
   if (const json* j = Walker::optional_member(v, "absorption")) {
     if (!w.scalar_or_vec3(*j, ptr + "/absorption", out.absorption)) return false;
     if (!out.transparent) w.warn(ptr + "/absorption", "\"absorption\" has no effect on an opaque material");
+  }
+  if (const json* j = Walker::optional_member(v, "tint")) {
+    if (!w.scalar_or_vec3(*j, ptr + "/tint", out.tint)) return false;
+    if (!out.transparent) {
+      w.warn(ptr + "/tint", "\"tint\" has no effect on an opaque material");
+      out.tint = {1, 1, 1};
+    }
   }
   if (const json* j = Walker::optional_member(v, "reflectance"); j && !w.scalar_or_vec3(*j, ptr + "/reflectance", out.reflectance)) {
     return false;

@@ -181,6 +181,22 @@ std::vector<std::uint8_t> encode_spots(const SceneDesc& s) {
   return w.take();
 }
 
+// TINT (issue 45): u32 count; per transparent object whose tint is not
+// (1, 1, 1), in object order: u32 object index, vec3 tint.
+bool has_tints(const SceneDesc& s) {
+  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_tinted(o.material); });
+}
+std::vector<std::uint8_t> encode_tints(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_tinted(o.material); })));
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    if (!is_tinted(s.objects[i].material)) continue;
+    w.u32(i);
+    w.vec3(s.objects[i].material.tint);
+  }
+  return w.take();
+}
+
 // TEXR (issue 45): u32 image count; per image: string source, u32 width,
 // u32 height, u32 data size, one zstd frame of width * height * 3 bytes
 // (sRGB RGB, top row first); u32 texture count; per textured receiver, in
@@ -431,6 +447,22 @@ bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 16, "tinted object")) return false;
+  if (n == 0) return d.fail("a 'TINT' chunk lists no tinted object");
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t obj = 0;
+    if (!d.u32(obj, "tinted object index")) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
+      return d.fail("tinted object index " + std::to_string(obj) + " is out of range, out of order or not transparent");
+    }
+    prev = obj;
+    if (!d.vec3(s.objects[obj].material.tint, "tint")) return false;
+  }
+  return d.finish();
+}
+
 bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
   std::uint32_t n = 0;
   if (!d.count(n, 65536, 16, "texture image")) return false;
@@ -514,6 +546,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (has_mirrors(scene)) w.add_chunk(cxb::kTagMirrors, cxb::kChunkRequired, encode_mirrors(scene));
   if (scene_disperses(scene)) w.add_chunk(cxb::kTagDispersion, cxb::kChunkRequired, encode_dispersion(scene));
   if (has_spots(scene)) w.add_chunk(cxb::kTagSpots, cxb::kChunkRequired, encode_spots(scene));
+  if (has_tints(scene)) w.add_chunk(cxb::kTagTint, cxb::kChunkRequired, encode_tints(scene));
   // Optional: a reader that predates it draws the receivers untextured; the
   // light does not depend on it.
   if (has_textures(scene)) w.add_chunk(cxb::kTagTextures, 0, encode_textures(scene));
@@ -589,6 +622,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!spot) return spot.error();
   if (*spot) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSpots, **spot, [&](ChunkDecoder& d) { return decode_spots(d, s); }));
+  }
+  auto tint = single(cxb::kTagTint, false);
+  if (!tint) return tint.error();
+  if (*tint) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagTint, **tint, [&](ChunkDecoder& d) { return decode_tints(d, s); }));
   }
   auto texr = single(cxb::kTagTextures, false);
   if (!texr) return texr.error();

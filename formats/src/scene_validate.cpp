@@ -126,6 +126,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     for (float a : o.material.albedo) {
       c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
     }
+    c.expect(!is_tinted(o.material) || is_transparent(o.role), p + "/material/tint", "only a transparent object has a tint");
     if (const auto& t = o.material.albedo_texture) {
       const std::string tp = p + "/material/albedo_texture";
       c.expect(o.role == Role::kReceiver, tp, "only a receiver takes an albedo texture");
@@ -144,6 +145,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.expect(o.material.transparent, p + "/material",
                "an object with role transparent or both needs a transparent material");
       c.coefficients(o.material.absorption, p + "/material/absorption");
+      for (float t : o.material.tint) c.range(t, 0.0f, 1.0f, p + "/material/tint", "each component must be in [0, 1]");
       c.scattering(o.material.scattering, p + "/material");
       // Light-transport tables are baked in object space: refraction angles
       // survive rotation, translation and uniform scale, not shear or

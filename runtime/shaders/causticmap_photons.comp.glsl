@@ -31,7 +31,7 @@ layout(binding = 2) uniform sampler2D u_back_pos;
 layout(binding = 3) uniform sampler2D u_back_nrm;
 layout(binding = 4) uniform sampler2D u_receivers;  // normal (0: none), V of the first receiver surface
 layout(std430, binding = 0) writeonly buffer Photons { vec4 photon[]; };  // 2 per photon
-// Per object: (kind 1 glass / 2 mirror, ior, 0, 0), (absorption or reflectance rgb, 0).
+// Per object: (kind 1 glass / 2 mirror, ior, 0, 0), (absorption or reflectance rgb, 0), (glass: the tint at each crossing, Material::tint, 0).
 layout(std430, binding = 1) readonly buffer Materials { vec4 material[]; };
 // 0 emitted, 1 landed, 2 TIR, 3 edge-dropped, 4 deviation-dropped,
 // 5 too far, 6 lost (no receiver where it lands, or outside the map),
@@ -138,7 +138,7 @@ bool next_mirror(vec3 x, vec3 d, float t_max, int self, out vec3 hit, out vec3 n
       float cur = layer == 0 ? df : db, prev = layer == 0 ? prev_front : prev_back;
       vec4 pos = layer == 0 ? f : b;
       int obj = int(pos.w + 0.5) - 1;
-      if (!have_prev || sign(cur) == sign(prev) || material[2 * obj].x != 2.0) continue;
+      if (!have_prev || sign(cur) == sign(prev) || material[3 * obj].x != 2.0) continue;
       if (obj == self && t < 2.0 * dt) continue;
       // Bisection between the two steps.
       float lo = t - dt, hi = t;
@@ -161,6 +161,15 @@ bool next_mirror(vec3 x, vec3 d, float t_max, int self, out vec3 hit, out vec3 n
     have_prev = true;
   }
   return false;
+}
+
+// Writes photon `id` landed at q with its flux. z: its spacing on the
+// casters' grid (2^level texels), by which its splat widens
+// (causticmap_splat.vert).
+void land_photon(int id, vec3 q, int level, vec3 flux) {
+  photon[2 * id] = vec4(to_uv(q, u_map_origin, u_map_half), float(1 << level), 0.0);
+  photon[2 * id + 1] = vec4(flux, 1.0);
+  atomicAdd(counter[1], 1u);
 }
 
 void main() {
@@ -217,7 +226,7 @@ void main() {
   bool after_mirror = false;
   float travelled = 0.0;
   for (int bounce = 1; bounce <= u_bounces; ++bounce) {
-    vec4 m0 = material[2 * object], m1 = material[2 * object + 1];
+    vec4 m0 = material[3 * object], m1 = material[3 * object + 1], m2 = material[3 * object + 2];
     if (m0.x == 1.0) {
       // Glass: into it at the front surface.
       vec3 nf = dot(n, d) > 0.0 ? -n : n;
@@ -225,7 +234,7 @@ void main() {
       if (cos_i < u_edge_cos) { atomicAdd(counter[3], 1u); return; }
       float ior = m0.y;
       vec3 t1 = refract(d, nf, 1.0 / ior);
-      flux *= 1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / ior);
+      flux *= (1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / ior)) * m2.rgb;
       // The exit point: iterate against the back faces.
       vec4 bn = texelFetch(u_back_nrm, ij, 0);
       float along = max(-dot(t1, u_v), 0.1);
@@ -252,7 +261,7 @@ void main() {
         atomicAdd(counter[2], 1u);
         t2 = t1;
       } else {
-        flux *= 1.0 - caustix_fresnel_reflectance(cos_e, ior);
+        flux *= (1.0 - caustix_fresnel_reflectance(cos_e, ior)) * m2.rgb;
       }
       d = normalize(t2);
       if (dot(d, d0) < u_max_deviation_cos) { atomicAdd(counter[4], 1u); return; }
@@ -282,12 +291,7 @@ void main() {
     if (!landed) { atomicAdd(counter[6], 1u); return; }
     travelled += t_land;
     if (after_mirror && u_max_travel > 0.0 && travelled > u_max_travel) { atomicAdd(counter[5], 1u); return; }
-    vec3 q = x + t_land * d;
-    // z: the photon's spacing on the casters' grid (2^level texels), by
-    // which its splat widens (causticmap_splat.vert).
-    photon[2 * id] = vec4(to_uv(q, u_map_origin, u_map_half), float(1 << level), 0.0);
-    photon[2 * id + 1] = vec4(flux, 1.0);
-    atomicAdd(counter[1], 1u);
+    land_photon(id, x + t_land * d, level, flux);
     return;
   }
   // Out of bounces on a mirror found by the march: nothing lands.

@@ -40,6 +40,7 @@ uniform vec3 u_sky;
 uniform int u_wave_count;
 uniform vec4 u_waves[32];  // xyz the sample's RGB weight, w the glass's index at its wavelength
 uniform vec3 u_glass_absorption;
+uniform vec3 u_glass_transmit = vec3(1.0);  // the surface's tint at the two crossings (Material::tint^2)
 uniform int u_iterations;
 uniform int u_exit_iterations;
 
@@ -115,7 +116,7 @@ vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
     t = max(dot(bp.xyz - x, nb) / dn, 0.0);
   }
   vec3 exit_point = x + t * t1;
-  transmitted *= exp(-u_glass_absorption * t);
+  transmitted *= exp(-u_glass_absorption * t) * u_glass_transmit;
   // 3. Out of the glass (ne outward; the ray leaves through it).
   vec3 nin = dot(ne, t1) > 0.0 ? -ne : ne;
   vec3 t2 = refract(t1, nin, ior);

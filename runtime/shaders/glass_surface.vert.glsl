@@ -12,6 +12,7 @@ uniform float u_scale;
 uniform mat4 u_view_proj;
 uniform vec3 u_eye;
 uniform vec3 u_glass_absorption;
+uniform vec3 u_glass_transmit = vec3(1.0);  // the surface's tint at the two crossings (Material::tint^2)
 // Where the pass draws into a window of the frame (the glass view draws
 // into a target that covers only the glass's rectangle): NDC x, y scaled
 // and offset (identity by default).
@@ -30,7 +31,7 @@ void main() {
   Transport t = ltt_lookup(uint(gl_VertexID), normalize(a_normal), transpose(u_rotation) * normalize(u_eye - w));
   v_exit = t.leaves ? (u_model * vec4(t.exit, 1.0)).xyz : w;
   v_exit_dir = t.leaves ? u_rotation * t.dir : normalize(w - u_eye);
-  v_transmitted = t.leaves ? t.transmittance * exp(-u_glass_absorption * t.path * u_scale) : vec3(0.0);
+  v_transmitted = t.leaves ? t.transmittance * exp(-u_glass_absorption * t.path * u_scale) * u_glass_transmit : vec3(0.0);
   gl_Position = u_view_proj * vec4(w, 1.0);
   gl_Position.xy = gl_Position.xy * u_ndc_window.xy + u_ndc_window.zw * gl_Position.w;
 }

@@ -424,7 +424,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           if (!h) break;
           const Vec3d p = add(origin, dir, len);
           if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm);
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm, &power);
           origin = p;
         }
         if (in_medium) st.leaving += luminance(power);  // absorbed by a surface, or out of the loop
@@ -451,13 +451,15 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
             if (!h || !is_transparent(scene.objects[world.owner[h->triangle]].role)) continue;
             // Extinction in front of the glass.
             Rgb tau{0, 0, 0};
+            Rgb through{1, 1, 1};  // the glass surfaces' tints crossed so far
             inside.clear();
             const auto wet = [&](const Vec3d& x) { return water && x[1] < water->level; };
             if (const Piece front = piece_of(inside, origin, dir, h->distance, wet(add(origin, dir, h->distance))); front.m) {
               for (std::size_t c = 0; c < 3; ++c) tau[c] += front.m->st[c] * (front.b - front.a);
             }
             origin = add(origin, dir, h->distance);
-            dir = cross_interface(world, scene, h->triangle, origin, dir, wet(origin) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm);
+            dir = cross_interface(world, scene, h->triangle, origin, dir, wet(origin) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm,
+                                  &through);
             for (int k = 0; k < kMaxInteractions; ++k) {
               h = caster.first_hit_triangle(add(origin, dir, eps), dir);
               const double len = h ? h->distance + eps : 1e30;
@@ -475,7 +477,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
                     grid->sample(add(origin, dir, piece.a + s), fluence, mean_dir);
                     const double phase = m.phase_value(-dot(mean_dir, dir));
                     for (std::size_t c = 0; c < 3; ++c) {
-                      sum[c] += m.ss[c] * phase * fluence[c] * std::exp(-(tau[c] + m.st[c] * s)) * ds;
+                      sum[c] += through[c] * m.ss[c] * phase * fluence[c] * std::exp(-(tau[c] + m.st[c] * s)) * ds;
                     }
                   }
                 }
@@ -484,7 +486,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               if (!h) break;
               const Vec3d p = add(origin, dir, len);
               if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
-              dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm);
+              dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm, &through);
               origin = p;
             }
           }

@@ -235,7 +235,7 @@ Result<Image> trace(const Request& q) {
           }
           // A glass interface.
           origin = p;
-          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm);
+          dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm, &rgb);
         }
       }
     }

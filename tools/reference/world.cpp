@@ -70,7 +70,8 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 }
 
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
-                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm) {
+                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm,
+                      std::array<double, 3>* power) {
   const std::uint32_t obj = world.owner[triangle];
   // Entering or leaving object `obj`. Indices on both sides from the glass
   // the photon is in.
@@ -96,6 +97,9 @@ Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t 
   const double tr = n1 == n2 ? 1.0 : fresnel_transmittance(cos_i, n1 / n2);
   const auto refracted = n1 == n2 ? std::optional<Vec3d>(dir) : refract(dir, nrm, n1 / n2);
   if (refracted && u01 < tr) {
+    if (power) {
+      for (std::size_t c = 0; c < 3; ++c) (*power)[c] *= scene.objects[obj].material.tint[c];
+    }
     if (entering) inside.push_back(obj);
     else if (pos_in != inside.end()) inside.erase(pos_in);
     return normalize(*refracted);

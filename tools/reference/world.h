@@ -137,8 +137,11 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 // n_outside is the index around the glass; nm the photon's wavelength
 // (dispersion, issue 22: each glass's index at it; 0: every index n_d).
 // Returns the new direction.
+// A photon carrying `power` (when given) keeps the surface's tint
+// (Material::tint) of it when it is transmitted, not when reflected.
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
-                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm = 0);
+                      const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm = 0,
+                      std::array<double, 3>* power = nullptr);
 
 // A photon's wavelength (dispersion, issue 22; reference.h's
 // wavelength_nm): `fixed` when > 0, weight 1 (a monochromatic image); else,

@@ -15,6 +15,10 @@
 namespace caustix::runtime {
 namespace {
 
+// Floats per object in the photon pass's material buffer (three vec4).
+constexpr std::size_t kMaterialFloats = 12;
+
+
 constexpr int kCounters = 10;
 // causticmap_adaptive.comp's State block: count[2], leaves, threshold,
 // dispatch (uvec4 at 16), photon_dispatch (32), draw (48), hist[16] (64).
@@ -273,11 +277,12 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
   }));
   s.lights.resize(scene.lights.size());
   s.made.resize(scene.lights.size());
-  // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0); kind is
-  // set per update (glass counts only with caustic maps).
-  s.material_data.assign(scene.objects.size() * 8, 0.0f);
+  // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0), (glass:
+  // the tint at a crossing, Material::tint, 0); kind is set per update
+  // (glass counts only with caustic maps).
+  s.material_data.assign(scene.objects.size() * kMaterialFloats, 0.0f);
   s.materials = gl::make_buffer();
-  glNamedBufferStorage(s.materials.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(s.material_data.size(), 8) * 4), nullptr,
+  glNamedBufferStorage(s.materials.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(s.material_data.size(), kMaterialFloats) * 4), nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
   s.counters = gl::make_buffer();
   glNamedBufferStorage(s.counters.get(), kCounters * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -305,10 +310,14 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& obj = scene.objects[i];
     const bool active = active_caster(obj, options.glass_method);
-    s.material_data[8 * i + 0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
-    s.material_data[8 * i + 1] = obj.material.ior;
+    float* md = &s.material_data[kMaterialFloats * i];
+    md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
+    md[1] = obj.material.ior;
     const Vec3f& c = is_mirror(obj.role) ? obj.material.reflectance : obj.material.absorption;
-    for (int k = 0; k < 3; ++k) s.material_data[8 * i + 4 + k] = c[k];
+    for (std::size_t k = 0; k < 3; ++k) {
+      md[4 + k] = c[k];
+      md[8 + k] = obj.material.tint[k];
+    }
     if (active) caster_boxes.push_back(world_boxes[i]);
   }
   if (caster_boxes.empty()) return Status::success();
@@ -483,7 +492,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     if (waves.size() > 1 || options.wavelength_nm) {
       for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
         const Material& m = scene.objects[i].material;
-        s.material_data[8 * i + 1] = index_at(m.ior, m.dispersion, waves[k].nm);
+        s.material_data[kMaterialFloats * i + 1] = index_at(m.ior, m.dispersion, waves[k].nm);
       }
       glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
     }

@@ -133,6 +133,11 @@ struct GlassEngine::Impl {
     return sum;
   }
 
+  // What the surface's tint leaves of light through the glass: in and out, tint^2.
+  static glm::vec3 transmit(const Material& m) {
+    const glm::vec3 t(m.tint[0], m.tint[1], m.tint[2]);
+    return t * t;
+  }
   static void set_table(const gl::Program& p, const Table& t) {
     const LightTransportTable& q = t.params;
     p.set("u_ltt_resolution", static_cast<int>(q.resolution));
@@ -161,7 +166,8 @@ struct GlassEngine::Impl {
       for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
         rays.use();
         set_light_uniforms(rays);
-        rays.set("u_weight", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]));
+        // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
+        rays.set("u_weight", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
         set_table(rays, g.tables[a + static_cast<std::size_t>(pass)]);
         set_pose(rays, scene, g);
         rays.set("u_vertex_count", g.vertices);
@@ -673,6 +679,7 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   }
   for (const Impl::Glass& g : s.glass) {
     const Material& m = scene.objects[g.object].material;
+    p.set("u_glass_transmit", Impl::transmit(m));
     if (nearby) {
       Impl::set_mesh_pose(p, scene.objects[g.object]);
       const Vec3f& k = g.tables[g.base].params.absorption;

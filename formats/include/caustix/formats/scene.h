@@ -111,7 +111,15 @@ struct Material {
   // tables refract at n_d only.
   std::uint32_t spectral_tables = 0;
   std::optional<AlbedoTexture> albedo_texture;  // receivers only: multiplies albedo (the TEXR chunk)
+  // transparent: the fraction of each RGB channel light keeps each time it
+  // is transmitted through the surface, in [0, 1] (glTF's base colour on a
+  // transmissive material, KHR_materials_transmission; the TINT chunk).
+  // Light through a solid crosses its surface twice: tint^2. Reflections
+  // are not tinted.
+  Vec3f tint{1, 1, 1};
 };
+
+inline bool is_tinted(const Material& m) { return m.tint[0] != 1 || m.tint[1] != 1 || m.tint[2] != 1; }
 
 // What the baker recorded about an encoded mesh; the runtime checks the
 // decoded mesh against it.

@@ -30,6 +30,7 @@ inline constexpr Tag kTagMedia = make_tag("MDIA");    // required if present, at
 inline constexpr Tag kTagMirrors = make_tag("MIRR");  // required if present, at most once: mirrors' reflectance
 inline constexpr Tag kTagDispersion = make_tag("DISP");  // required if present, at most once: dispersion (issue 22)
 inline constexpr Tag kTagSpots = make_tag("SPOT");       // required if present, at most once: spot lights' cones (issue 45)
+inline constexpr Tag kTagTint = make_tag("TINT");        // required if present, at most once: transparent objects' tints (issue 45)
 inline constexpr Tag kTagTextures = make_tag("TEXR");    // optional, at most once: receivers' albedo textures (issue 45)
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
