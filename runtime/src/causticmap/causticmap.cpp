@@ -91,6 +91,11 @@ struct CausticMapEngine::Impl {
   std::vector<PerLight> lights;
   std::function<void(std::uint32_t)> draw_object;
   gl::Program capture, photons, splat, density, blur, adaptive;
+  // The photon pass that also lands photons on receivers inside glass
+  // (CAUSTIX_RECEIVERS_INSIDE), built the first time a receiver's box
+  // meets a glass's: the test costs the pass 13 % on llvmpipe even where
+  // no glass takes it, so scenes without such a receiver never run it.
+  std::optional<gl::Program> photons_inside;
   gl::Buffer materials, counters;
   // The counters of each frame come back through `readback` (never
   // waited on); `counted` holds the latest that arrived, of frame
@@ -277,7 +282,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
   }));
   s.lights.resize(scene.lights.size());
   s.made.resize(scene.lights.size());
-  // Per object: (kind, ior, 0, 0), (absorption or reflectance, 0), (glass:
+  // Per object: (kind, ior, receivers may lie inside, 0), (absorption or reflectance, 0), (glass:
   // the tint at a crossing, Material::tint, 0); kind is set per update
   // (glass counts only with caustic maps).
   s.material_data.assign(scene.objects.size() * kMaterialFloats, 0.0f);
@@ -307,12 +312,24 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const CausticMapOptions& o = options.caustic_map;
   pl.valid = false;
   std::vector<std::array<glm::vec3, 2>> caster_boxes;
+  bool any_inside = false;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& obj = scene.objects[i];
     const bool active = active_caster(obj, options.glass_method);
     float* md = &s.material_data[kMaterialFloats * i];
     md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
     md[1] = obj.material.ior;
+    // 1: a receiver's box meets this glass's, so the photons look for a
+    // receiver inside it before the exit (only scenes with one pay).
+    md[2] = 0.0f;
+    for (std::uint32_t j = 0; active && is_transparent(obj.role) && j < scene.objects.size(); ++j) {
+      const auto &a = world_boxes[i], &b = world_boxes[j];
+      if (j != i && is_receiver(scene.objects[j].role) && glm::all(glm::lessThanEqual(a[0], b[1])) &&
+          glm::all(glm::lessThanEqual(b[0], a[1]))) {
+        md[2] = 1.0f;
+        any_inside = true;
+      }
+    }
     const Vec3f& c = is_mirror(obj.role) ? obj.material.reflectance : obj.material.absorption;
     for (std::size_t k = 0; k < 3; ++k) {
       md[4 + k] = c[k];
@@ -445,7 +462,14 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
   // What every wavelength shares: the programs' uniforms but the weight.
   const bool variable = adaptive && !two_pass;
-  const gl::Program& p = s.photons;
+  if (any_inside && !s.photons_inside) {
+    const std::string src = with_optics(shaders::k_causticmap_photons_comp_glsl);
+    auto built = gl::Program::build_compute("causticmap_photons (receivers inside glass)",
+                                            insert_after_version(src.c_str(), "#define CAUSTIX_RECEIVERS_INSIDE\n").c_str());
+    if (!built) return built.error();
+    s.photons_inside = std::move(*built);
+  }
+  const gl::Program& p = any_inside ? *s.photons_inside : s.photons;
   p.set("u_photons", side);
   p.set("u_adaptive", adaptive ? 1 : 0);
   glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
