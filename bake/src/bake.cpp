@@ -104,7 +104,8 @@ bool inside_solid(const Vec3d& p, const std::vector<Vec3d>& world, const std::ve
 
 // A receiver whose centre lies inside a transparent object (an insect in
 // amber; issue 45): the tables, whose rays start where light leaves the
-// glass, never reach it; caustic maps land light on it before the exit.
+// glass, never reach it; caustic maps land light on it before the exit,
+// and the runtime uses them for such glass (CausticMapEngine::casters()).
 std::vector<std::string> receivers_inside_glass(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes) {
   std::vector<std::string> out;
   for (const Object& r : scene.objects) {
@@ -123,8 +124,8 @@ std::vector<std::string> receivers_inside_glass(const SceneDesc& scene, const st
       const TriangleMesh& m = meshes[g.mesh_index];
       if (!inside_solid(centre, world_points(g.transform, m.positions), m.triangles)) continue;
       out.push_back("receiver '" + r.name + "' lies inside transparent object '" + g.name +
-                    "': light reaches it through the glass only with caustic maps (caustix-render --glass-method caustic-map, "
-                    "GlassMethod::kCausticMap); the light-transport tables leave it dark");
+                    "': the light-transport tables never reach it, so the runtime lights that glass by caustic maps "
+                    "whatever the glass method, when the glass's bounding box holds the receiver's");
     }
   }
   return out;

@@ -447,20 +447,29 @@ bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
+// n entries of a u32 transparent object's index (strictly ascending), each
+// followed by what read(object) decodes (DISP, TINT).
+template <class Read>
+bool per_transparent_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, Read read) {
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t obj = 0;
+    if (!d.u32(obj, what)) return false;
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
+      return d.fail(std::string(what) + " " + std::to_string(obj) + " is out of range, out of order or not transparent");
+    }
+    prev = obj;
+    if (!read(s.objects[obj])) return false;
+  }
+  return true;
+}
+
 bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
   std::uint32_t n = 0;
   if (!d.count(n, s.objects.size(), 16, "tinted object")) return false;
   if (n == 0) return d.fail("a 'TINT' chunk lists no tinted object");
-  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
-    std::uint32_t obj = 0;
-    if (!d.u32(obj, "tinted object index")) return false;
-    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
-      return d.fail("tinted object index " + std::to_string(obj) + " is out of range, out of order or not transparent");
-    }
-    prev = obj;
-    if (!d.vec3(s.objects[obj].material.tint, "tint")) return false;
-  }
-  return d.finish();
+  return per_transparent_object(d, s, n, "tinted object index",
+                                [&](Object& o) { return d.vec3(o.material.tint, "tint"); }) &&
+         d.finish();
 }
 
 bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
@@ -515,16 +524,9 @@ bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
   }
   std::uint32_t n = 0;
   if (!d.count(n, s.objects.size(), 8, "dispersive object")) return false;
-  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
-    std::uint32_t obj = 0;
-    if (!d.u32(obj, "dispersive object index")) return false;
-    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
-      return d.fail("dispersive object index " + std::to_string(obj) + " is out of range, out of order or not transparent");
-    }
-    prev = obj;
-    if (!d.f32(s.objects[obj].material.dispersion, "object dispersion")) return false;
-  }
-  return d.finish();
+  return per_transparent_object(d, s, n, "dispersive object index",
+                                [&](Object& o) { return d.f32(o.material.dispersion, "object dispersion"); }) &&
+         d.finish();
 }
 
 Error container_error(const std::string& msg) { return make_error(ErrorCode::kContainer, msg); }

@@ -31,8 +31,9 @@ constexpr int kDensityBlock = 8;
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-bool active_caster(const Object& o, GlassMethod method) {
-  return is_mirror(o.role) || (is_transparent(o.role) && method == GlassMethod::kCausticMap);
+// Whether box a holds box b (world min, max).
+bool holds(const std::array<glm::vec3, 2>& a, const std::array<glm::vec3, 2>& b) {
+  return glm::all(glm::lessThanEqual(a[0], b[0])) && glm::all(glm::lessThanEqual(b[1], a[1]));
 }
 
 gl::Texture make_map(int size, GLenum format, GLenum filter) {
@@ -221,13 +222,14 @@ struct CausticMapEngine::Impl {
   }
 
   // Renders objects (casters or receivers) into the bound framebuffer.
-  void draw(const SceneDesc& scene, const glm::mat4& view_proj, bool casters, GlassMethod method) {
+  // `active`: CausticMapEngine::casters().
+  void draw(const SceneDesc& scene, const glm::mat4& view_proj, bool casters, const std::vector<bool>& active) {
     capture.use();
     capture.set("u_view_proj", view_proj);
     capture.set("u_caster", casters ? 1 : 0);
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
       const Object& o = scene.objects[i];
-      if (casters ? !active_caster(o, method) : is_caster(o.role)) continue;
+      if (casters ? !active[i] : is_caster(o.role)) continue;
       const glm::mat4 model = glm::make_mat4(o.transform.data());
       capture.set("u_model", model);
       capture.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
@@ -260,8 +262,25 @@ Status CausticMapEngine::check(const CausticMapOptions& o) {
   return Status::success();
 }
 
-bool CausticMapEngine::needed(const SceneDesc& scene, GlassMethod method) {
-  return std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) { return active_caster(o, method); });
+std::vector<bool> CausticMapEngine::casters(const SceneDesc& scene, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
+                                            GlassMethod method) {
+  std::vector<bool> out(scene.objects.size(), false);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (is_mirror(o.role)) {
+      out[i] = true;
+    } else if (is_transparent(o.role)) {
+      out[i] = method == GlassMethod::kCausticMap;
+      for (std::size_t j = 0; !out[i] && j < scene.objects.size(); ++j) {
+        out[i] = j != i && scene.objects[j].role == Role::kReceiver && holds(world_boxes[i], world_boxes[j]);
+      }
+    }
+  }
+  return out;
+}
+
+bool CausticMapEngine::needed(const std::vector<bool>& casters) {
+  return std::any_of(casters.begin(), casters.end(), [](bool c) { return c; });
 }
 
 CausticMapEngine::~CausticMapEngine() = default;
@@ -302,8 +321,8 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
 }
 
 Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& options,
-                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const SceneVersions& versions,
-                                      bool due, EffectWork& work) {
+                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const std::vector<bool>& casters,
+                                      const SceneVersions& versions, bool due, EffectWork& work) {
   Impl& s = *impl_;
   const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
@@ -315,7 +334,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   bool any_inside = false;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& obj = scene.objects[i];
-    const bool active = active_caster(obj, options.glass_method);
+    const bool active = casters[i];
     float* md = &s.material_data[kMaterialFloats * i];
     md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
     md[1] = obj.material.ior;
@@ -421,7 +440,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 1, none);
   glClearNamedFramebufferfi(pl.receiver_fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glDepthFunc(GL_LESS);
-  s.draw(scene, ortho(f.origin, f.map_half), false, options.glass_method);
+  s.draw(scene, ortho(f.origin, f.map_half), false, casters);
   // Casters: nearest (front) and farthest (back) surfaces.
   glBindFramebuffer(GL_FRAMEBUFFER, pl.caster_fbo.get());
   glViewport(0, 0, side, side);
@@ -436,7 +455,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     glClearNamedFramebufferfv(pl.caster_fbo.get(), GL_COLOR, 1, empty);
     glClearNamedFramebufferfi(pl.caster_fbo.get(), GL_DEPTH_STENCIL, 0, layer ? 0.0f : 1.0f, 0);
     glDepthFunc(layer ? GL_GREATER : GL_LESS);
-    s.draw(scene, ortho(f.caster_origin, f.caster_half), true, options.glass_method);
+    s.draw(scene, ortho(f.caster_origin, f.caster_half), true, casters);
   }
   glDepthFunc(GL_LESS);
   glEndQuery(GL_TIME_ELAPSED);

@@ -31,8 +31,15 @@ class CausticMapEngine {
   // kUsage naming the knob when an option is out of its documented range
   // (caustics_options.h) or not finite.
   static Status check(const CausticMapOptions& options);
-  // Whether a scene needs the effect with these options at all.
-  static bool needed(const SceneDesc& scene, GlassMethod method);
+  // Per object, whether the caustic maps carry its light: mirrors always;
+  // glass with GlassMethod::kCausticMap, and with the tables glass whose
+  // world box holds a receiver's (an insect in amber, issue 45: the
+  // tables' rays start where light leaves the glass and never reach it).
+  // world_boxes[i] is object i's world bounding box (min, max).
+  static std::vector<bool> casters(const SceneDesc& scene, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
+                                   GlassMethod method);
+  // Whether the effect is needed at all (some caster).
+  static bool needed(const std::vector<bool>& casters);
   // draw_object(i) issues object i's draw call (attribute 0 position, 1
   // normal).
   static Result<std::unique_ptr<CausticMapEngine>> create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object);
@@ -42,9 +49,10 @@ class CausticMapEngine {
   // is object i's world bounding box (min, max). Remade only when the
   // light, the transforms or the options changed since (`versions`), and
   // only when `due` unless none exists (issue 44); counted into `work`.
+  // `casters` as casters() gives it.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
-                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const SceneVersions& versions, bool due,
-                      EffectWork& work);
+                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const std::vector<bool>& casters,
+                      const SceneVersions& versions, bool due, EffectWork& work);
 
   struct Binding {
     BoundingFrame frame;  // orthographic along the light: V towards it; the map covers (u, w) in +-half

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -108,6 +110,18 @@ struct Engine::Impl {
   // and the objects' transforms; the water numbers its own surface.
   std::vector<std::uint64_t> light_versions;
   std::uint64_t transforms_version = 0;
+  // CausticMapEngine::casters() for (transforms_version, glass method):
+  // worked out again only when either changes (O(objects^2) box tests).
+  std::vector<bool> cmap_casters;
+  std::optional<std::pair<std::uint64_t, GlassMethod>> cmap_casters_of;
+  const std::vector<bool>& caustic_map_casters(GlassMethod method) {
+    const std::pair<std::uint64_t, GlassMethod> key{transforms_version, method};
+    if (cmap_casters_of != key) {
+      cmap_casters = CausticMapEngine::casters(scene, object_boxes, method);
+      cmap_casters_of = key;
+    }
+    return cmap_casters;
+  }
   FrameWork work;  // what the last update() remade and reused
   // The blocks as last uploaded (uploaded only when they change).
   std::vector<LightBlock> uploaded;
@@ -551,7 +565,8 @@ void Engine::use_scene_waves() {
 Status Engine::update(const FrameUpdate& f) {
   Impl& s = *impl_;
   if (!std::isfinite(f.time)) return usage("update: time is not finite");
-  if (CausticMapEngine::needed(s.scene, f.caustics.glass_method)) CAUSTIX_RETURN_IF_ERROR(CausticMapEngine::check(f.caustics.caustic_map));
+  const std::vector<bool>& cmap_casters = s.caustic_map_casters(f.caustics.glass_method);
+  if (CausticMapEngine::needed(cmap_casters)) CAUSTIX_RETURN_IF_ERROR(CausticMapEngine::check(f.caustics.caustic_map));
   const ShadowOptions& so = f.caustics.shadows;
   if (so.vsm_filter < 1 || so.vsm_filter > 63 || so.vsm_filter % 2 == 0) {
     return usage("shadow options: vsm_filter must be odd, 1..63 texels, got " + std::to_string(so.vsm_filter));
@@ -568,7 +583,7 @@ Status Engine::update(const FrameUpdate& f) {
   ++s.frame;
   s.timer.begin_frame(s.frame);
   if (s.caustics) s.caustics->begin_frame(s.frame);
-  const bool caustic_maps = co.method != CausticsMethod::kNone && CausticMapEngine::needed(s.scene, co.glass_method);
+  const bool caustic_maps = co.method != CausticsMethod::kNone && CausticMapEngine::needed(cmap_casters);
   if (caustic_maps && !s.caustic_maps) {
     auto cm = CausticMapEngine::create(s.scene, [&s](std::uint32_t i) { s.draw_object(i); });
     if (!cm) return cm.error();
@@ -592,7 +607,7 @@ Status Engine::update(const FrameUpdate& f) {
       s.upload_light(li, co);  // the rays read the light's block and shadow maps
       const ReceiverLighting& light_slot = s.lighting[s.slot(0, li)];
       CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(
-          s.scene, li, co, s.world_vertices,
+          s.scene, li, co, s.world_vertices, cmap_casters,
           [&](const gl::Program& p) {
             s.bind_slot(light_slot);
             const LightBlock& b = light_slot.block;
@@ -606,7 +621,7 @@ Status Engine::update(const FrameUpdate& f) {
     }
     if (s.caustic_maps) {
       if (caustic_maps) {
-        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes, v, due, work.caustic_maps));
+        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes, cmap_casters, v, due, work.caustic_maps));
       } else {
         s.caustic_maps->clear(li);
       }

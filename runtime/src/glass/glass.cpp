@@ -153,7 +153,9 @@ struct GlassEngine::Impl {
   // and blends them (glass_rays_blend.comp); at a table's own index, that
   // table alone. `exact_nd`: every glass at its n_d table (one wavelength
   // traced, bit-identical to glass without dispersion).
-  void trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd,
+  // A glass in `skip` sends no light (weight 0; its light is the caustic
+  // maps').
+  void trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd, const std::vector<bool>& skip,
                   const std::function<void(const gl::Program&)>& set_light_uniforms) {
     const gl::TimedPass timed("glass: rays", gl::PassKind::kCompute);
     for (Glass& g : glass) {
@@ -167,7 +169,7 @@ struct GlassEngine::Impl {
         rays.use();
         set_light_uniforms(rays);
         // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
-        rays.set("u_weight", glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
+        rays.set("u_weight", skip[g.object] ? glm::vec3(0.0f) : glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
         set_table(rays, g.tables[a + static_cast<std::size_t>(pass)]);
         set_pose(rays, scene, g);
         rays.set("u_vertex_count", g.vertices);
@@ -492,6 +494,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
 
 Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& co,
                                  const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
+                                 const std::vector<bool>& by_caustic_maps,
                                  const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions,
                                  bool due, EffectWork& work) {
   Impl& s = *impl_;
@@ -512,7 +515,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   // 1. Outgoing rays of every transparent vertex (§4.1) at the first
   // wavelength, and the mean transmitted direction (at n_d: the frames
   // serve every wavelength).
-  s.trace_rays(scene, waves[0], exact_nd, set_light_uniforms);
+  s.trace_rays(scene, waves[0], exact_nd, by_caustic_maps, set_light_uniforms);
   Vec3d travel = s.mean_travel(scene, light);
   double len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
   if (len < 1e-9) {  // nothing transmitted: any frame will do
@@ -596,7 +599,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     if (k > 0) {
       // The primitives the last wavelength's draws read are rewritten below.
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      s.trace_rays(scene, waves[k], exact_nd, set_light_uniforms);
+      s.trace_rays(scene, waves[k], exact_nd, by_caustic_maps, set_light_uniforms);
     }
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);

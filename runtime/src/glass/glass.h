@@ -53,9 +53,12 @@ class GlassEngine {
   // d line at n_d.
   // Remade only when the light, the transforms or the options changed
   // since (`versions`), and only when `due` unless none exist (issue 44);
-  // counted into `work`.
+  // counted into `work`. A glass whose `by_caustic_maps[object]` is set
+  // sends no light here (the caustic maps carry it: a receiver inside it,
+  // CausticMapEngine::casters()).
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
                       const std::vector<std::vector<std::array<double, 3>>>& world_vertices,
+                      const std::vector<bool>& by_caustic_maps,
                       const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions, bool due,
                       EffectWork& work);
 

@@ -52,7 +52,11 @@ inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
 
 // How light through transparent objects reaches the receivers.
 enum class GlassMethod {
-  kTable,       // light-transport tables (seed 002 §4): baked per object
+  // light-transport tables (seed 002 §4): baked per object. A glass whose
+  // world bounding box holds a receiver's (an insect in amber) is lit by
+  // caustic maps instead: the tables' rays start where light leaves the
+  // glass and never reach inside (docs/glass.md).
+  kTable,
   kCausticMap,  // image-space caustic maps (seed 003; Shah et al. 2007): nothing baked, any rigid object
 };
 const char* to_string(GlassMethod m);
