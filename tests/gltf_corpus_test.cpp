@@ -271,7 +271,7 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          add_root(g, {{"name", "Amber"}, {"mesh", glass_cube(g, 0.3f)}, {"translation", {0.0, 0.5, 0.0}}});
          add_root(g, {{"name", "Insect"}, {"mesh", mesh_of(g, inner.positions, inner.normals, inner.indices, -1)}, {"translation", {0.0, 0.5, 0.0}}});
        },
-       {"receiver 'Insect' lies inside transparent object 'Amber': the light-transport tables never reach it, so the runtime lights that glass by caustic maps"}},
+       {"receiver 'Insect' lies inside transparent object 'Amber' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass by caustic maps"}},
       {"texture_without_texcoords",  // a baseColorTexture but no TEXCOORD_0 on the primitive: the base colour is used
        [](GltfBuilder& g) {
          g.use_extension("KHR_texture_transform", true);

@@ -79,58 +79,6 @@ std::optional<std::string> float_precision_warning(const Object& o, const Triang
          "; move the scene nearer the origin";
 }
 
-// Whether p lies inside the closed surface `world` (its triangles): the
-// parity of a ray's crossings, the ray tilted off the axes so that it
-// meets no edge of an axis-aligned mesh.
-bool inside_solid(const Vec3d& p, const std::vector<Vec3d>& world, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
-  const Vec3d d{0.0123, 1.0, 0.0371};
-  bool inside = false;
-  for (const auto& t : triangles) {
-    const Vec3d &a = world[t[0]], &b = world[t[1]], &c = world[t[2]];
-    const Vec3d e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const Vec3d q{d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
-    const double det = e1[0] * q[0] + e1[1] * q[1] + e1[2] * q[2];
-    if (det == 0) continue;
-    const Vec3d s{p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-    const double u = (s[0] * q[0] + s[1] * q[1] + s[2] * q[2]) / det;
-    if (u < 0 || u > 1) continue;
-    const Vec3d r{s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
-    const double v = (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / det;
-    if (v < 0 || u + v > 1) continue;
-    if ((e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]) / det > 0) inside = !inside;
-  }
-  return inside;
-}
-
-// A receiver whose centre lies inside a transparent object (an insect in
-// amber; issue 45): the tables, whose rays start where light leaves the
-// glass, never reach it; caustic maps land light on it before the exit,
-// and the runtime uses them for such glass (CausticMapEngine::casters()).
-std::vector<std::string> receivers_inside_glass(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes) {
-  std::vector<std::string> out;
-  for (const Object& r : scene.objects) {
-    if (r.role != Role::kReceiver) continue;
-    const std::vector<Vec3d> pts = world_points(r.transform, meshes[r.mesh_index].positions);
-    Vec3d lo = pts.front(), hi = lo;
-    for (const Vec3d& p : pts) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], p[k]);
-        hi[k] = std::max(hi[k], p[k]);
-      }
-    }
-    const Vec3d centre{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    for (const Object& g : scene.objects) {
-      if (!is_transparent(g.role)) continue;
-      const TriangleMesh& m = meshes[g.mesh_index];
-      if (!inside_solid(centre, world_points(g.transform, m.positions), m.triangles)) continue;
-      out.push_back("receiver '" + r.name + "' lies inside transparent object '" + g.name +
-                    "': the light-transport tables never reach it, so the runtime lights that glass by caustic maps "
-                    "whatever the glass method, when the glass's bounding box holds the receiver's");
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
@@ -251,7 +199,14 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     MeshStats& st = out.meshes[o.mesh_index];
     st.max_world_error = std::max(st.max_world_error, st.max_position_error * scale);
   }
-  for (auto& w : receivers_inside_glass(scene, meshes)) out.warnings.push_back(std::move(w));
+  // Said, so that the runtime's change of method for such glass is not silent.
+  const auto inside = receiver_inside_glass(scene);
+  for (std::size_t g = 0; g < inside.size(); ++g) {
+    if (!inside[g]) continue;
+    out.warnings.push_back("receiver '" + scene.objects[*inside[g]].name + "' lies inside transparent object '" + scene.objects[g].name +
+                           "' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass "
+                           "by caustic maps whatever the glass method");
+  }
   auto t0 = Clock::now();
   auto stage = bake_level_maps(scene, meshes, options.level_maps);
   if (!stage) return stage.error();

@@ -32,6 +32,40 @@ std::vector<Vec3d> world_points(const Mat4f& t, const std::vector<Vec3f>& points
   return out;
 }
 
+std::vector<std::optional<std::uint32_t>> receiver_inside_glass(const SceneDesc& scene) {
+  std::vector<std::array<Vec3d, 2>> boxes;
+  for (const Object& o : scene.objects) {
+    const MeshInfo& m = scene.meshes[o.mesh_index];
+    std::vector<Vec3f> corners;
+    for (int c = 0; c < 8; ++c) {
+      corners.push_back({(c & 1) ? m.bounds_max[0] : m.bounds_min[0], (c & 2) ? m.bounds_max[1] : m.bounds_min[1],
+                         (c & 4) ? m.bounds_max[2] : m.bounds_min[2]});
+    }
+    std::array<Vec3d, 2> b{Vec3d{1e300, 1e300, 1e300}, Vec3d{-1e300, -1e300, -1e300}};
+    for (const Vec3d& w : world_points(o.transform, corners)) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        b[0][k] = std::min(b[0][k], w[k]);
+        b[1][k] = std::max(b[1][k], w[k]);
+      }
+    }
+    boxes.push_back(b);
+  }
+  const auto holds = [](const std::array<Vec3d, 2>& a, const std::array<Vec3d, 2>& b) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (b[0][k] < a[0][k] || b[1][k] > a[1][k]) return false;
+    }
+    return true;
+  };
+  std::vector<std::optional<std::uint32_t>> out(scene.objects.size());
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!is_transparent(scene.objects[i].role)) continue;
+    for (std::uint32_t j = 0; !out[i] && j < scene.objects.size(); ++j) {
+      if (j != i && scene.objects[j].role == Role::kReceiver && holds(boxes[i], boxes[j])) out[i] = j;
+    }
+  }
+  return out;
+}
+
 std::optional<Vec3d> refract(const Vec3d& i, const Vec3d& n, double eta) {
   const double cos_i = std::clamp(-dot(i, n), 0.0, 1.0);
   const double sin2_r = eta * eta * (1.0 - cos_i * cos_i);

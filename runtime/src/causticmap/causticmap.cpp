@@ -7,6 +7,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "caustix/formats/frame.h"
 #include "caustix_shaders.h"
 #include "pass_timer.h"
 #include "readback.h"
@@ -31,10 +32,6 @@ constexpr int kDensityBlock = 8;
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-// Whether box a holds box b (world min, max).
-bool holds(const std::array<glm::vec3, 2>& a, const std::array<glm::vec3, 2>& b) {
-  return glm::all(glm::lessThanEqual(a[0], b[0])) && glm::all(glm::lessThanEqual(b[1], a[1]));
-}
 
 gl::Texture make_map(int size, GLenum format, GLenum filter) {
   gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
@@ -262,19 +259,12 @@ Status CausticMapEngine::check(const CausticMapOptions& o) {
   return Status::success();
 }
 
-std::vector<bool> CausticMapEngine::casters(const SceneDesc& scene, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
-                                            GlassMethod method) {
+std::vector<bool> CausticMapEngine::casters(const SceneDesc& scene, GlassMethod method) {
+  const auto inside = receiver_inside_glass(scene);
   std::vector<bool> out(scene.objects.size(), false);
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& o = scene.objects[i];
-    if (is_mirror(o.role)) {
-      out[i] = true;
-    } else if (is_transparent(o.role)) {
-      out[i] = method == GlassMethod::kCausticMap;
-      for (std::size_t j = 0; !out[i] && j < scene.objects.size(); ++j) {
-        out[i] = j != i && scene.objects[j].role == Role::kReceiver && holds(world_boxes[i], world_boxes[j]);
-      }
-    }
+    const Role r = scene.objects[i].role;
+    out[i] = is_mirror(r) || (is_transparent(r) && (method == GlassMethod::kCausticMap || inside[i].has_value()));
   }
   return out;
 }

@@ -32,12 +32,10 @@ class CausticMapEngine {
   // (caustics_options.h) or not finite.
   static Status check(const CausticMapOptions& options);
   // Per object, whether the caustic maps carry its light: mirrors always;
-  // glass with GlassMethod::kCausticMap, and with the tables glass whose
-  // world box holds a receiver's (an insect in amber, issue 45: the
+  // glass with GlassMethod::kCausticMap, and with the tables glass that
+  // holds a receiver (receiver_inside_glass(), formats/frame.h: the
   // tables' rays start where light leaves the glass and never reach it).
-  // world_boxes[i] is object i's world bounding box (min, max).
-  static std::vector<bool> casters(const SceneDesc& scene, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
-                                   GlassMethod method);
+  static std::vector<bool> casters(const SceneDesc& scene, GlassMethod method);
   // Whether the effect is needed at all (some caster).
   static bool needed(const std::vector<bool>& casters);
   // draw_object(i) issues object i's draw call (attribute 0 position, 1

@@ -117,7 +117,7 @@ struct Engine::Impl {
   const std::vector<bool>& caustic_map_casters(GlassMethod method) {
     const std::pair<std::uint64_t, GlassMethod> key{transforms_version, method};
     if (cmap_casters_of != key) {
-      cmap_casters = CausticMapEngine::casters(scene, object_boxes, method);
+      cmap_casters = CausticMapEngine::casters(scene, method);
       cmap_casters_of = key;
     }
     return cmap_casters;

@@ -5,6 +5,7 @@
 // which re-derives frames when a light or an object moves.
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,14 @@ using Vec3d = std::array<double, 3>;
 // Object-space points through an object -> world matrix, in double
 // precision (objects far from the origin keep their detail).
 std::vector<Vec3d> world_points(const Mat4f& transform, const std::vector<Vec3f>& points);
+
+// Per object: for a transparent object whose world box holds a receiver's
+// (an insect in amber; issue 45), the first such receiver. The light-
+// transport tables' rays start where light leaves the glass and never
+// reach inside, so the runtime lights such glass by caustic maps; the
+// baker says so. A world box is the box of the object's mesh bounds
+// (MeshInfo) with its 8 corners through its transform.
+std::vector<std::optional<std::uint32_t>> receiver_inside_glass(const SceneDesc& scene);
 
 // Seed 000 eq. 2-8: T = (eta cos(theta_i) - cos(theta_r)) N + eta I, with I
 // the unit incident direction, N the unit normal on the incident side
