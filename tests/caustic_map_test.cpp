@@ -593,6 +593,90 @@ TEST_F(CausticMap, TintedPaneColoursTheLightByTintSquared) {
   EXPECT_NEAR(sum[2] / 64, clear, 0.05 * clear);  // 200k photons over 64 pixels
 }
 
+// Thin-walled glass (issue 45; glTF's transmission without a volume): an
+// open 1 m pane (one quad, role transparent: baked thin-walled with a
+// warning) and a closed 10 cm box marked "thin", each tinted [0.5, 0.8, 1]
+// at 20 cm under a 30 degree sun. Light crosses each sheet without bending:
+// per sheet it keeps tint (1 - r) / (1 + r), r Fresnel's reflectance at 30
+// degrees (the sheet's inner reflections summed; optics_oracle's Fresnel),
+// so the floor in the middle of the footprint gets cos 30 T_sheet tint
+// under the pane and cos 30 (T_sheet tint)^2 under the box (in through its
+// top, out through its bottom), with either glass method (thin glass has
+// no tables). caustix-reference, tracing the sheet's inner bounces one by
+// one, agrees within its noise.
+TEST_F(CausticMap, ThinWalledGlassPassesLightStraightWithTheSheetsFresnelAndTint) {
+  const int n = 160;
+  const double half = 1.6, theta = 30 * kPi / 180, height = 0.2;
+  const std::array<double, 3> tint{0.5, 0.8, 1.0};
+  const double r = 1 - test::fresnel_t(std::cos(theta), 1.5), sheet = (1 - r) / (1 + r);
+  for (const bool closed : {false, true}) {
+    nlohmann::json j = test::canonical_scene("glass_ball");
+    const auto mesh = std::filesystem::temp_directory_path() / (closed ? "caustix_thin_box.obj" : "caustix_thin_pane.obj");
+    if (closed) {
+      auto box = test::unit_cube();
+      for (auto& pos : box.positions) pos = {pos[0] - 0.5f, 0.1f * pos[1] - 0.05f, pos[2] - 0.5f};
+      std::ofstream(mesh) << test::to_obj(box);
+      j["objects"][1]["material"]["thin"] = true;
+    } else {
+      std::ofstream(mesh) << "v -0.5 0 -0.5\nv 0.5 0 -0.5\nv 0.5 0 0.5\nv -0.5 0 0.5\nf 1 4 3\nf 1 3 2\n";
+    }
+    j["objects"][1]["mesh"] = mesh.string();
+    j["objects"][1]["transform"] = {{"translate", {0, height, 0}}};
+    j["objects"][1]["material"]["tint"] = tint;
+    j["lights"][0]["direction"] = {std::sin(theta), -std::cos(theta), 0};
+    const std::string path = test::write_scene(j, closed ? "thin_box" : "thin_pane");
+    auto baked = bake::bake_scene(path, bake::BakeOptions{});
+    ASSERT_TRUE(baked.ok()) << baked.error().message;
+    ASSERT_EQ(baked->scene.objects[1].role, Role::kThin);
+    ASSERT_EQ(baked->transport.size(), 0u) << "thin-walled glass has no light-transport table";
+    const bool warned = std::any_of(baked->warnings.begin(), baked->warnings.end(),
+                                    [](const std::string& w) { return w.find("baked thin-walled") != std::string::npos; });
+    EXPECT_EQ(warned, !closed) << "an open transparent surface is baked thin-walled, and said so";
+    const double cx = height * std::tan(theta), h = 0.3;  // the footprint's centre, and a half-width inside it
+    auto rend = test::bake_and_create(path);
+    ASSERT_TRUE(rend);
+    for (auto method : {runtime::GlassMethod::kTable, runtime::GlassMethod::kCausticMap}) {
+      runtime::CausticsOptions o;
+      o.glass_method = method;
+      const Floor f = render(*rend, n, half, o, cx);
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        int count = 0;
+        for (int i = 0; i < n; ++i) {
+          for (int k = 0; k < n; ++k) {
+            const double x = f.x0 + (k + 0.5) * f.pix, z = f.z0 + (i + 0.5) * f.pix;
+            if (std::fabs(x - cx) >= h || std::fabs(z) >= h) continue;
+            sum += f.rgb[(static_cast<std::size_t>(i) * n + k) * 3 + c];
+            ++count;
+          }
+        }
+        const double through = sheet * tint[c], got = sum / count, want = std::cos(theta) * (closed ? through * through : through);
+        std::printf("[thin %s, %s] channel %d: E/E0 %.4f, cos T_sheet%s tint%s = %.4f (%+.2f %%)\n", closed ? "box" : "pane",
+                    runtime::to_string(method), c, got, closed ? "^2" : "", closed ? "^2" : "", want, 100 * (got / want - 1));
+        EXPECT_NEAR(got, want, 0.01 * want);
+      }
+    }
+    reference::Request rq;
+    rq.scene_path = path;
+    rq.receiver = "floor";
+    rq.x0 = cx - h;
+    rq.x1 = cx + h;
+    rq.z0 = -h;
+    rq.z1 = h;
+    rq.width = rq.height = 8;
+    rq.photons = 200'000;
+    auto img = reference::trace(rq);
+    ASSERT_TRUE(img.ok()) << img.error().message;
+    double sum[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < img->rgb.size(); ++i) sum[i % 3] += img->rgb[i];
+    const double want = std::cos(theta) * (closed ? sheet * sheet : sheet);
+    std::printf("[thin %s, reference] E/E0 %.4f %.4f %.4f over the footprint (blue's oracle %.4f, %+.2f %%)\n", closed ? "box" : "pane",
+                sum[0] / 64, sum[1] / 64, sum[2] / 64, want, 100 * (sum[2] / 64 / want - 1));
+    EXPECT_NEAR(sum[0] / sum[2], closed ? tint[0] * tint[0] : tint[0], 1e-4);
+    EXPECT_NEAR(sum[2] / 64, want, 0.01 * want);  // 200k photons: the footprint's mean to about 0.2 %
+  }
+}
+
 // A receiver inside glass (issue 45: MosquitoInAmber's amber looked like
 // black rock): a 10 cm box in the middle of a 60 cm glass block with
 // absorption 0.5/m, under a vertical sun. Light reaches the box's top

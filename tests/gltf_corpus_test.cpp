@@ -149,7 +149,7 @@ const Object* named(const SceneDesc& s, const std::string& name) {
 
 TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
   const std::vector<Case> cases{
-      {"seam_sphere_glass",  // Blender's UV sphere: refused as open (286 boundary edges) before snapping
+      {"seam_sphere_glass",  // Blender's UV sphere: refused as open (286 boundary edges) before snapping; baked thin-walled if not welded
        [](GltfBuilder& g) {
          use_transmission(g);
          const SeamSphere s(24, 12, 0.3);
@@ -402,27 +402,53 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          add_root(g, {{"name", "Flat"}, {"mesh", mesh_of(g, c.positions, c.normals, c.indices, -1)}, {"scale", {1.0, 0.0, 1.0}}});
        },
        {"/nodes/2 ('Flat')/transform: is degenerate"}, false},
-      {"open_transmissive_pane",  // GlassBrokenWindow: one quad, thin-walled in glTF: left out with a warning, the rest bakes
+      {"thin_walled_pane",  // GlassBrokenWindow: one quad, transmission without a volume: glTF's thin-walled glass
        [](GltfBuilder& g) {
          use_transmission(g);
          json m = kGlass;
          m["extensions"].erase("KHR_materials_volume");
+         m["pbrMetallicRoughness"]["baseColorFactor"] = {0.6, 0.9, 0.7, 1.0};
          const int mesh = mesh_of(g, {{-0.5f, 0, 0}, {0.5f, 0, 0}, {0.5f, 1, 0}, {-0.5f, 1, 0}}, {}, {0, 1, 2, 0, 2, 3}, g.material(m));
          add_root(g, {{"name", "Pane"}, {"mesh", mesh}, {"translation", {0.0, 0.2, 0.0}}});
        },
-       {"/nodes/2 ('Pane'): /meshes/1/primitives/0 is transmissive but open (4 boundary edges): glTF makes it thin-walled"}, true,
+       {}, true,
        [](const bake::BakeResult& r) {
-         EXPECT_FALSE(named(r.scene, "Pane")) << "left out";
+         ASSERT_TRUE(named(r.scene, "Pane"));
+         EXPECT_EQ(named(r.scene, "Pane")->role, Role::kThin);
+         EXPECT_EQ(named(r.scene, "Pane")->material.tint, (Vec3f{0.6f, 0.9f, 0.7f}));
+         EXPECT_TRUE(r.transport.empty()) << "thin-walled glass has no light-transport table";
          EXPECT_TRUE(named(r.scene, "Floor"));
        }},
-      {"open_transmissive_only",  // nothing else to bake: refused, naming why
+      {"thin_walled_bulb",  // a closed sphere without KHR_materials_volume: a bulb's thin glass, not a ball lens
+       [](GltfBuilder& g) {
+         use_transmission(g);
+         json m = kGlass;
+         m["extensions"].erase("KHR_materials_volume");
+         m["extensions"]["KHR_materials_dispersion"] = {{"dispersion", 1.0}};
+         const SeamSphere s(24, 12, 0.3);
+         add_root(g, {{"name", "Bulb"}, {"mesh", mesh_of(g, s.positions, s.normals, s.indices, g.material(m))}, {"translation", {0.0, 1.0, 0.0}}});
+       },
+       {"ignored KHR_materials_dispersion (a thin-walled material does not disperse"}, true,
+       [](const bake::BakeResult& r) {
+         ASSERT_TRUE(named(r.scene, "Bulb"));
+         EXPECT_EQ(named(r.scene, "Bulb")->role, Role::kThin);
+         EXPECT_EQ(named(r.scene, "Bulb")->material.dispersion, 0.0f);
+         EXPECT_TRUE(r.transport.empty());
+       }},
+      {"open_volume_shard",  // an open surface marked as a volume: baked thin-walled, naming it, not refused
        [](GltfBuilder& g) {
          use_transmission(g);
          g.doc["nodes"][0].erase("mesh");
          const int mesh = mesh_of(g, {{-0.5f, 0, 0}, {0.5f, 0, 0}, {0.5f, 1, 0}}, {}, {0, 1, 2}, g.material(kGlass));
          add_root(g, {{"name", "Shard"}, {"mesh", mesh}});
        },
-       {"the scene has no triangle meshes caustix can bake: its only ones are open transmissive surfaces"}, false},
+       {"transparent object 'Shard' is not a closed, consistently wound mesh: it has 3 boundary edge(s) of holes",
+        "it bounds no solid, so it is baked thin-walled"},
+       true,
+       [](const bake::BakeResult& r) {
+         ASSERT_TRUE(named(r.scene, "Shard"));
+         EXPECT_EQ(named(r.scene, "Shard")->role, Role::kThin);
+       }},
   };
   ASSERT_GE(cases.size(), 20u);
   bake::BakeOptions opt;

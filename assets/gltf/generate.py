@@ -6,7 +6,8 @@ check that both routes bake the same scene (tests/gltf_import_test.cpp).
 
   floor  ../meshes/plane.obj, node scale 4, base colour white
   ball   ../meshes/sphere.obj, node translation (0, 0.75, 0), scale 0.5,
-         KHR_materials_transmission 1 + KHR_materials_ior 1.5
+         KHR_materials_transmission 1 + KHR_materials_ior 1.5 +
+         KHR_materials_volume (a solid; without it glTF's glass is thin-walled)
   sun    KHR_lights_punctual directional, 683 lux (E0 = 1 W/m^2 at
          683 lm/W), pointing straight down (node turned -90 deg about x)
   camera perspective, 45 deg, at (1.9, 2.3, 2.6) looking at (0, 0.35, 0)
@@ -110,12 +111,13 @@ def look_at_quaternion(eye, target, up=(0.0, 1.0, 0.0)):
 
 def main():
     g = Gltf()
-    for ext in ("KHR_materials_transmission", "KHR_materials_ior", "KHR_lights_punctual"):
+    for ext in ("KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual"):
         g.doc.setdefault("extensionsUsed", []).append(ext)
     white = g.push("materials", {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0}})
     glass = g.push("materials", {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0},
                                  "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-                                                "KHR_materials_ior": {"ior": 1.5}}})
+                                                "KHR_materials_ior": {"ior": 1.5},
+                                                "KHR_materials_volume": {"thicknessFactor": 1.0}}})
     plane = g.mesh(os.path.join(HERE, "..", "meshes", "plane.obj"), white)
     sphere = g.mesh(os.path.join(HERE, "..", "meshes", "sphere.obj"), glass)
     g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [{"name": "sun", "type": "directional", "intensity": 683.0}]}}

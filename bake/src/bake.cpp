@@ -26,8 +26,13 @@ double seconds_since(Clock::time_point t0) {
 
 // Light transport runs inside transparent objects (seed 002 §3): they must
 // bound a solid, wound outward. Returns what is wrong, naming up to five
-// edges (0-based vertex indices and the first vertex's position).
-std::optional<std::string> closed_solid_issue(const TriangleMesh& mesh) {
+// edges (0-based vertex indices and the first vertex's position);
+// `closed` says whether the surface is closed (only inside out).
+struct SolidIssue {
+  std::string what;
+  bool closed = false;
+};
+std::optional<SolidIssue> closed_solid_issue(const TriangleMesh& mesh) {
   const EdgeCensus c = census_edges(mesh);
   const std::array<std::pair<const std::vector<EdgeCensus::Edge>*, const char*>, 3> kinds{{
       {&c.open, "boundary edge(s) of holes"},
@@ -47,11 +52,12 @@ std::optional<std::string> closed_solid_issue(const TriangleMesh& mesh) {
     first = std::string("first: ") + first + (edges->size() > 5 ? ", ..." : "");
   }
   if (!counts.empty()) {
-    return "must be a closed, consistently wound mesh; it has " + counts + "; " + first + " (vertex indices, 0-based)";
+    return SolidIssue{"is not a closed, consistently wound mesh: it has " + counts + "; " + first + " (vertex indices, 0-based)", false};
   }
   if (!(c.signed_volume > 0)) {
-    return "is wound inside out or encloses no volume (signed volume " + std::to_string(c.signed_volume) +
-           " m^3 in object space); its triangles must wind counter-clockwise seen from outside";
+    return SolidIssue{"is wound inside out or encloses no volume (signed volume " + std::to_string(c.signed_volume) +
+                          " m^3 in object space); its triangles must wind counter-clockwise seen from outside",
+                      true};
   }
   return std::nullopt;
 }
@@ -80,6 +86,37 @@ std::optional<std::string> float_precision_warning(const Object& o, const Triang
 }
 
 }  // namespace
+
+Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uint32_t mesh_index, const TriangleMesh& mesh,
+                                                      const std::string& path) {
+  std::vector<std::string> warnings;
+  const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                  [&](const Object& o) { return o.mesh_index == mesh_index && is_transparent(o.role); });
+  if (glass == scene.objects.end()) return warnings;
+  const auto issue = closed_solid_issue(mesh);
+  if (!issue) return warnings;
+  if (issue->closed) return make_error(ErrorCode::kInput, path + ": transparent object '" + glass->name + "' " + issue->what);
+  for (Object& o : scene.objects) {
+    if (o.mesh_index != mesh_index || !is_transparent(o.role)) continue;
+    if (o.role == Role::kBoth) {
+      return make_error(ErrorCode::kInput, path + ": object '" + o.name + "' (role both) " + issue->what +
+                                               "; a thin-walled surface cannot also be a receiver");
+    }
+    std::string dropped;  // what needs an inside
+    if (o.material.absorption != Vec3f{0, 0, 0}) dropped += " absorption";
+    if (o.material.dispersion > 0) dropped += " dispersion";
+    if (o.material.scattering.scatters()) dropped += " scattering";
+    warnings.push_back(path + ": transparent object '" + o.name + "' " + issue->what +
+                       "; it bounds no solid, so it is baked thin-walled (light crosses it without bending, with Fresnel and "
+                       "tint at each sheet)" +
+                       (dropped.empty() ? "" : "; without an inside, ignored:" + dropped));
+    o.role = Role::kThin;
+    o.material.absorption = {0, 0, 0};
+    o.material.dispersion = 0;
+    o.material.scattering = Scattering{};
+  }
+  return warnings;
+}
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
   BakeResult out;
@@ -137,13 +174,15 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     }
     // Light transport runs inside transparent objects (seed 002 §3): their
     // meshes must bound a solid, and are refined to what the table needs.
+    // One that bounds none (a pane, a shade: an open surface) is baked
+    // thin-walled (issue 45), as glTF would draw it, and said so.
     std::optional<GlassRefineReport> refined;
+    auto thin = make_open_glass_thin(scene, static_cast<std::uint32_t>(i), mesh, path);
+    if (!thin) return thin.error();
+    out.warnings.insert(out.warnings.end(), thin->begin(), thin->end());
     const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),
                                     [&](const Object& o) { return o.mesh_index == i && is_transparent(o.role); });
     if (glass != scene.objects.end()) {
-      if (auto issue = closed_solid_issue(mesh)) {
-        return make_error(ErrorCode::kInput, path + ": transparent object '" + glass->name + "' " + *issue);
-      }
       GlassRefineOptions ro = options.glass_refine;
       const std::uint64_t r = options.transport.resolution;
       ro.max_vertices = static_cast<std::uint32_t>(std::min<std::uint64_t>(kMaxTransportEntries / (r * r), kMaxMeshVertices));

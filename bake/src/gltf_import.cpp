@@ -691,7 +691,9 @@ struct GltfFile::Impl {
           mat.ior = static_cast<float>(x);
         }
       }
-      if (const tinygltf::Value* disp = extension(gm.extensions, "KHR_materials_dispersion")) {
+      const tinygltf::Value* volume = extension(gm.extensions, "KHR_materials_volume");
+      const tinygltf::Value* disp = extension(gm.extensions, "KHR_materials_dispersion");
+      if (disp && volume) {
         // Same meaning as caustix's "dispersion": 20 / Abbe number, 0 none.
         if (const tinygltf::Value* v = field(*disp, "dispersion")) {
           const double x = v->IsNumber() ? v->GetNumberAsDouble() : -1;
@@ -701,9 +703,12 @@ struct GltfFile::Impl {
           mat.dispersion = static_cast<float>(x);
         }
       }
-      const tinygltf::Value* volume = extension(gm.extensions, "KHR_materials_volume");
       if (!volume) {
-        warn(mp + ": " + label + " has transmission without KHR_materials_volume, which glTF calls thin-walled; caustix makes it a solid of index " + std::to_string(mat.ior), warns);
+        // KHR_materials_transmission: without KHR_materials_volume the
+        // surface is thin-walled (a pane, a shade): light crosses it where
+        // it meets it, without bending (Role::kThin).
+        role = Role::kThin;
+        if (disp) ignored.push_back("KHR_materials_dispersion (a thin-walled material does not disperse; KHR_materials_volume makes it a solid)");
       } else {
         // Beer-Lambert (KHR_materials_volume): light keeps attenuationColor
         // after attenuationDistance, so sigma = -ln(c) / d per channel.
@@ -936,7 +941,6 @@ Result<GltfScene> GltfFile::scene() const {
   std::map<int, std::pair<Role, Material>> materials;
   std::map<int, int> texcoord_of;  // textured material -> its TEXCOORD set
   std::map<int, std::uint32_t> image_of;
-  std::map<std::tuple<std::size_t, std::size_t, bool, int>, std::size_t> open_transmissive;  // key -> boundary edges
   std::set<std::string> names;
   bool camera_taken = false;
   for (const Visit& v : order) {
@@ -974,23 +978,10 @@ Result<GltfScene> GltfFile::scene() const {
             texcoord = -1;
           }
         }
+        // A solid's mesh is welded for its topology; a transmissive surface
+        // that bounds no solid is baked thin-walled (caustix-bake, naming it).
         const bool weld = is_transparent(mat->first);
         const auto key = std::tuple{m, k, weld, texcoord};
-        // A transmissive surface that bounds no solid (a window pane, a lamp
-        // shade: glTF's thin-walled transmission) has no inside for a
-        // light-transport table. caustix cannot draw or light thin-walled
-        // glass yet (issue 45); rather than refuse the whole file it leaves
-        // the surface out, naming it: light passes where it stands.
-        const auto leave_out = [&](std::size_t open_edges) {
-          im.warn(np + " ('" + im.node_name(v.node) + "'): " + pp + " is transmissive but open (" + std::to_string(open_edges) +
-                      " boundary edges): glTF makes it thin-walled, which caustix cannot draw or light yet; left out of the scene "
-                      "(light passes where it stands, without its Fresnel loss or tint)",
-                  out.warnings);
-        };
-        if (const auto open = open_transmissive.find(key); open != open_transmissive.end()) {
-          leave_out(open->second);
-          continue;
-        }
         auto found = mesh_of.find(key);
         if (found == mesh_of.end()) {
           std::vector<std::string> warns;
@@ -1002,14 +993,6 @@ Result<GltfScene> GltfFile::scene() const {
           if (!mesh) return mesh.error();
           for (const auto& w : mesh->warnings) out.warnings.push_back(im.path + ": " + pp + ": " + w);
           mesh->warnings.clear();
-          if (weld) {
-            const EdgeCensus census = census_edges(mesh->mesh);
-            if (!census.open.empty()) {
-              open_transmissive.emplace(key, census.open.size());
-              leave_out(census.open.size());
-              continue;
-            }
-          }
           MeshInfo info;
           info.source = file + "#" + pp;
           found = mesh_of.emplace(key, static_cast<std::uint32_t>(out.meshes.size())).first;
@@ -1103,10 +1086,6 @@ Result<GltfScene> GltfFile::scene() const {
         camera_taken = true;
       }
     }
-  }
-  if (out.scene.objects.empty() && !open_transmissive.empty()) {
-    return im.fail(roots_ptr, "the scene has no triangle meshes caustix can bake: its only ones are open transmissive surfaces (thin-walled "
-                              "in glTF), which caustix cannot draw or light yet");
   }
   if (out.scene.objects.empty()) return im.fail(roots_ptr, "the scene has no triangle meshes");
   // scene.json's value rules, said of the glTF node they break.

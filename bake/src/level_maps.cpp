@@ -87,7 +87,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
   std::vector<std::array<std::uint32_t, 3>> all_tris;
   std::vector<std::uint32_t> owner;
   for (std::uint32_t i = 0; i < n_obj; ++i) {
-    if (is_transparent(scene.objects[i].role)) continue;  // glass does not cast plain shadows
+    if (transmits(scene.objects[i].role)) continue;  // glass does not cast plain shadows
     const auto base = static_cast<std::uint32_t>(all_pos.size());
     all_pos.insert(all_pos.end(), world[i].begin(), world[i].end());
     for (const auto& t : meshes[scene.objects[i].mesh_index].triangles) {

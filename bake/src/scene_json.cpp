@@ -251,9 +251,9 @@ bool parse_albedo_texture(Walker& w, const json& v, const std::string& ptr, Albe
   return true;
 }
 
-bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file) {
+bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file, bool& thin) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance"});
+  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "thin", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance"});
   if (const json* j = Walker::optional_member(v, "albedo_texture")) {
     out.albedo_texture.emplace();
     if (!parse_albedo_texture(w, *j, ptr + "/albedo_texture", *out.albedo_texture, texture_file)) return false;
@@ -261,6 +261,13 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
   }
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
+  if (const json* j = Walker::optional_member(v, "thin")) {
+    if (!w.boolean(*j, ptr + "/thin", thin)) return false;
+    if (thin && !out.transparent) {
+      w.warn(ptr + "/thin", "\"thin\" has no effect on an opaque material");
+      thin = false;
+    }
+  }
   if (const json* j = Walker::optional_member(v, "ior")) {
     if (!w.number(*j, ptr + "/ior", out.ior)) return false;
     if (!out.transparent) w.warn(ptr + "/ior", "\"ior\" has no effect on an opaque material");
@@ -371,7 +378,13 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\", \"both\" or \"mirror\", got \"" + role + "\"");
     }
     std::string texture_file;
-    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, texture_file)) return false;
+    bool thin = false;
+    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, texture_file, thin)) {
+      return false;
+    }
+    // A thin-walled surface (issue 45): its own kind of object, not a solid.
+    if (thin && obj.role == Role::kTransparent) obj.role = Role::kThin;
+    else if (thin) return w.fail(ptr + "/material/thin", "a thin-walled material needs \"role\": \"transparent\" (a thin wall is not a receiver)");
     if (!texture_file.empty()) {
       // One image per distinct resolved file.
       const std::string file = (base / texture_file).lexically_normal().string();

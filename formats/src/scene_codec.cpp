@@ -291,7 +291,7 @@ bool decode_objects(ChunkDecoder& d, SceneDesc& s) {
     for (float& f : o.transform) {
       if (!d.f32(f, "object transform")) return false;
     }
-    if (role < 1 || role > 4) return d.fail("object '" + o.name + "': role " + std::to_string(role) + " is not 1..4");
+    if (role < 1 || role > 5) return d.fail("object '" + o.name + "': role " + std::to_string(role) + " is not 1..5");
     if (transparent > 1) return d.fail("object '" + o.name + "': transparent flag is not 0 or 1");
     o.role = static_cast<Role>(role);
     o.material.transparent = transparent == 1;
@@ -447,14 +447,15 @@ bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
-// n entries of a u32 transparent object's index (strictly ascending), each
-// followed by what read(object) decodes (DISP, TINT).
+// n entries of a u32 transparent object's index (strictly ascending; its
+// role one that `accepts`), each followed by what read(object) decodes
+// (DISP: solid glass; TINT: solid or thin-walled).
 template <class Read>
-bool per_transparent_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, Read read) {
+bool per_transparent_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, bool (*accepts)(Role), Read read) {
   for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
     std::uint32_t obj = 0;
     if (!d.u32(obj, what)) return false;
-    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !is_transparent(s.objects[obj].role)) {
+    if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !accepts(s.objects[obj].role)) {
       return d.fail(std::string(what) + " " + std::to_string(obj) + " is out of range, out of order or not transparent");
     }
     prev = obj;
@@ -467,7 +468,7 @@ bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
   std::uint32_t n = 0;
   if (!d.count(n, s.objects.size(), 16, "tinted object")) return false;
   if (n == 0) return d.fail("a 'TINT' chunk lists no tinted object");
-  return per_transparent_object(d, s, n, "tinted object index",
+  return per_transparent_object(d, s, n, "tinted object index", transmits,
                                 [&](Object& o) { return d.vec3(o.material.tint, "tint"); }) &&
          d.finish();
 }
@@ -524,7 +525,7 @@ bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
   }
   std::uint32_t n = 0;
   if (!d.count(n, s.objects.size(), 8, "dispersive object")) return false;
-  return per_transparent_object(d, s, n, "dispersive object index",
+  return per_transparent_object(d, s, n, "dispersive object index", is_transparent,
                                 [&](Object& o) { return d.f32(o.material.dispersion, "object dispersion"); }) &&
          d.finish();
 }

@@ -115,8 +115,9 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(names.insert(o.name).second, p + "/name", "'" + o.name + "' is used by an earlier object");
     c.expect(o.mesh_index < s.meshes.size(), p + "/mesh",
              "mesh index " + std::to_string(o.mesh_index) + " is out of range");
-    c.expect(o.role == Role::kReceiver || o.role == Role::kTransparent || o.role == Role::kBoth || o.role == Role::kMirror,
-             p + "/role", "must be receiver, transparent, both or mirror");
+    c.expect(o.role == Role::kReceiver || o.role == Role::kTransparent || o.role == Role::kBoth || o.role == Role::kMirror ||
+                 o.role == Role::kThin,
+             p + "/role", "must be receiver, transparent, both, mirror or thin");
     if (is_mirror(o.role)) {
       for (float r : o.material.reflectance) {
         c.range(r, 0.0f, 1.0f, p + "/material/reflectance", "each component must be in [0, 1]");
@@ -126,7 +127,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     for (float a : o.material.albedo) {
       c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
     }
-    c.expect(!is_tinted(o.material) || is_transparent(o.role), p + "/material/tint", "only a transparent object has a tint");
+    c.expect(!is_tinted(o.material) || transmits(o.role), p + "/material/tint", "only a transparent object has a tint");
     if (const auto& t = o.material.albedo_texture) {
       const std::string tp = p + "/material/albedo_texture";
       c.expect(o.role == Role::kReceiver, tp, "only a receiver takes an albedo texture");
@@ -139,11 +140,17 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       for (float f : t->transform) finite_transform = finite_transform && finite(f) && std::fabs(f) < 1e6f;
       c.expect(finite_transform, tp + "/transform", "must be finite numbers below 1e6 in magnitude");
     }
-    if (o.material.transparent || is_transparent(o.role)) {
+    if (o.material.transparent || transmits(o.role)) {
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");
       c.range(o.material.dispersion, 0.0f, kMaxDispersion, p + "/material/dispersion", "must be in [0, 20] (20 / Abbe number)");
       c.expect(o.material.transparent, p + "/material",
-               "an object with role transparent or both needs a transparent material");
+               "an object with role transparent, both or thin needs a transparent material");
+      // A thin wall has no inside: nothing to absorb, scatter or disperse in.
+      if (is_thin(o.role)) {
+        c.expect(o.material.dispersion == 0, p + "/material/dispersion", "a thin-walled object does not disperse (it has no inside)");
+        c.expect(o.material.absorption == Vec3f{0, 0, 0}, p + "/material/absorption", "a thin-walled object has no inside to absorb in; use tint");
+        c.expect(!o.material.scattering.scatters(), p + "/material/scattering", "a thin-walled object has no inside to scatter in");
+      }
       c.coefficients(o.material.absorption, p + "/material/absorption");
       for (float t : o.material.tint) c.range(t, 0.0f, 1.0f, p + "/material/tint", "each component must be in [0, 1]");
       c.scattering(o.material.scattering, p + "/material");

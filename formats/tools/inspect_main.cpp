@@ -19,6 +19,7 @@ const char* role_name(caustix::Role r) {
     case caustix::Role::kTransparent: return "transparent";
     case caustix::Role::kBoth: return "both";
     case caustix::Role::kMirror: return "mirror";
+    case caustix::Role::kThin: return "thin";
   }
   return "?";
 }

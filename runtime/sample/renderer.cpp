@@ -186,7 +186,7 @@ struct Renderer::Impl {
                         bool cull_closed = false, bool textured = false) const {
     for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
       if (only && *only != i) continue;
-      if (is_transparent(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)
+      if (transmits(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)
       if (cull_closed && closed[scene().objects[i].mesh_index]) {
         glEnable(GL_CULL_FACE);
       } else {
@@ -507,7 +507,7 @@ Result<IrradianceImage> Renderer::render_irradiance(const IrradianceRequest& q) 
     if (scene.objects[i].name == q.receiver) receiver = i;
   }
   if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in the scene");
-  if (is_transparent(scene.objects[*receiver].role)) {
+  if (transmits(scene.objects[*receiver].role)) {
     return make_error(ErrorCode::kUsage, "'" + q.receiver + "' is transparent; irradiance images are of diffuse receivers");
   }
   if (q.width <= 0 || q.height <= 0 || q.width > 16384 || q.height > 16384 || !(q.x1 > q.x0) || !(q.z1 > q.z0) ||

@@ -32,7 +32,7 @@ layout(binding = 2) uniform sampler2D u_back_pos;
 layout(binding = 3) uniform sampler2D u_back_nrm;
 layout(binding = 4) uniform sampler2D u_receivers;  // normal (0: none), V of the first receiver surface
 layout(std430, binding = 0) writeonly buffer Photons { vec4 photon[]; };  // 2 per photon
-// Per object: (kind 1 glass / 2 mirror, ior, 1 when a receiver's box meets the glass's, 0), (absorption or reflectance rgb, 0), (glass: the tint at each crossing, Material::tint, 0).
+// Per object: (kind 1 glass / 2 mirror / 3 thin-walled, ior, 1 when a receiver's box meets the glass's, 0), (absorption or reflectance rgb, 0), (glass, thin: the tint at each crossing, Material::tint, 0).
 layout(std430, binding = 1) readonly buffer Materials { vec4 material[]; };
 // 0 emitted, 1 landed, 2 TIR, 3 edge-dropped, 4 deviation-dropped,
 // 5 too far, 6 lost (no receiver where it lands, or outside the map),
@@ -164,6 +164,36 @@ bool next_mirror(vec3 x, vec3 d, float t_max, int self, out vec3 hit, out vec3 n
   return false;
 }
 
+// Where the ray x + t d (x on the caster under texel ij) meets the casters'
+// farthest surface: iterated against the back faces (x + t d projected into
+// the back map; t from the tangent plane there). ne: the normal there.
+float far_side(vec3 x, vec3 d, ivec2 ij, out vec3 ne) {
+  vec4 bn = texelFetch(u_back_nrm, ij, 0);
+  float along = max(-dot(d, u_v), 0.1);
+  float t = max((v_of(x) - bn.w) / along, 0.0);
+  ne = normalize(bn.xyz);
+  for (int k = 0; k < u_exit_iterations; ++k) {
+    vec2 uv = to_uv(x + t * d, u_caster_origin, u_caster_half);
+    if (!inside(uv)) break;
+    vec4 bp = texture(u_back_pos, uv);
+    vec3 nb = texture(u_back_nrm, uv).xyz;
+    if (bp.w < 0.5 || length(nb) < 0.5) break;
+    ne = normalize(nb);
+    float dn = dot(d, ne);
+    if (abs(dn) > 1e-3) t = max(dot(bp.xyz - x, ne) / dn, 0.0);
+  }
+  return t;
+}
+
+// A thin-walled sheet (Role::kThin, issue 45) met at cosine cos_i with
+// the given index and tint: what it transmits (scene.h's
+// thin_sheet_transmittance: (1 - r) / (1 + r), its inner reflections
+// summed), the light going on without bending.
+vec3 thin_sheet(float cos_i, float ior, vec3 tint) {
+  float r = caustix_fresnel_reflectance(cos_i, 1.0 / ior);
+  return tint * ((1.0 - r) / (1.0 + r));
+}
+
 // Writes photon `id` landed at q with its flux. z: its spacing on the
 // casters' grid (2^level texels), by which its splat widens
 // (causticmap_splat.vert).
@@ -237,20 +267,8 @@ void main() {
       vec3 t1 = refract(d, nf, 1.0 / ior);
       flux *= (1.0 - caustix_fresnel_reflectance(cos_i, 1.0 / ior)) * m2.rgb;
       // The exit point: iterate against the back faces.
-      vec4 bn = texelFetch(u_back_nrm, ij, 0);
-      float along = max(-dot(t1, u_v), 0.1);
-      float t = max((v_of(x) - bn.w) / along, 0.0);
-      vec3 ne = normalize(bn.xyz);
-      for (int k = 0; k < u_exit_iterations; ++k) {
-        vec2 uv = to_uv(x + t * t1, u_caster_origin, u_caster_half);
-        if (!inside(uv)) break;
-        vec4 bp = texture(u_back_pos, uv);
-        vec3 nb = texture(u_back_nrm, uv).xyz;
-        if (bp.w < 0.5 || length(nb) < 0.5) break;
-        ne = normalize(nb);
-        float dn = dot(t1, ne);
-        if (abs(dn) > 1e-3) t = max(dot(bp.xyz - x, ne) / dn, 0.0);
-      }
+      vec3 ne;
+      float t = far_side(x, t1, ij, ne);
       // A receiver inside the glass (an insect in amber; issue 45) meets
       // the light before its exit: it lands there, having crossed one
       // surface. The receivers seen from the light are the nearest, so the
@@ -279,6 +297,27 @@ void main() {
       }
       d = normalize(t2);
       if (dot(d, d0) < u_max_deviation_cos) { atomicAdd(counter[4], 1u); return; }
+    } else if (m0.x == 3.0) {
+      // Thin-walled (issue 45): through the near sheet without bending,
+      // then through the same surface's far sheet if the casters' farthest
+      // layer there is its own and lies ahead (a closed shade or bulb; an
+      // open pane is its own farthest layer), unless a receiver inside
+      // meets the light first.
+      flux *= thin_sheet(abs(dot(d, n)), m0.y, m2.rgb);
+      vec4 bp = texelFetch(u_back_pos, ij, 0);
+      if (int(bp.w + 0.5) - 1 == object) {
+        vec3 ne;
+        float t = far_side(x, d, ij, ne);
+        float t_in = 0.0;
+        if (t > 1e-3 * max(u_caster_half.x, u_caster_half.y)) {
+          if (land(x, d, t_in) && t_in < t) {
+            land_photon(id, x + t_in * d, level, flux);
+            return;
+          }
+          x += t * d;
+          flux *= thin_sheet(abs(dot(d, ne)), m0.y, m2.rgb);
+        }
+      }
     } else {
       // Mirror: two-sided, the normal turned to face the photon.
       vec3 nf = dot(n, d) > 0.0 ? -n : n;

@@ -240,7 +240,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
     for (std::size_t k = 0; k < 3; ++k) {
       scene_size = std::max({scene_size, std::fabs(world.object_box[i].first[k]), std::fabs(world.object_box[i].second[k])});
     }
-    if (!is_transparent(o.role)) continue;
+    if (!transmits(o.role)) continue;
     has_glass = true;
     glass[i] = coeff_of(o.material.absorption, o.material.scattering);
     targets.push_back(world.object_box[i]);
@@ -423,7 +423,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
           }
           if (!h) break;
           const Vec3d p = add(origin, dir, len);
-          if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
+          if (!transmits(scene.objects[world.owner[h->triangle]].role)) break;
           dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm, &power);
           origin = p;
         }
@@ -448,7 +448,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
                          q.y1 - (row + (sy + u01(rng)) / q.view_samples) * dy, z_front};
             Vec3d dir{0, 0, -1};
             auto h = caster.first_hit_triangle(origin, dir);
-            if (!h || !is_transparent(scene.objects[world.owner[h->triangle]].role)) continue;
+            if (!h || !transmits(scene.objects[world.owner[h->triangle]].role)) continue;
             // Extinction in front of the glass.
             Rgb tau{0, 0, 0};
             Rgb through{1, 1, 1};  // the glass surfaces' tints crossed so far
@@ -485,7 +485,7 @@ Result<Image> trace_inscatter(const InscatterRequest& q, InscatterStats* stats) 
               }
               if (!h) break;
               const Vec3d p = add(origin, dir, len);
-              if (!is_transparent(scene.objects[world.owner[h->triangle]].role)) break;
+              if (!transmits(scene.objects[world.owner[h->triangle]].role)) break;
               dir = cross_interface(world, scene, h->triangle, p, dir, wet(p) ? view_water : 1.0, inside, u01(rng), q.wavelength_nm, &through);
               origin = p;
             }

@@ -32,7 +32,7 @@ Result<Image> trace(const Request& q) {
       return make_error(ErrorCode::kInput, q.scene_path + ": object '" + scene.objects[i].name +
                                                "' is both receiver and transparent; the reference traces either, not both");
     }
-    has_glass = has_glass || is_transparent(scene.objects[i].role);
+    has_glass = has_glass || transmits(scene.objects[i].role);
   }
   if (!receiver) return make_error(ErrorCode::kUsage, "no object named '" + q.receiver + "' in " + q.scene_path);
   if (!is_receiver(scene.objects[*receiver].role)) {
@@ -220,7 +220,7 @@ Result<Image> trace(const Request& q) {
             dir = normalize(add(dir, nrm, -2 * dot(dir, nrm)));
             continue;
           }
-          if (!is_transparent(o.role)) {
+          if (!transmits(o.role)) {
             if (obj != *receiver) break;
             // Only the receiver's first surface seen from above counts.
             const auto above = receiver_only.first_hit({p[0], top + 1.0, p[2]}, {0, -1, 0});

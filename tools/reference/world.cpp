@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "caustix/bake/bake.h"
 #include "caustix/bake/glass_refine.h"
 #include "caustix/bake/mesh_import.h"
 #include "caustix/formats/spectrum.h"
@@ -23,7 +24,7 @@ Vec3d World::normal_at(std::uint32_t t, const Vec3d& p) const {
   return l > 1e-12 ? Vec3d{n[0] / l, n[1] / l, n[2] / l} : geo_normal[t];
 }
 
-Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg) {
+Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg) {
   World world;
   const SceneDesc& scene = doc.scene;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
@@ -31,6 +32,10 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
     const auto& imported = doc.imported[o.mesh_index];
     auto mesh = imported ? Result<bake::ImportedMesh>(*imported) : bake::import_mesh(doc.mesh_paths[o.mesh_index]);
     if (!mesh) return mesh.error();
+    // As caustix-bake: glass that bounds no solid is thin-walled.
+    if (auto thin = bake::make_open_glass_thin(doc.scene, o.mesh_index, mesh->mesh, doc.mesh_paths[o.mesh_index]); !thin) {
+      return thin.error();
+    }
     if (is_transparent(o.role)) {
       bake::GlassRefineOptions creases_only;
       creases_only.crease_deg = glass_crease_deg;
@@ -69,10 +74,47 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
   return world;
 }
 
+namespace {
+
+// A thin-walled sheet (Role::kThin, issue 45), traced as what it is: two
+// parallel faces at one point, Fresnel at each (the same reflectance r at
+// both: the inner face sees the refracted angle, and reflectance is
+// reciprocal), the light bouncing between them until it leaves forward
+// (transmitted, without bending, tinted once) or back (reflected). One
+// uniform serves every choice: after a choice of probability q it is
+// rescaled into [0, 1) within the branch taken.
+Vec3d cross_thin_sheet(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p, const Vec3d& dir,
+                       const std::vector<std::uint32_t>& inside, double n_outside, double u, std::array<double, 3>* power) {
+  const Material& m = scene.objects[world.owner[triangle]].material;
+  const double n1 = inside.empty() ? n_outside : double{scene.objects[inside.back()].material.ior};
+  Vec3d nrm = world.normal_at(triangle, p);
+  if (dot(dir, nrm) > 0) nrm = {-nrm[0], -nrm[1], -nrm[2]};  // facing the photon
+  const double cos_i = std::min(1.0, -dot(dir, nrm));
+  const double r = 1.0 - fresnel_transmittance(cos_i, n1 / m.ior);
+  const Vec3d reflected = normalize(add(dir, nrm, 2 * cos_i));
+  if (u < r) return reflected;  // off the near face
+  u = (u - r) / (1 - r);
+  for (int bounce = 0; bounce < 256; ++bounce) {
+    if (u < 1 - r) {  // out through the far face
+      if (power) {
+        for (std::size_t c = 0; c < 3; ++c) (*power)[c] *= m.tint[c];
+      }
+      return dir;
+    }
+    u = (u - (1 - r)) / r;     // back from the far face
+    if (u < 1 - r) return reflected;  // out through the near face
+    u = (u - (1 - r)) / r;     // back from the near face
+  }
+  return reflected;
+}
+
+}  // namespace
+
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,
                       const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm,
                       std::array<double, 3>* power) {
   const std::uint32_t obj = world.owner[triangle];
+  if (is_thin(scene.objects[obj].role)) return cross_thin_sheet(world, scene, triangle, p, dir, inside, n_outside, u01, power);
   // Entering or leaving object `obj`. Indices on both sides from the glass
   // the photon is in.
   const bool entering = dot(dir, world.geo_normal[triangle]) < 0;

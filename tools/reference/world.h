@@ -127,7 +127,9 @@ struct World {
 // Imports every object's mesh and places it in the world. A transparent
 // mesh's surface is the one the baker tables: its normals smoothed only
 // within creases (bake/glass_refine.h step 1; a prism's faces stay flat).
-Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg);
+// Transparent objects whose mesh bounds no solid become thin-walled in
+// doc.scene (bake::make_open_glass_thin), as caustix-bake makes them.
+Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg);
 
 // A photon (or view ray) at point p, travelling along dir, meets the glass
 // triangle h.triangle: refracts or reflects by Russian roulette on the exact
@@ -137,6 +139,9 @@ Result<World> load_world(const bake::SceneDocument& doc, double glass_crease_deg
 // n_outside is the index around the glass; nm the photon's wavelength
 // (dispersion, issue 22: each glass's index at it; 0: every index n_d).
 // Returns the new direction.
+// A thin-walled object (Role::kThin) is crossed as a sheet: reflected, or
+// transmitted without bending (its inner reflections traced), `inside`
+// unchanged.
 // A photon carrying `power` (when given) keeps the surface's tint
 // (Material::tint) of it when it is transmitted, not when reflected.
 Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t triangle, const Vec3d& p,

@@ -264,7 +264,8 @@ std::vector<bool> CausticMapEngine::casters(const SceneDesc& scene, GlassMethod 
   std::vector<bool> out(scene.objects.size(), false);
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const Role r = scene.objects[i].role;
-    out[i] = is_mirror(r) || (is_transparent(r) && (method == GlassMethod::kCausticMap || inside[i].has_value()));
+    // Thin-walled glass has no tables: the caustic maps always carry its light.
+    out[i] = is_mirror(r) || is_thin(r) || (is_transparent(r) && (method == GlassMethod::kCausticMap || inside[i].has_value()));
   }
   return out;
 }
@@ -326,7 +327,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     const Object& obj = scene.objects[i];
     const bool active = casters[i];
     float* md = &s.material_data[kMaterialFloats * i];
-    md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : 1.0f;
+    md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : is_thin(obj.role) ? 3.0f : 1.0f;
     md[1] = obj.material.ior;
     // 1: a receiver's box meets this glass's, so the photons look for a
     // receiver inside it before the exit (only scenes with one pay).

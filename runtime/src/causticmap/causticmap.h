@@ -1,7 +1,8 @@
 #pragma once
 // Image-space caustic maps (seed 003; Shah, Konttinen & Pattanaik 2007;
-// docs/caustic-maps.md): per light, the casters (mirrors always, glass when
-// CausticsOptions::glass_method is kCausticMap) seen from the light in an
+// docs/caustic-maps.md): per light, the casters (mirrors and thin-walled
+// glass always, solid glass when CausticsOptions::glass_method is
+// kCausticMap) seen from the light in an
 // orthographic frame along it give a grid of photons; a compute shader
 // refracts (or reflects) them and lands them on the receivers seen from the
 // light; their flux is splatted into the light's caustic map, which holds
@@ -31,8 +32,8 @@ class CausticMapEngine {
   // kUsage naming the knob when an option is out of its documented range
   // (caustics_options.h) or not finite.
   static Status check(const CausticMapOptions& options);
-  // Per object, whether the caustic maps carry its light: mirrors always;
-  // glass with GlassMethod::kCausticMap, and with the tables glass that
+  // Per object, whether the caustic maps carry its light: mirrors and
+  // thin-walled glass (no tables) always; solid glass with GlassMethod::kCausticMap, and with the tables glass that
   // holds a receiver (receiver_inside_glass(), formats/frame.h: the
   // tables' rays start where light leaves the glass and never reach it).
   static std::vector<bool> casters(const SceneDesc& scene, GlassMethod method);

@@ -399,7 +399,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   glClearTexImage(s.dummy_2d.get(), 0, GL_RGBA, GL_FLOAT, nullptr);
 
   bool has_glass = false;
-  for (const Object& o : s.scene.objects) has_glass = has_glass || is_transparent(o.role);
+  for (const Object& o : s.scene.objects) has_glass = has_glass || transmits(o.role);
   if (has_glass) {
     auto engine = GlassEngine::create(s.scene, scene.transport_tables, scene.spectral_tables, s.meshes, scene.meshes,
                                       [impl](std::uint32_t i) { impl->draw_object(i); },
@@ -647,7 +647,7 @@ Result<ReceiverLighting> Engine::lighting(std::uint32_t object, std::uint32_t li
   const Impl& s = *impl_;
   if (object >= s.scene.objects.size()) return usage("lighting: no object " + std::to_string(object));
   if (light >= s.scene.lights.size()) return usage("lighting: no light " + std::to_string(light));
-  if (is_transparent(s.scene.objects[object].role)) {
+  if (transmits(s.scene.objects[object].role)) {
     return usage("lighting: object " + std::to_string(object) + " ('" + s.scene.objects[object].name + "') is transparent, not a receiver");
   }
   if (!s.updated) return usage("lighting: update() has not run yet");

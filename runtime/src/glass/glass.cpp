@@ -73,9 +73,16 @@ struct GlassEngine::Impl {
     bool valid = false;
   };
   std::vector<Glass> glass;
+  // Thin-walled glass (Role::kThin, issue 45): no tables; the caustic maps
+  // carry its light, and the view draws it (glass_thin.frag).
+  struct Thin {
+    std::uint32_t object = 0;
+    const GpuMesh* mesh = nullptr;
+  };
+  std::vector<Thin> thin;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby;
+  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby, thin_view;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
   // (world position, outward normal), over the glass's window.
   gl::Texture back_position, back_normal, back_depth;
@@ -264,13 +271,46 @@ struct GlassEngine::Impl {
     }
     glCullFace(GL_BACK);
   }
+  // Thin-walled glass into the window (issue 45), after the solid glass:
+  // every sheet depth-tested, not written, far sides first, each blended
+  // as colour + destination x transmittance (glass_thin.frag), so that a
+  // closed shade scales what is behind it twice.
+  void draw_thin(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, const glm::vec3& eye,
+                 const glm::vec3& sky) const {
+    thin_view.use();
+    thin_view.set("u_view_proj", view_proj);
+    thin_view.set("u_ndc_window", ndc_window);
+    thin_view.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
+    thin_view.set("u_eye", eye);
+    thin_view.set("u_sky", sky);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_SRC1_COLOR);
+    glEnable(GL_CULL_FACE);
+    for (const GLenum cull : {GL_FRONT, GL_BACK}) {
+      glCullFace(cull);
+      for (const Thin& t : thin) {
+        const Material& m = scene.objects[t.object].material;
+        set_mesh_pose(thin_view, scene.objects[t.object]);
+        thin_view.set("u_ior", m.ior);
+        thin_view.set("u_tint", glm::vec3(m.tint[0], m.tint[1], m.tint[2]));
+        t.mesh->draw();
+      }
+    }
+    glCullFace(GL_BACK);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+  }
   // The glass's rectangle in the frame's pixels (x0, y0, x1, y1: what its
   // objects' world boxes project to, a pixel wider), or nothing when none
   // of it is in view. All of the frame when a box reaches behind the eye.
   std::optional<glm::ivec4> window_of(const SceneDesc& scene, const glm::mat4& view_proj, int width, int height) const {
     glm::vec2 lo(1.0f), hi(-1.0f);
-    for (const Glass& g : glass) {
-      const Object& o = scene.objects[g.object];
+    std::vector<std::uint32_t> drawn;
+    for (const Glass& g : glass) drawn.push_back(g.object);
+    for (const Thin& t : thin) drawn.push_back(t.object);
+    for (const std::uint32_t object : drawn) {
+      const Object& o = scene.objects[object];
       const MeshInfo& mi = scene.meshes[o.mesh_index];
       const glm::mat4 mvp = view_proj * to_glm(o.transform);
       for (int c = 0; c < 8; ++c) {
@@ -393,6 +433,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
   const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
   const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);
+  const std::string thin_fs = with_optics(shaders::k_glass_thin_frag_glsl);
   const std::string stride = "#define PRIM_STRIDE 6\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
@@ -407,6 +448,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
        {&s.back_faces, "glass_back", shaders::k_mesh_vert_glsl, shaders::k_glass_back_frag_glsl},
        {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()},
+       {&s.thin_view, "glass_thin", shaders::k_mesh_vert_glsl, thin_fs.c_str()},
        {&s.composite, "glass_composite", shaders::k_fullscreen_vert_glsl, shaders::k_glass_composite_frag_glsl}}));
   s.nearest = gl::make_nearest_sampler();
 
@@ -475,11 +517,15 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     glNamedBufferStorage(g.ring_triangles.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(ring.size(), 1) * 4), ring.data(), 0);
     s.glass.push_back(std::move(g));
   }
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    if (is_thin(scene.objects[i].role)) s.thin.push_back(Impl::Thin{i, &meshes[scene.objects[i].mesh_index]});
+  }
   // A target per (opaque object, light): every light's textures stay valid
   // together, for applications that light several views after one update.
-  for (std::uint32_t li = 0; li < scene.lights.size(); ++li) {
+  // None without solid glass: thin-walled glass sends no table light.
+  for (std::uint32_t li = 0; li < scene.lights.size() && !s.glass.empty(); ++li) {
     for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-      if (is_transparent(scene.objects[i].role)) continue;
+      if (transmits(scene.objects[i].role)) continue;
       Impl::Target t;
       t.object = i;
       t.light = li;
@@ -498,6 +544,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
                                  const std::function<void(const gl::Program&)>& set_light_uniforms, const SceneVersions& versions,
                                  bool due, EffectWork& work) {
   Impl& s = *impl_;
+  if (s.glass.empty()) return Status::success();  // thin-walled glass only: the caustic maps carry its light
   const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, co};  // not the water's
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(li, key);
@@ -647,8 +694,15 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
   glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, x0, y0, 0, s.window_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s.window_fbo.get());
   glViewport(0, 0, w, h);
-  const float none[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(s.window_fbo.get(), GL_COLOR, 0, none);
+  if (s.thin.empty()) {
+    const float none[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(s.window_fbo.get(), GL_COLOR, 0, none);
+  } else {
+    // Thin-walled sheets scale what lies behind them (blending): the
+    // caller's scene under the window to start from. Where no glass is
+    // drawn the composite writes back what was there (colour and depth).
+    glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, x0, y0, 0, s.window_color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -695,6 +749,7 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
     }
     g.mesh->draw();
   }
+  if (!s.thin.empty()) s.draw_thin(scene, view_proj, ndc_window, eye, sky);
   glDisable(GL_CULL_FACE);
   glBindSampler(0, 0);
   glBindSampler(1, 0);

@@ -44,7 +44,7 @@ Result<ShadowMaps> ShadowMaps::create(const SceneDesc& scene, std::function<void
   s.draw_object_ = std::move(draw_object);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.program_, "shadow", shaders::k_mesh_vert_glsl, shaders::k_shadow_frag_glsl},
                                               {&s.vsm_program_, "shadow_vsm", shaders::k_shadow_vsm_comp_glsl}}));
-  for (const Object& o : scene.objects) s.glass_ = s.glass_ || is_transparent(o.role);
+  for (const Object& o : scene.objects) s.glass_ = s.glass_ || transmits(o.role);
   s.fbo_ = gl::make_framebuffer();
   glNamedFramebufferDrawBuffer(s.fbo_.get(), GL_NONE);
   // Samplers of both kinds must be valid textures even where a light has
@@ -83,7 +83,7 @@ glm::vec3 ShadowMaps::travel_direction(const SceneDesc& scene, const Light& l) {
 
 void ShadowMaps::draw_casters(const SceneDesc& scene, bool glass_only) const {
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
-    if (is_transparent(scene.objects[i].role) != glass_only) continue;
+    if (transmits(scene.objects[i].role) != glass_only) continue;
     program_.set("u_model", glm::make_mat4(scene.objects[i].transform.data()));
     draw_object_(i);
   }

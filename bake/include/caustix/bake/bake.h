@@ -77,6 +77,17 @@ struct BakeResult {
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);
 
+// Transparent objects drawing `mesh` (scene.meshes[mesh_index], read from
+// `path`) when it bounds no solid -- open, non-manifold or inconsistently
+// wound: a pane, a shade -- become thin-walled (Role::kThin, issue 45), as
+// glTF would draw them, losing what needs an inside (absorption,
+// dispersion, scattering); returns a warning per object so changed. A
+// closed mesh wound inside out, or an open one on a "both" object, is an
+// error naming the object. caustix-bake and caustix-reference apply it
+// alike.
+Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uint32_t mesh_index, const TriangleMesh& mesh,
+                                                      const std::string& path);
+
 // The bake report: JSON (--report) and a readable summary with a bar chart of
 // each depth profile (-v).
 std::string report_json(const BakeResult& result, const BakeOptions& options);

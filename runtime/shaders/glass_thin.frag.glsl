@@ -1,0 +1,29 @@
+// A thin-walled sheet in the glass view (Role::kThin, issue 45; prefixed
+// with #version and caustix.glsl's optics): what is behind it is seen
+// straight through, scaled by what the sheet transmits, plus the sky it
+// reflects. Blended with dual-source blending (GlassEngine::draw_glass):
+// result = o_color + destination * o_transmit, so that sheets drawn back to
+// front each scale what lies behind them (the window holds the caller's
+// scene where nothing else was drawn).
+in vec3 v_world;
+in vec3 v_normal;
+
+uniform vec3 u_eye;
+uniform vec3 u_sky;
+uniform float u_ior;
+uniform vec3 u_tint;
+
+layout(location = 0, index = 0) out vec4 o_color;
+layout(location = 0, index = 1) out vec4 o_transmit;
+
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 view = normalize(v_world - u_eye);
+  if (dot(n, view) > 0.0) n = -n;
+  // scene.h's thin_sheet_transmittance and thin_sheet_reflectance: the
+  // sheet's inner reflections summed.
+  float r = caustix_fresnel_reflectance(max(dot(-view, n), 0.0), 1.0 / u_ior);
+  vec3 reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
+  o_color = vec4(2.0 * r / (1.0 + r) * reflected, 1.0);
+  o_transmit = vec4(u_tint * ((1.0 - r) / (1.0 + r)), 0.0);
+}
