@@ -10,7 +10,8 @@
 // name. Dispersion (issue 22): through a dispersive slab the nearby view
 // puts the edge where Snell puts it at each wavelength's index, and the
 // RGB image is the wavelengths' images times their weights. A tinted slab
-// (issue 45) darkens the floor seen through it by tint^2.
+// (issue 45) darkens the floor seen through it by tint^2; a thin-walled pane
+// shows it straight through, scaled by its sheet's transmittance and tint.
 
 #include <gtest/gtest.h>
 
@@ -30,6 +31,7 @@
 #include "caustix/formats/spectrum.h"
 #include "caustix/runtime/renderer.h"
 #include "gl_fixture.h"
+#include "optics_oracle.h"
 #include "scene_fixture.h"
 
 namespace caustix {
@@ -352,6 +354,75 @@ TEST_F(GlassView, ATintedSlabDarkensTheFloorSeenThroughItByTintSquared) {
                   v == 0 ? "table" : "nearby", c, seen, mean[0][v][c], mean[2][v][c], want);
       EXPECT_GT(mean[2][v][c] - mean[0][v][c], 4 * mean[0][v][c]) << "the floor, not the reflection, must dominate";
       EXPECT_NEAR(seen, want, 0.002 * want);  // measured within 0.01 %
+    }
+  }
+}
+
+// A thin-walled pane in the view (issue 45): an open vertical quad at
+// z = 1 between the camera and the floor (baked thin-walled), the sun
+// behind it (its shadow falls towards the camera, off the floor seen
+// through it). Through a sheet the floor is seen where it is, scaled by
+// tint (1 - r) / (1 + r) (r Fresnel's reflectance at the view ray's angle
+// to the pane; optics_oracle's Fresnel), plus the sky the sheet reflects.
+// Per pixel: P(tint) = R_sheet sky + T_sheet tint F, so (P(tint) - P(0)) /
+// (P(1) - P(0)) = tint, and (P(1) - P(0)) / F = T_sheet, F the floor with
+// the pane at index 1 (which neither reflects nor dims). In both views.
+TEST_F(GlassView, AThinPaneShowsWhatIsBehindItStraightThroughScaledByItsSheet) {
+  const std::array<double, 3> tint{0.5, 0.8, 0.9};
+  nlohmann::json j = slab_scene();
+  const auto pane = std::filesystem::temp_directory_path() / "caustix_glass_view_pane.obj";
+  std::ofstream(pane) << "v -1 0 1\nv 1 0 1\nv 1 1.4 1\nv -1 1.4 1\nf 1 2 3\nf 1 3 4\n";
+  j["objects"][2]["mesh"] = pane.string();
+  j["objects"][2]["material"] = {{"transparent", true}, {"ior", kIor}, {"tint", tint}};
+  j["lights"][0]["direction"] = {0, -0.9, 0.44};
+  const auto baked = test::bake_and_load(test::write_scene(j, "glass_view_thin"));
+  ASSERT_TRUE(baked);
+  ASSERT_EQ(baked->desc.objects[2].role, Role::kThin);
+  // [black, tinted, clear, index 1][table, nearby][channel], over 9 x 9
+  // pixels around the image's centre (the floor at the origin, seen
+  // through the pane at y = 1); and the sheet's T per pixel.
+  double mean[4][2][3] = {};
+  double sheet = 0;
+  const glm::mat4 vp = glm::perspective(glm::radians(45.0f), 1.0f, 0.05f, 100.0f) * glm::lookAt(kEye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  for (int row = kSize / 2 - 4; row <= kSize / 2 + 4; ++row) {
+    for (int col = kSize / 2 - 4; col <= kSize / 2 + 4; ++col) {
+      const glm::vec4 ndc(2.0f * (static_cast<float>(col) + 0.5f) / kSize - 1, 2.0f * (static_cast<float>(row) + 0.5f) / kSize - 1, 1, 1);
+      glm::vec4 far = glm::inverse(vp) * ndc;
+      const glm::vec3 d = glm::normalize(glm::vec3(far) / far.w - kEye);
+      const double r = 1 - test::fresnel_t(std::fabs(d.z), kIor);
+      sheet += (1 - r) / (1 + r) / 81.0;
+    }
+  }
+  for (int k = 0; k < 4; ++k) {
+    runtime::RuntimeScene scene = *baked;
+    Material& m = scene.desc.objects[2].material;
+    for (std::size_t c = 0; c < 3; ++c) m.tint[c] = k == 0 ? 0.0f : k == 1 ? static_cast<float>(tint[c]) : 1.0f;
+    if (k == 3) m.ior = 1.0f;
+    auto r = runtime::Renderer::create(scene);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    for (int v = 0; v < 2; ++v) {
+      runtime::GlassViewOptions o;
+      o.method = v == 0 ? runtime::GlassView::kTable : runtime::GlassView::kNearby;
+      ASSERT_TRUE((*r)->render(frame(o)).ok());
+      const std::vector<float> hdr = (*r)->read_hdr();
+      for (int row = kSize / 2 - 4; row <= kSize / 2 + 4; ++row) {
+        for (int col = kSize / 2 - 4; col <= kSize / 2 + 4; ++col) {
+          const std::size_t i = (static_cast<std::size_t>(kSize - 1 - row) * kSize + col) * 4;
+          for (int c = 0; c < 3; ++c) mean[k][v][c] += hdr[i + c] / 81.0;
+        }
+      }
+    }
+  }
+  for (int v = 0; v < 2; ++v) {
+    for (int c = 0; c < 3; ++c) {
+      const double seen = (mean[1][v][c] - mean[0][v][c]) / (mean[2][v][c] - mean[0][v][c]);
+      const double through = (mean[2][v][c] - mean[0][v][c]) / mean[3][v][c];
+      std::printf("[thin pane, %s view] channel %d: floor through it / through the clear pane %.4f (tint %.4f); clear pane / no pane %.4f "
+                  "(T_sheet %.4f, %+.2f %%); its reflection %.4f of %.4f\n",
+                  v == 0 ? "table" : "nearby", c, seen, tint[c], through, sheet, 100 * (through / sheet - 1), mean[0][v][c], mean[2][v][c]);
+      EXPECT_GT(mean[0][v][c], 0.0) << "the sheet reflects the sky";
+      EXPECT_NEAR(seen, tint[c], 0.002 * tint[c]);
+      EXPECT_NEAR(through, sheet, 0.002 * sheet);
     }
   }
 }

@@ -602,6 +602,36 @@ TEST(SceneCodec, TintsAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagTint).empty());
 }
 
+// Thin-walled glass (issue 45): role 5 in OBJS, no light-transport table,
+// tinted through TINT; a bad tint, or a table for it, is refused.
+TEST(SceneCodec, ThinWalledObjectsAreStoredAndValidated) {
+  LightTransportTable table;
+  SceneDesc s = dispersive_scene(table);
+  Object pane = s.objects[1];
+  pane.name = "pane";
+  pane.role = Role::kThin;
+  pane.material.dispersion = 0;
+  pane.material.absorption = {0, 0, 0};
+  pane.material.tint = {0.6f, 0.9f, 0.7f};
+  s.objects.push_back(pane);
+  auto d = decode(encode_scene(s, {{0}}, {}, {}, {table}));
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.objects[2].role, Role::kThin);
+  EXPECT_EQ(d->scene.objects[2].material.tint, (Vec3f{0.6f, 0.9f, 0.7f}));
+  EXPECT_EQ(d->transport_tables.size(), 1u) << "the solid lens's only";
+
+  SceneDesc bad = s;
+  bad.objects[2].material.tint[1] = 1.5f;
+  d = decode(encode_scene(bad, {{0}}, {}, {}, {table}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/objects/2/material/tint"), std::string::npos) << d.error().message;
+  LightTransportTable for_pane = table;
+  for_pane.object = 2;
+  d = decode(encode_scene(s, {{0}}, {}, {}, {table, for_pane}));
+  ASSERT_FALSE(d.ok()) << "a table for thin-walled glass";
+  std::printf("[thin-walled] a table for it: %s\n", d.error().message.c_str());
+}
+
 TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
   LightTransportTable base;
   const SceneDesc s = dispersive_scene(base);

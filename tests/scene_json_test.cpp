@@ -300,6 +300,29 @@ TEST(SceneJson, GlassTint) {
   EXPECT_NE(msg.find("/objects/0/material/tint"), std::string::npos) << msg;
 }
 
+// Thin-walled glass (issue 45): "thin": true on a transparent material
+// makes the object a thin wall; on an opaque one it warns; on a receiver it
+// is refused, as are absorption and dispersion, which need an inside.
+TEST(SceneJson, ThinWalledGlass) {
+  auto r = parse_scene_json(R"({"objects": [
+      {"name": "pane", "mesh": "m.obj", "role": "transparent", "material": {"transparent": true, "thin": true, "tint": [0.5, 0.8, 1]}},
+      {"name": "ball", "mesh": "n.obj", "role": "transparent", "material": {"transparent": true}},
+      {"name": "wall", "mesh": "w.obj", "material": {"thin": true}}],
+      "lights": [{"type": "directional", "direction": [0, -1, 0]}]})", "scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->scene.objects[0].role, Role::kThin);
+  EXPECT_EQ(r->scene.objects[1].role, Role::kTransparent);
+  EXPECT_EQ(r->scene.objects[2].role, Role::kReceiver);
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_NE(r->warnings[0].find("/objects/2/material/thin: \"thin\" has no effect on an opaque material"), std::string::npos) << r->warnings[0];
+  std::string msg = error_of(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "both",
+      "material": {"transparent": true, "thin": true}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/thin: a thin-walled material needs \"role\": \"transparent\""), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "transparent",
+      "material": {"transparent": true, "thin": true, "absorption": 0.5}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/absorption: a thin-walled object has no inside to absorb in; use tint"), std::string::npos) << msg;
+}
+
 // Media (issue 19): the medium box, scattering water and milky glass, with
 // their phase functions; bad values are located.
 TEST(SceneJson, MediaAndScattering) {

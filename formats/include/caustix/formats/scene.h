@@ -333,7 +333,7 @@ struct DecodedScene {
   std::vector<std::span<const std::uint8_t>> draco_meshes;
   std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
   std::vector<ObjectBox> boxes;
-  std::vector<LightTransportTable> transport_tables;  // one per transparent object, in object order
+  std::vector<LightTransportTable> transport_tables;  // one per transparent object (solid glass: none for thin-walled), in object order
   // Tables at other wavelengths (LTTS): for transparent objects with
   // dispersion, by object, then by ascending wavelength.
   std::vector<LightTransportTable> spectral_tables;

@@ -354,8 +354,12 @@ class Engine {
   // copied in).
   // Dispersive glass (issue 22) seen through the nearby view refracts once
   // per wavelength the last update() traced, as draw_water(); the table
-  // view refracts at n_d. Writes colour and depth. No-op without
-  // transparent objects; kUsage for options out of range (naming the knob).
+  // view refracts at n_d. Thin-walled glass (Role::kThin, issue 45) is
+  // drawn in either view as sheets seen straight through (what is behind
+  // them times each sheet's transmittance and tint, plus the sky it
+  // reflects), after the solid glass, without writing depth. Writes colour
+  // and depth (solid glass's depth only). No-op without transparent
+  // objects; kUsage for options out of range (naming the knob).
   Status draw_glass(const View& view, unsigned scene_color, unsigned scene_depth, const glm::vec3& sky,
                     const GlassViewOptions& options = {});
 
