@@ -9,8 +9,11 @@
 #include <epoxy/gl.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -83,9 +86,21 @@ Snapshot snapshot() {
   geti("ubo_generic", GL_UNIFORM_BUFFER_BINDING);
   geti("copy_read_buffer", GL_COPY_READ_BUFFER_BINDING);
   geti("copy_write_buffer", GL_COPY_WRITE_BUFFER_BINDING);
+  // Every other buffer target's generic binding (issue 46: an application
+  // that updates its own buffer through a generic binding must find its
+  // buffer there), and the other objects a context binds.
+  geti("atomic_counter_generic", GL_ATOMIC_COUNTER_BUFFER_BINDING);
+  geti("transform_feedback_generic", GL_TRANSFORM_FEEDBACK_BUFFER_BINDING);
+  geti("query_buffer", GL_QUERY_BUFFER_BINDING);
+  geti("texture_buffer_generic", GL_TEXTURE_BUFFER_BINDING);
+  geti("element_array_buffer", GL_ELEMENT_ARRAY_BUFFER_BINDING);  // the bound VAO's
+  geti("renderbuffer", GL_RENDERBUFFER_BINDING);
+  geti("transform_feedback", GL_TRANSFORM_FEEDBACK_BINDING);
+  geti("program_pipeline", GL_PROGRAM_PIPELINE_BINDING);
   for (GLenum cap : {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_CLIP_DISTANCE0,
                      GL_PROGRAM_POINT_SIZE, GL_POLYGON_OFFSET_FILL, GL_DEPTH_CLAMP, GL_RASTERIZER_DISCARD,
-                     GL_FRAMEBUFFER_SRGB, GL_PRIMITIVE_RESTART}) {
+                     GL_FRAMEBUFFER_SRGB, GL_PRIMITIVE_RESTART, GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_MULTISAMPLE,
+                     GL_SAMPLE_SHADING, GL_SAMPLE_ALPHA_TO_COVERAGE, GL_COLOR_LOGIC_OP}) {
     s["enabled_" + std::to_string(cap)] = glIsEnabled(cap);
   }
   GLint ssbo_points = 0, ubo_points = 0;
@@ -101,6 +116,16 @@ Snapshot snapshot() {
     glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, i, &b);
     s["ubo_" + std::to_string(i)] = b;
   }
+  for (auto [name, binding, max] : {std::tuple{"atomic_counter_", GL_ATOMIC_COUNTER_BUFFER_BINDING, GL_MAX_ATOMIC_COUNTER_BUFFER_BINDINGS},
+                                    std::tuple{"transform_feedback_", GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, GL_MAX_TRANSFORM_FEEDBACK_BUFFERS}}) {
+    GLint points = 0;
+    glGetIntegerv(max, &points);
+    for (GLuint i = 0; i < static_cast<GLuint>(std::min(points, 16)); ++i) {
+      GLint b = 0;
+      glGetIntegeri_v(binding, i, &b);
+      s[std::string(name) + std::to_string(i)] = b;
+    }
+  }
   for (GLuint i = 0; i < 4; ++i) {
     GLint image = 0;
     glGetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &image);
@@ -112,6 +137,11 @@ Snapshot snapshot() {
     glActiveTexture(GL_TEXTURE0 + u);
     for (auto [name, e] : {std::pair{"2d", GL_TEXTURE_BINDING_2D}, std::pair{"array", GL_TEXTURE_BINDING_2D_ARRAY},
                            std::pair{"cube", GL_TEXTURE_BINDING_CUBE_MAP}, std::pair{"3d", GL_TEXTURE_BINDING_3D},
+                           std::pair{"1d", GL_TEXTURE_BINDING_1D}, std::pair{"1d_array", GL_TEXTURE_BINDING_1D_ARRAY},
+                           std::pair{"rectangle", GL_TEXTURE_BINDING_RECTANGLE}, std::pair{"buffer", GL_TEXTURE_BINDING_BUFFER},
+                           std::pair{"cube_array", GL_TEXTURE_BINDING_CUBE_MAP_ARRAY},
+                           std::pair{"2d_multisample", GL_TEXTURE_BINDING_2D_MULTISAMPLE},
+                           std::pair{"2d_multisample_array", GL_TEXTURE_BINDING_2D_MULTISAMPLE_ARRAY},
                            std::pair{"sampler", GL_SAMPLER_BINDING}}) {
       GLint v = 0;
       glGetIntegerv(e, &v);
@@ -273,10 +303,29 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       runtime::WaterLook look;
       look.texture_size = 32;
       int calls = 0;
+      // The callback finds the caller's state but for what WaterPass lists
+      // (engine.h; issue 46: the active unit, a sampler object, multisampling).
+      const Snapshot caller = snapshot();
       expect_state_kept("draw_water", [&] {
         ASSERT_TRUE(engine
                         ->draw_water(test_view(), look,
-                                     [&](const runtime::WaterPass&) {
+                                     [&](const runtime::WaterPass& pass) {
+                                       const Snapshot in = snapshot();
+                                       for (const auto& d : changed(caller, in)) {
+                                         const bool listed = d.rfind("draw_fbo:", 0) == 0 || d.rfind("read_fbo:", 0) == 0 ||
+                                                             d.rfind("viewport[", 0) == 0 || d.rfind("depth_mask:", 0) == 0 ||
+                                                             d.rfind("depth_func:", 0) == 0 || d.rfind("front_face:", 0) == 0 ||
+                                                             d.rfind("enabled_" + std::to_string(GL_DEPTH_TEST) + ":", 0) == 0 ||
+                                                             d.rfind("enabled_" + std::to_string(GL_BLEND) + ":", 0) == 0 ||
+                                                             d.rfind("enabled_" + std::to_string(GL_CULL_FACE) + ":", 0) == 0 ||
+                                                             d.rfind("enabled_" + std::to_string(GL_CLIP_DISTANCE0) + ":", 0) == 0;
+                                         EXPECT_TRUE(listed) << "draw_water's callback found " << d;
+                                       }
+                                       EXPECT_EQ(in.at("draw_fbo"), static_cast<std::int64_t>(pass.framebuffer));
+                                       EXPECT_EQ(in.at("viewport[2]"), pass.size);
+                                       EXPECT_EQ(in.at("enabled_" + std::to_string(GL_DEPTH_TEST)), 1);
+                                       EXPECT_EQ(in.at("enabled_" + std::to_string(GL_CLIP_DISTANCE0)), 1);
+                                       EXPECT_EQ(in.at("depth_mask"), 1);
                                        ++calls;  // an application's pass leaves things as it likes
                                        glEnable(GL_STENCIL_TEST);
                                        glUseProgram(0);
@@ -316,7 +365,10 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       expect_state_kept("WaterSimulation::apply", [&] { ASSERT_TRUE(sim->apply(*engine).ok()); });
       expect_state_kept("WaterSimulation::stats", [&] { EXPECT_TRUE(sim->stats().finite); });
     }
-    // bind() changes exactly the block's binding point and its nine units.
+    // bind() changes exactly the block's binding point and its units; not
+    // the generic uniform-buffer binding (issue 46: an application that
+    // then updates its own uniform buffer through GL_UNIFORM_BUFFER would
+    // write into caustix's light block).
     const Snapshot before = snapshot();
     ASSERT_TRUE(engine->bind(0, 0).ok());
     const Snapshot after = snapshot();
@@ -326,7 +378,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     EXPECT_EQ(after.at("ubo_" + std::to_string(b.block)), static_cast<std::int64_t>(r->buffer));
     std::size_t expected_changes = 0;
     for (const auto& d : changed(before, after)) {
-      const bool allowed = d.rfind("ubo_" + std::to_string(b.block) + ":", 0) == 0 || d.rfind("ubo_generic", 0) == 0 || d.rfind("unit", 0) == 0;
+      const bool allowed = d.rfind("ubo_" + std::to_string(b.block) + ":", 0) == 0 || d.rfind("unit", 0) == 0;
       EXPECT_TRUE(allowed) << "bind() changed " << d;
       ++expected_changes;
     }
@@ -354,6 +406,67 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     EXPECT_NEAR(c.x, 0.5f, 1e-4f);
     EXPECT_NEAR(c.y, 0.5f, 1e-4f);
   }
+}
+
+// docs/embedding.md's table of bindings is the header's (issue 46: the docs
+// and engine.h disagreed on the block's point and the units' count): every
+// field of runtime::Bindings, by name and default, and nothing else.
+TEST(EngineDocs, TheDocsBindingsTableIsTheHeaders) {
+  const runtime::Bindings b;
+  const std::map<std::string, unsigned> fields{
+      {"block", b.block},
+      {"shadow_2d", b.shadow_2d},
+      {"shadow_cube", b.shadow_cube},
+      {"caustics", b.caustics},
+      {"position", b.position},
+      {"glass_illumination", b.glass_illumination},
+      {"glass_target", b.glass_target},
+      {"glass_shadow_2d", b.glass_shadow_2d},
+      {"glass_shadow_cube", b.glass_shadow_cube},
+      {"caustic_map", b.caustic_map},
+      {"shadow_vsm", b.shadow_vsm},
+      {"glass_shadow_vsm", b.glass_shadow_vsm},
+      {"caustics_color", b.caustics_color}};
+  // A field added to the struct must be added here (and to the docs).
+  static_assert(sizeof(runtime::Bindings) == 13 * sizeof(unsigned));
+  std::ifstream f(std::string(CAUSTIX_SOURCE_DIR) + "/docs/embedding.md");
+  ASSERT_TRUE(f) << "docs/embedding.md";
+  std::string line;
+  bool in_table = false;
+  std::map<std::string, unsigned> documented;
+  while (std::getline(f, line)) {
+    if (line.find("<!-- bindings:") != std::string::npos) {
+      in_table = true;
+      continue;
+    }
+    if (!in_table) continue;
+    if (line.empty()) break;
+    // | `name` | value | what |
+    const auto a = line.find("| `"), b2 = line.find("` | ");
+    if (a != 0 || b2 == std::string::npos) continue;
+    const std::string name = line.substr(3, b2 - 3);
+    documented[name] = static_cast<unsigned>(std::stoul(line.substr(b2 + 4)));
+  }
+  EXPECT_EQ(documented, fields);
+  // The include's defaults are the header's too.
+  std::ifstream g(std::string(CAUSTIX_SOURCE_DIR) + "/runtime/include/caustix/runtime/caustix.glsl");
+  const std::string glsl((std::istreambuf_iterator<char>(g)), std::istreambuf_iterator<char>());
+  EXPECT_NE(glsl.find("#define CAUSTIX_BINDING_BLOCK " + std::to_string(b.block) + "\n"), std::string::npos);
+  EXPECT_NE(glsl.find("#define CAUSTIX_UNIT_CAUSTICS_COLOR " + std::to_string(b.caustics_color) + "\n"), std::string::npos);
+  EXPECT_NE(glsl.find("#define CAUSTIX_UNIT_SHADOW_2D " + std::to_string(b.shadow_2d) + "\n"), std::string::npos);
+}
+
+// The include twice in one shader compiles (its guards; issue 46).
+TEST_F(Engine_, TheIncludeTwiceInOneShaderCompiles) {
+  auto loaded = test::bake_and_load(scene("glass_ball"));
+  ASSERT_TRUE(loaded);
+  auto e = Engine::create(*loaded);
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  const std::string inc = (*e)->glsl_include();
+  const std::string fs = "#version 450 core\n" + inc + inc + "out vec4 o;\nvoid main() { o = vec4(caustix_irradiance(vec3(0.0), vec3(0.0, 1.0, 0.0)), 1.0); }\n";
+  const char* vs = "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n";
+  auto prog = runtime::gl::Program::build("twice", vs, fs.c_str());
+  EXPECT_TRUE(prog.ok()) << (prog.ok() ? "" : prog.error().message);
 }
 
 // Irradiance of the floor seen from above with the application's program:

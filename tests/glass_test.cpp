@@ -704,19 +704,24 @@ TEST(LightTransport, LightCrossesOverlappingShellsAndReEntersTheObject) {
   EXPECT_EQ(casts, 2u);
 }
 
-TEST(LightTransport, OpenMeshIsRefusedNamingEdges) {
+TEST(LightTransport, AnOpenMeshBakesThinWalledNamingEdges) {
   nlohmann::json j = scene("glass_ball");
   j["objects"][1]["mesh"] = kScenes + "../meshes/teapot.obj";  // the Utah teapot has open rims
   auto baked = bake::bake_scene(test::write_scene(j, "glass_open"), {});
-  ASSERT_FALSE(baked.ok());
-  EXPECT_EQ(baked.error().code, ErrorCode::kInput);
-  EXPECT_NE(baked.error().message.find("boundary edge"), std::string::npos) << baked.error().message;
-  EXPECT_NE(baked.error().message.find("teapot.obj"), std::string::npos) << baked.error().message;
+  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  EXPECT_EQ(baked->scene.objects[1].role, Role::kThin);
+  EXPECT_TRUE(baked->transport.empty());
+  std::string said;
+  for (const auto& w : baked->warnings) said += w + "\n";
+  EXPECT_NE(said.find("teapot.obj: transparent object 'ball' is not a closed, consistently wound mesh: it has"), std::string::npos) << said;
+  EXPECT_NE(said.find("boundary edge"), std::string::npos) << said;
+  EXPECT_NE(said.find("baked thin-walled"), std::string::npos) << said;
 }
 
 // Light transport runs inside the object: a closed mesh that is wound
 // inconsistently, inside out, or has edges of three triangles is refused,
-// saying which, before any tracing.
+// saying which, before any tracing (a solid was meant); one with a hole
+// too bounds no solid and bakes thin-walled, saying so (issue 45).
 TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
   using test::CubeFlaw;
   const std::vector<std::pair<CubeFlaw, std::string>> cases{
@@ -729,7 +734,17 @@ TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
     std::ofstream(mesh) << test::to_obj(test::unit_cube(flaw));
     nlohmann::json j = scene("glass_ball");
     j["objects"][1]["mesh"] = mesh.string();
-    auto baked = bake::bake_scene(test::write_scene(j, "glass_flawed"), {});
+    bake::BakeOptions small;
+    small.transport.resolution = 4;
+    auto baked = bake::bake_scene(test::write_scene(j, "glass_flawed"), small);
+    if (flaw == CubeFlaw::kFin) {
+      ASSERT_TRUE(baked.ok()) << baked.error().message;
+      EXPECT_EQ(baked->scene.objects[1].role, Role::kThin);
+      std::string said;
+      for (const auto& w : baked->warnings) said += w + "\n";
+      EXPECT_NE(said.find(says), std::string::npos) << said;
+      continue;
+    }
     ASSERT_FALSE(baked.ok()) << says;
     EXPECT_EQ(baked.error().code, ErrorCode::kInput);
     EXPECT_NE(baked.error().message.find(mesh.string() + ": transparent object 'ball'"), std::string::npos) << baked.error().message;

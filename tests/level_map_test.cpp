@@ -6,8 +6,11 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <tuple>
 
 #include "caustix/bake/bake.h"
 #include "caustix/formats/frame.h"
@@ -162,6 +165,44 @@ TEST_F(LevelMapTest, UnreachableAndShadowedReceiversAreSkipped) {
   ASSERT_EQ(r->level_maps.pairs.size(), 2u);
   EXPECT_EQ(r->level_maps.pairs[0].reason, "fully shadowed by other objects");
   EXPECT_TRUE(r->level_maps.pairs[1].baked) << r->level_maps.pairs[1].reason;
+}
+
+// The water grid's coverage (issue 46: a floor as wide as the grid had a
+// dark strip along its sunward edge, unsaid). A 12 m floor 2 m under water
+// whose grid is exactly as wide, a sun 30 degrees from vertical travelling
+// +x: the floor within 2 tan(asin(sin 30 / 1.33)) = 0.811 m of the grid's
+// -x edge gets no light; the warning names the pair and asks for that much
+// more grid on -x. A grid that overhangs by 1 m, or light straight down,
+// gives none; so does a pool whose wall rises to the surface along that
+// edge (the strip is in its shadow).
+TEST_F(LevelMapTest, AWaterGridThatDoesNotOverhangTheLitFloorIsSaid) {
+  const std::string floor = R"({"name": "floor", "mesh": ")" + kMeshes + R"(plane.obj", "transform": {"scale": [12, 1, 12]}})";
+  const std::string slanted = sun(0.5, -std::sqrt(0.75), 0);
+  const auto scene = [&](const std::string& objects, const std::string& light, double half) {
+    const std::string h = std::to_string(half);
+    return R"({"objects": [)" + objects + R"(], "lights": [)" + light + R"(], "water": {"level": 2, "ior": 1.33, "grid": {"cells": [8, 8], "extent": [-)" +
+           h + ", -" + h + ", " + h + ", " + h + "]}}}";
+  };
+  const double need = 2 * std::tan(std::asin(0.5 / 1.33));
+  char want[64];
+  std::snprintf(want, sizeof want, "extend the water's extent by %.3g m on -x", need);
+  auto r = bake(scene(floor, slanted, 6));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  std::string said;
+  for (const auto& w : r->warnings) said += w + "\n";
+  EXPECT_NE(said.find("object 'floor', light 0: the water grid does not reach far enough"), std::string::npos) << said;
+  EXPECT_NE(said.find(want), std::string::npos) << said;
+  EXPECT_EQ(said.find("on +x"), std::string::npos) << said;
+  for (const auto& [objects, light, half] : {std::tuple{floor, slanted, 7.0}, std::tuple{floor, sun(0, -1, 0), 6.0}}) {
+    r = bake(scene(objects, light, half));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    for (const auto& w : r->warnings) EXPECT_EQ(w.find("does not reach far enough"), std::string::npos) << w;
+  }
+  // A wall from the floor to the surface along x = -6 (a box 0.2 m thick outside the grid).
+  const std::string wall = R"({"name": "wall", "mesh": ")" + kMeshes + R"(box.obj", "transform": {"translate": [-6.1, 1, 0], "scale": [0.2, 2, 12]}})";
+  r = bake(scene(floor + "," + wall, slanted, 6));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  for (const auto& w : r->warnings) EXPECT_EQ(w.find("object 'floor', light 0: the water grid"), std::string::npos) << w;
 }
 
 TEST_F(LevelMapTest, SphereHasEmptyLevelsAndSmartNeedsAboutHalfThePlanes) {

@@ -147,9 +147,10 @@ TEST(MeshCorpus, BakesAsReceiverOrIsRefused) {
 }
 
 // Transparent objects are stricter: closed, consistently wound meshes bake
-// as solid glass (light-transport table and all); the others bound no solid
+// as solid glass (light-transport table and all); open ones bound no solid
 // and bake thin-walled (issue 45), with a warning giving the edge census
-// (what is wrong, how many edges, the first ones).
+// (what is wrong, how many edges, the first ones); a closed one that is not
+// a solid is refused with it.
 TEST(MeshCorpus, ClosedOnesBakeAsGlassOthersThinWalled) {
   for (const Entry& e : corpus()) {
     if (!e.bakes()) continue;
@@ -159,6 +160,15 @@ TEST(MeshCorpus, ClosedOnesBakeAsGlassOthersThinWalled) {
       ASSERT_TRUE(baked.ok()) << baked.error().message;
       ASSERT_EQ(baked->transport.size(), 1u);
       EXPECT_GT(baked->transport[0].leaving, 0u);
+      continue;
+    }
+    if (e.j.value("as_glass", std::string("thin")) == "refused") {  // closed, not a solid: a solid was meant
+      ASSERT_FALSE(baked.ok());
+      EXPECT_EQ(baked.error().code, ErrorCode::kInput);
+      EXPECT_NE(baked.error().message.find(e.path() + ": transparent object 'part' is not a closed, consistently wound mesh"),
+                std::string::npos)
+          << baked.error().message;
+      EXPECT_NE(baked.error().message.find(e.j.at("transparent_message").get<std::string>()), std::string::npos) << baked.error().message;
       continue;
     }
     ASSERT_TRUE(baked.ok()) << baked.error().message;

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "caustix/bake/glass_refine.h"
@@ -27,7 +28,7 @@ double seconds_since(Clock::time_point t0) {
 // Light transport runs inside transparent objects (seed 002 §3): they must
 // bound a solid, wound outward. Returns what is wrong, naming up to five
 // edges (0-based vertex indices and the first vertex's position);
-// `closed` says whether the surface is closed (only inside out).
+// `closed` says whether the surface is closed (no boundary edge).
 struct SolidIssue {
   std::string what;
   bool closed = false;
@@ -52,7 +53,7 @@ std::optional<SolidIssue> closed_solid_issue(const TriangleMesh& mesh) {
     first = std::string("first: ") + first + (edges->size() > 5 ? ", ..." : "");
   }
   if (!counts.empty()) {
-    return SolidIssue{"is not a closed, consistently wound mesh: it has " + counts + "; " + first + " (vertex indices, 0-based)", false};
+    return SolidIssue{"is not a closed, consistently wound mesh: it has " + counts + "; " + first + " (vertex indices, 0-based)", c.open.empty()};
   }
   if (!(c.signed_volume > 0)) {
     return SolidIssue{"is wound inside out or encloses no volume (signed volume " + std::to_string(c.signed_volume) +
@@ -127,9 +128,16 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   SceneDesc& scene = doc->scene;
   scene.render = options.render;
   if (scene.water && options.water_grid_scale != 1.0) {
+    const auto before = scene.water->cells;
     for (std::uint32_t& c : scene.water->cells) {
       c = static_cast<std::uint32_t>(std::clamp(std::lround(c * options.water_grid_scale), 1L, long{kMaxWaterCells}));
     }
+    // Said (issue 46): a coarser grid shows its triangles' seams in the caustics.
+    char note[200];
+    std::snprintf(note, sizeof note, "the water grid is %u x %u cells, scene.json's %u x %u times %g (--water-grid-scale%s%s)",
+                  scene.water->cells[0], scene.water->cells[1], before[0], before[1], options.water_grid_scale,
+                  options.render ? "; preset " : "", options.render ? options.render->preset.c_str() : "");
+    out.notes.push_back(note);
   }
 
   // Albedo textures' images, each read once (formats/scene.h TextureImage).

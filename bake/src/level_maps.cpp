@@ -2,8 +2,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "caustix/formats/frame.h"
 #include "caustix/bake/object_box.h"
@@ -26,6 +30,25 @@ std::vector<Vec3d> sample(const std::vector<Vec3d>& pts, std::size_t n) {
 }
 
 constexpr std::size_t kReachSamples = 512;
+
+// An object's vertex normals in world space (the transform's cofactor
+// matrix: normals stay normal under any affine transform).
+std::vector<Vec3d> world_normals(const Mat4f& m, const std::vector<Vec3f>& normals) {
+  const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
+  const auto cross = [](const Vec3d& a, const Vec3d& b) {
+    return Vec3d{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);
+  const double det = c0[0] * k0[0] + c0[1] * k0[1] + c0[2] * k0[2];
+  const double sign = det < 0 ? -1.0 : 1.0;
+  std::vector<Vec3d> out;
+  out.reserve(normals.size());
+  for (const Vec3f& n : normals) {
+    out.push_back({sign * (k0[0] * n[0] + k1[0] * n[1] + k2[0] * n[2]), sign * (k0[1] * n[0] + k1[1] * n[1] + k2[1] * n[2]),
+                   sign * (k0[2] * n[0] + k1[2] * n[1] + k2[2] * n[2])});
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -95,7 +118,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
       owner.push_back(i);
     }
   }
-  std::vector<std::string> skip_reason(jobs.size());
+  std::vector<std::string> skip_reason(jobs.size()), coverage(jobs.size());
   if (!jobs.empty()) {
     const RayCaster occluders(all_pos, all_tris, owner);
     tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
@@ -124,6 +147,46 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
       }
       if (!on_grid) skip_reason[j] = "no refracted ray from the water grid reaches it";
       else if (!lit) skip_reason[j] = "fully shadowed by other objects";
+      if (!on_grid || !lit || v[1] <= 0) return;
+      // The grid's coverage (issue 46): a receiver's vertex under the water,
+      // facing the light, whose refracted ray back toward the light (flat
+      // water) leaves the water grid before reaching the surface, and
+      // meets nothing on the way (so it is no shadow anyway), lies in a
+      // strip the water's light never reaches. The ray's horizontal run
+      // past each edge is how far the grid must overhang there (an affine
+      // function of the point: its largest value over a mesh is at a vertex).
+      const Object& obj = scene.objects[job.object];
+      const std::vector<Vec3d> normals = world_normals(obj.transform, meshes[obj.mesh_index].normals);
+      std::array<double, 4> need{0, 0, 0, 0};  // past x0, z0, x1, z1
+      std::size_t facing = 0, dark = 0;
+      const double tol = 1e-6 * std::max({double{w.extent[2] - w.extent[0]}, double{w.extent[3] - w.extent[1]}, 1e-3});
+      for (std::size_t k = 0; k < world[job.object].size() && k < normals.size(); ++k) {
+        const Vec3d& p = world[job.object][k];
+        const Vec3d& n = normals[k];
+        if (p[1] >= w.level || n[0] * v[0] + n[1] * v[1] + n[2] * v[2] <= 0) continue;
+        ++facing;
+        const double s = (w.level - p[1]) / v[1];
+        const double x = p[0] + s * v[0], z = p[2] + s * v[2];
+        const std::array<double, 4> past{w.extent[0] - x, w.extent[1] - z, x - w.extent[2], z - w.extent[3]};
+        if (*std::max_element(past.begin(), past.end()) <= tol) continue;
+        const Vec3d o{p[0] + scale * v[0], p[1] + scale * v[1], p[2] + scale * v[2]};
+        if (const auto hit = occluders.first_hit(o, v, std::numeric_limits<std::uint32_t>::max()); hit && *hit < s) continue;
+        ++dark;
+        for (std::size_t e = 0; e < 4; ++e) need[e] = std::max(need[e], past[e]);
+      }
+      if (dark == 0) return;
+      static constexpr const char* kEdge[4] = {"-x", "-z", "+x", "+z"};
+      std::string sides;
+      for (std::size_t e = 0; e < 4; ++e) {
+        if (need[e] <= tol) continue;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s%.3g m on %s", sides.empty() ? "" : ", ", need[e], kEdge[e]);
+        sides += buf;
+      }
+      coverage[j] = "the water grid does not reach far enough: " + std::to_string(dark) + " of its " + std::to_string(facing) +
+                    " lit vertices under the water get none of this light, whose refracted rays would cross the water's "
+                    "surface outside the grid (a dark strip along the receiver's edge); extend the water's extent by " +
+                    sides + " (docs/scene-format.md, water)";
     });
   }
   out.seconds_shadow_tests = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -170,6 +233,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
       rep.covered_texels = r.covered_texels;
       rep.depth_precision_m = r.depth_precision_m;
       rep.warning = r.warning;
+      if (!coverage[j].empty()) rep.warning += (rep.warning.empty() ? "" : "; ") + coverage[j];
       out.maps.push_back(std::move(maps[j]));
     }
     ++j;

@@ -272,7 +272,13 @@ struct Engine::Impl {
   }
 
   void bind_slot(const ReceiverLighting& r) const {
-    glBindBufferRange(GL_UNIFORM_BUFFER, bindings.block, blocks.get(), static_cast<GLintptr>(r.offset), sizeof(LightBlock));
+    // The multi-bind call binds the indexed point alone: glBindBufferRange
+    // would also set the generic GL_UNIFORM_BUFFER binding, which the
+    // application may be using (issue 46).
+    const GLuint buffer = blocks.get();
+    const auto offset = static_cast<GLintptr>(r.offset);
+    const auto size = static_cast<GLsizeiptr>(sizeof(LightBlock));
+    glBindBuffersRange(GL_UNIFORM_BUFFER, bindings.block, 1, &buffer, &offset, &size);
     glBindTextureUnit(bindings.shadow_2d, r.shadow_2d);
     glBindTextureUnit(bindings.shadow_cube, r.shadow_cube);
     glBindTextureUnit(bindings.caustics, r.caustics);
@@ -746,12 +752,20 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
     const gl::TimedPass timed("water: refraction and reflection textures (the application's passes)", gl::PassKind::kRaster);
     for (const Pass& p : passes) {
       glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
-      glViewport(0, 0, n, n);
       glDepthMask(GL_TRUE);  // clears obey the write masks
       const float clear[4] = {p.clear.r, p.clear.g, p.clear.b, 0.0f};
       glClearNamedFramebufferfv(p.fbo, GL_COLOR, 0, clear);
       const float far_depth = 1.0f;
       glClearNamedFramebufferfv(p.fbo, GL_DEPTH, 0, &far_depth);
+      // The callback runs with the caller's state (program, VAO, textures,
+      // samplers, active unit, capabilities, ...) but for what WaterPass
+      // lists (engine.h): the pass's framebuffer and viewport, depth test
+      // LESS with writes, no blending or culling, the clip distance, the
+      // winding.
+      guard.restore();
+      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
+      glViewport(0, 0, n, n);
+      glDepthMask(GL_TRUE);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       glDisable(GL_BLEND);
@@ -760,6 +774,7 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
       glFrontFace(p.p.mirrored ? GL_CW : GL_CCW);
       draw_scene(p.p);
       // The callback may have left anything: back to what the passes below assume.
+      guard.enter();
       glDisable(GL_CLIP_DISTANCE0);
       glFrontFace(GL_CCW);
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);

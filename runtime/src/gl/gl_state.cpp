@@ -1,6 +1,7 @@
 #include "gl_state.h"
 
 #include <algorithm>
+#include <iterator>
 
 namespace caustix::runtime::gl {
 namespace {
@@ -88,14 +89,19 @@ StateGuard::StateGuard(const std::vector<GLuint>& units) {
     s.tex_cube = get(GL_TEXTURE_BINDING_CUBE_MAP);
     s.tex_3d = get(GL_TEXTURE_BINDING_3D);
     s.sampler = get(GL_SAMPLER_BINDING);
-    if (s.sampler) glBindSampler(u, 0);  // the passes rely on their textures' own parameters
     units_.push_back(s);
   }
   for (GLenum c : kSavedCaps) caps_.emplace_back(c, glIsEnabled(c));
-  for (GLenum c : kOffCaps) {
-    const GLboolean on = glIsEnabled(c);
-    caps_.emplace_back(c, on);
-    if (on) glDisable(c);
+  for (GLenum c : kOffCaps) caps_.emplace_back(c, glIsEnabled(c));
+  enter();
+}
+
+void StateGuard::enter() const {
+  for (const Unit& s : units_) {
+    if (s.sampler) glBindSampler(s.unit, 0);  // the passes rely on their textures' own parameters
+  }
+  for (std::size_t k = std::size(kSavedCaps); k < caps_.size(); ++k) {
+    if (caps_[k].second) glDisable(caps_[k].first);
   }
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
@@ -103,7 +109,7 @@ StateGuard::StateGuard(const std::vector<GLuint>& units) {
   glBlendEquation(GL_FUNC_ADD);
 }
 
-StateGuard::~StateGuard() {
+void StateGuard::restore() const {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(read_fbo_));
   glUseProgram(static_cast<GLuint>(program_));

@@ -18,7 +18,16 @@ class StateGuard {
   // `units`: the texture units the call may bind (their 2D, 2D array and
   // cube-map bindings and sampler objects are saved).
   explicit StateGuard(const std::vector<GLuint>& units);
-  ~StateGuard();
+  ~StateGuard() { restore(); }
+  // Puts back every value saved (what the destructor does); the call may
+  // go on after it, with enter() (Engine::draw_water's callback runs with
+  // the caller's state, issue 46).
+  void restore() const;
+  // The state the passes assume, from the saved one: the caller's sampler
+  // objects off the saved units, the capabilities the passes never touch
+  // off, colour mask all, polygons filled, back faces culled when culling,
+  // additive blend equation (what the constructor does after saving).
+  void enter() const;
   StateGuard(const StateGuard&) = delete;
   StateGuard& operator=(const StateGuard&) = delete;
 

@@ -339,7 +339,9 @@ def off_corpus():
     write("off_zero_area_faces.off", off_text(zv, zf))
     e = {"file": "off_zero_area_faces.off", "expect": "bakes", "triangles": triangles(cf) + 1, "closed": False,
          "area": round(area(cv, cf) + polygon_area(cv, [cf[3][0], cf[3][1], cf[3][2]]), 9),
-         "warning": "degenerate", "transparent_message": "non-manifold"}
+         "warning": "degenerate", "transparent_message": "non-manifold",
+         # closed but non-manifold: as glass, refused (a solid was meant), not thin-walled
+         "as_glass": "refused"}
     EXPECT.append(e)
 
     # Broken files.

@@ -78,11 +78,12 @@ struct BakeResult {
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);
 
 // Transparent objects drawing `mesh` (scene.meshes[mesh_index], read from
-// `path`) when it bounds no solid -- open, non-manifold or inconsistently
-// wound: a pane, a shade -- become thin-walled (Role::kThin, issue 45), as
-// glTF would draw them, losing what needs an inside (absorption,
-// dispersion, scattering); returns a warning per object so changed. A
-// closed mesh wound inside out, or an open one on a "both" object, is an
+// `path`) when it is open -- it has boundary edges: a pane, a shade, so it
+// bounds no solid -- become thin-walled (Role::kThin, issue 45), as glTF
+// would draw them, losing what needs an inside (absorption, dispersion,
+// scattering); returns a warning per object so changed. A closed mesh that
+// is not a solid (wound inconsistently or inside out, non-manifold: a
+// modelling error in a solid), or an open one on a "both" object, is an
 // error naming the object. caustix-bake and caustix-reference apply it
 // alike.
 Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uint32_t mesh_index, const TriangleMesh& mesh,

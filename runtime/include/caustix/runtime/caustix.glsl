@@ -16,8 +16,11 @@
 // caustix_light), samplers caustix_*, functions caustix_*. Define any of the
 // macros below before including it to move a binding (and create the Engine
 // with the same caustix::runtime::Bindings); CAUSTIX_OPTICS_ONLY keeps only
-// the Fresnel functions.
+// the Fresnel functions. Include guards (CAUSTIX_GLSL_OPTICS,
+// CAUSTIX_GLSL_LIGHTING) make a second inclusion into one shader a no-op.
 
+#ifndef CAUSTIX_GLSL_OPTICS
+#define CAUSTIX_GLSL_OPTICS
 // ---- optics ----
 // Exact unpolarised Fresnel reflectance at an interface, eta = n1/n2 (n1 on
 // the incident side); 1 beyond the critical angle (total internal reflection).
@@ -57,8 +60,10 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
   }
   return vec2(dot(row0, vec3(c, 1.0)), dot(row1, vec3(c, 1.0)));
 }
+#endif  // CAUSTIX_GLSL_OPTICS
 
-#ifndef CAUSTIX_OPTICS_ONLY
+#if !defined(CAUSTIX_OPTICS_ONLY) && !defined(CAUSTIX_GLSL_LIGHTING)
+#define CAUSTIX_GLSL_LIGHTING
 
 #ifndef CAUSTIX_BLOCK_NAME
 #define CAUSTIX_BLOCK_NAME CaustixLight
@@ -325,4 +330,4 @@ vec3 caustix_irradiance(vec3 world_position, vec3 world_normal) {
   return caustix_irradiance_from_light(world_position, normalize(world_normal));
 }
 
-#endif  // CAUSTIX_OPTICS_ONLY
+#endif  // !CAUSTIX_OPTICS_ONLY && !CAUSTIX_GLSL_LIGHTING

@@ -201,14 +201,19 @@ struct View {
 
 // What draw_water() asks the application to draw into one of its textures
 // (seed 001 §5.1-5.2). When the callback runs, the engine has bound the
-// texture's framebuffer, set the viewport, cleared colour and depth,
-// enabled depth testing (GL_LESS, depth writes on), enabled
-// GL_CLIP_DISTANCE0 and set the front face (GL_CW when `mirrored`). The
-// callback draws its opaque scene with `view_proj`, writing
-// gl_ClipDistance[0] = dot(clip_plane, vec4(world, 1)), and where `fog` is
-// set attenuates each colour towards `water_color` by exp(-fog_k d), d the
-// distance from `eye` (seed 001 eq. 10). It may change any state; the
-// engine restores the caller's afterwards.
+// texture's framebuffer (GL_FRAMEBUFFER, both draw and read), set the
+// viewport to (0, 0, size, size), cleared colour and depth, enabled depth
+// testing (GL_LESS, depth writes on), disabled blending and face culling,
+// enabled GL_CLIP_DISTANCE0 and set the front face (GL_CW when
+// `mirrored`, else GL_CCW). Everything else is the caller's state as it
+// was when it called draw_water() (issue 46): its program, VAO, buffer
+// bindings, textures and sampler objects on every unit, active texture
+// unit, blend function, colour mask, scissor, stencil, multisampling and
+// other capabilities. The callback draws its opaque scene with
+// `view_proj`, writing gl_ClipDistance[0] = dot(clip_plane, vec4(world,
+// 1)), and where `fog` is set attenuates each colour towards `water_color`
+// by exp(-fog_k d), d the distance from `eye` (seed 001 eq. 10). It may
+// change any state; the engine restores the caller's afterwards.
 struct WaterPass {
   unsigned framebuffer = 0;  // bound when the callback runs; size x size pixels
   int size = 0;
