@@ -11,6 +11,9 @@
 //    e^(-sigma t)), or landed on a receiver inside the glass before the
 //    exit; total internal reflection at the exit leaves the ray
 //    unrefracted (the blog's one-sided refraction) or drops it;
+//  - thin-walled glass (issue 45): through its near sheet and, for a
+//    closed surface, its far sheet, without bending, keeping each sheet's
+//    transmittance;
 //  - mirror: reflected (two-sided, per-channel reflectance); up to
 //    u_bounces caster surfaces, the next mirror found by marching the ray
 //    across the casters' nearest and farthest layers (a photon that meets
@@ -186,9 +189,9 @@ float far_side(vec3 x, vec3 d, ivec2 ij, out vec3 ne) {
 }
 
 // A thin-walled sheet (Role::kThin, issue 45) met at cosine cos_i with
-// the given index and tint: what it transmits (scene.h's
-// thin_sheet_transmittance: (1 - r) / (1 + r), its inner reflections
-// summed), the light going on without bending.
+// the given index and tint: what it transmits, tint (1 - r) / (1 + r)
+// (its inner reflections summed; formats/scene.h Role::kThin), the light
+// going on without bending.
 vec3 thin_sheet(float cos_i, float ior, vec3 tint) {
   float r = caustix_fresnel_reflectance(cos_i, 1.0 / ior);
   return tint * ((1.0 - r) / (1.0 + r));

@@ -20,8 +20,8 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 view = normalize(v_world - u_eye);
   if (dot(n, view) > 0.0) n = -n;
-  // scene.h's thin_sheet_transmittance and thin_sheet_reflectance: the
-  // sheet's inner reflections summed.
+  // The sheet transmits tint (1 - r) / (1 + r) and reflects 2 r / (1 + r),
+  // its inner reflections summed (formats/scene.h Role::kThin).
   float r = caustix_fresnel_reflectance(max(dot(-view, n), 0.0), 1.0 / u_ior);
   vec3 reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
   o_color = vec4(2.0 * r / (1.0 + r) * reflected, 1.0);

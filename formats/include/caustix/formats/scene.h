@@ -37,9 +37,10 @@ namespace caustix {
 // KHR_materials_transmission without KHR_materials_volume: a window pane, a
 // lamp shade, a bulb), open or closed. Light crosses each sheet where it
 // meets it, without bending: Fresnel in and out at the same point, the
-// sheet's inner reflections summed (thin_sheet_transmittance), tinted by
-// material.tint. It has no light-transport table or index grid; the
-// caustic maps carry its light whatever the glass method.
+// light bouncing between its faces summed, so a sheet transmits
+// tint (1 - r) / (1 + r) and reflects 2 r / (1 + r) for a face's Fresnel
+// reflectance r (docs/glass.md). It has no light-transport table or index
+// grid; the caustic maps carry its light whatever the glass method.
 enum class Role : std::uint8_t { kReceiver = 1, kTransparent = 2, kBoth = 3, kMirror = 4, kThin = 5 };
 enum class LightType : std::uint8_t { kDirectional = 1, kPoint = 2 };
 enum class Phase : std::uint8_t { kIsotropic = 1, kSchlick = 2 };
@@ -53,14 +54,6 @@ inline bool transmits(Role r) { return is_transparent(r) || is_thin(r); }
 // Objects whose light the image-space caustic maps carry (seed 003).
 inline bool is_caster(Role r) { return transmits(r) || is_mirror(r); }
 
-// What one thin-walled sheet (Role::kThin) transmits and reflects of
-// unpolarised light for the Fresnel reflectance r of one of its faces at
-// the angle light meets it (the inner face reflects r too, by
-// reciprocity): the incoherent sum of the light bounced between its faces,
-// (1 - r)^2 (1 + r^2 + r^4 + ...) = (1 - r) / (1 + r), and 2 r / (1 + r)
-// reflected; they add to 1. The tint multiplies the transmitted light once.
-inline double thin_sheet_transmittance(double r) { return (1.0 - r) / (1.0 + r); }
-inline double thin_sheet_reflectance(double r) { return 2.0 * r / (1.0 + r); }
 
 // Single scattering in a participating medium (seed 004, "Viewing Pass"):
 // scattering coefficient sigma_s and the phase function, isotropic 1/(4 pi)
