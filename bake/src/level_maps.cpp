@@ -158,6 +158,10 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
       const Object& obj = scene.objects[job.object];
       const std::vector<Vec3d> normals = world_normals(obj.transform, meshes[obj.mesh_index].normals);
       std::array<double, 4> need{0, 0, 0, 0};  // past x0, z0, x1, z1
+      Vec3d centre{0, 0, 0};
+      for (const Vec3d& p : world[job.object]) {
+        for (std::size_t c = 0; c < 3; ++c) centre[c] += p[c] / static_cast<double>(world[job.object].size());
+      }
       std::size_t facing = 0, dark = 0;
       const double tol = 1e-6 * std::max({double{w.extent[2] - w.extent[0]}, double{w.extent[3] - w.extent[1]}, 1e-3});
       for (std::size_t k = 0; k < world[job.object].size() && k < normals.size(); ++k) {
@@ -169,7 +173,11 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
         const double x = p[0] + s * v[0], z = p[2] + s * v[2];
         const std::array<double, 4> past{w.extent[0] - x, w.extent[1] - z, x - w.extent[2], z - w.extent[3]};
         if (*std::max_element(past.begin(), past.end()) <= tol) continue;
-        const Vec3d o{p[0] + scale * v[0], p[1] + scale * v[1], p[2] + scale * v[2]};
+        // From just inside the receiver: a vertex on a wall's foot (a pool's
+        // floor edge) would otherwise start its ray on the wall's plane and
+        // pass behind it.
+        const Vec3d q{p[0] + 1e-4 * (centre[0] - p[0]), p[1] + 1e-4 * (centre[1] - p[1]), p[2] + 1e-4 * (centre[2] - p[2])};
+        const Vec3d o{q[0] + scale * v[0], q[1] + scale * v[1], q[2] + scale * v[2]};
         if (const auto hit = occluders.first_hit(o, v, std::numeric_limits<std::uint32_t>::max()); hit && *hit < s) continue;
         ++dark;
         for (std::size_t e = 0; e < 4; ++e) need[e] = std::max(need[e], past[e]);
