@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates docs/gallery/: every canonical scene baked with the defaults
+# Regenerates docs/gallery/: every canonical scene (and assets/demo/'s) baked with the defaults
 # and rendered by caustix-render at 640 x 400 (2x supersampled, filmic at
 # -1 EV) from its own camera and, for scenes with water, from under the
 # water looking up across it; docs/gallery.md shows them. Needs a built
@@ -37,4 +37,10 @@ PY
     set -- $below
     $B/runtime/caustix-render "$T/$s.cxb" -o "docs/gallery/${s}_below.png" --size 640x400 --camera "$1" --target "$2" -q
   fi
+done
+# Demonstration scenes (assets/demo/: not canonical, no tests).
+for json in assets/demo/*.json; do
+  s=$(basename "$json" .json)
+  $B/bake/caustix-bake "$json" -o "$T/$s.cxb" -q
+  $B/runtime/caustix-render "$T/$s.cxb" -o "docs/gallery/$s.png" --size 640x400 -q
 done
