@@ -31,25 +31,6 @@ std::vector<Vec3d> sample(const std::vector<Vec3d>& pts, std::size_t n) {
 
 constexpr std::size_t kReachSamples = 512;
 
-// An object's vertex normals in world space (the transform's cofactor
-// matrix: normals stay normal under any affine transform).
-std::vector<Vec3d> world_normals(const Mat4f& m, const std::vector<Vec3f>& normals) {
-  const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
-  const auto cross = [](const Vec3d& a, const Vec3d& b) {
-    return Vec3d{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);
-  const double det = c0[0] * k0[0] + c0[1] * k0[1] + c0[2] * k0[2];
-  const double sign = det < 0 ? -1.0 : 1.0;
-  std::vector<Vec3d> out;
-  out.reserve(normals.size());
-  for (const Vec3f& n : normals) {
-    out.push_back({sign * (k0[0] * n[0] + k1[0] * n[1] + k2[0] * n[2]), sign * (k0[1] * n[0] + k1[1] * n[1] + k2[1] * n[2]),
-                   sign * (k0[2] * n[0] + k1[2] * n[1] + k2[2] * n[2])});
-  }
-  return out;
-}
-
 }  // namespace
 
 Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes,

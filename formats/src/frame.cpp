@@ -32,6 +32,24 @@ std::vector<Vec3d> world_points(const Mat4f& t, const std::vector<Vec3f>& points
   return out;
 }
 
+std::vector<Vec3d> world_normals(const Mat4f& m, const std::vector<Vec3f>& normals) {
+  const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
+  const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);  // cofactor columns
+  const double sign = dot(c0, k0) < 0 ? -1.0 : 1.0;
+  std::vector<Vec3d> out;
+  out.reserve(normals.size());
+  for (const Vec3f& n : normals) {
+    Vec3d w{};
+    for (std::size_t k = 0; k < 3; ++k) w[k] = sign * (k0[k] * n[0] + k1[k] * n[1] + k2[k] * n[2]);
+    const double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (l > 0) {
+      for (double& c : w) c /= l;
+    }
+    out.push_back(w);
+  }
+  return out;
+}
+
 std::vector<std::optional<std::uint32_t>> receiver_inside_glass(const SceneDesc& scene) {
   std::vector<std::array<Vec3d, 2>> boxes;
   for (const Object& o : scene.objects) {

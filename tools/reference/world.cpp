@@ -46,7 +46,6 @@ Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg) {
     const auto& m = o.transform;  // column-major
     const Vec3d c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
     const double det_sign = dot(c0, cross(c1, c2)) < 0 ? -1.0 : 1.0;
-    const Vec3d k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);  // cofactor columns
     Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3d& w : world_points(o.transform, mesh->mesh.positions)) {
       world.pos.push_back(w);
@@ -56,13 +55,7 @@ Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg) {
       }
     }
     world.object_box.push_back({lo, hi});
-    for (const auto& n : mesh->mesh.normals) {
-      Vec3d wn{0, 0, 0};
-      wn = add(wn, k0, n[0] * det_sign);
-      wn = add(wn, k1, n[1] * det_sign);
-      wn = add(wn, k2, n[2] * det_sign);
-      world.vertex_normal.push_back(normalize(wn));
-    }
+    for (const Vec3d& wn : world_normals(o.transform, mesh->mesh.normals)) world.vertex_normal.push_back(wn);
     for (const auto& tri : mesh->mesh.triangles) {
       world.tris.push_back({base + tri[0], base + tri[1], base + tri[2]});
       world.owner.push_back(i);

@@ -20,6 +20,10 @@ using Vec3d = std::array<double, 3>;
 // Object-space points through an object -> world matrix, in double
 // precision (objects far from the origin keep their detail).
 std::vector<Vec3d> world_points(const Mat4f& transform, const std::vector<Vec3f>& points);
+// Object-space normals through the same matrix (its cofactor matrix, sign
+// kept for mirroring transforms: normals stay normal and outward under any
+// invertible affine transform), normalised.
+std::vector<Vec3d> world_normals(const Mat4f& transform, const std::vector<Vec3f>& normals);
 
 // Per object: for a transparent object whose world box holds a receiver's
 // (an insect in amber; issue 45), the first such receiver. The light-
