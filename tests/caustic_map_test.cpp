@@ -681,6 +681,22 @@ TEST_F(CausticMap, ThinWalledGlassPassesLightStraightWithTheSheetsFresnelAndTint
   }
 }
 
+// glass_ball with its ball replaced by a 60 cm glass block (y from 0.2 to
+// 0.8) and a 10 cm receiver box `receiver` in its middle (y 0.45 to 0.55).
+nlohmann::json box_in_a_glass_block(const std::string& tag, const std::string& receiver) {
+  nlohmann::json j = test::canonical_scene("glass_ball");
+  auto block = test::unit_cube();
+  for (auto& pos : block.positions) pos = {0.6f * pos[0] - 0.3f, 0.6f * pos[1] + 0.2f, 0.6f * pos[2] - 0.3f};
+  const auto mesh = std::filesystem::temp_directory_path() / ("caustix_" + tag + "_block.obj");
+  std::ofstream(mesh) << test::to_obj(block);
+  j["objects"][1]["mesh"] = mesh.string();
+  j["objects"][1].erase("transform");  // the block as written
+  j["objects"].push_back({{"name", receiver},
+                          {"mesh", test::kScenes + "../meshes/box.obj"},
+                          {"transform", {{"translate", {0, 0.5, 0}}, {"scale", 0.1}}}});
+  return j;
+}
+
 // A receiver inside glass (issue 45: MosquitoInAmber's amber looked like
 // black rock): a 10 cm box in the middle of a 60 cm glass block with
 // absorption 0.5/m, under a vertical sun. Light reaches the box's top
@@ -691,17 +707,8 @@ TEST_F(CausticMap, ThinWalledGlassPassesLightStraightWithTheSheetsFresnelAndTint
 // exits): the box's top and the floor are the same with either method, so
 // nothing is counted twice; caustix-reference within its noise.
 TEST_F(CausticMap, AReceiverInsideGlassIsLitThroughTheGlass) {
-  nlohmann::json j = test::canonical_scene("glass_ball");
-  auto block = test::unit_cube();
-  for (auto& pos : block.positions) pos = {0.6f * pos[0] - 0.3f, 0.6f * pos[1] + 0.2f, 0.6f * pos[2] - 0.3f};
-  const auto mesh = std::filesystem::temp_directory_path() / "caustix_amber_block.obj";
-  std::ofstream(mesh) << test::to_obj(block);
-  j["objects"][1]["mesh"] = mesh.string();
-  j["objects"][1].erase("transform");  // the block as written: y from 0.2 to 0.8
+  nlohmann::json j = box_in_a_glass_block("amber", "insect");
   j["objects"][1]["material"]["absorption"] = 0.5;
-  j["objects"].push_back({{"name", "insect"},
-                          {"mesh", test::kScenes + "../meshes/box.obj"},
-                          {"transform", {{"translate", {0, 0.5, 0}}, {"scale", 0.1}}}});
   const double t0 = test::fresnel_t(1.0, 1.5), want = t0 * std::exp(-0.5 * 0.25);
   auto r = test::bake_and_create(test::write_scene(j, "amber"));
   ASSERT_TRUE(r);
@@ -737,15 +744,8 @@ TEST_F(CausticMap, AReceiverInsideGlassIsLitThroughTheGlass) {
 // (1 - r0) / (1 + r0), r0 = ((n - 1) / (n + 1))^2 = 0.04, so 0.9231; the
 // photon lands there before the far sheet, by either glass method.
 TEST_F(CausticMap, AReceiverUnderAThinClocheIsLitThroughOneSheet) {
-  nlohmann::json j = test::canonical_scene("glass_ball");
-  auto box = test::unit_cube();
-  for (auto& pos : box.positions) pos = {0.6f * pos[0] - 0.3f, 0.6f * pos[1] + 0.2f, 0.6f * pos[2] - 0.3f};
-  const auto mesh = std::filesystem::temp_directory_path() / "caustix_thin_cloche.obj";
-  std::ofstream(mesh) << test::to_obj(box);
-  j["objects"][1]["mesh"] = mesh.string();
-  j["objects"][1].erase("transform");  // y from 0.2 to 0.8
+  nlohmann::json j = box_in_a_glass_block("thin_cloche", "bug");
   j["objects"][1]["material"]["thin"] = true;
-  j["objects"].push_back({{"name", "bug"}, {"mesh", test::kScenes + "../meshes/box.obj"}, {"transform", {{"translate", {0, 0.5, 0}}, {"scale", 0.1}}}});
   const double r0 = 1 - test::fresnel_t(1.0, 1.5), want = (1 - r0) / (1 + r0);
   auto r = test::bake_and_create(test::write_scene(j, "thin_cloche"));
   ASSERT_TRUE(r);
