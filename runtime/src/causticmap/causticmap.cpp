@@ -32,7 +32,6 @@ constexpr int kDensityBlock = 8;
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-
 gl::Texture make_map(int size, GLenum format, GLenum filter) {
   gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
   glTextureStorage2D(t.get(), 1, format, size, size);
