@@ -384,6 +384,19 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     }
     EXPECT_GT(expected_changes, 0u);
     EXPECT_EQ(after.at("unit" + std::to_string(b.caustics) + "_2d"), static_cast<std::int64_t>(r->caustics));
+    // bind_all() changes exactly the table's storage point and the units
+    // (texture arrays), not the generic storage-buffer binding; with the
+    // table built, update() keeps it current and still changes nothing.
+    const Snapshot before_all = snapshot();
+    ASSERT_TRUE(engine->bind_all().ok());
+    std::size_t table_changes = 0;
+    for (const auto& d : changed(before_all, snapshot())) {
+      const bool allowed = d.rfind("ssbo_" + std::to_string(b.table) + ":", 0) == 0 || d.rfind("unit", 0) == 0;
+      EXPECT_TRUE(allowed) << "bind_all() changed " << d;
+      ++table_changes;
+    }
+    EXPECT_GT(table_changes, 0u);
+    expect_state_kept("update (all-receivers table)", [&] { ASSERT_TRUE(engine->update(frame).ok()); });
 
     // The matrices are the block's frames: a point at the frame's origin
     // plus half extents along U and W maps to the map's corner (1, 1).
@@ -426,9 +439,10 @@ TEST(EngineDocs, TheDocsBindingsTableIsTheHeaders) {
       {"caustic_map", b.caustic_map},
       {"shadow_vsm", b.shadow_vsm},
       {"glass_shadow_vsm", b.glass_shadow_vsm},
-      {"caustics_color", b.caustics_color}};
+      {"caustics_color", b.caustics_color},
+      {"table", b.table}};
   // A field added to the struct must be added here (and to the docs).
-  static_assert(sizeof(runtime::Bindings) == 13 * sizeof(unsigned));
+  static_assert(sizeof(runtime::Bindings) == 14 * sizeof(unsigned));
   std::ifstream f(std::string(CAUSTIX_SOURCE_DIR) + "/docs/embedding.md");
   ASSERT_TRUE(f) << "docs/embedding.md";
   std::string line;
@@ -452,6 +466,7 @@ TEST(EngineDocs, TheDocsBindingsTableIsTheHeaders) {
   std::ifstream g(std::string(CAUSTIX_SOURCE_DIR) + "/runtime/include/caustix/runtime/caustix.glsl");
   const std::string glsl((std::istreambuf_iterator<char>(g)), std::istreambuf_iterator<char>());
   EXPECT_NE(glsl.find("#define CAUSTIX_BINDING_BLOCK " + std::to_string(b.block) + "\n"), std::string::npos);
+  EXPECT_NE(glsl.find("#define CAUSTIX_BINDING_TABLE " + std::to_string(b.table) + "\n"), std::string::npos);
   EXPECT_NE(glsl.find("#define CAUSTIX_UNIT_CAUSTICS_COLOR " + std::to_string(b.caustics_color) + "\n"), std::string::npos);
   EXPECT_NE(glsl.find("#define CAUSTIX_UNIT_SHADOW_2D " + std::to_string(b.shadow_2d) + "\n"), std::string::npos);
 }

@@ -16,6 +16,7 @@
 #include "gl_calls.h"
 #include "gl_state.h"
 #include "pass_timer.h"
+#include "receiver_table.h"
 #include "causticmap.h"
 #include "glass.h"
 #include "albedo_textures.h"
@@ -99,6 +100,21 @@ struct Engine::Impl {
   std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
   VolumeOptions volume_options;           // of the last update()
   gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
+
+  // Engine::bind_all()'s table, built at its first call, then kept current
+  // by update(): the lights whose products an update remade are copied.
+  ReceiverTable table;
+  Status refresh_table(const std::vector<bool>& changed_lights) {
+    std::vector<ReceiverTable::Pair> pairs(lighting.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      pairs[i].lighting = &lighting[i];
+      pairs[i].receiver = !transmits(scene.objects[i / std::max<std::size_t>(scene.lights.size(), 1)].role);
+    }
+    CAUSTIX_RETURN_IF_ERROR(table.refresh(pairs, static_cast<std::uint32_t>(scene.lights.size()), changed_lights));
+    work.table_copies += table.copies;
+    work.table_copied_bytes += table.copied_bytes;
+    return gl::check_gl("the all-receivers table");
+  }
 
   // One LightBlock per (object, light), at object * lights + light.
   std::vector<ReceiverLighting> lighting;
@@ -298,6 +314,7 @@ struct Engine::Impl {
     std::string s;
     auto def = [&](const char* name, unsigned v) { s += std::string("#define ") + name + " " + std::to_string(v) + "\n"; };
     def("CAUSTIX_BINDING_BLOCK", b.block);
+    def("CAUSTIX_BINDING_TABLE", b.table);
     def("CAUSTIX_UNIT_SHADOW_2D", b.shadow_2d);
     def("CAUSTIX_UNIT_SHADOW_CUBE", b.shadow_cube);
     def("CAUSTIX_UNIT_CAUSTICS", b.caustics);
@@ -362,9 +379,10 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
                               bindings.position,        bindings.glass_illumination, bindings.glass_target,
                               bindings.glass_shadow_2d, bindings.glass_shadow_cube,  bindings.caustic_map,
                               bindings.shadow_vsm,      bindings.glass_shadow_vsm,   bindings.caustics_color};
-  GLint max_units = 0, max_ubo = 0;
+  GLint max_units = 0, max_ubo = 0, max_ssbo = 0;
   glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_units);
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &max_ubo);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &max_ssbo);
   if (max_units == 0) return make_error(ErrorCode::kGraphics, "no current OpenGL context (the engine needs the application's 4.5 core context)");
   for (int i = 0; i < 12; ++i) {
     if (units[i] >= static_cast<unsigned>(max_units)) {
@@ -375,6 +393,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
     }
   }
   if (bindings.block >= static_cast<unsigned>(max_ubo)) return usage("Bindings: uniform-buffer binding " + std::to_string(bindings.block) + " is beyond this context's " + std::to_string(max_ubo));
+  if (bindings.table >= static_cast<unsigned>(max_ssbo)) return usage("Bindings: shader-storage binding " + std::to_string(bindings.table) + " is beyond this context's " + std::to_string(max_ssbo));
 
   std::unique_ptr<Engine> e(new Engine());
   Impl& s = *e->impl_;
@@ -601,7 +620,12 @@ Status Engine::update(const FrameUpdate& f) {
   s.volume_options = co.volume;
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
   FrameWork& work = s.work;
+  std::vector<bool> changed_lights(s.scene.lights.size(), false);
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
+    const auto remade = [&work]() {
+      return work.shadow_maps.updated + work.level_maps.updated + work.glass.updated + work.caustic_maps.updated;
+    };
+    const auto remade_before = remade();
     // Lights take turns when the light side runs every Nth frame.
     const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;
     const SceneVersions v{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0};
@@ -633,6 +657,7 @@ Status Engine::update(const FrameUpdate& f) {
       }
     }
     s.upload_light(li, co);
+    changed_lights[li] = remade() != remade_before;
     if (s.volume && !s.lighting.empty()) {
       // Photons start from the same water state as the caustics (seed 004).
       const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
@@ -646,6 +671,7 @@ Status Engine::update(const FrameUpdate& f) {
   if (s.volume) s.volume->end_frame(s.frame);
   s.view_spectrum = ViewSpectrum{traced_wavelengths(s.scene, co), co.wavelength_nm.has_value()};
   s.updated = true;
+  if (s.table.built()) CAUSTIX_RETURN_IF_ERROR(s.refresh_table(changed_lights));
   return gl::check_gl("engine update");
 }
 
@@ -665,6 +691,18 @@ Status Engine::bind(std::uint32_t object, std::uint32_t light) const {
   if (!r) return r.error();
   const auto scope = impl_->count_frame();
   impl_->bind_slot(*r);
+  return Status::success();
+}
+
+Status Engine::bind_all() {
+  Impl& s = *impl_;
+  if (!s.updated) return usage("bind_all: update() has not run yet");
+  const auto scope = s.count_frame();
+  if (!s.table.built()) {
+    const gl::StateGuard guard = s.guard();
+    CAUSTIX_RETURN_IF_ERROR(s.refresh_table(std::vector<bool>(s.scene.lights.size(), true)));
+  }
+  s.table.bind(s.bindings);
   return Status::success();
 }
 
@@ -909,6 +947,7 @@ CausticsStats Engine::stats(bool wait) {
   }
   if (s.caustic_maps) m.caustic_maps = s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
   m.other = std::uint64_t{s.stride} * s.lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
+  m.receiver_table = s.table.gpu_bytes();
   st.gpu_bytes = m.total();
   const gl::CallTally& c = s.frame_calls;
   st.gl = GlCalls{c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};

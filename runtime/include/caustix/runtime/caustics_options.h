@@ -245,6 +245,10 @@ struct FrameWork {
   EffectWork caustic_maps;     // per light
   EffectWork media;            // per light: the radiance grid
   std::uint32_t blocks_uploaded = 0;  // (receiver, light) uniform blocks re-uploaded (changed)
+  // The all-receivers table (Engine::bind_all(); 0 until its first call):
+  // textures copied into its arrays, and their bytes.
+  std::uint32_t table_copies = 0;
+  std::uint64_t table_copied_bytes = 0;
 };
 
 // GPU time of the engine's passes in one frame (timer queries read without
@@ -276,8 +280,9 @@ struct GpuMemory {
   std::uint64_t media = 0;         // radiance and index grids (seed 004)
   std::uint64_t views = 0;         // the view side: water textures and glow, copies of the caller's scene
   std::uint64_t other = 0;         // light blocks, read-back rings
+  std::uint64_t receiver_table = 0;  // Engine::bind_all()'s table and texture arrays (0 until its first call)
   std::uint64_t total() const {
-    return meshes + shadow_maps + water + level_maps + glass + caustic_maps + media + views + other;
+    return meshes + shadow_maps + water + level_maps + glass + caustic_maps + media + views + other + receiver_table;
   }
 };
 

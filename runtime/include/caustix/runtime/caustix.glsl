@@ -5,6 +5,11 @@
 //
 // Call, per light, after Engine::bind(receiver, light):
 //   vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
+// or, with CAUSTIX_ALL_RECEIVERS defined before the include and after
+// Engine::bind_all() (deferred and clustered-forward passes, issue 46):
+//   vec3 caustix_irradiance_at(vec3 world_position, vec3 world_normal, int receiver, int light)
+//   vec3 caustix_irradiance_all(vec3 world_position, vec3 world_normal, int receiver)
+//   int caustix_light_count()
 // the irradiance (W/m^2 times the light's linear colour) that light delivers
 // at the point: through flat water (Fresnel, refraction), as caustics from
 // the water (seed 000 §4.6, eq. 4-19), through glass (seed 002 §4.3), with
@@ -12,8 +17,12 @@
 // is albedo / pi times it (caustix's own renderer omits the 1/pi, as the
 // thesis's I_c I_d does). Sum over lights (eq. 4-20).
 //
-// Names this file declares: the uniform block CAUSTIX_BLOCK_NAME (instance
-// caustix_light), samplers caustix_*, functions caustix_*. Define any of the
+// Names this file declares: the struct CaustixLightData, the uniform block
+// CAUSTIX_BLOCK_NAME (its member caustix_light) or, with
+// CAUSTIX_ALL_RECEIVERS, the storage block CAUSTIX_TABLE_NAME at
+// CAUSTIX_BINDING_TABLE (a shader-storage binding) and the struct
+// CaustixTableEntry; samplers caustix_*, functions caustix_*. One shader
+// uses one of the two modes. Define any of the
 // macros below before including it to move a binding (and create the Engine
 // with the same caustix::runtime::Bindings); CAUSTIX_OPTICS_ONLY keeps only
 // the Fresnel functions. Include guards (CAUSTIX_GLSL_OPTICS,
@@ -71,6 +80,9 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 #ifndef CAUSTIX_BINDING_BLOCK
 #define CAUSTIX_BINDING_BLOCK 7
 #endif
+#ifndef CAUSTIX_BINDING_TABLE
+#define CAUSTIX_BINDING_TABLE 7
+#endif
 #ifndef CAUSTIX_UNIT_SHADOW_2D
 #define CAUSTIX_UNIT_SHADOW_2D 8
 #endif
@@ -108,7 +120,8 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 #define CAUSTIX_UNIT_CAUSTICS_COLOR 19
 #endif
 
-// One (receiver, light): caustix::runtime::LightBlock field for field.
+// One (receiver, light): caustix::runtime::LightBlock field for field (the
+// per-receiver block, and each entry of the all-receivers table).
 // Light modes (mode.x), chosen per (object, light) by the engine:
 //  0 direct: no water between light and point (no water, object above it,
 //    or light and object both under it): E_in cos(theta) * visibility, plus
@@ -127,7 +140,7 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 //    wavelengths and caustix_caustics_color holds the irradiance per RGB
 //    channel (the spectral integral): each channel is scaled by its ratio
 //    to R, the direction taken as the wavelengths' mean.
-layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
+struct CaustixLightData {
   ivec4 mode;            // x light mode, y light type (1 directional, 2 point), z glass textures bound, w scene has glass
   vec4 light_direction;  // xyz unit direction of travel (directional), w 1: variance shadow maps
   vec4 light_position;   // xyz (point), w VSM light-bleeding reduction
@@ -153,7 +166,12 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME {
   vec4 cmap_w;
   vec4 cmap_half;
   vec4 spot;             // xyz a spot light's cone (caustix_spot_factor; axis light_direction.xyz), z 0 without one
-} caustix_light;
+};
+
+#ifndef CAUSTIX_ALL_RECEIVERS
+// ---- one (receiver, light) at a time: Engine::bind(receiver, light) ----
+// The block has no instance name: its one member, caustix_light, is global.
+layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME { CaustixLightData caustix_light; };
 
 layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
 layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_shadow_cube;
@@ -169,13 +187,112 @@ layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix
 layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2D caustix_glass_target;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_2D) uniform sampler2DShadow caustix_glass_shadow_2d;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_CUBE) uniform samplerCubeShadow caustix_glass_shadow_cube;
-
 // Image-space caustic map (seed 003; docs/caustic-maps.md): light off
 // mirrors, and through glass drawn by caustic maps, as irradiance on the
 // receivers' first surface seen from the light (rgb) and that surface's
 // coordinate along cmap_v (alpha).
 layout(binding = CAUSTIX_UNIT_CAUSTIC_MAP) uniform sampler2D caustix_caustic_map;
+// Variance shadow maps: the filtered depth moments of the light's shadow
+// map and of the glass's.
+layout(binding = CAUSTIX_UNIT_SHADOW_VSM) uniform sampler2D caustix_shadow_vsm;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_VSM) uniform sampler2D caustix_glass_shadow_vsm;
 
+// What the lighting below reads, one function per texture.
+vec4 caustix_fetch_caustics(vec2 uv) { return texture(caustix_caustics_map, uv); }
+vec3 caustix_fetch_caustics_color(vec2 uv) { return texture(caustix_caustics_color, uv).rgb; }
+float caustix_fetch_position(vec2 uv) { return texture(caustix_position_map, uv).r; }
+float caustix_fetch_glass_front(vec2 uv) { return texture(caustix_glass_target, uv).w; }
+vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) { return texture(caustix_glass_illumination, vec3(uv, float(plane))).rgb; }
+vec4 caustix_fetch_caustic_map(vec2 uv) { return texture(caustix_caustic_map, uv); }
+float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
+  return glass ? texture(caustix_glass_shadow_2d, vec3(uv, ref)) : texture(caustix_shadow_2d, vec3(uv, ref));
+}
+vec2 caustix_shadow_texel(bool glass) {
+  return 1.0 / vec2(glass ? textureSize(caustix_glass_shadow_2d, 0) : textureSize(caustix_shadow_2d, 0));
+}
+float caustix_shadow_cube_tap(bool glass, vec3 d, float ref) {
+  return glass ? texture(caustix_glass_shadow_cube, vec4(d, ref)) : texture(caustix_shadow_cube, vec4(d, ref));
+}
+vec2 caustix_fetch_moments(bool glass, vec2 uv) {
+  return glass ? texture(caustix_glass_shadow_vsm, uv).xy : texture(caustix_shadow_vsm, uv).xy;
+}
+
+#else
+// ---- every (receiver, light) at once: Engine::bind_all() (issue 46) ----
+// For deferred and clustered-forward passes, which know a point's receiver
+// (a G-buffer's object id) but bind nothing per receiver. The table holds
+// every pair's block, in the order receiver * lights + light, with where
+// its textures lie in the texture arrays bound at the same units as the
+// per-pair samplers: each pair's or light's texture is a layer (its texels
+// in the layer's corner, `size` of them). Textures are read at level 0
+// (a deferred pass has no derivatives of a receiver's map coordinates).
+struct CaustixTableEntry {
+  CaustixLightData light;
+  ivec4 layer[3];  // per texture, in caustix::runtime::Bindings order: its layer (cube maps: cube index)
+  ivec4 size[6];   // per texture, the same order: its width, height in texels (two per ivec4)
+};
+#ifndef CAUSTIX_TABLE_NAME
+#define CAUSTIX_TABLE_NAME CaustixTable
+#endif
+layout(std430, binding = CAUSTIX_BINDING_TABLE) readonly buffer CAUSTIX_TABLE_NAME {
+  ivec4 caustix_table_shape;  // x objects (receivers and not), y lights
+  CaustixTableEntry caustix_table[];
+};
+int caustix_entry = 0;  // the pair being lit
+#define caustix_light (caustix_table[caustix_entry].light)
+
+layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DArrayShadow caustix_shadow_2d;
+layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeArrayShadow caustix_shadow_cube;
+layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2DArray caustix_caustics_map;
+layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2DArray caustix_position_map;
+layout(binding = CAUSTIX_UNIT_CAUSTICS_COLOR) uniform sampler2DArray caustix_caustics_color;
+layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix_glass_illumination;
+layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2DArray caustix_glass_target;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_2D) uniform sampler2DArrayShadow caustix_glass_shadow_2d;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_CUBE) uniform samplerCubeArrayShadow caustix_glass_shadow_cube;
+layout(binding = CAUSTIX_UNIT_CAUSTIC_MAP) uniform sampler2DArray caustix_caustic_map;
+layout(binding = CAUSTIX_UNIT_SHADOW_VSM) uniform sampler2DArray caustix_shadow_vsm;
+layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_VSM) uniform sampler2DArray caustix_glass_shadow_vsm;
+
+// Texture k of the pair (k in Bindings order: 0 shadow_2d, 1 shadow_cube,
+// 2 caustics, 3 position, 4 glass_illumination, 5 glass_target,
+// 6 glass_shadow_2d, 7 glass_shadow_cube, 8 caustic_map, 9 shadow_vsm,
+// 10 glass_shadow_vsm, 11 caustics_color).
+int caustix_table_layer(int k) { return caustix_table[caustix_entry].layer[k >> 2][k & 3]; }
+vec2 caustix_table_size(int k) {
+  ivec4 s = caustix_table[caustix_entry].size[k >> 1];
+  return vec2((k & 1) == 0 ? s.xy : s.zw);
+}
+// A coordinate over texture k -> over its corner of the array's layer,
+// clamped to its edge texels' centres (what clamp-to-edge does for it).
+vec3 caustix_table_uv(int k, vec2 uv, ivec3 array_size, int plane) {
+  vec2 size = caustix_table_size(k);
+  return vec3(clamp(uv * size, vec2(0.5), size - 0.5) / vec2(array_size.xy), float(caustix_table_layer(k) + plane));
+}
+vec4 caustix_fetch_caustics(vec2 uv) { return textureLod(caustix_caustics_map, caustix_table_uv(2, uv, textureSize(caustix_caustics_map, 0), 0), 0.0); }
+vec3 caustix_fetch_caustics_color(vec2 uv) { return textureLod(caustix_caustics_color, caustix_table_uv(11, uv, textureSize(caustix_caustics_color, 0), 0), 0.0).rgb; }
+float caustix_fetch_position(vec2 uv) { return textureLod(caustix_position_map, caustix_table_uv(3, uv, textureSize(caustix_position_map, 0), 0), 0.0).r; }
+float caustix_fetch_glass_front(vec2 uv) { return textureLod(caustix_glass_target, caustix_table_uv(5, uv, textureSize(caustix_glass_target, 0), 0), 0.0).w; }
+vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) {
+  return textureLod(caustix_glass_illumination, caustix_table_uv(4, uv, textureSize(caustix_glass_illumination, 0), plane), 0.0).rgb;
+}
+vec4 caustix_fetch_caustic_map(vec2 uv) { return textureLod(caustix_caustic_map, caustix_table_uv(8, uv, textureSize(caustix_caustic_map, 0), 0), 0.0); }
+float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
+  vec3 c = glass ? caustix_table_uv(6, uv, textureSize(caustix_glass_shadow_2d, 0), 0) : caustix_table_uv(0, uv, textureSize(caustix_shadow_2d, 0), 0);
+  return glass ? texture(caustix_glass_shadow_2d, vec4(c, ref)) : texture(caustix_shadow_2d, vec4(c, ref));
+}
+vec2 caustix_shadow_texel(bool glass) { return 1.0 / caustix_table_size(glass ? 6 : 0); }
+float caustix_shadow_cube_tap(bool glass, vec3 d, float ref) {
+  return glass ? texture(caustix_glass_shadow_cube, vec4(d, float(caustix_table_layer(7))), ref)
+               : texture(caustix_shadow_cube, vec4(d, float(caustix_table_layer(1))), ref);
+}
+vec2 caustix_fetch_moments(bool glass, vec2 uv) {
+  return glass ? textureLod(caustix_glass_shadow_vsm, caustix_table_uv(10, uv, textureSize(caustix_glass_shadow_vsm, 0), 0), 0.0).xy
+               : textureLod(caustix_shadow_vsm, caustix_table_uv(9, uv, textureSize(caustix_shadow_vsm, 0), 0), 0.0).xy;
+}
+#endif  // CAUSTIX_ALL_RECEIVERS
+
+// ---- the lighting, one (receiver, light): the same code for both ----
 float caustix_plane_v(int i) { return caustix_light.glass_plane_v[i >> 2][i & 3]; }
 
 // Variance shadow maps (Donnelly & Lauritzen 2006): the filtered moments
@@ -184,10 +301,7 @@ float caustix_plane_v(int i) { return caustix_light.glass_plane_v[i >> 2][i & 3]
 // p_max = var / (var + (z - m1)^2), exact for one planar occluder over a
 // planar receiver; the bound's tail below `bleeding` is cut (light-bleeding
 // reduction, GPU Gems 3 ch. 8) and the rest rescaled to [0, 1].
-layout(binding = CAUSTIX_UNIT_SHADOW_VSM) uniform sampler2D caustix_shadow_vsm;
-layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_VSM) uniform sampler2D caustix_glass_shadow_vsm;
-float caustix_vsm_visibility(sampler2D moments, vec2 uv, float z) {
-  vec2 m = texture(moments, uv).xy;
+float caustix_vsm_visibility(vec2 m, float z) {
   if (z <= m.x) return 1.0;
   float variance = max(m.y - m.x * m.x, 2e-6);  // float cancellation in m2 - m1^2
   float d = z - m.x;
@@ -196,29 +310,30 @@ float caustix_vsm_visibility(sampler2D moments, vec2 uv, float z) {
   return clamp((p_max - bleeding) / (1.0 - bleeding), 0.0, 1.0);
 }
 
-float caustix_shadow_visibility_in(sampler2DShadow map_2d, samplerCubeShadow map_cube, sampler2D moments, vec3 p, vec3 n, vec3 to_light) {
+// The opaque objects' shadow maps, or (glass) the glass's own.
+float caustix_shadow_visibility_in(bool glass, vec3 p, vec3 n, vec3 to_light) {
   if (caustix_light.mode.y == 2) {
     vec3 q = p + n * (0.01 * length(p - caustix_light.light_position.xyz));
     vec3 d = q - caustix_light.light_position.xyz;
-    return texture(map_cube, vec4(d, length(d) / caustix_light.water.z - 0.002));
+    return caustix_shadow_cube_tap(glass, d, length(d) / caustix_light.water.z - 0.002);
   }
   // Normal offset against acne; 3x3 PCF against aliasing, or the moments.
   vec4 s = caustix_light.world_to_shadow * vec4(p + n * (1.5 * caustix_light.water.w), 1.0);
   s.xyz /= s.w;
   if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;
   float bias = 0.002 * (1.0 - max(dot(n, to_light), 0.0)) + 0.0005;
-  if (caustix_light.light_direction.w != 0.0) return caustix_vsm_visibility(moments, s.xy, s.z - bias);
-  vec2 texel = 1.0 / vec2(textureSize(map_2d, 0));
+  if (caustix_light.light_direction.w != 0.0) return caustix_vsm_visibility(caustix_fetch_moments(glass, s.xy), s.z - bias);
+  vec2 texel = caustix_shadow_texel(glass);
   float sum = 0.0;
   for (int y = -1; y <= 1; ++y)
     for (int x = -1; x <= 1; ++x)
-      sum += texture(map_2d, vec3(s.xy + vec2(x, y) * texel, s.z - bias));
+      sum += caustix_shadow_tap(glass, s.xy + vec2(x, y) * texel, s.z - bias);
   return sum / 9.0;
 }
 
 // Opaque objects' shadow.
 float caustix_shadow_visibility(vec3 p, vec3 n, vec3 to_light) {
-  return caustix_shadow_visibility_in(caustix_shadow_2d, caustix_shadow_cube, caustix_shadow_vsm, p, n, to_light);
+  return caustix_shadow_visibility_in(false, p, n, to_light);
 }
 
 // Seed 002 §4.3: the incident intensity at p from the illumination textures:
@@ -230,7 +345,7 @@ vec3 caustix_glass_irradiance(vec3 p) {
   vec3 c = vec3(dot(rel, caustix_light.glass_u.xyz), dot(rel, caustix_light.glass_v.xyz), dot(rel, caustix_light.glass_w.xyz));
   vec2 uv = 0.5 * (c.xz / caustix_light.glass_half.xyz.xz + 1.0);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-  float front = texture(caustix_glass_target, uv).w;
+  float front = caustix_fetch_glass_front(uv);
   if (c.y < front - caustix_light.glass_origin.w) return vec3(0.0);
   int n = int(caustix_light.glass_u.w);
   float layer = 0.0;
@@ -246,7 +361,7 @@ vec3 caustix_glass_irradiance(vec3 p) {
   int i0 = int(floor(layer));
   int i1 = min(i0 + 1, n - 1);
   float f = layer - float(i0);
-  return mix(texture(caustix_glass_illumination, vec3(uv, float(i0))).rgb, texture(caustix_glass_illumination, vec3(uv, float(i1))).rgb, f);
+  return mix(caustix_fetch_glass_illumination(uv, i0), caustix_fetch_glass_illumination(uv, i1), f);
 }
 
 // The caustic map's irradiance at p: zero where p lies behind the first
@@ -259,7 +374,7 @@ vec3 caustix_caustic_map_irradiance(vec3 p, vec3 n) {
   vec3 c = vec3(dot(rel, caustix_light.cmap_u.xyz), dot(rel, caustix_light.cmap_v.xyz), dot(rel, caustix_light.cmap_w.xyz));
   vec2 uv = 0.5 * (c.xz / caustix_light.cmap_half.xyz.xz + 1.0);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-  vec4 m = texture(caustix_caustic_map, uv);
+  vec4 m = caustix_fetch_caustic_map(uv);
   float cos_t = abs(dot(n, caustix_light.cmap_v.xyz));
   float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
   if (c.y < m.a - caustix_light.cmap_v.w - caustix_light.cmap_u.w * slope) return vec3(0.0);
@@ -277,7 +392,7 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     vec3 c = vec3(dot(rel, caustix_light.frame_u.xyz), dot(rel, caustix_light.frame_v.xyz), dot(rel, caustix_light.frame_w.xyz));
     vec2 uv = 0.5 * (c.xz / caustix_light.frame_half.xyz.xz + 1.0);
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-    float front = texture(caustix_position_map, uv).r;
+    float front = caustix_fetch_position(uv);
     float cos_t = max(dot(n, caustix_light.frame_v.xyz), 0.0);
     // Behind its own first surface? The map holds the depth at its texel's
     // centre; within the texel a surface tilted against V departs from it by
@@ -291,13 +406,13 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     // Alpha is the receiver's presence (its filtered coverage where the map
     // is filtered): dividing by it keeps the empty texels beyond the
     // receiver's outline seen from the light from darkening its edge.
-    vec4 m4 = texture(caustix_caustics_map, uv);
+    vec4 m4 = caustix_fetch_caustics(uv);
     vec3 m = m4.a > 1e-3 ? m4.rgb / m4.a : m4.rgb;
     float e = max(m.r * dot(n, caustix_light.frame_v.xyz) + m.g * dot(n, caustix_light.frame_u.xyz) + m.b * dot(n, caustix_light.frame_w.xyz), 0.0);
     vec3 travel = -caustix_light.frame_v.xyz;
     vec3 tint = vec3(1.0);
     if (caustix_light.frame_v.w != 0.0) {
-      vec3 c = texture(caustix_caustics_color, uv).rgb;
+      vec3 c = caustix_fetch_caustics_color(uv);
       // Kept signed: a saturated spectral colour lies outside linear sRGB
       // (red is negative around 500 nm), as in the caustic maps; display
       // clamps. R > 0 wherever light arrives: every bin's mean weight is.
@@ -317,7 +432,7 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
            caustix_shadow_visibility(p, n, -travel);
   }
   float vis = caustix_shadow_visibility(p, n, -l);
-  float glass_vis = caustix_light.mode.w != 0 ? caustix_shadow_visibility_in(caustix_glass_shadow_2d, caustix_glass_shadow_cube, caustix_glass_shadow_vsm, p, n, -l) : 1.0;
+  float glass_vis = caustix_light.mode.w != 0 ? caustix_shadow_visibility_in(true, p, n, -l) : 1.0;
   vec3 e = vec3(e_in * max(dot(n, -l), 0.0) * vis * glass_vis);
   // Eq. 2: light through glass, I_Q; other objects' shadows along the
   // unrefracted light direction (an approximation, docs/glass.md).
@@ -326,8 +441,30 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
   return caustix_light.light_color.rgb * e;
 }
 
+#ifndef CAUSTIX_ALL_RECEIVERS
 vec3 caustix_irradiance(vec3 world_position, vec3 world_normal) {
   return caustix_irradiance_from_light(world_position, normalize(world_normal));
 }
+#else
+int caustix_light_count() { return caustix_table_shape.y; }
+
+// Light `light` at a point of object `receiver` (its index in the scene,
+// Engine::scene().objects): what caustix_irradiance() gives after
+// Engine::bind(receiver, light). Zero for an index out of range and for an
+// object that is no receiver (transparent).
+vec3 caustix_irradiance_at(vec3 world_position, vec3 world_normal, int receiver, int light) {
+  if (receiver < 0 || receiver >= caustix_table_shape.x || light < 0 || light >= caustix_table_shape.y) return vec3(0.0);
+  caustix_entry = receiver * caustix_table_shape.y + light;
+  if (caustix_light.mode.y == 0) return vec3(0.0);
+  return caustix_irradiance_from_light(world_position, normalize(world_normal));
+}
+
+// Every light's (seed 000 eq. 4-20: the sum).
+vec3 caustix_irradiance_all(vec3 world_position, vec3 world_normal, int receiver) {
+  vec3 e = vec3(0.0);
+  for (int li = 0; li < caustix_table_shape.y; ++li) e += caustix_irradiance_at(world_position, world_normal, receiver, li);
+  return e;
+}
+#endif  // CAUSTIX_ALL_RECEIVERS
 
 #endif  // !CAUSTIX_OPTICS_ONLY && !CAUSTIX_GLSL_LIGHTING

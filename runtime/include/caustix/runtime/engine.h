@@ -90,6 +90,11 @@ struct Bindings {
   // the water disperses (issue 22; LightBlock::frame_v.w 1; 1x1 where
   // unused).
   unsigned caustics_color = 19;
+  // Shader-storage binding point of the all-receivers table (bind_all();
+  // the block CaustixTable of caustix.glsl with CAUSTIX_ALL_RECEIVERS).
+  // Uniform-buffer and shader-storage points are separate: 7 here does
+  // not collide with `block`.
+  unsigned table = 7;
 };
 
 // How a receiver is lit by one light (the block's mode.x).
@@ -142,6 +147,24 @@ struct LightBlock {
   glm::vec4 spot{0};
 };
 static_assert(sizeof(LightBlock) == 31 * 16, "LightBlock must match the std140 block of caustix.glsl");
+
+// One entry of the all-receivers table (Engine::bind_all(); the std430
+// struct CaustixTableEntry of caustix.glsl): the pair's block, and where
+// each of its twelve textures (Bindings order: shadow_2d, shadow_cube,
+// caustics, position, glass_illumination, glass_target, glass_shadow_2d,
+// glass_shadow_cube, caustic_map, shadow_vsm, glass_shadow_vsm,
+// caustics_color) lies in the array bound at that texture's unit: texture
+// k's first layer is layer[k / 4][k % 4] (cube maps: the cube's index),
+// its width and height size[k / 2][2 (k % 2)] and [2 (k % 2) + 1] texels,
+// in the layer's corner. The buffer holds ivec4(objects, lights, 0, 0),
+// then the entries at object * lights + light; an object that is no
+// receiver has a zero block.
+struct ReceiverTableEntry {
+  LightBlock block;
+  std::array<glm::ivec4, 3> layer{};
+  std::array<glm::ivec4, 6> size{};
+};
+static_assert(sizeof(ReceiverTableEntry) == 40 * 16, "ReceiverTableEntry must match the std430 struct of caustix.glsl");
 
 // Everything the GLSL include reads for one (receiver, light), as plain data.
 struct ReceiverLighting {
@@ -320,6 +343,23 @@ class Engine {
   // nine textures at their units. Leaves exactly these ten bindings
   // changed (and nothing else): the point of the call.
   Status bind(std::uint32_t object, std::uint32_t light) const;
+
+  // Every (receiver, light) at once, for passes that light many receivers
+  // from many lights in one draw (deferred lighting of a G-buffer that
+  // carries an object index, clustered forward; issue 46): binds the
+  // all-receivers table at bindings().table and, at the twelve texture
+  // units, texture arrays holding every pair's and light's textures. A
+  // shader compiled with `#define CAUSTIX_ALL_RECEIVERS` before the
+  // include then calls caustix_irradiance_at(position, normal, object,
+  // light) or caustix_irradiance_all(position, normal, object), which give
+  // what caustix_irradiance() gives after bind(object, light), read at
+  // the textures' level 0. The arrays are copies, made on the GPU: the
+  // first bind_all() builds them (after an update()); from then on each
+  // update() copies the textures of the lights whose products it remade
+  // (a still scene copies nothing; stats().work.table_*, memory in
+  // stats().memory.receiver_table). Leaves exactly these thirteen
+  // bindings changed. kUsage before the first update().
+  Status bind_all();
 
   // The GLSL include for this engine's bindings (its #defines, then the
   // text of caustix.glsl). Put it after the #version line of a fragment

@@ -1,0 +1,71 @@
+#pragma once
+// The all-receivers table behind Engine::bind_all() (issue 46): every
+// (receiver, light) pair's LightBlock in one shader-storage buffer, and the
+// pairs' textures copied on the GPU into one texture array per kind (the
+// twelve of Bindings), each pair's or light's texture a layer with its
+// texels in the layer's corner. caustix.glsl's CAUSTIX_ALL_RECEIVERS mode
+// reads it. Internal to the runtime.
+
+#include <epoxy/gl.h>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "caustix/common/status.h"
+#include "caustix/runtime/engine.h"
+#include "caustix/runtime/gl_objects.h"
+
+namespace caustix::runtime {
+
+class ReceiverTable {
+ public:
+  static constexpr int kKinds = 12;  // Bindings' texture units, in their order
+
+  // One (object, light) pair as the engine filled it: its block and its
+  // textures in Bindings order; `receiver` false for transparent objects.
+  struct Pair {
+    const ReceiverLighting* lighting = nullptr;
+    bool receiver = false;
+  };
+
+  // Brings the table up to date with `pairs` (objects x lights, object
+  // major). `changed_lights[li]`: light li's products were remade since the
+  // last refresh (their texels must be copied again). Lays the arrays out
+  // anew when a texture appears, goes or changes size (then copies every
+  // layer); otherwise copies only the changed lights' textures and uploads
+  // only the entries that differ. No GPU -> CPU synchronisation.
+  Status refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<bool>& changed_lights);
+  // Binds the buffer at `b.table` and the arrays at the units (multi-bind:
+  // the generic GL_SHADER_STORAGE_BUFFER binding stays).
+  void bind(const Bindings& b) const;
+  bool built() const { return built_; }
+  std::uint64_t gpu_bytes() const;
+  // What the last refresh copied and uploaded.
+  std::uint32_t copies = 0;
+  std::uint64_t copied_bytes = 0;
+
+ private:
+  struct Source {
+    GLuint texture = 0;
+    GLint width = 0, height = 0, layers = 0;  // layers: array layers, or 6 for a cube map
+    GLenum format = 0;
+  };
+  struct Kind {
+    gl::Texture array;  // the layers, or a 1 x 1 stand-in
+    GLint width = 0, height = 0, layers = 0;
+    GLenum format = 0;
+    std::vector<GLuint> order;  // the sources in layer order
+  };
+  Source describe(int kind, GLuint texture) const;
+
+  bool built_ = false;
+  std::array<Kind, kKinds> kinds_{};
+  std::unordered_map<GLuint, Source> sources_;  // what each source texture was when last described
+  gl::Buffer buffer_;
+  std::vector<ReceiverTableEntry> uploaded_;
+};
+
+}  // namespace caustix::runtime
