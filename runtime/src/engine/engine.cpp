@@ -104,7 +104,7 @@ struct Engine::Impl {
   // Engine::bind_all()'s table, built at its first call, then kept current
   // by update(): the lights whose products an update remade are copied.
   ReceiverTable table;
-  Status refresh_table(const std::vector<bool>& changed_lights) {
+  Status refresh_table(const std::vector<unsigned>& changed_lights) {
     std::vector<ReceiverTable::Pair> pairs(lighting.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       pairs[i].lighting = &lighting[i];
@@ -620,12 +620,9 @@ Status Engine::update(const FrameUpdate& f) {
   s.volume_options = co.volume;
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
   FrameWork& work = s.work;
-  std::vector<bool> changed_lights(s.scene.lights.size(), false);
+  std::vector<unsigned> changed_lights(s.scene.lights.size(), 0);  // for the all-receivers table
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
-    const auto remade = [&work]() {
-      return work.shadow_maps.updated + work.level_maps.updated + work.glass.updated + work.caustic_maps.updated;
-    };
-    const auto remade_before = remade();
+    const FrameWork before = work;
     // Lights take turns when the light side runs every Nth frame.
     const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;
     const SceneVersions v{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0};
@@ -657,7 +654,10 @@ Status Engine::update(const FrameUpdate& f) {
       }
     }
     s.upload_light(li, co);
-    changed_lights[li] = remade() != remade_before;
+    changed_lights[li] = (work.shadow_maps.updated != before.shadow_maps.updated ? ReceiverTable::kShadowMaps : 0u) |
+                         (work.level_maps.updated != before.level_maps.updated ? ReceiverTable::kLevelMaps : 0u) |
+                         (work.glass.updated != before.glass.updated ? ReceiverTable::kGlass : 0u) |
+                         (work.caustic_maps.updated != before.caustic_maps.updated ? ReceiverTable::kCausticMaps : 0u);
     if (s.volume && !s.lighting.empty()) {
       // Photons start from the same water state as the caustics (seed 004).
       const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
@@ -700,7 +700,7 @@ Status Engine::bind_all() {
   const auto scope = s.count_frame();
   if (!s.table.built()) {
     const gl::StateGuard guard = s.guard();
-    CAUSTIX_RETURN_IF_ERROR(s.refresh_table(std::vector<bool>(s.scene.lights.size(), true)));
+    CAUSTIX_RETURN_IF_ERROR(s.refresh_table(std::vector<unsigned>(s.scene.lights.size(), ReceiverTable::kEverything)));
   }
   s.table.bind(s.bindings);
   return Status::success();

@@ -57,6 +57,19 @@ bool reads(int k, const LightBlock& b) {
   }
 }
 
+// The effect that makes texture k (ReceiverTable::Changed).
+unsigned made_by(int k) {
+  switch (k) {
+    case kCaustics:
+    case kPosition:
+    case kCausticsColor: return ReceiverTable::kLevelMaps;
+    case kGlassIllumination:
+    case kGlassTarget: return ReceiverTable::kGlass;
+    case kCausticMap: return ReceiverTable::kCausticMaps;
+    default: return ReceiverTable::kShadowMaps;
+  }
+}
+
 GLenum default_format(int k) {
   if (is_depth(k)) return GL_DEPTH_COMPONENT16;
   if (k == kPosition) return GL_R32F;
@@ -103,7 +116,7 @@ ReceiverTable::Source ReceiverTable::describe(int kind, GLuint texture) const {
   return s;
 }
 
-Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<bool>& changed_lights) {
+Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<unsigned>& changed) {
   copies = 0;
   copied_bytes = 0;
   // Which sources each kind holds, in layer order, and where each pair's lie.
@@ -123,7 +136,7 @@ Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights,
       if (!reads(k, r.block)) continue;
       const GLuint tex = texture_of(k, r);
       const bool known = sources_.count(tex) != 0;
-      if ((!known || changed_lights[li]) && fresh.insert(tex).second) sources_[tex] = describe(k, tex);
+      if ((!known || (changed[li] & made_by(k)) != 0) && fresh.insert(tex).second) sources_[tex] = describe(k, tex);
       const Source& src = sources_[tex];
       const auto at = std::find(order[k].begin(), order[k].end(), tex);
       GLint layer = 0;

@@ -31,13 +31,21 @@ class ReceiverTable {
     bool receiver = false;
   };
 
+  // Which of a light's textures an update remade, by effect.
+  enum Changed : unsigned {
+    kShadowMaps = 1,   // shadow_2d, shadow_cube, the glass's, the moments
+    kLevelMaps = 2,    // caustics, position, caustics_color
+    kGlass = 4,        // glass_illumination, glass_target
+    kCausticMaps = 8,  // caustic_map
+    kEverything = 15,
+  };
   // Brings the table up to date with `pairs` (objects x lights, object
-  // major). `changed_lights[li]`: light li's products were remade since the
-  // last refresh (their texels must be copied again). Lays the arrays out
+  // major). `changed[li]`: which of light li's products were remade since
+  // the last refresh (Changed bits; their texels are copied again). Lays the arrays out
   // anew when a texture appears, goes or changes size (then copies every
   // layer); otherwise copies only the changed lights' textures and uploads
   // only the entries that differ. No GPU -> CPU synchronisation.
-  Status refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<bool>& changed_lights);
+  Status refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<unsigned>& changed);
   // Binds the buffer at `b.table` and the arrays at the units (multi-bind:
   // the generic GL_SHADER_STORAGE_BUFFER binding stays).
   void bind(const Bindings& b) const;
