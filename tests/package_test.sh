@@ -3,7 +3,9 @@
 # temporary prefix, then examples/pool_floor (a copy, built with Ninja and
 # with Makefiles) against that prefix only: caustix_bake() bakes its scene,
 # its ctest checks the floor against flat-water physics; then incremental
-# builds re-bake exactly when the scene or its mesh changes; and a program
+# builds re-bake exactly when the scene or its mesh changes;
+# examples/deferred_lights (a G-buffer renderer lighting every receiver from
+# two lights in one pass) checks its pixels against physics; and a program
 # built with pkg-config alone links the runtime.
 # Usage: package_test.sh <build dir> <source dir>
 set -euo pipefail
@@ -49,6 +51,12 @@ for gen in Ninja "Unix Makefiles"; do
   [[ $(mtime "$cxb") != "$second" ]] || { echo "$gen: no re-bake after scene.json changed"; exit 1; }
   echo "$gen: incremental re-bakes as expected"
 done
+
+echo "== examples/deferred_lights with Ninja"
+cp -r "$src/examples/deferred_lights" "$tmp/src-deferred"
+cmake -S "$tmp/src-deferred" -B "$tmp/build-deferred" -G Ninja -DCMAKE_PREFIX_PATH="$tmp/prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$tmp/build-deferred" >/dev/null
+(cd "$tmp/build-deferred" && ctest --output-on-failure)
 
 echo "== pkg-config"
 export PKG_CONFIG_PATH="$tmp/prefix/lib/pkgconfig"
