@@ -15,11 +15,10 @@
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include "bake_fixture.h"
 #include "caustix/runtime/engine.h"
-#include "caustix/runtime/gl_objects.h"
+#include "caustix/runtime/receiver_passes.h"
 #include "gl_fixture.h"
 #include "scene_fixture.h"
 
@@ -32,143 +31,28 @@ class AllReceivers : public test::GlTest {};
 
 constexpr int kSize = 192;
 
-const char* kVertex = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-uniform mat4 u_model;
-uniform mat4 u_view_proj;
-out vec3 v_world;
-out vec3 v_normal;
-void main() {
-  v_world = (u_model * vec4(a_position, 1.0)).xyz;
-  v_normal = transpose(inverse(mat3(u_model))) * a_normal;
-  gl_Position = u_view_proj * vec4(v_world, 1.0);
-})";
-
-runtime::gl::Program build(const std::string& name, const char* vs, const std::string& fs) {
-  auto p = runtime::gl::Program::build(name.c_str(), vs, fs.c_str());
-  EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().message);
-  return p.ok() ? std::move(*p) : runtime::gl::Program{};
-}
-
 struct Images {
-  std::vector<float> forward, deferred;  // irradiance rgb per pixel
+  std::vector<float> forward, deferred;  // irradiance rgba per pixel
   std::vector<int> object;               // -1: background
 };
 
-// Renders the receivers seen from `view_proj` both ways.
+// The receivers seen through `view_proj`, lit both ways (the sample's
+// ReceiverPasses: a G-buffer, then the per-pair forward path and the
+// deferred pass).
 Images render_both(Engine& engine, const glm::mat4& view_proj, bool level0) {
-  const SceneDesc& sc = engine.scene();
   Images out;
-  runtime::gl::Texture color = runtime::gl::make_texture(GL_TEXTURE_2D), position = runtime::gl::make_texture(GL_TEXTURE_2D),
-                       normal = runtime::gl::make_texture(GL_TEXTURE_2D), depth = runtime::gl::make_texture(GL_TEXTURE_2D);
-  glTextureStorage2D(color.get(), 1, GL_RGBA32F, kSize, kSize);
-  glTextureStorage2D(position.get(), 1, GL_RGBA32F, kSize, kSize);
-  glTextureStorage2D(normal.get(), 1, GL_RGBA32F, kSize, kSize);
-  glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, kSize, kSize);
-  runtime::gl::Framebuffer gbuffer = runtime::gl::make_framebuffer(), target = runtime::gl::make_framebuffer();
-  glNamedFramebufferTexture(gbuffer.get(), GL_COLOR_ATTACHMENT0, position.get(), 0);
-  glNamedFramebufferTexture(gbuffer.get(), GL_COLOR_ATTACHMENT1, normal.get(), 0);
-  glNamedFramebufferTexture(gbuffer.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
-  const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(gbuffer.get(), 2, both);
-  glNamedFramebufferTexture(target.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-  glNamedFramebufferTexture(target.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
-
-  // The G-buffer: world position and the object's index, world normal.
-  runtime::gl::Program g = build("gbuffer", kVertex, R"(#version 450 core
-in vec3 v_world;
-in vec3 v_normal;
-uniform int u_object;
-layout(location = 0) out vec4 o_position;
-layout(location = 1) out vec4 o_normal;
-void main() { o_position = vec4(v_world, float(u_object)); o_normal = vec4(normalize(v_normal), 0.0); })");
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.get());
-  glViewport(0, 0, kSize, kSize);
-  const float background[4] = {0, 0, 0, -1};
-  glClearNamedFramebufferfv(gbuffer.get(), GL_COLOR, 0, background);
-  glClearNamedFramebufferfv(gbuffer.get(), GL_COLOR, 1, background);
-  glClearNamedFramebufferfi(gbuffer.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  g.use();
-  g.set("u_view_proj", view_proj);
-  std::vector<std::uint32_t> receivers;
-  for (std::uint32_t oi = 0; oi < sc.objects.size(); ++oi) {
-    if (transmits(sc.objects[oi].role)) continue;
-    receivers.push_back(oi);
-    g.set("u_model", glm::make_mat4(sc.objects[oi].transform.data()));
-    g.set("u_object", static_cast<int>(oi));
-    EXPECT_TRUE(engine.draw_object(oi).ok());
-  }
-
-  // Forward, the per-pair path: each light and receiver added, on the
-  // G-buffer's depth.
-  runtime::gl::Program f = build("forward", kVertex, "#version 450 core\n" + engine.glsl_include() + R"(
-in vec3 v_world;
-in vec3 v_normal;
-out vec4 o;
-void main() { o = vec4(caustix_irradiance(v_world, v_normal), 1.0); })");
-  glBindFramebuffer(GL_FRAMEBUFFER, target.get());
-  const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(target.get(), GL_COLOR, 0, zero);
-  glDepthFunc(GL_EQUAL);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);
-  f.use();
-  f.set("u_view_proj", view_proj);
-  for (std::uint32_t li = 0; li < sc.lights.size(); ++li) {
-    for (std::uint32_t oi : receivers) {
-      f.set("u_model", glm::make_mat4(sc.objects[oi].transform.data()));
-      EXPECT_TRUE(engine.bind(oi, li).ok());
-      // The water's caustics maps have mip levels; the table holds level 0,
-      // which is all a deferred pass can pick. The forward pass is made to
-      // read level 0 as well, so that the two compare the same texels.
-      const auto r = engine.lighting(oi, li);
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, level0 ? 0 : 1000);
-      EXPECT_TRUE(engine.draw_object(oi).ok());
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 1000);
-    }
-  }
-  auto read = [&](GLuint tex) {
-    std::vector<float> px(std::size_t{kSize} * kSize * 4);
-    glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * 4), px.data());
-    return px;
-  };
-  out.forward = read(color.get());
-
-  // Deferred: one full-screen pass over the G-buffer, every light.
-  runtime::gl::Program d = build("deferred", "#version 450 core\nvoid main() { gl_Position = vec4(vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 - 1.0, 0.0, 1.0); }\n",
-                                 "#version 450 core\n#define CAUSTIX_ALL_RECEIVERS\n" + engine.glsl_include() + R"(
-layout(binding = 0) uniform sampler2D u_position;
-layout(binding = 1) uniform sampler2D u_normal;
-out vec4 o;
-void main() {
-  vec4 p = texelFetch(u_position, ivec2(gl_FragCoord.xy), 0);
-  if (p.w < 0.0) discard;
-  o = vec4(caustix_irradiance_all(p.xyz, texelFetch(u_normal, ivec2(gl_FragCoord.xy), 0).xyz, int(p.w)), 1.0);
-})");
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
-  glClearNamedFramebufferfv(target.get(), GL_COLOR, 0, zero);
-  EXPECT_TRUE(engine.bind_all().ok());
-  glBindTextureUnit(0, position.get());
-  glBindTextureUnit(1, normal.get());
-  runtime::gl::VertexArray vao = runtime::gl::make_vertex_array();
-  glBindVertexArray(vao.get());
-  d.use();
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  out.deferred = read(color.get());
-  const std::vector<float> pos = read(position.get());
-  for (std::size_t i = 0; i < pos.size(); i += 4) out.object.push_back(static_cast<int>(pos[i + 3]));
-
-  glBindVertexArray(0);
+  auto passes = runtime::ReceiverPasses::create(engine, kSize, kSize);
+  EXPECT_TRUE(passes.ok()) << (passes.ok() ? "" : passes.error().message);
+  if (!passes.ok()) return out;
+  runtime::ReceiverPasses& p = **passes;
+  EXPECT_TRUE(p.draw_gbuffer(view_proj).ok());
+  EXPECT_TRUE(p.shade_per_pair(view_proj, level0).ok());
+  out.forward = p.read_irradiance();
+  EXPECT_TRUE(p.shade_deferred().ok());
+  out.deferred = p.read_irradiance();
+  out.object = p.read_objects();
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDepthMask(GL_TRUE);
-  glDepthFunc(GL_LESS);
-  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   return out;
 }
 
