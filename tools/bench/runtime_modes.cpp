@@ -8,12 +8,16 @@
 //       Seed 000 table 5-5: eq. 2-9 differences between the methods' images.
 //   caustix-bench water SCENE.cxb [--size WxH] [--frames N] [--csv FILE]
 //       Milliseconds per frame of each water-surface effect (seed 001).
+//   caustix-bench receivers SCENE.cxb [--size WxH] [--frames N]
+//       Every receiver lit from every light: the per-pair forward path
+//       against the deferred pass over Engine::bind_all() (one CSV line).
 
 #include "runtime_modes.h"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +26,7 @@
 #include "caustix/common/cli.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
+#include "caustix/runtime/receiver_passes.h"
 #include "caustix/runtime/renderer.h"
 #include "bench_common.h"
 #include "water.h"
@@ -135,6 +140,66 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
   return kExitOk;
 }
 
+// Lighting every receiver from every light (issue 46; docs/embedding.md):
+// ms of the per-pair forward path (bind(object, light) and a draw per
+// pair, additive, on a G-buffer's depth) and of the deferred pass
+// (bind_all() and one full-screen draw) over the same G-buffer, seen from
+// the scene's camera; and ms of update() with the water moving every
+// frame (time, and the wave scale toggled, so that still wave lists move
+// too) before and after the table exists, with what it copies per frame.
+int receivers_cost(const std::string& cxb, int width, int height, int warmup, int count, const std::string& label, bool header) {
+  auto session = open_scene(cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  runtime::Engine& e = session->renderer->engine();
+  const SceneDesc& sc = e.scene();
+  const Camera cam = sc.camera.value_or(Camera{});
+  const auto v3 = [](const Vec3f& v) { return glm::vec3(v[0], v[1], v[2]); };
+  const glm::mat4 view_proj =
+      glm::perspective(glm::radians(cam.fov_y_deg), static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane) *
+      glm::lookAt(v3(cam.position), v3(cam.target), v3(cam.up));
+  auto passes = runtime::ReceiverPasses::create(e, width, height);
+  if (!passes) return cli::fail("caustix-bench", passes.error());
+  runtime::FrameUpdate f;
+  f.caustics = e.default_options();
+  int frame = 0;
+  auto median_ms = [&](auto&& step) -> Result<double> {
+    std::vector<double> ms;
+    for (int i = 0; i < warmup + count; ++i) {
+      glFinish();
+      const auto t = Clock::now();
+      if (Status st = step(); !st) return st.error();
+      glFinish();
+      if (i >= warmup) ms.push_back(ms_since(t));
+    }
+    return median(ms);
+  };
+  auto update = [&]() {
+    ++frame;
+    f.time = static_cast<float>(frame) / 30.0f;
+    e.set_wave_scale(frame % 2 ? 1.0f : 0.999f);
+    return e.update(f);
+  };
+  auto update_ms = median_ms(update);
+  if (!update_ms) return cli::fail("caustix-bench", update_ms.error());
+  if (Status st = e.bind_all(); !st) return cli::fail("caustix-bench", st.error());
+  auto update_table_ms = median_ms(update);
+  if (!update_table_ms) return cli::fail("caustix-bench", update_table_ms.error());
+  const runtime::CausticsStats st = e.stats();
+  runtime::ReceiverPasses& p = **passes;
+  if (Status s = p.draw_gbuffer(view_proj); !s) return cli::fail("caustix-bench", s.error());
+  auto per_pair_ms = median_ms([&]() { return p.shade_per_pair(view_proj); });
+  auto deferred_ms = median_ms([&]() { return p.shade_deferred(); });
+  if (!per_pair_ms || !deferred_ms) return cli::fail("caustix-bench", (per_pair_ms ? deferred_ms : per_pair_ms).error());
+  if (header) {
+    std::printf("label,scene,size,receivers,lights,per_pair_ms,deferred_ms,update_ms,update_with_table_ms,table_mb,"
+                "table_copied_mb_per_frame,table_copies_per_frame,renderer\n");
+  }
+  std::printf("%s,%s,%dx%d,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%u,\"%s\"\n", label.c_str(),
+              std::filesystem::path(cxb).filename().string().c_str(), width, height, p.receivers(), sc.lights.size(), *per_pair_ms,
+              *deferred_ms, *update_ms, *update_table_ms, static_cast<double>(st.memory.receiver_table) / 1048576.0,
+              static_cast<double>(st.work.table_copied_bytes) / 1048576.0, st.work.table_copies, session->context->description().c_str());
+  return kExitOk;
+}
 
 struct RuntimeModes final : Modes {
   std::string glass_method = "table", glass_view = "table";
@@ -145,7 +210,7 @@ struct RuntimeModes final : Modes {
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
   bool no_cull = false, header = false, move_light = false, still = false;
-  CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr;
+  CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
   explicit RuntimeModes(CLI::App& app) {
@@ -191,13 +256,20 @@ struct RuntimeModes final : Modes {
     wa->add_option("--size", wsize, "frame size WxH")->capture_default_str();
     wa->add_option("--frames", wframes, "frames measured per setting (median)")->check(CLI::Range(1, 1000))->capture_default_str();
     wa->add_option("--csv", csv, "also write the table as CSV");
+    rc = app.add_subcommand("receivers", "every receiver from every light: the per-pair path against bind_all()'s deferred pass (one CSV line)");
+    rc->add_option("scene", cxb, "baked scene (.cxb)")->required();
+    rc->add_option("--size", fsize, "image size WxH")->capture_default_str();
+    rc->add_option("--warmup", warmup, "frames not measured")->capture_default_str();
+    rc->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
+    rc->add_option("--label", label, "first CSV column");
+    rc->add_flag("--header", header, "print the CSV header first");
     ws = app.add_subcommand("water-sim", "ms per 60 Hz frame of the interactive water (docs/water-simulation.md) by grid size, and its parts on a scene");
     ws->add_option("scene", sim_scene, "baked scene with water (.cxb); without it only the grid sweep runs");
     ws->add_option("--frames", wframes, "frames measured per row (median)")->check(CLI::Range(1, 10000))->capture_default_str();
     ws->add_option("--csv", csv, "also write the table as CSV");
   }
 
-  bool chosen() const override { return *fr || *me || *wa || *ws; }
+  bool chosen() const override { return *fr || *me || *wa || *ws || *rc; }
 
   int run() override {
     if (*ws) return water_sim_cost(sim_scene, wframes, csv);
@@ -206,6 +278,7 @@ struct RuntimeModes final : Modes {
       return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --size"));
     }
     if (*wa) return water_effects(cxb, w, h, 1, wframes, csv);
+    if (*rc) return receivers_cost(cxb, w, h, warmup, count, label, header);
     if (*me) {
       if (header) std::printf("label,scene,planes,eq29_smart_vs_uniform,eq29_uniform_vs_volumetric,eq29_smart_vs_none\n");
       return methods(cxb, planes, w, h, label);

@@ -104,6 +104,9 @@ struct Engine::Impl {
   // Engine::bind_all()'s table, built at its first call, then kept current
   // by update(): the lights whose products an update remade are copied.
   ReceiverTable table;
+  // Per light, the (light, transforms) versions its position maps were last
+  // made for: the table copies them again only when these moved.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> table_versions;
   Status refresh_table(const std::vector<unsigned>& changed_lights) {
     std::vector<ReceiverTable::Pair> pairs(lighting.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
@@ -467,6 +470,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   s.uploaded.resize(s.lighting.size());
   s.uploaded_valid.assign(s.lighting.size(), false);
   s.light_versions.assign(s.scene.lights.size(), 0);
+  s.table_versions.assign(s.scene.lights.size(), {0, 0});
   for (std::size_t i = 0; i < s.lighting.size(); ++i) s.lighting[i].offset = i * s.stride;
   if (!s.lighting.empty()) {
     s.blocks = gl::make_buffer();
@@ -654,7 +658,11 @@ Status Engine::update(const FrameUpdate& f) {
       }
     }
     s.upload_light(li, co);
-    changed_lights[li] = (work.shadow_maps.updated != before.shadow_maps.updated ? ReceiverTable::kShadowMaps : 0u) |
+    const std::pair<std::uint64_t, std::uint64_t> versions{s.light_versions[li], s.transforms_version};
+    const bool moved = s.table_versions[li] != versions && work.level_maps.updated != before.level_maps.updated;
+    if (moved) s.table_versions[li] = versions;
+    changed_lights[li] = (moved ? ReceiverTable::kPositionMaps : 0u) |
+                         (work.shadow_maps.updated != before.shadow_maps.updated ? ReceiverTable::kShadowMaps : 0u) |
                          (work.level_maps.updated != before.level_maps.updated ? ReceiverTable::kLevelMaps : 0u) |
                          (work.glass.updated != before.glass.updated ? ReceiverTable::kGlass : 0u) |
                          (work.caustic_maps.updated != before.caustic_maps.updated ? ReceiverTable::kCausticMaps : 0u);

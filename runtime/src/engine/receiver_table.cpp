@@ -61,8 +61,8 @@ bool reads(int k, const LightBlock& b) {
 unsigned made_by(int k) {
   switch (k) {
     case kCaustics:
-    case kPosition:
     case kCausticsColor: return ReceiverTable::kLevelMaps;
+    case kPosition: return ReceiverTable::kPositionMaps;
     case kGlassIllumination:
     case kGlassTarget: return ReceiverTable::kGlass;
     case kCausticMap: return ReceiverTable::kCausticMaps;

@@ -33,11 +33,12 @@ class ReceiverTable {
 
   // Which of a light's textures an update remade, by effect.
   enum Changed : unsigned {
-    kShadowMaps = 1,   // shadow_2d, shadow_cube, the glass's, the moments
-    kLevelMaps = 2,    // caustics, position, caustics_color
-    kGlass = 4,        // glass_illumination, glass_target
-    kCausticMaps = 8,  // caustic_map
-    kEverything = 15,
+    kShadowMaps = 1,     // shadow_2d, shadow_cube, the glass's, the moments
+    kLevelMaps = 2,      // caustics, caustics_color
+    kGlass = 4,          // glass_illumination, glass_target
+    kCausticMaps = 8,    // caustic_map
+    kPositionMaps = 16,  // position: re-derived when the light or a transform moved (not with the water)
+    kEverything = 31,
   };
   // Brings the table up to date with `pairs` (objects x lights, object
   // major). `changed[li]`: which of light li's products were remade since
