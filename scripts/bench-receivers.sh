@@ -12,7 +12,8 @@
 # Writes OUT_DIR/receivers_<renderer>.csv (llvmpipe, or gpu when
 # RENDERER=gpu). Environment: FRAMES (default 5), WARMUP (default 2),
 # SIZE (default 640x480), BENCH (default build/tools/caustix-bench),
-# BAKED (a folder of .cxb files made by an earlier run: no baking).
+# BAKED (a folder for the .cxb files: baked there unless an earlier run
+# left them; a machine without the baker runs on those).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -25,8 +26,9 @@ BENCH=${BENCH:-build/tools/caustix-bench}
 RENDERER=${RENDERER:-llvmpipe}
 SCENES="wavy_pool thesis_teapot glass_ball mirror_ring default"
 mkdir -p "$out"
-if [[ -z "${BAKED:-}" ]]; then
-  BAKED=$(mktemp -d)
+BAKED=${BAKED:-$(mktemp -d)}
+mkdir -p "$BAKED"
+if [[ ! -f "$BAKED/default.cxb" ]]; then
   for s in $SCENES; do
     /usr/bin/python3 - "$s" "$BAKED/$s.json" <<'PY'
 import json, os, sys

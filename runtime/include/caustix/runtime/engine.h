@@ -64,7 +64,8 @@
 namespace caustix::runtime {
 
 // Where the GLSL include finds its resources: one uniform-buffer binding
-// point (the block CaustixLight) and twelve texture units. Change them when
+// point (the block CaustixLight), twelve texture units and, for bind_all(),
+// one shader-storage binding point (the table). Change them when
 // they collide with the application's own; glsl_include() then carries the
 // matching #defines (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
 struct Bindings {
@@ -340,7 +341,7 @@ class Engine {
   // object that is transparent, or an index out of range, is kUsage.
   Result<ReceiverLighting> lighting(std::uint32_t object, std::uint32_t light) const;
   // Binds lighting(object, light): the block at bindings().block and the
-  // nine textures at their units. Leaves exactly these ten bindings
+  // twelve textures at their units. Leaves exactly these thirteen bindings
   // changed (and nothing else): the point of the call.
   Status bind(std::uint32_t object, std::uint32_t light) const;
 
