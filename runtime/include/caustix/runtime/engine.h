@@ -7,10 +7,10 @@
 // engine never creates a context, never draws into the default framebuffer
 // unless the caller has it bound, and never assumes a viewport, program,
 // VAO or any other state: each call saves the state it touches and restores
-// it before returning (tests/engine_test.cpp compares 168 GL state values
+// it before returning (tests/engine_test.cpp compares the GL state it knows
 // before and after every call). The exceptions are named where they apply:
-// bind() exists to change bindings, and the callback of draw_water() runs
-// with the state the engine set for it.
+// bind() and bind_all() exist to change bindings, and the callback of
+// draw_water() runs with the caller's state but for what WaterPass lists.
 //
 // The light side (no camera): update() animates the water (or takes the
 // application's heights), renders every light's shadow maps, its caustics
@@ -21,7 +21,11 @@
 // (glsl_include(), installed as caustix/runtime/caustix.glsl) expects
 // them; the application's fragment shader then calls
 //     vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
-// once per light and adds the results (seed 000 eq. 4-20).
+// once per light and adds the results (seed 000 eq. 4-20). A deferred or
+// clustered-forward pass, which cannot bind per pair, calls bind_all()
+// instead and, in a shader compiled with CAUSTIX_ALL_RECEIVERS,
+// caustix_irradiance_all(world_position, world_normal, object): every
+// light at any receiver (issue 46).
 //
 // The view side, into the caller's framebuffer with the caller's camera:
 // draw_water() (seed 001), draw_glass() (seed 002 §3) and draw_media()
