@@ -2,15 +2,16 @@
 // exact area of the intersection triangle inside this fragment's texel, by
 // clipping the texel square against the triangle's three edges
 // (Sutherland-Hodgman; at most 7 vertices).
-// PRIM_STRIDE: vec4s per primitive (4 for water caustics, 6 for glass).
+// PRIM_STRIDE: vec4s per primitive (5 for water caustics, 6 for glass).
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 4
+#define PRIM_STRIDE 5
 #endif
 flat in int v_prim;
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 // This fragment's primitive (caustics_geometry.comp).
 vec2 v_q0, v_q1, v_q2, v_plane, v_slopes;
+vec2 v_s0, v_s1, v_s2;  // water caustics: each vertex's direction (s_u, s_w)
 float v_irradiance;
 void load_primitive() {
   vec4 a = prims[PRIM_STRIDE * v_prim], b = prims[PRIM_STRIDE * v_prim + 1], c = prims[PRIM_STRIDE * v_prim + 2];
@@ -19,7 +20,13 @@ void load_primitive() {
   v_q2 = b.xy;
   v_irradiance = b.z;
   v_plane = c.xy;
-  v_slopes = c.zw;  // water caustics: the beam's direction (caustics_geometry.comp)
+#if PRIM_STRIDE == 5
+  vec4 e = prims[PRIM_STRIDE * v_prim + 4];
+  v_s0 = c.zw;
+  v_s1 = e.xy;
+  v_s2 = e.zw;
+  v_slopes = (v_s0 + v_s1 + v_s2) / 3.0;  // the beam's mean direction
+#endif
 }
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
@@ -161,7 +168,7 @@ float texel_coverage_shifted(vec2 shift) {
 
 float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }
 
-#if PRIM_STRIDE == 4
+#if PRIM_STRIDE == 5
 // Water caustics (caustics_geometry.comp's fourth vec4): the factor on the
 // triangle's irradiance over the part texel_coverage*() just measured -- its
 // corners' ratios interpolated at that part's centroid (barycentric: exact

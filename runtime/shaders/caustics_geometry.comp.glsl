@@ -17,12 +17,15 @@ layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
 layout(std430, binding = 7) readonly buffer Planes { uint plane_count; float depth_lo; float depth_hi; float widest; vec2 planes[]; };
-// Per primitive: (q0, q1), (q2, irradiance, reached), (plane offset, eps, s_u, s_w),
-// (c0, c1, c2, smooth): the corners' irradiance over the triangle's (below).
-// s_u, s_w: the beam's mean direction of travel d as (d.U / d.V, d.W / d.V),
-// so that a receiver with normal n gets I_c (n.V + s_u n.U + s_w n.W) = I_c
-// n.d / V.d (beyond the thesis, whose casting takes n.V: under waves the
-// light does not arrive along V, docs/caustics.md "Local light direction").
+// Per primitive, five vec4: (q0, q1), (q2, irradiance, reached),
+// (plane offset, eps, s0), (c0, c1, c2, smooth): the corners' irradiance
+// over the triangle's (below), (s1, s2). s_k: vertex k's direction of
+// travel d as (d.U / d.V, d.W / d.V). Their mean is the beam's, so that a
+// receiver with normal n gets I_c (n.V + s_u n.U + s_w n.W) = I_c n.d / V.d
+// (beyond the thesis, whose casting takes n.V: under waves the light does
+// not arrive along V, docs/caustics.md "Local light direction"); each
+// vertex's carries it from the plane to the receiver's depth
+// (caustics_levelmap.frag).
 layout(std430, binding = 8) writeonly buffer Primitives { vec4 prims[]; };
 
 uniform vec3 u_origin;
@@ -80,7 +83,7 @@ void main() {
   vec2 plane = planes[u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane)];
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);
   vec2 q[3];
-  vec2 slopes = vec2(0.0);
+  vec2 slopes[3];
   bool reached = true;
   for (int k = 0; k < 3; ++k) {
     uint i = indices[3u * t + uint(k)];
@@ -88,7 +91,7 @@ void main() {
     vec3 dir = refracted[i].xyz;
     float s = (dot(rel, u_V) - plane.x) / -dot(dir, u_V);
     reached = reached && s >= 0.0;  // a plane above the water point is not lit through it
-    slopes += vec2(dot(dir, u_U), dot(dir, u_W)) / min(dot(dir, u_V), -1e-6) / 3.0;
+    slopes[k] = vec2(dot(dir, u_U), dot(dir, u_W)) / min(dot(dir, u_V), -1e-6);
     vec3 pt = rel + s * dir;
     q[k] = (vec2(dot(pt, u_U), dot(pt, u_W)) + u_half.xz) * to_texels;  // texel coordinates
   }
@@ -108,8 +111,9 @@ void main() {
       if (min(min(c.x, c.y), c.z) >= 0.1 && max(max(c.x, c.y), c.z) <= 10.0) corners = vec4(c, 1.0);
     }
   }
-  prims[4u * p] = vec4(q[0], q[1]);
-  prims[4u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
-  prims[4u * p + 2u] = vec4(plane, slopes);
-  prims[4u * p + 3u] = corners;
+  prims[5u * p] = vec4(q[0], q[1]);
+  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
+  prims[5u * p + 2u] = vec4(plane, slopes[0]);
+  prims[5u * p + 3u] = corners;
+  prims[5u * p + 4u] = vec4(slopes[1], slopes[2]);
 }

@@ -10,13 +10,13 @@
 // touches gets a fragment, and the fragment shader deposits the irradiance
 // times the exact area of the triangle inside the texel.
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 4  // vec4s per primitive (glass: 6, defined by the renderer)
+#define PRIM_STRIDE 5  // vec4s per primitive (glass: 6, defined by the renderer)
 #endif
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 uniform float u_map_size;
 #ifdef DEPTH_SHIFT
-uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each beam by up to eps (s_u, s_w)
+uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
 #endif
 
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
@@ -29,8 +29,8 @@ void main() {
   v_prim = prim;
   float delta = 0.7072;  // half a texel diagonal, rounded up
 #ifdef DEPTH_SHIFT
-  vec4 p2 = prims[PRIM_STRIDE * prim + 2];
-  delta += p2.y * length(p2.zw * u_texels_per_metre);
+  vec4 p2 = prims[PRIM_STRIDE * prim + 2], p4 = prims[PRIM_STRIDE * prim + 4];
+  delta += p2.y * max(length(p2.zw * u_texels_per_metre), max(length(p4.xy * u_texels_per_metre), length(p4.zw * u_texels_per_metre)));
 #endif
   // Quad corners (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2.
   int j = gl_VertexID % 6;

@@ -24,9 +24,15 @@
 // where they were at D, not where they meet the surface: fold lines on a
 // curved receiver moved by up to eps tan(theta) (a sphere under waves: 23 %
 // error at fold pixels with 8 planes, 8.5 % with 32, docs/caustics.md). Here
-// the triangle is moved by (v - D) (s_u, s_w), v the mean depth of the
-// surface samples in the window: each beam's own direction carries it to
-// the surface (first order: the beam's own spread over eps is neglected).
+// each vertex of the triangle moves by (v - D) s_k, its own ray's direction
+// (caustics_geometry.comp), v the mean depth of the surface samples in the
+// window: the triangle becomes the beam's cross-section at v, and its
+// irradiance the flux over that area (the beam's spread over v - D kept).
+// Neighbouring beams share their vertices' rays, so their cross-sections
+// tile at every depth. (Moving each triangle rigidly by its mean direction,
+// as before issue 46, opened gaps and overlaps one texel wide along the
+// water triangles' edges wherever neighbours' directions differed: a dark
+// mesh in the caustics under waves at 4 planes and a coarse water grid.)
 // The plane stays what buckets the beams and culls them.
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
@@ -51,9 +57,15 @@ void main() {
     }
   }
   if (inside == 0.0) discard;
-  vec2 shift = depth / inside * v_slopes * u_texels_per_metre;
-  float covered = texel_coverage_shifted(shift);
-  if (covered <= 0.0) discard;
+  float dv = depth / inside;
+  float area_plane = abs(cross2(v_q1 - v_q0, v_q2 - v_q0));
+  v_q0 += dv * v_s0 * u_texels_per_metre;
+  v_q1 += dv * v_s1 * u_texels_per_metre;
+  v_q2 += dv * v_s2 * u_texels_per_metre;
+  float area = abs(cross2(v_q1 - v_q0, v_q2 - v_q0));
+  float covered = texel_coverage();
+  if (covered <= 0.0 || area <= 0.0) discard;
   covered *= corner_factor();  // smooth caustics (caustics_coverage.glsl)
-  o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * covered * (inside / surface));
+  // The triangle's flux, I_c times its area on the plane, over its area here.
+  o_irradiance = vec4(1.0, v_slopes, 0.0) * (v_irradiance * (area_plane / area) * covered * (inside / surface));
 }
