@@ -155,6 +155,34 @@ Status ReceiverPasses::shade_per_pair(const glm::mat4& view_proj, bool level0) {
   return gl::check_gl("per-pair shading");
 }
 
+Status ReceiverPasses::shade_through(const glm::mat4& view_proj, std::uint32_t object, std::uint32_t host) {
+  begin_target(target_fbo_.get());
+  glClearNamedFramebufferfi(target_fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  forward_.use();
+  forward_.set("u_view_proj", view_proj);
+  forward_.set("u_model", glm::make_mat4(engine_.scene().objects[object].transform.data()));
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // the pre-pass: its nearest surface
+  CAUSTIX_RETURN_IF_ERROR(engine_.bind(host, 0));
+  CAUSTIX_RETURN_IF_ERROR(engine_.draw_object(object));
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthFunc(GL_EQUAL);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  for (std::uint32_t li = 0; li < engine_.scene().lights.size(); ++li) {
+    CAUSTIX_RETURN_IF_ERROR(engine_.bind(host, li));
+    CAUSTIX_RETURN_IF_ERROR(engine_.draw_object(object));
+  }
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  return gl::check_gl("shading through a host");
+}
+
 Status ReceiverPasses::shade_deferred() {
   begin_target(target_fbo_.get());
   glDisable(GL_DEPTH_TEST);

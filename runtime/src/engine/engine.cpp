@@ -107,6 +107,10 @@ struct Engine::Impl {
   // Per light, the (light, transforms) versions its position maps were last
   // made for: the table copies them again only when these moved.
   std::vector<std::pair<std::uint64_t, std::uint64_t>> table_versions;
+  // The options of the last update(): new ones may reallocate any product
+  // (and GL may hand a freed texture's name to its successor), so the
+  // table copies everything again after an update with other options.
+  std::optional<CausticsOptions> table_options;
   Status refresh_table(const std::vector<unsigned>& changed_lights) {
     std::vector<ReceiverTable::Pair> pairs(lighting.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
@@ -625,6 +629,8 @@ Status Engine::update(const FrameUpdate& f) {
   if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
   FrameWork& work = s.work;
   std::vector<unsigned> changed_lights(s.scene.lights.size(), 0);  // for the all-receivers table
+  const bool new_options = s.table_options != co;
+  s.table_options = co;
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     const FrameWork before = work;
     // Lights take turns when the light side runs every Nth frame.
@@ -640,7 +646,12 @@ Status Engine::update(const FrameUpdate& f) {
       CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(
           s.scene, li, co, s.world_vertices, cmap_casters,
           [&](const gl::Program& p) {
-            s.bind_slot(light_slot);
+            // The slot's textures as they are now: this update may have
+            // reallocated the glass's own (new sizes) since upload_light,
+            // and binding a deleted texture's name is an error.
+            ReceiverLighting now = light_slot;
+            s.fill_receiver(now, 0, li, co);
+            s.bind_slot(now);
             const LightBlock& b = light_slot.block;
             p.set("u_light_type", b.mode.y);
             p.set("u_light_direction", glm::vec3(b.light_direction));
@@ -661,7 +672,7 @@ Status Engine::update(const FrameUpdate& f) {
     const std::pair<std::uint64_t, std::uint64_t> versions{s.light_versions[li], s.transforms_version};
     const bool moved = s.table_versions[li] != versions && work.level_maps.updated != before.level_maps.updated;
     if (moved) s.table_versions[li] = versions;
-    changed_lights[li] = (moved ? ReceiverTable::kPositionMaps : 0u) |
+    changed_lights[li] = (new_options ? ReceiverTable::kEverything : 0u) | (moved ? ReceiverTable::kPositionMaps : 0u) |
                          (work.shadow_maps.updated != before.shadow_maps.updated ? ReceiverTable::kShadowMaps : 0u) |
                          (work.level_maps.updated != before.level_maps.updated ? ReceiverTable::kLevelMaps : 0u) |
                          (work.glass.updated != before.glass.updated ? ReceiverTable::kGlass : 0u) |

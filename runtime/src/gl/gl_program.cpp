@@ -1,5 +1,7 @@
 #include "caustix/runtime/gl_objects.h"
 
+#include "gl_state.h"
+
 #include <initializer_list>
 #include <vector>
 
@@ -7,7 +9,10 @@ namespace caustix::runtime::gl {
 
 void delete_buffer(GLuint id) { glDeleteBuffers(1, &id); }
 void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
-void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
+void delete_texture(GLuint id) {
+  note_texture_deleted(id);
+  glDeleteTextures(1, &id);
+}
 void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
 void delete_query(GLuint id) { glDeleteQueries(1, &id); }

@@ -20,9 +20,26 @@ GLint get(GLenum e) {
   return v;
 }
 
+thread_local const StateGuard* t_innermost = nullptr;  // the calling thread's guards, innermost first
+
 }  // namespace
 
-StateGuard::StateGuard(const std::vector<GLuint>& units) {
+void note_texture_deleted(GLuint name) {
+  for (const StateGuard* g = t_innermost; g; g = g->outer_) g->deleted_.push_back(name);
+}
+
+GLuint StateGuard::alive(GLint texture) const {
+  const auto name = static_cast<GLuint>(texture);
+  return std::find(deleted_.begin(), deleted_.end(), name) == deleted_.end() ? name : 0;
+}
+
+StateGuard::~StateGuard() {
+  restore();
+  t_innermost = outer_;
+}
+
+StateGuard::StateGuard(const std::vector<GLuint>& units) : outer_(t_innermost) {
+  t_innermost = this;
   draw_fbo_ = get(GL_DRAW_FRAMEBUFFER_BINDING);
   read_fbo_ = get(GL_READ_FRAMEBUFFER_BINDING);
   program_ = get(GL_CURRENT_PROGRAM);
@@ -149,15 +166,15 @@ void StateGuard::restore() const {
   glBindBuffer(GL_COPY_WRITE_BUFFER, static_cast<GLuint>(copy_write_));
   for (GLuint i = 0; i < images_.size(); ++i) {
     const Image& m = images_[i];
-    glBindImageTexture(i, static_cast<GLuint>(m.name), m.level, m.layered, m.layer, static_cast<GLenum>(m.access),
+    glBindImageTexture(i, alive(m.name), m.level, m.layered, m.layer, static_cast<GLenum>(m.access),
                        static_cast<GLenum>(m.format ? m.format : GL_R8));
   }
   for (const Unit& s : units_) {
     glActiveTexture(GL_TEXTURE0 + s.unit);
-    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(s.tex_2d));
-    glBindTexture(GL_TEXTURE_2D_ARRAY, static_cast<GLuint>(s.tex_array));
-    glBindTexture(GL_TEXTURE_CUBE_MAP, static_cast<GLuint>(s.tex_cube));
-    glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(s.tex_3d));
+    glBindTexture(GL_TEXTURE_2D, alive(s.tex_2d));
+    glBindTexture(GL_TEXTURE_2D_ARRAY, alive(s.tex_array));
+    glBindTexture(GL_TEXTURE_CUBE_MAP, alive(s.tex_cube));
+    glBindTexture(GL_TEXTURE_3D, alive(s.tex_3d));
     glBindSampler(s.unit, static_cast<GLuint>(s.sampler));
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));

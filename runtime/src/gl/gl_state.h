@@ -18,7 +18,7 @@ class StateGuard {
   // `units`: the texture units the call may bind (their 2D, 2D array and
   // cube-map bindings and sampler objects are saved).
   explicit StateGuard(const std::vector<GLuint>& units);
-  ~StateGuard() { restore(); }
+  ~StateGuard();
   // Puts back every value saved (what the destructor does); the call may
   // go on after it, with enter() (Engine::draw_water's callback runs with
   // the caller's state, issue 46).
@@ -66,6 +66,19 @@ class StateGuard {
   std::array<Image, 3> images_{};
   std::vector<Unit> units_;
   std::vector<std::pair<GLenum, GLboolean>> caps_;
+  // Textures deleted while this guard was alive (note_texture_deleted):
+  // the caller's bindings of them are restored as 0.
+  mutable std::vector<GLuint> deleted_;
+  const StateGuard* outer_ = nullptr;  // the guard this one nests in, on this thread
+  GLuint alive(GLint texture) const;
+  friend void note_texture_deleted(GLuint name);
 };
+
+// gl::delete_texture calls it: a texture an engine call deletes (a product
+// reallocated, bind_all()'s arrays laid out anew) may be the caller's
+// binding that a guard saved; binding a deleted name is an error, so the
+// guards restore 0 there (what GL itself leaves where a bound texture is
+// deleted).
+void note_texture_deleted(GLuint name);
 
 }  // namespace caustix::runtime::gl

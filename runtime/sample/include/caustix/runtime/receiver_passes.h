@@ -36,6 +36,12 @@ class ReceiverPasses {
   Status shade_per_pair(const glm::mat4& view_proj, bool level0 = false);
   // The deferred path into the target.
   Status shade_deferred();
+  // Object `object` alone, lit through receiver `host`'s resources
+  // (bind(host, light) for every light, added): how an object that is not
+  // in the .cxb is lit (docs/embedding.md, "Objects that are not in the
+  // .cxb"). Depth-tested against itself (a depth pre-pass), not the
+  // G-buffer; pixels it does not cover keep alpha 0.
+  Status shade_through(const glm::mat4& view_proj, std::uint32_t object, std::uint32_t host);
 
   // Read-backs (synchronising): the target's RGBA, and each pixel's object (-1: none).
   std::vector<float> read_irradiance() const;
