@@ -137,16 +137,19 @@ Status ReceiverPasses::shade_per_pair(const glm::mat4& view_proj, bool level0) {
   glBlendFunc(GL_ONE, GL_ONE);  // lights add up (seed 000 eq. 4-20)
   forward_.use();
   forward_.set("u_view_proj", view_proj);
-  const GLint max_level = level0 ? 0 : 1000;
   for (std::uint32_t li = 0; li < engine_.scene().lights.size(); ++li) {
     for (std::uint32_t oi : receivers_) {
       forward_.set("u_model", glm::make_mat4(engine_.scene().objects[oi].transform.data()));
       CAUSTIX_RETURN_IF_ERROR(engine_.bind(oi, li));
+      if (!level0) {
+        CAUSTIX_RETURN_IF_ERROR(engine_.draw_object(oi));
+        continue;
+      }
       auto r = engine_.lighting(oi, li);
       if (!r) return r.error();
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, max_level);
+      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 0);
       CAUSTIX_RETURN_IF_ERROR(engine_.draw_object(oi));
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 1000);
+      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 1000);  // GL's default
     }
   }
   glDisable(GL_BLEND);
