@@ -171,6 +171,20 @@ int main(int argc, char** argv) {
   frame.caustics = engine.default_options();
   if (auto st = engine.update(frame); !st) return fail(st.error().message);
 
+  // Every object with `program` (the mesh shader's uniforms: camera, model, index, albedo).
+  auto draw_objects = [&](GLuint program) -> caustix::Status {
+    glUseProgram(program);
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_view_proj"), 1, GL_FALSE, view_proj);
+    for (std::uint32_t oi = 0; oi < desc.objects.size(); ++oi) {
+      const auto& a = desc.objects[oi].material.albedo;
+      glUniformMatrix4fv(glGetUniformLocation(program, "u_model"), 1, GL_FALSE, desc.objects[oi].transform.data());
+      glUniform1i(glGetUniformLocation(program, "u_object"), static_cast<int>(oi));
+      glUniform3f(glGetUniformLocation(program, "u_albedo"), a[0], a[1], a[2]);
+      if (auto st = engine.draw_object(oi); !st) return st;
+    }
+    return caustix::Status::success();
+  };
+
   // 1. The G-buffer.
   glBindFramebuffer(GL_FRAMEBUFFER, fbo[0]);
   glViewport(0, 0, n, n);
@@ -178,15 +192,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, empty);
   glClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glEnable(GL_DEPTH_TEST);
-  glUseProgram(gbuffer_program);
-  glUniformMatrix4fv(glGetUniformLocation(gbuffer_program, "u_view_proj"), 1, GL_FALSE, view_proj);
-  for (std::uint32_t oi = 0; oi < desc.objects.size(); ++oi) {
-    const auto& a = desc.objects[oi].material.albedo;
-    glUniformMatrix4fv(glGetUniformLocation(gbuffer_program, "u_model"), 1, GL_FALSE, desc.objects[oi].transform.data());
-    glUniform1i(glGetUniformLocation(gbuffer_program, "u_object"), static_cast<int>(oi));
-    glUniform3f(glGetUniformLocation(gbuffer_program, "u_albedo"), a[0], a[1], a[2]);
-    if (auto st = engine.draw_object(oi); !st) return fail(st.error().message);
-  }
+  if (auto st = draw_objects(gbuffer_program); !st) return fail(st.error().message);
 
   // 2-3. Every receiver, every light: one bind, one full-screen pass.
   if (auto st = engine.bind_all(); !st) return fail(st.error().message);
@@ -208,15 +214,7 @@ int main(int argc, char** argv) {
   glClearBufferfv(GL_COLOR, 0, zero);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
-  glUseProgram(forward_program);
-  glUniformMatrix4fv(glGetUniformLocation(forward_program, "u_view_proj"), 1, GL_FALSE, view_proj);
-  for (std::uint32_t oi = 0; oi < desc.objects.size(); ++oi) {
-    const auto& a = desc.objects[oi].material.albedo;
-    glUniformMatrix4fv(glGetUniformLocation(forward_program, "u_model"), 1, GL_FALSE, desc.objects[oi].transform.data());
-    glUniform1i(glGetUniformLocation(forward_program, "u_object"), static_cast<int>(oi));
-    glUniform3f(glGetUniformLocation(forward_program, "u_albedo"), a[0], a[1], a[2]);
-    if (auto st = engine.draw_object(oi); !st) return fail(st.error().message);
-  }
+  if (auto st = draw_objects(forward_program); !st) return fail(st.error().message);
 
   auto read = [&](GLuint tex) {
     std::vector<float> px(std::size_t{n} * n * 4);
