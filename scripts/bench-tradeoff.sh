@@ -16,19 +16,24 @@ mkdir -p build/tradeoff docs/results
 
 # scene, receiver, region, image size, photons: 1.5-2.5 cm pixels, reference
 # noise 1.4 % per pixel (glass_ball: 1.6 cm pixels, 2 %).
+# An optional sixth argument names a second sweep of the same scene
+# (tradeoff_<scene>_<tag>.csv) and the knobs after it limit it.
 run() {
-  local scene=$1 receiver=$2 region=$3 size=$4 photons=$5
-  local ref=build/tradeoff/${scene}_ref.exr
+  local scene=$1 receiver=$2 region=$3 size=$4 photons=$5 tag=${6:+_$6}
+  local ref=build/tradeoff/${scene}${tag}_ref.exr
   if [ ! -f "$ref" ]; then
     ./build/tools/caustix-reference "assets/scenes/$scene.json" --irradiance "$receiver" --region "$region" \
       --size "$size" --photons "$photons" -o "$ref"
   fi
   ./build/tools/caustix-bench tradeoff "assets/scenes/$scene.json" --reference "$ref" \
-    --csv "docs/results/tradeoff_$scene.csv"
+    --csv "docs/results/tradeoff_$scene$tag.csv" "${@:7}"
 }
 run wavy_pool floor 0,-0.03125,4,0.03125 256x4 256000000
 run thesis_teapot teapot -1.25,-0.8,1.35,0.8 104x64 128000000
 run glass_ball floor -1,-1,1,1 128x128 32000000
+# The focus (issue 47): 1 mm pixels over +-5 cm, the focal columns
+# (focus_1cm, focus_2cm, peak_ratio) judge what the eye goes to first.
+run glass_ball floor -0.05,-0.05,0.05,0.05 100x100 24000000 focus --knobs glass-size glass-turn ltt-resolution glass-method cmap-size presets
 # Media (docs/volume.md): in-scatter references, the media's knobs.
 run_media() {
   local scene=$1 region=$2 size=$3 photons=$4

@@ -100,6 +100,57 @@ TEST_F(Glass, BallLensFluxAndFocalSpot) {
   }
 }
 
+// The focal spot at the defaults (issue 47) against the exact trace of a
+// true sphere (optics_oracle.h, Fresnel at both surfaces), rasterised into
+// the same pixels: 0.5 mm pixels over +-5.1 cm, 4 x 4 samples each; the
+// power within 0.5, 1, 2 and 5 cm of the axis and the brightest 2 mm pixel
+// (4 x 4 of them, aligned so that one is centred on the axis: optics puts
+// 7151 E0 there). Bounds: the issue's targets, 10 % at 0.5 cm, 5 % beyond,
+// 25 % at the peak; measured -4.8, -3.4, -1.8, -1.2 % and -22.6 %. Without
+// the focus window the 7.8 mm texels of the floor's texture spread the
+// spot: -60 % at 0.5 cm, -22 % at 1 cm, the peak -95 % (asserted worse
+// than -15 % at 1 cm, so that the test tells the two apart).
+TEST_F(Glass, BallLensFocusAgreesWithOptics) {
+  const int n = 204;
+  const double x0 = -0.051, pix = 0.0005;
+  const auto want = test::landing_image(ball_lens(0.5, 0.75, 1.5, 20000), n, x0, pix);
+  auto r = runtime::Renderer::create(bake_and_load(scene("glass_ball")));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  for (const bool focus : {true, false}) {
+    runtime::IrradianceRequest q;
+    q.receiver = "floor";
+    q.x0 = q.z0 = static_cast<float>(x0);
+    q.x1 = q.z1 = static_cast<float>(x0 + n * pix);
+    q.width = q.height = n;
+    q.caustics.glass_focus = focus;
+    auto img = (*r)->render_irradiance(q);
+    ASSERT_TRUE(img.ok()) << img.error().message;
+    std::vector<double> got;
+    for (std::size_t i = 0; i < img->rgb.size(); i += 3) got.push_back(img->rgb[i]);
+    const char* label = focus ? "focus window" : "no window";
+    // The window: a square around the focus, far smaller than the floor.
+    const auto lit = (*r)->engine().lighting(0, 0);
+    ASSERT_TRUE(lit.ok());
+    if (focus) {
+      EXPECT_GT(lit->block.glass_half.w, 0.0f);
+      EXPECT_LT(lit->block.glass_half.w, 0.05f);
+      EXPECT_NEAR(lit->block.glass_v.w, 0.5f, lit->block.glass_half.w);
+      EXPECT_NEAR(lit->block.glass_w.w, 0.5f, lit->block.glass_half.w);
+    } else {
+      EXPECT_EQ(lit->block.glass_half.w, 0.0f);
+    }
+    for (const double radius : {0.005, 0.01, 0.02, 0.05}) {
+      const double g = test::power_within(got, n, x0, pix, radius), w = test::power_within(want, n, x0, pix, radius);
+      std::printf("[glass_ball, %s] power within %.3f m: %.5f vs %.5f optics (%+.1f %%)\n", label, radius, g, w, 100 * (g / w - 1));
+      if (focus) EXPECT_NEAR(g / w, 1.0, radius < 0.01 ? 0.10 : 0.05) << "within " << radius << " m";
+      if (!focus && radius == 0.01) EXPECT_LT(g / w, 0.85) << "the main texture alone resolves the spot: the test tells nothing";
+    }
+    const double gp = test::peak_block(got, n, 4), wp = test::peak_block(want, n, 4);
+    std::printf("[glass_ball, %s] brightest 2 mm pixel %.1f vs %.1f E0 optics (%+.1f %%)\n", label, gp, wp, 100 * (gp / wp - 1));
+    if (focus) EXPECT_NEAR(gp / wp, 1.0, 0.25);
+  }
+}
+
 // Smooth glass caustics (issue 21: "the glass ball's shadow ring has radial
 // spokes"). Under the vertical sun the exact floor is radially symmetric;
 // per one-pixel ring (4 mm) the spread of the pixels around it over their
@@ -448,6 +499,12 @@ TEST_F(Glass, HalfShadedPaneSendsTheLightOfItsLitHalf) {
     double sum = 0;
     for (std::size_t i = 0; i < img->rgb.size(); i += 3) sum += img->rgb[i] * pix * pix;
     transmitted += method == runtime::CausticsMethod::kNone ? -sum : sum;
+    if (method == runtime::CausticsMethod::kLevelMap) {
+      // A pane concentrates nothing: no focus window, no cost (issue 47).
+      const auto lit = (*r)->engine().lighting(0, 0);
+      ASSERT_TRUE(lit.ok());
+      EXPECT_EQ(lit->block.glass_half.w, 0.0f);
+    }
   }
   const double t = fresnel_t(1.0, 1.5), expected = t * t * 0.5;
   std::printf("[pane half in a board's shadow] light through it %.4f m^2 E0, T^2 x 0.5 m^2 = %.4f\n", transmitted, expected);

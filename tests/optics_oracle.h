@@ -144,6 +144,56 @@ inline BallLensFloor ball_lens_floor(const std::vector<float>& e, int n, double 
   return b;
 }
 
+// Exact landings (a radially symmetric pattern about the origin) as an
+// n x n image of E/E0 in pixels `pix` wide, pixel (i, j) over
+// [x0 + j pix, x0 + (j + 1) pix] x [x0 + i pix, ...]: each landing's ring
+// spread over `angles` points (their angles offset per ring, so that no
+// ray of points lines up with the pixel grid). What a renderer's pixel
+// image is compared with, pixel set for pixel set.
+inline std::vector<double> landing_image(const std::vector<Landing>& l, int n, double x0, double pix, int angles = 512) {
+  std::vector<double> img(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  for (std::size_t k = 0; k < l.size(); ++k) {
+    const double w = l[k].weight / angles / (pix * pix);
+    for (int a = 0; a < angles; ++a) {
+      const double phi = 2 * kPi * (a + 0.618034 * static_cast<double>(k % 97)) / angles;
+      const int j = static_cast<int>(std::floor((l[k].rho * std::cos(phi) - x0) / pix));
+      const int i = static_cast<int>(std::floor((l[k].rho * std::sin(phi) - x0) / pix));
+      if (i < 0 || j < 0 || i >= n || j >= n) continue;
+      img[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] += w;
+    }
+  }
+  return img;
+}
+
+// Focal measures of an n x n image of E/E0 (pixels `pix` wide, corner at
+// (x0, x0)): the power (m^2 E0) of the pixels whose centres lie within r
+// of the origin, and the brightest `bin` x `bin` block of pixels' mean
+// (blocks aligned to the image's corner).
+inline double power_within(const std::vector<double>& img, int n, double x0, double pix, double r) {
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (std::hypot(x0 + (j + 0.5) * pix, x0 + (i + 0.5) * pix) < r) {
+        sum += img[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] * pix * pix;
+      }
+    }
+  }
+  return sum;
+}
+inline double peak_block(const std::vector<double>& img, int n, int bin) {
+  double best = 0;
+  for (int bi = 0; bi + bin <= n; bi += bin) {
+    for (int bj = 0; bj + bin <= n; bj += bin) {
+      double sum = 0;
+      for (int i = bi; i < bi + bin; ++i) {
+        for (int j = bj; j < bj + bin; ++j) sum += img[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)];
+      }
+      best = std::max(best, sum / (bin * bin));
+    }
+  }
+  return best;
+}
+
 // A dispersive ball's images at the F, d and C lines (got[0..2]): whether
 // the check tells the lines apart, the F image against the C line's exact
 // pattern (and back) missing its encircled power within 2 cm by more than

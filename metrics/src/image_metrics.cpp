@@ -89,12 +89,39 @@ Comparison compare(const Image& a, const Image& b, const std::optional<std::arra
   c.flux_ratio = flux_ratio(a, b);
   const auto pa = peak_position(a), pb = peak_position(b);
   c.peak_error_px = std::hypot(pa[0] - pb[0], pa[1] - pb[1]);
+  const auto brightest = [](const Image& im) {
+    double m = 0;
+    for (std::size_t i = 0; i < im.rgb.size() / 3; ++i) m = std::max(m, luminance(im, i));
+    return m;
+  };
+  const double peak_b = brightest(b);
+  c.peak_ratio = peak_b > 0 ? brightest(a) / peak_b : 1.0;
   if (region) {
     const auto& r = *region;
     const double sx = (r[2] - r[0]) / b.width, sz = (r[3] - r[1]) / b.height;
     c.peak_error_m = std::hypot((pa[0] - pb[0]) * sx, (pa[1] - pb[1]) * sz);
+    const double cx = r[0] + pb[0] * sx, cz = r[1] + pb[1] * sz;
+    const auto ratio = [&](double radius) -> std::optional<double> {
+      const double want = power_within(b, r, cx, cz, radius);
+      if (!(want > 0)) return std::nullopt;
+      return power_within(a, r, cx, cz, radius) / want;
+    };
+    c.focus_1cm = ratio(0.01);
+    c.focus_2cm = ratio(0.02);
   }
   return c;
+}
+
+double power_within(const Image& im, const std::array<double, 4>& region, double cx, double cz, double radius) {
+  const double sx = (region[2] - region[0]) / im.width, sz = (region[3] - region[1]) / im.height;
+  double sum = 0;
+  for (int i = 0; i < im.height; ++i) {
+    for (int j = 0; j < im.width; ++j) {
+      if (std::hypot(region[0] + (j + 0.5) * sx - cx, region[1] + (i + 0.5) * sz - cz) >= radius) continue;
+      sum += luminance(im, static_cast<std::size_t>(i) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(j));
+    }
+  }
+  return sum * sx * sz;
 }
 
 double srgb_to_linear(double v8) {

@@ -147,9 +147,14 @@ Status ReceiverPasses::shade_per_pair(const glm::mat4& view_proj, bool level0) {
       }
       auto r = engine_.lighting(oi, li);
       if (!r) return r.error();
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 0);
+      const GLuint mipmapped[3] = {r->caustics, r->caustics_color, r->glass_illumination};
+      for (GLuint t : mipmapped) {
+        if (t) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 0);
+      }
       CAUSTIX_RETURN_IF_ERROR(engine_.draw_object(oi));
-      for (GLuint t : {r->caustics, r->caustics_color}) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 1000);  // GL's default
+      for (GLuint t : mipmapped) {
+        if (t) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 1000);  // GL's default
+      }
     }
   }
   glDisable(GL_BLEND);

@@ -13,11 +13,19 @@ layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 vec2 v_q0, v_q1, v_q2, v_plane, v_slopes;
 vec2 v_s0, v_s1, v_s2;  // water caustics: each vertex's direction (s_u, s_w)
 float v_irradiance;
+#ifdef TEXEL_MAP
+uniform vec3 u_texel_map;  // as caustics_intersect.vert: this texture's texels are (q - xy) * z
+#endif
 void load_primitive() {
   vec4 a = prims[PRIM_STRIDE * v_prim], b = prims[PRIM_STRIDE * v_prim + 1], c = prims[PRIM_STRIDE * v_prim + 2];
   v_q0 = a.xy;
   v_q1 = a.zw;
   v_q2 = b.xy;
+#ifdef TEXEL_MAP
+  v_q0 = (v_q0 - u_texel_map.xy) * u_texel_map.z;
+  v_q1 = (v_q1 - u_texel_map.xy) * u_texel_map.z;
+  v_q2 = (v_q2 - u_texel_map.xy) * u_texel_map.z;
+#endif
   v_irradiance = b.z;
   v_plane = c.xy;
 #if PRIM_STRIDE == 5

@@ -15,6 +15,11 @@
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 uniform float u_map_size;
+#ifdef TEXEL_MAP
+// Glass focus windows (issue 47): the primitives are in the main
+// texture's texels; this texture's are (q - xy) * z.
+uniform vec3 u_texel_map;
+#endif
 #ifdef DEPTH_SHIFT
 uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
 #endif
@@ -26,6 +31,11 @@ void main() {
   vec4 p0 = prims[PRIM_STRIDE * prim];
   vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
+#ifdef TEXEL_MAP
+  q0 = (q0 - u_texel_map.xy) * u_texel_map.z;
+  q1 = (q1 - u_texel_map.xy) * u_texel_map.z;
+  q2 = (q2 - u_texel_map.xy) * u_texel_map.z;
+#endif
   v_prim = prim;
   float delta = 0.7072;  // half a texel diagonal, rounded up
 #ifdef DEPTH_SHIFT

@@ -7,7 +7,8 @@
 // S its area, theta its angle to the light, S_0 the intersection
 // triangle's area and delta the angle between the rays' mean direction
 // and the plane normal. S_0 is kept above S cos(theta) / max_magnification
-// (as for water, docs/caustics.md). Three primitives per (triangle,
+// (as for water, docs/caustics.md) by widening the triangle, which keeps
+// its flux (below). Three primitives per (triangle,
 // plane), p = (plane * triangles + t) * 3 + slot: slot 0 the triangle's
 // volume, or, where the triangle is torn or some corners pass no light, one
 // corner beam per slot (below). Each: (q0, q1), (q2, S0 in texels or -1 for
@@ -135,8 +136,32 @@ void main() {
   }
   float texel_area = 1.0 / (to_texels.x * to_texels.y);
   float s0 = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y)) * texel_area;
+  // Magnification above max_magnification (a focus: glass_ball's pole
+  // triangles land 47 000 times smaller than they are): the triangle is
+  // widened across its longest edge until S_0 = S cos(theta) / M, its
+  // third vertex moved away from that edge, so that it keeps its flux at
+  // the capped intensity. Capping the intensity alone lost what it drew
+  // over the smaller area: 79 % of the pole's light, 1.4 % of the ball's,
+  // all of it from the focal millimetre (issue 47).
+  float s_min = flux / u_max_magnification;
+  if (s0 < s_min && s0 > 0.0) {
+    int a = 0;
+    float longest = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      float l = dot(q[(k + 1) % 3] - q[k], q[(k + 1) % 3] - q[k]);
+      if (l > longest) {
+        longest = l;
+        a = k;
+      }
+    }
+    int b = (a + 1) % 3, c = (a + 2) % 3;
+    vec2 along = (q[b] - q[a]) / sqrt(longest);
+    vec2 foot = q[a] + along * dot(q[c] - q[a], along);
+    q[c] = foot + (q[c] - foot) * (s_min / s0);
+    s0 = s_min;
+  }
   float cos_delta = max(-dot(normalize(mean_dir), u_V), 1e-3);
-  vec3 intensity = e_in * flux * colour / (max(s0, flux / u_max_magnification) * cos_delta);
+  vec3 intensity = e_in * flux * colour / (max(s0, s_min) * cos_delta);
   prims[6u * p] = vec4(q[0], q[1]);
   // z: the intersection triangle's area in texels for a whole triangle
   // (glass_vertex_intensity.comp weighs its one-rings by it), -1 for a

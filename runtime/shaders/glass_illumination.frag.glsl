@@ -4,7 +4,8 @@
 // triangle its corners' intensities interpolated at the texel centre
 // (glass_corner_intensity.comp) -- times the exact fraction of the texel it
 // covers, times cos(gamma) per texel from the target's normal map and the
-// transmitted direction interpolated across the triangle.
+// transmitted direction interpolated across the triangle. The same program
+// draws the focus windows' layers (u_texel_map; (0, 0, 1) for the main ones).
 layout(binding = 0) uniform sampler2D u_target;  // xyz: world normal of the first surface, w: frame V (-1e30: none)
 uniform int u_smooth;  // CausticsOptions::glass_smooth
 
@@ -12,7 +13,11 @@ out vec4 o_intensity;
 
 void main() {
   load_primitive();
-  vec4 target = texelFetch(u_target, ivec2(gl_FragCoord.xy), 0);
+  // The target's texel under this one: the same in the main textures; in
+  // a focus window's (u_texel_map, issue 47) the main texel it lies in.
+  ivec2 under = ivec2(floor(gl_FragCoord.xy / u_texel_map.z + u_texel_map.xy));
+  if (any(lessThan(under, ivec2(0))) || any(greaterThanEqual(under, textureSize(u_target, 0)))) discard;
+  vec4 target = texelFetch(u_target, under, 0);
   if (target.w < -1e29) discard;  // no target surface under this texel
   float covered = texel_coverage();
   if (covered <= 0.0) discard;

@@ -80,6 +80,9 @@ int main(int argc, char** argv) {
   bool glass_flat = false;
   app.add_flag("--glass-flat", glass_flat,
                "glass (table): one intensity per intersection triangle, as seed 002's eq. 3 (default: interpolated from the corners; docs/glass.md)");
+  bool glass_no_focus = false;
+  app.add_flag("--glass-no-focus", glass_no_focus,
+               "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as seed 002 (docs/glass.md)");
   bool caustics_flat = false;
   app.add_flag("--caustics-flat", caustics_flat,
                "water caustics: one irradiance per water triangle, as seed 000's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
@@ -245,6 +248,7 @@ int main(int argc, char** argv) {
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.glass_smooth = !glass_flat;
+  caustics.glass_focus = !glass_no_focus;
   caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;
   caustics.wavelengths = wavelengths;

@@ -209,7 +209,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t planes = 0, csize = 0, gsize = 0;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
-  bool no_cull = false, header = false, move_light = false, still = false;
+  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
@@ -227,6 +227,7 @@ struct RuntimeModes final : Modes {
     fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
+    fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass.md)");
     fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
     fr->add_option("--glass-view", glass_view, "the view through glass: table (seed 002 §3) or nearby (nearby-geometry refraction, seed 003)")
@@ -291,6 +292,7 @@ struct RuntimeModes final : Modes {
     co.method = *runtime::parse_method(method);
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
+    co.glass_focus = !glass_no_focus;
     co.map_size = csize;
     co.glass_method = *runtime::parse_glass_method(glass_method);
     co.caustic_map.photons = cmap_photons;

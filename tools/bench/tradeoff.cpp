@@ -184,7 +184,7 @@ int tradeoff(const TradeoffRequest& q) {
   if (!context) return fail(context.error());
 
   CsvOut out(q.csv, "scene,receiver,knob,value,water_cells,bake_s,cxb_bytes,frame_ms,frame_min_ms,media_ms,march_ms,gpu_mb,eq29,rel_l1,rms,"
-       "flux_ratio,peak_px,peak_m,reference_noise,renderer");
+       "flux_ratio,peak_px,peak_m,peak_ratio,focus_1cm,focus_2cm,reference_noise,renderer");
 
   // One row: bake with the setting (the baker's own timing), load the bytes,
   // render the reference's image, then time beauty frames.
@@ -260,12 +260,21 @@ int tradeoff(const TradeoffRequest& q) {
     const runtime::CausticsStats cs = (*renderer)->caustics_stats(false);
     std::string cells = "-";
     if (scene->desc.water) cells = std::to_string(scene->desc.water->cells[0]) + "x" + std::to_string(scene->desc.water->cells[1]);
+    // The focal columns (issue 47): empty for an in-scatter image (no
+    // ground region) or where the reference has no power there.
+    const auto focal = [](const std::optional<double>& v) {
+      char b[32] = "";
+      if (v) std::snprintf(b, sizeof b, "%.4f", *v);
+      return std::string(b);
+    };
+    const std::string f1 = ref->receiver.empty() ? "" : focal(c.focus_1cm), f2 = ref->receiver.empty() ? "" : focal(c.focus_2cm);
     char line[1024];
-    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.3f,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,\"%s\"",
+    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.3f,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,%s,%s,%.4f,\"%s\"",
                   scene->desc.name.c_str(), ref->receiver.empty() ? "(in-scatter)" : ref->receiver.c_str(), knob.c_str(),
                   value.c_str(), cells.c_str(), bake_s, baked->cxb.size(), times->median_ms, times->min_ms, media_ms, march_ms,
                   static_cast<double>(cs.gpu_bytes) / 1e6, c.eq29,
-                  c.rel_l1, c.rms, c.flux_ratio, c.peak_error_px, c.peak_error_m.value_or(0), ref->noise,
+                  c.rel_l1, c.rms, c.flux_ratio, c.peak_error_px, c.peak_error_m.value_or(0), c.peak_ratio, f1.c_str(), f2.c_str(),
+                  ref->noise,
                   context->get()->description().c_str());
     out.row(line);
     return Status::success();

@@ -81,6 +81,9 @@ int main(int argc, char** argv) {
     nlohmann::ordered_json j{{"a", a_path}, {"b", b_path}, {"eq29", c.eq29}, {"rel_l1", c.rel_l1}, {"rms", c.rms},
                              {"flux_ratio", c.flux_ratio}, {"peak_error_px", c.peak_error_px}};
     if (c.peak_error_m) j["peak_error_m"] = *c.peak_error_m;
+    j["peak_ratio"] = c.peak_ratio;
+    if (c.focus_1cm) j["focus_1cm"] = *c.focus_1cm;
+    if (c.focus_2cm) j["focus_2cm"] = *c.focus_2cm;
     if (split) {
       for (const auto& e : split->classes) {
         j["split"].push_back({{"class", e.name}, {"pixels", e.pixels}, {"rel_l1", e.rel_l1()}, {"bias", e.bias()},
@@ -93,7 +96,9 @@ int main(int argc, char** argv) {
                 c.rel_l1, c.rms, c.flux_ratio);
     std::printf("peak position error: %.3g px", c.peak_error_px);
     if (c.peak_error_m) std::printf(" (%.4g m)", *c.peak_error_m);
-    std::printf("\n");
+    std::printf("\nbrightest pixel, A over B: %.6g\n", c.peak_ratio);
+    if (c.focus_1cm) std::printf("power within 1 cm of B's brightest pixel, A over B: %.6g\n", *c.focus_1cm);
+    if (c.focus_2cm) std::printf("power within 2 cm of B's brightest pixel, A over B: %.6g\n", *c.focus_2cm);
     if (split) {
       std::printf("\n%-13s %8s %9s %9s %9s\n", "class", "pixels", "rel_l1", "bias", "share");
       for (const auto& e : split->classes) {

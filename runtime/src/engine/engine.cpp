@@ -270,9 +270,9 @@ struct Engine::Impl {
     b.mode.z = 1;
     b.glass_origin = vec4_of(f.origin, g->tolerance);
     b.glass_u = vec4_of(f.u, static_cast<float>(g->plane_v.size()));
-    b.glass_v = vec4_of(f.v, 0.0f);
-    b.glass_w = vec4_of(f.w, 0.0f);
-    b.glass_half = vec4_of(f.half, 0.0f);
+    b.glass_v = vec4_of(f.v, g->focus[0]);
+    b.glass_w = vec4_of(f.w, g->focus[1]);
+    b.glass_half = vec4_of(f.half, g->focus[2]);
     for (std::size_t k = 0; k < g->plane_v.size() && k < 16; ++k) b.glass_plane_v[k / 4][static_cast<int>(k % 4)] = g->plane_v[k];
     r.glass_illumination = g->illumination;
     r.glass_target = g->target;

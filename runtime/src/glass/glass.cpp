@@ -22,6 +22,21 @@ constexpr std::size_t kPrimitiveBytes = 6 * 16;
 // 64 vertices.
 constexpr std::size_t kSampleBytes = 4u << 20;
 constexpr std::size_t kMinSampleVertices = 64;
+// Focus windows (issue 47): the sampled exit rays are binned over the
+// target's frame in kFocusBins x kFocusBins cells per plane; a cell is
+// concentrated where the flux landing in it is at least
+// kFocusConcentration times the incident irradiance over its area, from at
+// least kFocusMinRays sampled rays (a cell of a flat pane gets T^2, about
+// 0.92; the sampling stride alone can put two or three rays in a cell).
+// The window is the square around the concentrated cells and one cell
+// more, no larger than kFocusMaxHalf of the frame (else the main texture
+// does nearly as well) and no smaller than kFocusMinHalf (64 times the
+// main texture's resolution at most).
+constexpr int kFocusBins = 128;
+constexpr double kFocusConcentration = 4.0;
+constexpr int kFocusMinRays = 4;
+constexpr float kFocusMaxHalf = 0.25f;
+constexpr float kFocusMinHalf = 0.5f / 64.0f;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
@@ -56,6 +71,18 @@ struct GlassEngine::Impl {
     // estimated from without reading the GPU's rays back (mean_travel).
     LightTransportTable sample;
     std::vector<std::array<float, 3>> sample_positions, sample_normals;
+    // Each sampled vertex's share of the surface (a third of its one-ring's
+    // area, object space) times the sampling stride: the surface it stands
+    // for.
+    std::vector<float> sample_areas;
+  };
+  // A sampled vertex's exit ray for one light, in world space: `flux` is
+  // what it carries per unit incident irradiance (its surface share,
+  // projected towards the light, times T).
+  struct SampledRay {
+    glm::vec3 exit, direction;
+    float transmittance, flux;
+    std::uint32_t object;
   };
   struct Target {
     std::uint32_t object = 0, light = 0;
@@ -65,6 +92,12 @@ struct GlassEngine::Impl {
     gl::Framebuffer fbo;
     BoundingFrame frame;
     std::vector<float> plane_v;
+    // The focus window (issue 47): centre u, v and half-size in the main
+    // texture's coordinates; half-size 0 without one. The illumination
+    // texture holds 2 x planes layers once a window was needed (`layers`).
+    std::array<float, 3> focus{0, 0, 0};
+    std::uint32_t layers = 0;
+    int levels = 1;  // mips with focus layers
     // The target's plane normal if it is flat (world), for the transform it
     // was found at: flatness does not change as an object moves rigidly,
     // so the O(vertices) test runs again only when the transform does.
@@ -105,16 +138,14 @@ struct GlassEngine::Impl {
   MadeFrom<LightInputs> made;
   std::uint32_t traced = 1;  // wavelengths of the last update
 
-  // The average direction of the transmitted light (seed 002 §4.2: "We set
-  // a virtual camera so that the viewing direction is parallel to the
-  // average direction of the transmitted lights"), unnormalised: the exit
-  // directions weighted by their Fresnel transmittance, over the sampled
-  // vertices that face the light, looked up in the n_d table as the GPU
-  // does (formats' lookup(), which transport.glsl mirrors). An estimate
-  // from a sample, computed on the CPU, so that no frame waits for the
-  // GPU's rays (issue 44); it only orients the planes.
-  Vec3d mean_travel(const SceneDesc& scene, const Light& light) const {
-    Vec3d sum{0, 0, 0};
+  // The exit rays of the sampled vertices that face `light` and pass it
+  // (the n_d table looked up as the GPU does: formats' lookup(), which
+  // transport.glsl mirrors), in world space. Computed on the CPU from a
+  // sample, so that no frame waits for the GPU's rays (issue 44); they
+  // orient the planes (mean_travel) and place the focus windows
+  // (focus_window), and change neither image's light.
+  std::vector<SampledRay> sampled_rays(const SceneDesc& scene, const Light& light) const {
+    std::vector<SampledRay> out;
     for (const Glass& g : glass) {
       glm::mat3 rotation;
       float scale = 1;
@@ -129,17 +160,88 @@ struct GlassEngine::Impl {
                                          ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
                                          : glm::normalize(glm::vec3(light.position[0], light.position[1], light.position[2]) - pw);
         const glm::vec3 to_light = to_object * to_light_w;
-        if (glm::dot(n, to_light) <= 0.0f) continue;  // light enters only where the surface faces it
+        const float cos_theta = glm::dot(n, to_light);
+        if (cos_theta <= 0.0f) continue;  // light enters only where the surface faces it
         const TransportEntry e = lookup(g.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
         if (e.status != TransportStatus::kLeaves) continue;
-        const glm::vec3 d = rotation * glm::vec3(static_cast<float>(e.direction[0]), static_cast<float>(e.direction[1]),
-                                                 static_cast<float>(e.direction[2]));
-        for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += static_cast<double>(d[c]) * e.transmittance;
+        const glm::vec3 exit(model * glm::vec4(glm::vec3(e.exit[0], e.exit[1], e.exit[2]), 1.0f));
+        const glm::vec3 d = rotation * glm::vec3(e.direction[0], e.direction[1], e.direction[2]);
+        const float t = static_cast<float>(e.transmittance);
+        out.push_back({exit, d, t, g.sample_areas[k] * scale * scale * cos_theta * t, g.object});
       }
+    }
+    return out;
+  }
+  // The average direction of the transmitted light (seed 002 §4.2: "We set
+  // a virtual camera so that the viewing direction is parallel to the
+  // average direction of the transmitted lights"), unnormalised: the
+  // sampled exit directions weighted by their Fresnel transmittance. An
+  // estimate; it only orients the planes.
+  static Vec3d mean_travel(const std::vector<SampledRay>& rays) {
+    Vec3d sum{0, 0, 0};
+    for (const SampledRay& r : rays) {
+      for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += static_cast<double>(r.direction[c]) * r.transmittance;
     }
     return sum;
   }
-
+  // Issue 47: seed 002 gives every plane one texture over the whole target
+  // (512^2: 7.8 mm texels over glass_ball's 4 m floor), and a ball lens
+  // puts most of its light within a centimetre of its focus, so the focal
+  // spot was a texel wide and its peak an eighth of the optics'. Here the
+  // window is fitted to where the light lands concentrated (constants
+  // above): the sampled rays cut with each plane, binned over the frame.
+  // Returns {centre u, centre v, half-size} in texture coordinates, or a
+  // zero half-size where nothing concentrates (a pane, a prism: no
+  // window, no cost).
+  // A glass in `skip` sends no light here (the caustic maps carry it).
+  static std::array<float, 3> focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip) {
+    const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
+                           static_cast<float>(t.frame.origin[2]));
+    const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
+        W(t.frame.w[0], t.frame.w[1], t.frame.w[2]);
+    const double hu = t.frame.half[0], hw = t.frame.half[2];
+    const double cell_area = (2 * hu / kFocusBins) * (2 * hw / kFocusBins);
+    std::vector<double> flux(kFocusBins * kFocusBins);
+    std::vector<int> count(kFocusBins * kFocusBins);
+    int lo[2] = {kFocusBins, kFocusBins}, hi[2] = {-1, -1};
+    for (const float plane : t.plane_v) {
+      std::fill(flux.begin(), flux.end(), 0.0);
+      std::fill(count.begin(), count.end(), 0);
+      for (const SampledRay& r : rays) {
+        if (skip[r.object]) continue;
+        // As glass_geometry.comp cuts a ray with a plane.
+        const float along = -glm::dot(r.direction, V);
+        const glm::vec3 rel = r.exit - origin;
+        const float s = (glm::dot(rel, V) - plane) / std::max(along, 1e-6f);
+        if (along <= 1e-4f || s < 0.0f) continue;
+        const glm::vec3 x = rel + s * r.direction;
+        const double fu = std::floor((glm::dot(x, U) + hu) / (2 * hu) * kFocusBins);
+        const double fw = std::floor((glm::dot(x, W) + hw) / (2 * hw) * kFocusBins);
+        if (!(fu >= 0 && fw >= 0 && fu < kFocusBins && fw < kFocusBins)) continue;  // outside, or not finite
+        const int i = static_cast<int>(fu), j = static_cast<int>(fw);
+        flux[static_cast<std::size_t>(j * kFocusBins + i)] += r.flux;
+        ++count[static_cast<std::size_t>(j * kFocusBins + i)];
+      }
+      for (int j = 0; j < kFocusBins; ++j) {
+        for (int i = 0; i < kFocusBins; ++i) {
+          const std::size_t c = static_cast<std::size_t>(j * kFocusBins + i);
+          if (count[c] < kFocusMinRays || flux[c] < kFocusConcentration * cell_area) continue;
+          lo[0] = std::min(lo[0], i);
+          lo[1] = std::min(lo[1], j);
+          hi[0] = std::max(hi[0], i);
+          hi[1] = std::max(hi[1], j);
+        }
+      }
+    }
+    if (hi[0] < 0) return {0, 0, 0};
+    // The concentrated cells and one more on every side, in texture
+    // coordinates (cell i spans [i, i + 1] / kFocusBins).
+    const float u0 = static_cast<float>(lo[0] - 1) / kFocusBins, u1 = static_cast<float>(hi[0] + 2) / kFocusBins;
+    const float v0 = static_cast<float>(lo[1] - 1) / kFocusBins, v1 = static_cast<float>(hi[1] + 2) / kFocusBins;
+    const float half = std::max({0.5f * (u1 - u0), 0.5f * (v1 - v0), kFocusMinHalf});
+    if (half > kFocusMaxHalf) return {0, 0, 0};
+    return {0.5f * (u0 + u1), 0.5f * (v0 + v1), half};
+  }
   // What the surface's tint leaves of light through the glass: in and out, tint^2.
   static glm::vec3 transmit(const Material& m) {
     const glm::vec3 t(m.tint[0], m.tint[1], m.tint[2]);
@@ -389,26 +491,50 @@ struct GlassEngine::Impl {
       illumination.set("u_map_size", static_cast<float>(size));
       glBindTextureUnit(0, t.target.get());
       glBindVertexArray(empty_vao.get());
-      for (std::uint32_t k = 0; k < planes; ++k) {
-        glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, static_cast<GLint>(k));
-        // Six vertices a primitive (caustics_intersect.vert), plane k's from k * per_plane.
-        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
+      // The main layers, then the focus window's (issue 47): the same
+      // primitives, their texel coordinates q taken to the window's
+      // (q - offset) * scale.
+      const float half = t.focus[2];
+      for (int window = 0; window < (half > 0.0f ? 2 : 1); ++window) {
+        const glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
+                                          : glm::vec3(static_cast<float>(size) * (t.focus[0] - half),
+                                                      static_cast<float>(size) * (t.focus[1] - half), 0.5f / half);
+        illumination.set("u_texel_map", map);
+        for (std::uint32_t k = 0; k < planes; ++k) {
+          const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
+          glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
+          // Six vertices a primitive (caustics_intersect.vert), plane k's from k * per_plane.
+          glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
+        }
       }
     }
   }
-  void ensure_target(Target& t, int size, std::uint32_t planes) {
-    if (t.size == size && t.planes == planes && t.fbo.get()) return;
+  // The target's textures at `size` with `planes` planes; the
+  // illumination texture with twice the layers once a focus window is
+  // needed (kept after: a light that moves would otherwise re-make it as
+  // the window comes and goes).
+  void ensure_target(Target& t, int size, std::uint32_t planes, bool focus) {
+    const std::uint32_t layers = focus || (t.layers == 2 * planes && t.size == size) ? 2 * planes : planes;
+    if (t.size == size && t.planes == planes && t.layers == layers && t.fbo.get()) return;
     t.size = size;
     t.planes = planes;
+    t.layers = layers;
     t.target = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(t.target.get(), 1, GL_RGBA32F, size, size);
     t.depth = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
     t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(t.illumination.get(), 1, GL_RGBA32F, size, size, static_cast<GLsizei>(planes));
+    // With a focus window, a mip chain: its texels are finer than the
+    // pixels that usually look at them (0.4 mm on glass_ball's floor), and
+    // a focus sampled at a pixel's centre alone would flicker as the view
+    // moves; the mips average it (and keep the mean irradiance).
+    t.levels = 1;
+    while (layers > planes && (size >> t.levels) > 0) ++t.levels;
+    glTextureStorage3D(t.illumination.get(), t.levels, GL_RGBA32F, size, size, static_cast<GLsizei>(layers));
     for (GLuint tex : {t.target.get(), t.illumination.get()}) {
       gl::set_sampling(tex, GL_LINEAR);
     }
+    if (t.levels > 1) glTextureParameteri(t.illumination.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(t.target.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t.target.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     t.fbo = gl::make_framebuffer();
@@ -434,7 +560,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
   const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);
   const std::string thin_fs = with_optics(shaders::k_glass_thin_frag_glsl);
-  const std::string stride = "#define PRIM_STRIDE 6\n";
+  const std::string stride = "#define PRIM_STRIDE 6\n#define TEXEL_MAP\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
   const std::string geometry_src = insert_after_version(shaders::k_glass_geometry_comp_glsl, std::string("#define CAUSTIX_OPTICS_ONLY\n") + shaders::k_caustix_glsl);
@@ -479,11 +605,23 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
         g.sample = full;
         g.sample.words.clear();
         g.sample.vertex_count = 0;
+        std::vector<double> share(full.vertex_count, 0.0);  // a third of each vertex's one-ring area
+        for (const auto& tri : mesh.triangles) {
+          const auto& a = mesh.positions[tri[0]];
+          const auto& b = mesh.positions[tri[1]];
+          const auto& c = mesh.positions[tri[2]];
+          const glm::dvec3 e1(b[0] - a[0], b[1] - a[1], b[2] - a[2]), e2(c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+          const double third = glm::length(glm::cross(e1, e2)) / 6.0;
+          for (const std::uint32_t v : tri) {
+            if (v < share.size()) share[v] += third;
+          }
+        }
         for (std::size_t v = 0; v < full.vertex_count; v += stride) {
           g.sample.words.insert(g.sample.words.end(), full.words.begin() + static_cast<std::ptrdiff_t>(v * row),
                                 full.words.begin() + static_cast<std::ptrdiff_t>((v + 1) * row));
           g.sample_positions.push_back(mesh.positions[v]);
           g.sample_normals.push_back(mesh.normals[v]);
+          g.sample_areas.push_back(static_cast<float>(share[v] * static_cast<double>(std::min(stride, full.vertex_count - v))));
           ++g.sample.vertex_count;
         }
       }
@@ -563,7 +701,8 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   // wavelength, and the mean transmitted direction (at n_d: the frames
   // serve every wavelength).
   s.trace_rays(scene, waves[0], exact_nd, by_caustic_maps, set_light_uniforms);
-  Vec3d travel = s.mean_travel(scene, light);
+  const std::vector<Impl::SampledRay> sampled = s.sampled_rays(scene, light);
+  Vec3d travel = Impl::mean_travel(sampled);
   double len = std::sqrt(travel[0] * travel[0] + travel[1] * travel[1] + travel[2] * travel[2]);
   if (len < 1e-9) {  // nothing transmitted: any frame will do
     travel = {light.direction[0], light.direction[1], light.direction[2]};
@@ -600,7 +739,8 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     const std::uint32_t planes = hv > 1e-5f * std::max(t.frame.half[0], t.frame.half[2]) ? wanted : 1;
     t.plane_v.resize(planes);
     for (std::uint32_t k = 0; k < planes; ++k) t.plane_v[k] = planes == 1 ? 0.0f : hv - 2.0f * hv * static_cast<float>(k) / static_cast<float>(planes - 1);
-    s.ensure_target(t, size, planes);
+    t.focus = co.glass_focus ? Impl::focus_window(t, sampled, by_caustic_maps) : std::array<float, 3>{0, 0, 0};
+    s.ensure_target(t, size, planes, t.focus[2] > 0);
     const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]), static_cast<float>(t.frame.origin[2]));
     const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
         W(t.frame.w[0], t.frame.w[1], t.frame.w[2]), half(t.frame.half[0], t.frame.half[1], t.frame.half[2]);
@@ -656,6 +796,11 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     }
     glDisable(GL_BLEND);
   }
+  for (Impl::Target& t : s.targets) {
+    if (t.light != li || t.levels == 1) continue;
+    const gl::TimedPass timed("glass: mips", gl::PassKind::kRaster);
+    glGenerateTextureMipmap(t.illumination.get());
+  }
   glBindVertexArray(0);
   return gl::check_gl("glass caustics");
 }
@@ -664,7 +809,7 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
   for (const Impl::Target& t : impl_->targets) {
     if (t.object != object || t.light != light || !t.valid) continue;
     const float texel = 2.0f * std::max(t.frame.half[0], t.frame.half[2]) / static_cast<float>(t.size);
-    return Binding{t.frame, t.plane_v, t.illumination.get(), t.target.get(), 2.0f * texel + 1e-4f * t.frame.half[1]};
+    return Binding{t.frame, t.plane_v, t.illumination.get(), t.target.get(), 2.0f * texel + 1e-4f * t.frame.half[1], t.focus};
   }
   return std::nullopt;
 }
@@ -776,7 +921,8 @@ std::uint64_t GlassEngine::gpu_bytes() const {
     b += std::uint64_t{g.vertices} * ((g.rays_b.get() ? 96 : 48) + 4) + std::uint64_t{g.triangles} * 12 + 4;  // rays, one-rings
   }
   for (const Impl::Target& t : impl_->targets) {
-    b += std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size) * (16 + 4 + 16 * t.planes);
+    const std::uint64_t texels = std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size);
+    b += texels * (16 + 4) + texels * 16 * t.layers * (t.levels > 1 ? 4 : 3) / 3;  // mips: a third more
   }
   return b + impl_->primitive_capacity * kPrimitiveBytes;
 }

@@ -68,6 +68,9 @@ class GlassEngine {
     GLuint illumination;       // RGBA32F 2D array, one layer per plane
     GLuint target;             // RGBA32F: normal + frame V of the first surface
     float tolerance;           // self-shadow tolerance along V
+    // The focus window (issue 47): centre u, v and half-size in texture
+    // coordinates (0: none); its planes are layers plane_v.size() + k.
+    std::array<float, 3> focus;
   };
   // The target's textures of `light` from its last update_light(), if any.
   std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;

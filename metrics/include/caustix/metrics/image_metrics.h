@@ -45,7 +45,18 @@ struct Comparison {
   double eq29 = 0, rel_l1 = 0, rms = 0, flux_ratio = 1;
   double peak_error_px = 0;
   std::optional<double> peak_error_m;
+  // The focus (issue 47), where averages hide the error: A's brightest
+  // pixel over B's (luminance), and, with the region, the power of the
+  // pixels whose centres lie within 1 and 2 cm of B's brightest pixel,
+  // A's over B's (nothing where B has no power there). Meaningful where the
+  // pixels are well below the radius.
+  double peak_ratio = 1;
+  std::optional<double> focus_1cm, focus_2cm;
 };
+// Luminance power (sum of luminance x pixel area) of the pixels whose
+// centres lie within `radius` of (cx, cz), the image over the world
+// rectangle `region`.
+double power_within(const Image& im, const std::array<double, 4>& region, double cx, double cz, double radius);
 Comparison compare(const Image& a, const Image& b, const std::optional<std::array<double, 4>>& region = {});
 
 // Rec. 709 luminance of pixel i.

@@ -154,6 +154,13 @@ struct CausticsOptions {
   // spokes or steps from a faceted mesh (the glass ball's shadow ring:
   // ring spread 0.089 -> 0.023). false: eq. 3 as the paper has it.
   bool glass_smooth = true;
+  // Focus windows (issue 47; docs/glass.md): where the light through the
+  // glass lands concentrated (at least kFocusConcentration times the
+  // incident irradiance, judged from the CPU sample of the tables), each
+  // plane gets a second illumination texture of glass_map_size texels over
+  // a square fitted to that region, and the shading reads it there. Off:
+  // one texture per plane over the whole target, as the paper.
+  bool glass_focus = true;
   // Water caustics: each intersection triangle's irradiance interpolated
   // from its corners' (estimated from the water grid around each vertex by
   // central differences) and scaled to keep eq. 4-18's flux, instead of one

@@ -361,7 +361,23 @@ vec3 caustix_glass_irradiance(vec3 p) {
   int i0 = int(floor(layer));
   int i1 = min(i0 + 1, n - 1);
   float f = layer - float(i0);
-  return mix(caustix_fetch_glass_illumination(uv, i0), caustix_fetch_glass_illumination(uv, i1), f);
+  vec3 e = mix(caustix_fetch_glass_illumination(uv, i0), caustix_fetch_glass_illumination(uv, i1), f);
+  // The focus window (issue 47): where the light through the glass
+  // concentrates, layers n..2n-1 hold the same planes over a square of
+  // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, at
+  // the same texel count (and the texture has mips, so that a focus finer
+  // than the pixel is averaged, not aliased); read there, blended into the
+  // main layers over the window's outer tenth. Fetched wherever a window
+  // exists (a uniform condition), so that the mip level's derivatives are
+  // taken alike across the pixels around the window's edge.
+  float h = caustix_light.glass_half.w;
+  if (h > 0.0) {
+    vec2 d = (uv - vec2(caustix_light.glass_v.w, caustix_light.glass_w.w)) / h;
+    vec2 fuv = 0.5 * (d + 1.0);
+    vec3 fine = mix(caustix_fetch_glass_illumination(fuv, n + i0), caustix_fetch_glass_illumination(fuv, n + i1), f);
+    e = mix(e, fine, clamp((1.0 - max(abs(d.x), abs(d.y))) * 10.0, 0.0, 1.0));
+  }
+  return e;
 }
 
 // The caustic map's irradiance at p: zero where p lies behind the first

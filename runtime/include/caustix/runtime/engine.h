@@ -131,10 +131,14 @@ struct LightBlock {
   glm::vec4 frame_half{0};      // xyz: half extents along U, V, W
   // Glass illumination (mode.z = 1): the virtual camera's frame and planes.
   glm::vec4 glass_origin{0};    // w: self-shadow tolerance along V (m)
-  glm::vec4 glass_u{0};         // w: number of planes
-  glm::vec4 glass_v{0};
-  glm::vec4 glass_w{0};
-  glm::vec4 glass_half{0};
+  glm::vec4 glass_u{0};         // w: number of planes n
+  // The focus window (issue 47; CausticsOptions::glass_focus): layers
+  // n..2n-1 of the illumination texture hold the same planes over the
+  // square of half-size glass_half.w (texture-coordinate units, 0: no
+  // window) centred at (glass_v.w, glass_w.w), at the same texel count.
+  glm::vec4 glass_v{0};         // w: the focus window's centre, u
+  glm::vec4 glass_w{0};         // w: the focus window's centre, v
+  glm::vec4 glass_half{0};      // w: the focus window's half-size (0: none)
   std::array<glm::vec4, 4> glass_plane_v{};  // 16 plane coordinates along V, decreasing
   // Image-space caustic map (issue 20; seed 003): an orthographic frame
   // along the light, V towards it; texture coordinate as for the caustics
