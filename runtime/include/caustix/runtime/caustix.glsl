@@ -120,6 +120,16 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 #define CAUSTIX_UNIT_CAUSTICS_COLOR 19
 #endif
 
+// A stage without implicit derivatives (compute, vertex, geometry) must
+// `#define CAUSTIX_NO_DERIVATIVES` before including this file: the glass
+// focus windows query their mip level (textureQueryLod), which only a
+// fragment shader has.
+//
+// The glass focus windows' texels per side, as a fraction of their
+// illumination texture's (issue 47; LightBlock::glass_half.w): a window's
+// layers hold it in their lower-left quarter. The engine's kFocusTexels.
+const float CAUSTIX_GLASS_FOCUS_TEXELS = 0.5;
+
 // One (receiver, light): caustix::runtime::LightBlock field for field (the
 // per-receiver block, and each entry of the all-receivers table).
 // Light modes (mode.x), chosen per (object, light) by the engine:
@@ -203,6 +213,11 @@ vec3 caustix_fetch_caustics_color(vec2 uv) { return texture(caustix_caustics_col
 float caustix_fetch_position(vec2 uv) { return texture(caustix_position_map, uv).r; }
 float caustix_fetch_glass_front(vec2 uv) { return texture(caustix_glass_target, uv).w; }
 vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) { return texture(caustix_glass_illumination, vec3(uv, float(plane))).rgb; }
+#ifndef CAUSTIX_NO_DERIVATIVES
+float caustix_glass_lod(vec2 uv) { return textureQueryLod(caustix_glass_illumination, uv).y; }
+#else
+float caustix_glass_lod(vec2 uv) { return 0.0; }  // a stage without derivatives samples level 0
+#endif
 vec4 caustix_fetch_caustic_map(vec2 uv) { return texture(caustix_caustic_map, uv); }
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   return glass ? texture(caustix_glass_shadow_2d, vec3(uv, ref)) : texture(caustix_shadow_2d, vec3(uv, ref));
@@ -276,6 +291,7 @@ float caustix_fetch_glass_front(vec2 uv) { return textureLod(caustix_glass_targe
 vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) {
   return textureLod(caustix_glass_illumination, caustix_table_uv(4, uv, textureSize(caustix_glass_illumination, 0), plane), 0.0).rgb;
 }
+float caustix_glass_lod(vec2 uv) { return 0.0; }  // level 0, as every fetch here
 vec4 caustix_fetch_caustic_map(vec2 uv) { return textureLod(caustix_caustic_map, caustix_table_uv(8, uv, textureSize(caustix_caustic_map, 0), 0), 0.0); }
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   vec3 c = glass ? caustix_table_uv(6, uv, textureSize(caustix_glass_shadow_2d, 0), 0) : caustix_table_uv(0, uv, textureSize(caustix_shadow_2d, 0), 0);
@@ -364,18 +380,21 @@ vec3 caustix_glass_irradiance(vec3 p) {
   vec3 e = mix(caustix_fetch_glass_illumination(uv, i0), caustix_fetch_glass_illumination(uv, i1), f);
   // The focus window (issue 47): where the light through the glass
   // concentrates, layers n..2n-1 hold the same planes over a square of
-  // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, at
-  // the same texel count (and the texture has mips, so that a focus finer
-  // than the pixel is averaged, not aliased); read there, blended into the
-  // main layers over the window's outer tenth. Fetched wherever a window
-  // exists (a uniform condition), so that the mip level's derivatives are
-  // taken alike across the pixels around the window's edge.
+  // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, in
+  // their lower-left quarter (CAUSTIX_GLASS_FOCUS_TEXELS of the side; the
+  // texture has mips, so that a focus finer than the pixel is averaged,
+  // not aliased). Read there, blended into the main layers over the
+  // window's outer tenth and where its mip level is no finer than the main
+  // layers' texels. Fetched wherever a window exists (a uniform
+  // condition), so that the level's derivatives are taken alike across the
+  // pixels around the window's edge.
   float h = caustix_light.glass_half.w;
   if (h > 0.0) {
     vec2 d = (uv - vec2(caustix_light.glass_v.w, caustix_light.glass_w.w)) / h;
-    vec2 fuv = 0.5 * (d + 1.0);
+    vec2 fuv = 0.5 * CAUSTIX_GLASS_FOCUS_TEXELS * (d + 1.0);
     vec3 fine = mix(caustix_fetch_glass_illumination(fuv, n + i0), caustix_fetch_glass_illumination(fuv, n + i1), f);
-    e = mix(e, fine, clamp((1.0 - max(abs(d.x), abs(d.y))) * 10.0, 0.0, 1.0));
+    float finer = log2(CAUSTIX_GLASS_FOCUS_TEXELS / (2.0 * h)) - caustix_glass_lod(fuv);  // levels finer than the main texels
+    e = mix(e, fine, clamp((1.0 - max(abs(d.x), abs(d.y))) * 10.0, 0.0, 1.0) * clamp(finer, 0.0, 1.0));
   }
   return e;
 }
