@@ -137,12 +137,12 @@ void main() {
   float texel_area = 1.0 / (to_texels.x * to_texels.y);
   float s0 = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y)) * texel_area;
   // Magnification above max_magnification (a focus: glass_ball's pole
-  // triangles land 47 000 times smaller than they are): the triangle is
-  // widened across its longest edge until S_0 = S cos(theta) / M, its
+  // triangles land some 47 000 times smaller than they are): the triangle
+  // is widened across its longest edge until S_0 = S cos(theta) / M, its
   // third vertex moved away from that edge, so that it keeps its flux at
-  // the capped intensity. Capping the intensity alone lost what it drew
-  // over the smaller area: 79 % of the pole's light, 1.4 % of the ball's,
-  // all of it from the focal millimetre (issue 47).
+  // the capped intensity. Capping the intensity alone lost what it did not
+  // draw over the smaller area: 0.9 % of the light through glass_ball, all
+  // of it from the focal millimetres (issue 47).
   float s_min = flux / u_max_magnification;
   if (s0 < s_min && s0 > 0.0) {
     int a = 0;
