@@ -214,7 +214,7 @@ float caustix_fetch_position(vec2 uv) { return texture(caustix_position_map, uv)
 float caustix_fetch_glass_front(vec2 uv) { return texture(caustix_glass_target, uv).w; }
 vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) { return texture(caustix_glass_illumination, vec3(uv, float(plane))).rgb; }
 #ifndef CAUSTIX_NO_DERIVATIVES
-float caustix_glass_lod(vec2 uv) { return textureQueryLod(caustix_glass_illumination, uv).y; }
+float caustix_glass_lod(vec2 uv) { return textureQueryLod(caustix_glass_illumination, uv).x; }  // the level read
 #else
 float caustix_glass_lod(vec2 uv) { return 0.0; }  // a stage without derivatives samples level 0
 #endif
