@@ -534,7 +534,7 @@ struct GlassEngine::Impl {
     glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
     t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
     // With a focus window, a mip chain: its texels are finer than the
-    // pixels that usually look at them (0.4 mm on glass_ball's floor), and
+    // pixels that usually look at them (0.6 mm on glass_ball's floor), and
     // a focus sampled at a pixel's centre alone would flicker as the view
     // moves; the mips average it (and keep the mean irradiance).
     t.levels = 1;
