@@ -19,16 +19,6 @@ uniform float u_map_size;
 // Glass focus windows (issue 47): the primitives are in the main
 // texture's texels; this texture's are (q - xy) * z.
 uniform vec3 u_texel_map;
-// Each primitive's light goes to exactly one of the two: a fine primitive
-// (its box no wider than u_window_fine main texels) whose box lies within
-// u_window (main texels: lo.xy, hi.zw) into the window's layers, every
-// other into the main layers. u_window_part: 0 draws every primitive (no
-// window), 1 the main layers' share, 2 the window's. Decided from the
-// primitive alone, with the same uniforms in both passes, so the two
-// shares are complementary.
-uniform int u_window_part;
-uniform vec4 u_window;
-uniform float u_window_fine;
 #endif
 #ifdef DEPTH_SHIFT
 uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
@@ -42,15 +32,6 @@ void main() {
   vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
 #ifdef TEXEL_MAP
-  if (u_window_part != 0) {
-    vec2 lo = min(min(q0, q1), q2), hi = max(max(q0, q1), q2);
-    bool in_window = max(hi.x - lo.x, hi.y - lo.y) <= u_window_fine && all(greaterThanEqual(lo, u_window.xy)) &&
-                     all(lessThanEqual(hi, u_window.zw));
-    if (in_window != (u_window_part == 2)) {
-      gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // the other share's: clipped
-      return;
-    }
-  }
   q0 = (q0 - u_texel_map.xy) * u_texel_map.z;
   q1 = (q1 - u_texel_map.xy) * u_texel_map.z;
   q2 = (q2 - u_texel_map.xy) * u_texel_map.z;

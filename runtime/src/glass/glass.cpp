@@ -43,14 +43,6 @@ constexpr float kFocusMinHalf = 0.5f / 64.0f;
 // moving); half the texels keep glass_ball's focus within 4.5 % of optics
 // at 0.5 cm, against 2.9 % (docs/glass.md).
 constexpr float kFocusTexels = 0.5f;
-// Which light the window takes (caustics_intersect.vert): primitives at most
-// kFocusFine main texels wide whose box lies kFocusMargin of the window's
-// side inside it. Wider ones lose nothing to the main texels and would
-// cost the window (kFocusTexels / (2 half))^2 times their main fragments;
-// the margin keeps the window's light off its edge at the mip levels up to
-// log2(kFocusMargin * side) (4 at 512^2).
-constexpr float kFocusFine = 4.0f;
-constexpr float kFocusMargin = 1.0f / 16.0f;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
@@ -509,18 +501,14 @@ struct GlassEngine::Impl {
       // (q - offset) * scale, over the layer's lower-left quarter
       // (kFocusTexels: a quarter of the fragments of a full layer).
       const float half = t.focus[2];
-      const float s = static_cast<float>(size);
-      const glm::vec2 corner(s * (t.focus[0] - half), s * (t.focus[1] - half));  // the window's, in main texels
-      const float extent = 2.0f * half * s, margin = extent * kFocusMargin;
-      illumination.set("u_window", glm::vec4(corner + margin, corner + extent - margin));
-      illumination.set("u_window_fine", kFocusFine);
       for (int window = 0; window < (half > 0.0f ? 2 : 1); ++window) {
-        const glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(corner, kFocusTexels / (2.0f * half));
+        const float s = static_cast<float>(size);
+        const glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
+                                          : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
         const int side = window == 0 ? size : static_cast<int>(std::ceil(kFocusTexels * s));
         glViewport(0, 0, side, side);
         illumination.set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
         illumination.set("u_texel_map", map);
-        illumination.set("u_window_part", half > 0.0f ? window + 1 : 0);
         for (std::uint32_t k = 0; k < planes; ++k) {
           const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
           glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
@@ -577,7 +565,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   s.draw_object = std::move(draw_object);
   const std::string version = "#version 450 core\n";
   const std::string rays_src =
-      lighting_prefix + shaders::k_transport_glsl + shaders::k_glass_rays_comp_glsl;
+      insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_transport_glsl + shaders::k_glass_rays_comp_glsl;
   const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
   const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
   const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);

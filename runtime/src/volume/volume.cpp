@@ -270,7 +270,7 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
   }
 
   const std::string common = lighting_prefix + shaders::k_volume_common_glsl;
-  const std::string photons_src = common + shaders::k_volume_photons_comp_glsl;
+  const std::string photons_src = insert_after_version(common.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_volume_photons_comp_glsl;
   const std::string view_src = common + shaders::k_volume_view_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.photons, "volume_photons", photons_src.c_str()},
                                               {&s.resolve, "volume_resolve", shaders::k_volume_resolve_comp_glsl},

@@ -120,6 +120,11 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 #define CAUSTIX_UNIT_CAUSTICS_COLOR 19
 #endif
 
+// A stage without implicit derivatives (compute, vertex, geometry) must
+// `#define CAUSTIX_NO_DERIVATIVES` before including this file: the glass
+// focus windows query their mip level (textureQueryLod), which only a
+// fragment shader has.
+//
 // The glass focus windows' texels per side, as a fraction of their
 // illumination texture's (issue 47; LightBlock::glass_half.w): a window's
 // layers hold it in their lower-left quarter. The engine's kFocusTexels.
@@ -208,6 +213,11 @@ vec3 caustix_fetch_caustics_color(vec2 uv) { return texture(caustix_caustics_col
 float caustix_fetch_position(vec2 uv) { return texture(caustix_position_map, uv).r; }
 float caustix_fetch_glass_front(vec2 uv) { return texture(caustix_glass_target, uv).w; }
 vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) { return texture(caustix_glass_illumination, vec3(uv, float(plane))).rgb; }
+#ifndef CAUSTIX_NO_DERIVATIVES
+float caustix_glass_lod(vec2 uv) { return textureQueryLod(caustix_glass_illumination, uv).x; }  // the level read
+#else
+float caustix_glass_lod(vec2 uv) { return 0.0; }  // a stage without derivatives samples level 0
+#endif
 vec4 caustix_fetch_caustic_map(vec2 uv) { return texture(caustix_caustic_map, uv); }
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   return glass ? texture(caustix_glass_shadow_2d, vec3(uv, ref)) : texture(caustix_shadow_2d, vec3(uv, ref));
@@ -281,6 +291,7 @@ float caustix_fetch_glass_front(vec2 uv) { return textureLod(caustix_glass_targe
 vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) {
   return textureLod(caustix_glass_illumination, caustix_table_uv(4, uv, textureSize(caustix_glass_illumination, 0), plane), 0.0).rgb;
 }
+float caustix_glass_lod(vec2 uv) { return 0.0; }  // level 0, as every fetch here
 vec4 caustix_fetch_caustic_map(vec2 uv) { return textureLod(caustix_caustic_map, caustix_table_uv(8, uv, textureSize(caustix_caustic_map, 0), 0), 0.0); }
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   vec3 c = glass ? caustix_table_uv(6, uv, textureSize(caustix_glass_shadow_2d, 0), 0) : caustix_table_uv(0, uv, textureSize(caustix_shadow_2d, 0), 0);
@@ -370,19 +381,20 @@ vec3 caustix_glass_irradiance(vec3 p) {
   // The focus window (issue 47): where the light through the glass
   // concentrates, layers n..2n-1 hold the same planes over a square of
   // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, in
-  // their lower-left quarter (CAUSTIX_GLASS_FOCUS_TEXELS of the side). They
-  // hold the light of the triangles that land finely inside the square, and
-  // the main layers the rest (caustics_intersect.vert), so the irradiance
-  // is the sum. The texture has mips, so that a focus finer than the pixel
-  // is averaged, not aliased. Fetched only inside the square: its outer
-  // sixteenth holds no light (the engine's kFocusMargin), so the pixels
-  // around its edge, whose mip level may differ across the edge, read
-  // zeros at any of the first four levels.
+  // their lower-left quarter (CAUSTIX_GLASS_FOCUS_TEXELS of the side; the
+  // texture has mips, so that a focus finer than the pixel is averaged,
+  // not aliased). Read there, blended into the main layers over the
+  // window's outer tenth and where its mip level is no finer than the main
+  // layers' texels. Fetched wherever a window exists (a uniform
+  // condition), so that the level's derivatives are taken alike across the
+  // pixels around the window's edge.
   float h = caustix_light.glass_half.w;
-  vec2 d = (uv - vec2(caustix_light.glass_v.w, caustix_light.glass_w.w)) / max(h, 1e-30);
-  if (h > 0.0 && max(abs(d.x), abs(d.y)) <= 1.0) {
+  if (h > 0.0) {
+    vec2 d = (uv - vec2(caustix_light.glass_v.w, caustix_light.glass_w.w)) / h;
     vec2 fuv = 0.5 * CAUSTIX_GLASS_FOCUS_TEXELS * (d + 1.0);
-    e += mix(caustix_fetch_glass_illumination(fuv, n + i0), caustix_fetch_glass_illumination(fuv, n + i1), f);
+    vec3 fine = mix(caustix_fetch_glass_illumination(fuv, n + i0), caustix_fetch_glass_illumination(fuv, n + i1), f);
+    float finer = log2(CAUSTIX_GLASS_FOCUS_TEXELS / (2.0 * h)) - caustix_glass_lod(fuv);  // levels finer than the main texels
+    e = mix(e, fine, clamp((1.0 - max(abs(d.x), abs(d.y))) * 10.0, 0.0, 1.0) * clamp(finer, 0.0, 1.0));
   }
   return e;
 }

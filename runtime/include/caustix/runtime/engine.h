@@ -137,9 +137,7 @@ struct LightBlock {
   // square of half-size glass_half.w (texture-coordinate units, 0: no
   // window) centred at (glass_v.w, glass_w.w), drawn into the layers'
   // lower-left quarter (half their texels per side: caustix.glsl's
-  // CAUSTIX_GLASS_FOCUS_TEXELS), with mips. The window holds the light
-  // of the finely landing triangles inside it, the main layers the rest:
-  // the irradiance is their sum (caustix_glass_irradiance).
+  // CAUSTIX_GLASS_FOCUS_TEXELS), with mips.
   glm::vec4 glass_v{0};         // w: the focus window's centre, u
   glm::vec4 glass_w{0};         // w: the focus window's centre, v
   glm::vec4 glass_half{0};      // w: the focus window's half-size (0: none)
