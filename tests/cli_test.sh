@@ -39,6 +39,7 @@ contains "depfile lists the scene" "$tmp/a.d" "default.json"
 contains "depfile lists meshes" "$tmp/a.d" "sphere.obj"
 contains "depfile lists textures" "$tmp/a.d" "pool_tiles.png"
 contains "report has meshes" "$tmp/a.json" "draco_bytes"
+contains "report says the bake succeeded" "$tmp/a.json" '"status": "ok"'
 contains "report has level maps" "$tmp/a.json" "planes_smart"
 "$bake" "$scene" -o "$tmp/v.cxb" -v --map-size 64 >"$tmp/vout"; check "bake -v" 0 $?
 contains "verbose shows the depth profile" "$tmp/vout" "levels empty"
@@ -91,6 +92,27 @@ cmp -s "$tmp/a.cxb" "$tmp/keep.cxb"; check "old output untouched" 0 $?
 printf '{"objects": [{"name": "a", "mesh": "gone.obj"}]}' >"$tmp/nomesh.json"
 "$bake" "$tmp/nomesh.json" -o "$tmp/m.cxb" 2>"$tmp/err"; check "missing mesh" 3 $?
 contains "missing mesh named" "$tmp/err" "gone.obj: mesh file not found"
+# Issue 48: warnings are said as they are found, so a bake that fails later
+# has said them; its --report says what it had done and where it failed.
+printf '{"objects": [{"name": "a", "mesh": "%s"}, {"name": "b", "mesh": "gone.obj"}]}' \
+  "$src/tests/data/meshes/obj_faces_under_three_vertices.obj" >"$tmp/warnfail.json"
+"$bake" "$tmp/warnfail.json" -o "$tmp/m.cxb" --report "$tmp/fail.json" 2>"$tmp/err"; check "warning, then a missing mesh" 3 $?
+contains "the first mesh's warning is said before the error" "$tmp/err" "skipped 2 face(s)"
+python3 -c "
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r['status'] == 'failed' and r['exit_code'] == 3 and 'gone.obj' in r['error'], r
+assert r['failed_in'] == {'stage': 'meshes', 'item': r['failed_in']['item']} and r['failed_in']['item'].endswith('gone.obj'), r
+assert any('skipped 2 face(s)' in w for w in r['warnings']), r" "$tmp/fail.json"
+check "a failed bake's report" 0 $?
+[ ! -e "$tmp/m.cxb" ]; check "no output after the warning and the failure" 0 $?
+# Progress (issue 48): in a log, a plain line per stage and item; nothing with -q.
+"$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/g.cxb" 2>"$tmp/prog"; check "bake glass_ball" 0 $?
+contains "progress names the stage and the object" "$tmp/prog" "caustix-bake: light-transport tables: ball 0 %"
+contains "progress names the meshes" "$tmp/prog" "caustix-bake: meshes: "
+! grep -q $'\r' "$tmp/prog"; check "no carriage returns in a log" 0 $?
+"$bake" "$scene" -o "$tmp/q.cxb" -q 2>"$tmp/prog"; check "bake -q" 0 $?
+[ ! -s "$tmp/prog" ]; check "nothing on stderr with -q" 0 $?
 "$bake" "$scene" -o "$tmp/no/such/dir/x.cxb" 2>"$tmp/err"; check "unwritable output" 5 $?
 [ -z "$(ls -A "$tmp" | grep '\.tmp\.')" ]; check "no temporary files left" 0 $?
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <optional>
 
 #include "caustix/bake/glass_refine.h"
@@ -119,12 +120,42 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
   return warnings;
 }
 
+namespace {
+
+// What the bake says while it runs (BakeObserver): each warning as it is
+// found, kept in the result too; progress calls serialised across the
+// tracing threads.
+class Voice {
+ public:
+  Voice(const BakeObserver& observer, std::vector<std::string>& warnings) : observer_(observer), warnings_(warnings) {}
+  void warn(std::string w) {
+    if (observer_.warning) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      observer_.warning(w);
+    }
+    warnings_.push_back(std::move(w));
+  }
+  void progress(const std::string& stage, const std::string& item, double fraction) {
+    if (!observer_.progress) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    observer_.progress(stage, item, std::clamp(fraction, 0.0, 1.0));
+  }
+
+ private:
+  const BakeObserver& observer_;
+  std::vector<std::string>& warnings_;
+  std::mutex mutex_;
+};
+
+}  // namespace
+
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
   BakeResult out;
+  Voice voice(options.observer, out.warnings);
   auto doc = load_scene(scene_path);
   if (!doc) return doc.error();
   out.inputs = doc->inputs;
-  out.warnings = doc->warnings;
+  for (const std::string& w : doc->warnings) voice.warn(w);
   SceneDesc& scene = doc->scene;
   scene.render = options.render;
   if (scene.water && options.water_grid_scale != 1.0) {
@@ -153,7 +184,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     auto image = read_texture(src, options.max_texture_size);
     if (!image && !src.fall_back) return image.error();
     if (!image) {
-      out.warnings.push_back(image.error().message + "; its receivers are drawn with their base colour factor");
+      voice.warn(image.error().message + "; its receivers are drawn with their base colour factor");
       continue;
     }
     image_index[i] = static_cast<std::uint32_t>(scene.images.size());
@@ -170,11 +201,12 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   std::vector<TriangleMesh> meshes;
   for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
     const std::string& path = doc->mesh_paths[i];
+    voice.progress("meshes", path, double(i) / double(doc->mesh_paths.size()));
     auto t0 = Clock::now();
     Result<ImportedMesh> imported = doc->imported[i] ? std::move(*doc->imported[i]) : import_mesh(path);
     if (!imported) return imported.error();
     if (!doc->imported[i]) out.inputs.push_back(path);
-    for (const auto& w : imported->warnings) out.warnings.push_back(path + ": " + w);
+    for (const auto& w : imported->warnings) voice.warn(path + ": " + w);
     TriangleMesh& mesh = imported->mesh;
     if (mesh.positions.size() > kMaxMeshVertices) {
       return make_error(ErrorCode::kInput, path + ": " + std::to_string(mesh.positions.size()) +
@@ -187,7 +219,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     std::optional<GlassRefineReport> refined;
     auto thin = make_open_glass_thin(scene, static_cast<std::uint32_t>(i), mesh, path);
     if (!thin) return thin.error();
-    out.warnings.insert(out.warnings.end(), thin->begin(), thin->end());
+    for (std::string& w : *thin) voice.warn(std::move(w));
     const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),
                                     [&](const Object& o) { return o.mesh_index == i && is_transparent(o.role); });
     if (glass != scene.objects.end()) {
@@ -238,7 +270,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
   }
   for (const Object& o : scene.objects) {
-    if (auto w = float_precision_warning(o, meshes[o.mesh_index])) out.warnings.push_back(*w);
+    if (auto w = float_precision_warning(o, meshes[o.mesh_index])) voice.warn(*w);
     double scale = 0;
     for (std::size_t c = 0; c < 3; ++c) {
       scale = std::max(scale, std::hypot(double{o.transform[c * 4]}, double{o.transform[c * 4 + 1]}, double{o.transform[c * 4 + 2]}));
@@ -250,20 +282,23 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   const auto inside = receiver_inside_glass(scene);
   for (std::size_t g = 0; g < inside.size(); ++g) {
     if (!inside[g]) continue;
-    out.warnings.push_back("receiver '" + scene.objects[*inside[g]].name + "' lies inside transparent object '" + scene.objects[g].name +
+    voice.warn("receiver '" + scene.objects[*inside[g]].name + "' lies inside transparent object '" + scene.objects[g].name +
                            "' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass "
                            "by caustic maps whatever the glass method");
   }
+  voice.progress("meshes", "", 1.0);
   auto t0 = Clock::now();
+  voice.progress("level maps", "", 0.0);
   auto stage = bake_level_maps(scene, meshes, options.level_maps);
   if (!stage) return stage.error();
   out.level_maps = std::move(*stage);
   for (const PairReport& p : out.level_maps.pairs) {
     if (!p.warning.empty()) {
-      out.warnings.push_back("object '" + scene.objects[p.object].name + "', light " + std::to_string(p.light) + ": " + p.warning);
+      voice.warn("object '" + scene.objects[p.object].name + "', light " + std::to_string(p.light) + ": " + p.warning);
     }
   }
   out.seconds_level_maps = seconds_since(t0);
+  voice.progress("level maps", "", 1.0);
 
   // Light-transport tables (seed 002 §3), one per transparent object, over
   // the decoded mesh: the runtime indexes the table by the vertices it
@@ -276,6 +311,19 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   std::vector<LightTransportTable> tables, spectral;
   std::vector<TransportReport> spectral_reports;
   std::vector<TriangleMesh> glass_meshes;  // decoded, one per transparent object (the index grids use them too)
+  std::size_t table_count = 0, tables_done = 0;  // for the progress
+  for (const Object& o : scene.objects) {
+    if (is_transparent(o.role)) table_count += 1 + (o.material.dispersion > 0 ? transport_wavelengths(options.transport.wavelengths).size() : 0);
+  }
+  const auto trace = [&](std::uint32_t oi, const TriangleMesh& mesh, TransportReport* rep, float nm) {
+    const Object& o = scene.objects[oi];
+    const std::string item = nm > 0 ? o.name + " at " + std::to_string(static_cast<int>(std::lround(nm))) + " nm" : o.name;
+    const auto said = [&](double f) { voice.progress("light-transport tables", item, (double(tables_done) + f) / double(table_count)); };
+    said(0.0);
+    LightTransportTable t = trace_transport_table(oi, o.material, mesh, options.transport, rep, nm, said);
+    ++tables_done;
+    return t;
+  };
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
@@ -292,16 +340,16 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
                                                std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution, raise --glass-edge or simplify the mesh");
     }
     TransportReport rep;
-    tables.push_back(trace_transport_table(oi, o.material, mesh, options.transport, &rep));
+    tables.push_back(trace(oi, mesh, &rep, 0.0f));
     out.transport.push_back(rep);
     // Dispersive glass (issue 22): the same table at more wavelengths.
     if (o.material.dispersion > 0 && options.transport.wavelengths == 0) {
-      out.warnings.push_back("transparent object '" + o.name + "' disperses, but --ltt-wavelengths 0 bakes its light-transport "
+      voice.warn("transparent object '" + o.name + "' disperses, but --ltt-wavelengths 0 bakes its light-transport "
                              "table at n_d only: its caustics from the tables have no colour fringes");
     }
     if (o.material.dispersion > 0) {
       for (const float nm : transport_wavelengths(options.transport.wavelengths)) {
-        spectral.push_back(trace_transport_table(oi, o.material, mesh, options.transport, &rep, nm));
+        spectral.push_back(trace(oi, mesh, &rep, nm));
         spectral_reports.push_back(rep);
         ++scene.objects[oi].material.spectral_tables;
       }
@@ -311,6 +359,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (LightTransportTable& t : spectral) tables.push_back(std::move(t));
   out.transport.insert(out.transport.end(), spectral_reports.begin(), spectral_reports.end());
   out.seconds_transport = seconds_since(t0);
+  if (table_count > 0) voice.progress("light-transport tables", "", 1.0);
 
   // Index grids for media (seed 004), one per transparent object, only when
   // something scatters: a scene without media pays nothing for them.
@@ -320,6 +369,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (std::uint32_t oi = 0, g = 0; oi < scene.objects.size() && scatters; ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
+    voice.progress("index grids", o.name, double(g) / double(glass_meshes.size()));
     const TriangleMesh& mesh = glass_meshes[g++];
     const std::uint64_t voxels = index_grid_voxels(mesh, options.index_grid);
     if (voxels > kMaxIndexGridVoxels) {
@@ -349,8 +399,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     out.index_grids.push_back(rep);
   }
   out.seconds_index_grids = seconds_since(t0);
+  if (scatters && !glass_meshes.empty()) voice.progress("index grids", "", 1.0);
 
   t0 = Clock::now();
+  voice.progress("write", "", 0.0);
   out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes, tables, grids);
   if (!tables.empty() || !grids.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
     auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
@@ -363,6 +415,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     for (std::size_t k = 0; k < igrd.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(igrd[k]).size();
   }
   out.seconds_write = seconds_since(t0);
+  voice.progress("write", "", 1.0);
   out.scene = std::move(scene);
   return out;
 }

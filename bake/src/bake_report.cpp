@@ -33,6 +33,7 @@ std::uint32_t empty_levels(const LevelMap& m) {
 
 std::string report_json(const BakeResult& r, const BakeOptions& opt) {
   nlohmann::ordered_json j;
+  j["status"] = "ok";
   j["bytes"] = r.cxb.size();
   const auto& so = opt.level_maps.slicing;
   j["options"] = {{"position_bits", opt.draco.position_bits},
@@ -124,6 +125,19 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
                   {"reach_tests", r.level_maps.seconds_shadow_tests},
                   {"write", r.seconds_write}};
   j["warnings"] = r.warnings;
+  return j.dump(2) + "\n";
+}
+
+std::string failure_report_json(const std::string& scene_path, const Error& error, int exit_code, const BakeLog& log) {
+  nlohmann::ordered_json j;
+  j["status"] = "failed";
+  j["scene"] = scene_path;
+  j["error"] = error.message;
+  j["exit_code"] = exit_code;
+  j["stages_done"] = nlohmann::ordered_json::array();
+  for (const auto& [stage, seconds] : log.stages_done) j["stages_done"].push_back({{"stage", stage}, {"seconds", seconds}});
+  j["failed_in"] = {{"stage", log.stage}, {"item", log.item}};
+  j["warnings"] = log.warnings;
   return j.dump(2) + "\n";
 }
 

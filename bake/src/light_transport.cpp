@@ -249,7 +249,8 @@ std::vector<float> transport_wavelengths(std::uint32_t count) {
 }
 
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
-                                          const TransportOptions& opt, TransportReport* report, float wavelength_nm) {
+                                          const TransportOptions& opt, TransportReport* report, float wavelength_nm,
+                                          const std::function<void(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   Material at = material;
   if (wavelength_nm > 0) at.ior = index_at(material.ior, material.dispersion, wavelength_nm);
@@ -277,7 +278,9 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
   const std::size_t per_vertex = std::size_t{opt.resolution} * opt.resolution;
   table.words.assign(mesh.positions.size() * per_vertex * 4, 0);
 
-  std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0};
+  std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0}, done{0};
+  // Progress about every 1 % of the vertices (and the last).
+  const std::uint64_t every = std::max<std::uint64_t>(1, mesh.positions.size() / 100);
   tbb::parallel_for(std::size_t{0}, mesh.positions.size(), [&](std::size_t v) {
     const Vec3d n = unit(to_d(mesh.normals[v]));
     std::uint64_t local_rays = 0, n_leave = 0, n_trap = 0, n_occ = 0, n_refl = 0;
@@ -296,6 +299,8 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     trapped += n_trap;
     occluded += n_occ;
     reflected += n_refl;
+    const std::uint64_t d = ++done;
+    if (progress && (d % every == 0 || d == mesh.positions.size())) progress(double(d) / double(mesh.positions.size()));
   });
 
   if (report) {

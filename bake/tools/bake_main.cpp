@@ -3,6 +3,10 @@
 
 #include <tbb/global_control.h>
 
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <cstdio>
@@ -30,6 +34,75 @@ std::string make_escape(const std::string& s) {
 caustix::Status write_text(const std::string& path, const std::string& text) {
   return caustix::write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
 }
+
+// What the bake says while it runs (issue 48), on stderr: warnings as they
+// are found; on a terminal one progress line rewritten in place (stage,
+// item, percentage, estimated time left), elsewhere (a build log) a plain
+// line as each item starts and at each further tenth of a stage that has
+// run a second; with -v each stage's time as it ends. Nothing with -q. It
+// also keeps what a failed bake's --report needs (bake::BakeLog).
+class Progress {
+ public:
+  using Clock = std::chrono::steady_clock;
+  Progress(bool quiet, bool verbose) : quiet_(quiet), verbose_(verbose), tty_(isatty(fileno(stderr)) != 0) {}
+
+  void warning(const std::string& w) {
+    log_.warnings.push_back(w);
+    if (quiet_) return;
+    clear_line();
+    std::fprintf(stderr, "caustix-bake: warning: %s\n", w.c_str());
+  }
+
+  void progress(const std::string& stage, const std::string& item, double fraction) {
+    const auto now = Clock::now();
+    const bool new_stage = stage != log_.stage;
+    if (new_stage) {
+      log_.stage = stage;
+      stage_start_ = now;
+      tenth_ = 0;
+    }
+    const double seconds = std::chrono::duration<double>(now - stage_start_).count();
+    if (fraction >= 1.0) {
+      log_.stages_done.emplace_back(stage, seconds);
+      log_.stage.clear();
+      log_.item.clear();
+      clear_line();
+      if (verbose_ && !quiet_) std::fprintf(stderr, "caustix-bake: %s: %.2f s\n", stage.c_str(), seconds);
+      return;
+    }
+    const bool new_item = new_stage || item != log_.item;
+    log_.item = item;
+    if (quiet_) return;
+    std::string eta;
+    if (fraction >= 0.02 && seconds >= 1.0) {
+      eta = ", about " + std::to_string(static_cast<long>(std::lround(seconds * (1.0 - fraction) / fraction))) + " s left";
+    }
+    const std::string line = stage + (item.empty() ? "" : ": " + item) + " " +
+                             std::to_string(static_cast<int>(fraction * 100.0)) + " %" + eta;
+    if (tty_) {
+      std::fprintf(stderr, "\r\033[Kcaustix-bake: %s", line.c_str());
+      std::fflush(stderr);
+      shown_ = true;
+    } else if (new_item || (seconds >= 1.0 && static_cast<int>(fraction * 10.0) > tenth_)) {
+      std::fprintf(stderr, "caustix-bake: %s\n", line.c_str());
+    }
+    tenth_ = std::max(tenth_, static_cast<int>(fraction * 10.0));
+  }
+
+  // Before anything else goes to the terminal.
+  void clear_line() {
+    if (!shown_) return;
+    std::fputs("\r\033[K", stderr);
+    shown_ = false;
+  }
+  const caustix::bake::BakeLog& log() const { return log_; }
+
+ private:
+  bool quiet_, verbose_, tty_, shown_ = false;
+  int tenth_ = 0;
+  Clock::time_point stage_start_ = Clock::now();
+  caustix::bake::BakeLog log_;
+};
 
 }  // namespace
 
@@ -163,12 +236,21 @@ int main(int argc, char** argv) {
                                                          static_cast<std::size_t>(threads));
   }
 
+  Progress progress(quiet, verbose);
+  opt.observer.warning = [&](const std::string& w) { progress.warning(w); };
+  opt.observer.progress = [&](const std::string& stage, const std::string& item, double f) { progress.progress(stage, item, f); };
   auto result = bake::bake_scene(scene_path, opt);
+  progress.clear_line();
   if (!result) {
-    return cli::fail("caustix-bake", result.error());
+    const int rc = cli::fail("caustix-bake", result.error());
+    if (!report_path.empty()) {
+      if (Status st = write_text(report_path, bake::failure_report_json(scene_path, result.error(), rc, progress.log())); !st) {
+        std::cerr << "caustix-bake: error: " << st.error().message << "\n";
+      }
+    }
+    return rc;
   }
   if (!quiet) {
-    for (const auto& w : result->warnings) std::cerr << "caustix-bake: warning: " << w << "\n";
     for (const auto& n : result->notes) std::cout << "caustix-bake: " << n << "\n";
   }
   if (Status st = write_file_atomically(out_path, result->cxb); !st) {

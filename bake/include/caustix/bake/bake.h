@@ -4,6 +4,7 @@
 // machine in the output): the same inputs give byte-identical bytes.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,19 @@
 #include "caustix/common/status.h"
 
 namespace caustix::bake {
+
+// What a bake says while it runs (issue 48); either may be empty.
+struct BakeObserver {
+  // Each warning as soon as it is found (BakeResult::warnings keeps them
+  // too), so that a bake that fails or is stopped later has said them.
+  std::function<void(const std::string& warning)> warning;
+  // A stage ("import", "compress", "level maps", "light-transport tables",
+  // "index grids", "write") on an item (a mesh's path, an object's name, or
+  // empty) at `fraction` of the stage done, in [0, 1]; 1 when the stage
+  // ends. Called one at a time (the bake serialises the calls its worker
+  // threads make), from any of the bake's threads.
+  std::function<void(const std::string& stage, const std::string& item, double fraction)> progress;
+};
 
 struct BakeOptions {
   DracoOptions draco;
@@ -35,6 +49,8 @@ struct BakeOptions {
   std::uint32_t max_texture_size = 2048;
   // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
   std::optional<RenderDefaults> render;
+  // Not part of the bake's inputs: what it says while it runs.
+  BakeObserver observer;
 };
 
 struct MeshStats {
@@ -92,6 +108,16 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
 // The bake report: JSON (--report) and a readable summary with a bar chart of
 // each depth profile (-v).
 std::string report_json(const BakeResult& result, const BakeOptions& options);
+
+// What a bake that failed had done, for its --report (issue 48): the
+// stages it finished with their seconds, the stage and item it was in, and
+// the warnings it had said.
+struct BakeLog {
+  std::vector<std::pair<std::string, double>> stages_done;
+  std::string stage, item;
+  std::vector<std::string> warnings;
+};
+std::string failure_report_json(const std::string& scene_path, const Error& error, int exit_code, const BakeLog& log);
 std::string report_text(const BakeResult& result);
 
 }  // namespace caustix::bake

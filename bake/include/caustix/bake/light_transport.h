@@ -10,6 +10,7 @@
 // thread count.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -68,9 +69,11 @@ class TransportTracer {
 
 // Traces the table of one transparent object over `mesh` (the Draco-decoded
 // mesh, whose vertex order the runtime sees): at the material's IOR, or
-// with wavelength_nm > 0 at its index there (an LTTS table).
+// with wavelength_nm > 0 at its index there (an LTTS table). `progress`,
+// if set, is called with the fraction of vertices traced, from the tracing
+// threads (possibly at once: the caller serialises).
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
                                           const TransportOptions& options, TransportReport* report,
-                                          float wavelength_nm = 0);
+                                          float wavelength_nm = 0, const std::function<void(double)>& progress = {});
 
 }  // namespace caustix::bake
