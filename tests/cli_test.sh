@@ -106,6 +106,18 @@ assert r['failed_in'] == {'stage': 'meshes', 'item': r['failed_in']['item']} and
 assert any('skipped 2 face(s)' in w for w in r['warnings']), r" "$tmp/fail.json"
 check "a failed bake's report" 0 $?
 [ ! -e "$tmp/m.cxb" ]; check "no output after the warning and the failure" 0 $?
+# Budgets (issue 48): past --max-seconds or --max-memory the bake stops with
+# exit code 7, names the stage and the option to lower, and writes nothing.
+"$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/m.cxb" --max-seconds 0.001 --report "$tmp/fail.json" 2>"$tmp/err"
+check "--max-seconds stops the bake" 7 $?
+contains "the time budget is named" "$tmp/err" "past --max-seconds 0.001; lower"
+contains "its report says it failed" "$tmp/fail.json" '"status": "failed"'
+"$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/m.cxb" --max-memory 1MB 2>"$tmp/err"; check "--max-memory stops the bake" 7 $?
+contains "the memory budget is named" "$tmp/err" "past --max-memory 1 MiB; lower"
+[ ! -e "$tmp/m.cxb" ]; check "no output from a stopped bake" 0 $?
+"$bake" "$scene" -o "$tmp/m.cxb" --max-memory 1TB --max-seconds 3600 -q; check "generous budgets change nothing" 0 $?
+cmp -s "$tmp/a.cxb" "$tmp/m.cxb"; check "the same bytes under a budget" 0 $?
+"$bake" "$scene" -o "$tmp/m.cxb" --max-memory lots 2>/dev/null; check "a malformed --max-memory" 2 $?
 # Progress (issue 48): in a log, a plain line per stage and item; nothing with -q.
 "$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/g.cxb" 2>"$tmp/prog"; check "bake glass_ball" 0 $?
 contains "progress names the stage and the object" "$tmp/prog" "caustix-bake: light-transport tables: ball 0 %"

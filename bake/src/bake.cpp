@@ -1,7 +1,10 @@
 #include "caustix/bake/bake.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -122,12 +125,34 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
 
 namespace {
 
+// The process's peak resident set (Linux reports kilobytes).
+std::uint64_t peak_resident_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;
+}
+
+std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 19)) >> 20) + " MiB"; }
+
+// The option that makes a stage cheaper, for a budget's message.
+std::string knob_for(const std::string& stage) {
+  if (stage == "light-transport tables") return "--ltt-resolution (or --ltt-wavelengths, or --preset fast)";
+  if (stage == "level maps") return "--map-size or --planes";
+  if (stage == "index grids") return "--volume-res";
+  if (stage == "meshes") return "--glass-edge (coarser glass refinement), or simplify the mesh";
+  return "nothing here";
+}
+
 // What the bake says while it runs (BakeObserver): each warning as it is
 // found, kept in the result too; progress calls serialised across the
-// tracing threads.
+// tracing threads. And its budgets (BakeOptions::max_seconds,
+// max_memory_bytes), checked at every progress step: past one, progress()
+// returns false and error() says where and what to lower.
 class Voice {
  public:
-  Voice(const BakeObserver& observer, std::vector<std::string>& warnings) : observer_(observer), warnings_(warnings) {}
+  Voice(const BakeOptions& options, std::vector<std::string>& warnings)
+      : observer_(options.observer), max_seconds_(options.max_seconds), max_memory_(options.max_memory_bytes),
+        warnings_(warnings) {}
   void warn(std::string w) {
     if (observer_.warning) {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -135,23 +160,58 @@ class Voice {
     }
     warnings_.push_back(std::move(w));
   }
-  void progress(const std::string& stage, const std::string& item, double fraction) {
-    if (!observer_.progress) return;
-    const std::lock_guard<std::mutex> lock(mutex_);
-    observer_.progress(stage, item, std::clamp(fraction, 0.0, 1.0));
+  // False once the bake is past a budget.
+  bool progress(const std::string& stage, const std::string& item, double fraction) {
+    if (observer_.progress) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      observer_.progress(stage, item, std::clamp(fraction, 0.0, 1.0));
+    }
+    return within_budget(stage, item);
   }
+  // False (and error() set) when the bake is past a budget, or would be
+  // with `more_bytes` allocated.
+  bool within_budget(const std::string& stage, const std::string& item, std::uint64_t more_bytes = 0) {
+    if (stopped_) return false;
+    std::string over;
+    const double seconds = seconds_since(start_);
+    if (max_seconds_ > 0 && seconds > max_seconds_) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "it ran %.1f s, past --max-seconds %g", seconds, max_seconds_);
+      over = buf;
+    } else if (max_memory_ > 0) {
+      const std::uint64_t peak = peak_resident_bytes();
+      if (peak + more_bytes > max_memory_) {
+        over = more_bytes > 0 ? "it would hold " + mib(peak + more_bytes) + " (" + mib(more_bytes) + " more), past --max-memory " + mib(max_memory_)
+                              : "its memory reached " + mib(peak) + ", past --max-memory " + mib(max_memory_);
+      }
+    }
+    if (over.empty()) return true;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!stopped_) {
+      reason_ = "stopped in the " + stage + " stage" + (item.empty() ? "" : " at '" + item + "'") + ": " + over + "; lower " +
+                knob_for(stage) + ", or raise the budget";
+      stopped_ = true;
+    }
+    return false;
+  }
+  Error error() const { return make_error(ErrorCode::kBudget, reason_); }
 
  private:
   const BakeObserver& observer_;
+  const double max_seconds_;
+  const std::uint64_t max_memory_;
+  const Clock::time_point start_ = Clock::now();
   std::vector<std::string>& warnings_;
   std::mutex mutex_;
+  std::atomic<bool> stopped_{false};
+  std::string reason_;
 };
 
 }  // namespace
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
   BakeResult out;
-  Voice voice(options.observer, out.warnings);
+  Voice voice(options, out.warnings);
   auto doc = load_scene(scene_path);
   if (!doc) return doc.error();
   out.inputs = doc->inputs;
@@ -201,7 +261,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   std::vector<TriangleMesh> meshes;
   for (std::size_t i = 0; i < doc->mesh_paths.size(); ++i) {
     const std::string& path = doc->mesh_paths[i];
-    voice.progress("meshes", path, double(i) / double(doc->mesh_paths.size()));
+    if (!voice.progress("meshes", path, double(i) / double(doc->mesh_paths.size()))) return voice.error();
     auto t0 = Clock::now();
     Result<ImportedMesh> imported = doc->imported[i] ? std::move(*doc->imported[i]) : import_mesh(path);
     if (!imported) return imported.error();
@@ -286,9 +346,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
                            "' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass "
                            "by caustic maps whatever the glass method");
   }
-  voice.progress("meshes", "", 1.0);
+  if (!voice.progress("meshes", "", 1.0)) return voice.error();
   auto t0 = Clock::now();
-  voice.progress("level maps", "", 0.0);
+  if (!voice.progress("level maps", "", 0.0)) return voice.error();
   auto stage = bake_level_maps(scene, meshes, options.level_maps);
   if (!stage) return stage.error();
   out.level_maps = std::move(*stage);
@@ -298,7 +358,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     }
   }
   out.seconds_level_maps = seconds_since(t0);
-  voice.progress("level maps", "", 1.0);
+  if (!voice.progress("level maps", "", 1.0)) return voice.error();
 
   // Light-transport tables (seed 002 §3), one per transparent object, over
   // the decoded mesh: the runtime indexes the table by the vertices it
@@ -315,13 +375,16 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (const Object& o : scene.objects) {
     if (is_transparent(o.role)) table_count += 1 + (o.material.dispersion > 0 ? transport_wavelengths(options.transport.wavelengths).size() : 0);
   }
-  const auto trace = [&](std::uint32_t oi, const TriangleMesh& mesh, TransportReport* rep, float nm) {
+  // One table, or nothing when a budget stopped it (voice.error()).
+  const auto trace = [&](std::uint32_t oi, const TriangleMesh& mesh, TransportReport* rep, float nm) -> std::optional<LightTransportTable> {
     const Object& o = scene.objects[oi];
     const std::string item = nm > 0 ? o.name + " at " + std::to_string(static_cast<int>(std::lround(nm))) + " nm" : o.name;
-    const auto said = [&](double f) { voice.progress("light-transport tables", item, (double(tables_done) + f) / double(table_count)); };
-    said(0.0);
+    const auto said = [&](double f) { return voice.progress("light-transport tables", item, (double(tables_done) + f) / double(table_count)); };
+    const std::uint64_t bytes = std::uint64_t{16} * mesh.positions.size() * options.transport.resolution * options.transport.resolution;
+    if (!said(0.0) || !voice.within_budget("light-transport tables", item, bytes)) return std::nullopt;
     LightTransportTable t = trace_transport_table(oi, o.material, mesh, options.transport, rep, nm, said);
     ++tables_done;
+    if (!voice.within_budget("light-transport tables", item)) return std::nullopt;
     return t;
   };
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
@@ -340,7 +403,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
                                                std::to_string(kMaxTransportEntries) + " (1 GiB); lower --ltt-resolution, raise --glass-edge or simplify the mesh");
     }
     TransportReport rep;
-    tables.push_back(trace(oi, mesh, &rep, 0.0f));
+    auto table = trace(oi, mesh, &rep, 0.0f);
+    if (!table) return voice.error();
+    tables.push_back(std::move(*table));
     out.transport.push_back(rep);
     // Dispersive glass (issue 22): the same table at more wavelengths.
     if (o.material.dispersion > 0 && options.transport.wavelengths == 0) {
@@ -349,7 +414,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     }
     if (o.material.dispersion > 0) {
       for (const float nm : transport_wavelengths(options.transport.wavelengths)) {
-        spectral.push_back(trace(oi, mesh, &rep, nm));
+        auto at_nm = trace(oi, mesh, &rep, nm);
+        if (!at_nm) return voice.error();
+        spectral.push_back(std::move(*at_nm));
         spectral_reports.push_back(rep);
         ++scene.objects[oi].material.spectral_tables;
       }
@@ -359,7 +426,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (LightTransportTable& t : spectral) tables.push_back(std::move(t));
   out.transport.insert(out.transport.end(), spectral_reports.begin(), spectral_reports.end());
   out.seconds_transport = seconds_since(t0);
-  if (table_count > 0) voice.progress("light-transport tables", "", 1.0);
+  if (table_count > 0 && !voice.progress("light-transport tables", "", 1.0)) return voice.error();
 
   // Index grids for media (seed 004), one per transparent object, only when
   // something scatters: a scene without media pays nothing for them.
@@ -369,7 +436,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (std::uint32_t oi = 0, g = 0; oi < scene.objects.size() && scatters; ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
-    voice.progress("index grids", o.name, double(g) / double(glass_meshes.size()));
+    if (!voice.progress("index grids", o.name, double(g) / double(glass_meshes.size()))) return voice.error();
     const TriangleMesh& mesh = glass_meshes[g++];
     const std::uint64_t voxels = index_grid_voxels(mesh, options.index_grid);
     if (voxels > kMaxIndexGridVoxels) {
@@ -399,10 +466,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     out.index_grids.push_back(rep);
   }
   out.seconds_index_grids = seconds_since(t0);
-  if (scatters && !glass_meshes.empty()) voice.progress("index grids", "", 1.0);
+  if (scatters && !glass_meshes.empty() && !voice.progress("index grids", "", 1.0)) return voice.error();
 
   t0 = Clock::now();
-  voice.progress("write", "", 0.0);
+  if (!voice.progress("write", "", 0.0)) return voice.error();
   out.cxb = encode_scene(scene, draco_streams, out.level_maps.maps, out.level_maps.boxes, tables, grids);
   if (!tables.empty() || !grids.empty()) {  // chunk sizes for the report (reading back is cheaper than encoding twice)
     auto c = cxb::read_container(out.cxb.data(), out.cxb.size());
@@ -415,7 +482,8 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     for (std::size_t k = 0; k < igrd.size() && k < out.index_grids.size(); ++k) out.index_grids[k].stored_bytes = c->payload(igrd[k]).size();
   }
   out.seconds_write = seconds_since(t0);
-  voice.progress("write", "", 1.0);
+  if (!voice.progress("write", "", 1.0)) return voice.error();
+  out.peak_memory_bytes = peak_resident_bytes();
   out.scene = std::move(scene);
   return out;
 }

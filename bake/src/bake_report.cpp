@@ -124,6 +124,7 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
                   {"oriented_boxes", r.level_maps.seconds_boxes},
                   {"reach_tests", r.level_maps.seconds_shadow_tests},
                   {"write", r.seconds_write}};
+  j["peak_memory_bytes"] = r.peak_memory_bytes;
   j["warnings"] = r.warnings;
   return j.dump(2) + "\n";
 }
@@ -212,6 +213,8 @@ std::string report_text(const BakeResult& r) {
                 "transport tables %.3f s, index grids %.3f s, write %.3f s\n",
                 r.seconds_import, r.seconds_compress, r.seconds_level_maps, r.level_maps.seconds_boxes,
                 r.level_maps.seconds_shadow_tests, r.seconds_transport, r.seconds_index_grids, r.seconds_write);
+  s << line;
+  std::snprintf(line, sizeof line, "  peak memory: %.1f MiB\n", static_cast<double>(r.peak_memory_bytes) / (1 << 20));
   s << line;
   return s.str();
 }

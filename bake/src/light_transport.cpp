@@ -250,7 +250,7 @@ std::vector<float> transport_wavelengths(std::uint32_t count) {
 
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
                                           const TransportOptions& opt, TransportReport* report, float wavelength_nm,
-                                          const std::function<void(double)>& progress) {
+                                          const std::function<bool(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   Material at = material;
   if (wavelength_nm > 0) at.ior = index_at(material.ior, material.dispersion, wavelength_nm);
@@ -279,9 +279,11 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
   table.words.assign(mesh.positions.size() * per_vertex * 4, 0);
 
   std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0}, done{0};
+  std::atomic<bool> stop{false};
   // Progress about every 1 % of the vertices (and the last).
   const std::uint64_t every = std::max<std::uint64_t>(1, mesh.positions.size() / 100);
   tbb::parallel_for(std::size_t{0}, mesh.positions.size(), [&](std::size_t v) {
+    if (stop.load(std::memory_order_relaxed)) return;
     const Vec3d n = unit(to_d(mesh.normals[v]));
     std::uint64_t local_rays = 0, n_leave = 0, n_trap = 0, n_occ = 0, n_refl = 0;
     for (std::uint32_t row = 0; row < opt.resolution; ++row) {
@@ -300,7 +302,9 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     occluded += n_occ;
     reflected += n_refl;
     const std::uint64_t d = ++done;
-    if (progress && (d % every == 0 || d == mesh.positions.size())) progress(double(d) / double(mesh.positions.size()));
+    if (progress && (d % every == 0 || d == mesh.positions.size()) && !progress(double(d) / double(mesh.positions.size()))) {
+      stop = true;
+    }
   });
 
   if (report) {

@@ -118,7 +118,8 @@ int main(int argc, char** argv) {
   CLI::App app{"caustix-bake: bake scene.json and its meshes, or a glTF 2.0 scene (.gltf, .glb), into one .cxb file"};
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid or missing input (scene.json, glTF, mesh),\n"
-      "            5 output could not be written. The output is written atomically: on failure\n"
+      "            5 output could not be written, 7 stopped by --max-seconds or --max-memory.\n"
+      "            The output is written atomically: on failure\n"
       "            an existing file at OUT is left untouched and no partial file is created.");
   app.add_option("scene", scene_path, "scene description: scene.json, or a glTF 2.0 file (.gltf, .glb)")->required();
   app.add_option("-o,--output", out_path, "output .cxb file")->required();
@@ -200,7 +201,14 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");
-  app.add_option("--report", report_path, "write a JSON report of the bake");
+  app.add_option("--report", report_path, "write a JSON report of the bake (also when it fails)");
+  app.add_option("--max-seconds", opt.max_seconds,
+                 "stop the bake, with exit code 7 and no output, once it has run this many seconds (0: no limit)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--max-memory", opt.max_memory_bytes,
+                 "stop the bake, with exit code 7 and no output, once the process's peak memory would exceed this "
+                 "(bytes, or with a unit: 512MB, 4GB; 0: no limit)")
+      ->transform(CLI::AsSizeValue(false))->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;

@@ -49,8 +49,15 @@ struct BakeOptions {
   std::uint32_t max_texture_size = 2048;
   // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
   std::optional<RenderDefaults> render;
-  // Not part of the bake's inputs: what it says while it runs.
+  // Not part of the bake's inputs: what it says while it runs, and budgets
+  // (issue 48; 0: none). Past either the bake stops with an ErrorCode::kBudget
+  // error naming the stage, the object and the option to lower. Checked at
+  // every progress step (a light-transport table's every 1 %); memory is the
+  // process's peak resident set, and also checked before a light-transport
+  // table is allocated, against its size.
   BakeObserver observer;
+  double max_seconds = 0;
+  std::uint64_t max_memory_bytes = 0;
 };
 
 struct MeshStats {
@@ -89,6 +96,7 @@ struct BakeResult {
   std::vector<IndexGridReport> index_grids;  // scenes that scatter: one per transparent object
   double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_transport = 0, seconds_index_grids = 0,
          seconds_write = 0;
+  std::uint64_t peak_memory_bytes = 0;  // the process's peak resident set at the end (for reports)
 };
 
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);

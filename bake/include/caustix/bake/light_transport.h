@@ -71,9 +71,10 @@ class TransportTracer {
 // mesh, whose vertex order the runtime sees): at the material's IOR, or
 // with wavelength_nm > 0 at its index there (an LTTS table). `progress`,
 // if set, is called with the fraction of vertices traced, from the tracing
-// threads (possibly at once: the caller serialises).
+// threads (possibly at once: the caller serialises); when it returns false
+// the tracing stops early and the table is incomplete (the caller drops it).
 LightTransportTable trace_transport_table(std::uint32_t object, const Material& material, const TriangleMesh& mesh,
                                           const TransportOptions& options, TransportReport* report,
-                                          float wavelength_nm = 0, const std::function<void(double)>& progress = {});
+                                          float wavelength_nm = 0, const std::function<bool(double)>& progress = {});
 
 }  // namespace caustix::bake

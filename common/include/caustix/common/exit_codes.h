@@ -13,6 +13,7 @@ inline constexpr int kExitInput = 3;      // scene.json or mesh invalid/missing
 inline constexpr int kExitContainer = 4;  // .cxb malformed, corrupt, unsupported
 inline constexpr int kExitOutput = 5;     // output could not be written
 inline constexpr int kExitGraphics = 6;   // no usable OpenGL context / GL error
+inline constexpr int kExitBudget = 7;     // stopped by a --max-seconds / --max-memory budget
 
 inline int exit_code_for(const Error& e) { return static_cast<int>(e.code); }
 

@@ -20,6 +20,7 @@ enum class ErrorCode : int {
   kContainer = 4,    // a .cxb file is malformed, corrupt or unsupported
   kOutput = 5,       // the output could not be written
   kGraphics = 6,     // no usable OpenGL context, or a GL failure
+  kBudget = 7,       // stopped by a --max-seconds or --max-memory budget
 };
 
 struct Error {
