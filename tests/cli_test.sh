@@ -35,6 +35,11 @@ contains "unknown option named" "$tmp/err" "--bogus"
 "$bake" "$scene" -o "$tmp/a.cxb" --depfile "$tmp/a.d" --report "$tmp/a.json" -q; check "bake" 0 $?
 "$bake" "$scene" -o "$tmp/b.cxb" -q; check "bake again" 0 $?
 cmp -s "$tmp/a.cxb" "$tmp/b.cxb"; check "bakes are byte-identical" 0 $?
+# Hermetic (issue 48): the bytes do not depend on the directory the bake
+# runs in or on how the scene's path is spelled (TEXR once recorded the
+# textures' paths as resolved from there).
+(cd "$src/assets" && "$bake" scenes/default.json -o "$tmp/cwd.cxb" -q); check "bake from another directory" 0 $?
+cmp -s "$tmp/a.cxb" "$tmp/cwd.cxb"; check "same bytes from another directory" 0 $?
 contains "depfile lists the scene" "$tmp/a.d" "default.json"
 contains "depfile lists meshes" "$tmp/a.d" "sphere.obj"
 contains "depfile lists textures" "$tmp/a.d" "pool_tiles.png"

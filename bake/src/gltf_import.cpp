@@ -594,7 +594,7 @@ struct GltfFile::Impl {
       src.fall_back = true;
       if (!gi.uri.empty()) {
         src.path = (std::filesystem::path(path).parent_path() / percent_decoded(gi.uri)).lexically_normal().string();
-        src.name = src.path;
+        src.name = percent_decoded(gi.uri);  // as the file names it (TEXR records it)
       } else {
         src.name = ip + (gi.name.empty() ? "" : " ('" + gi.name + "')");
         src.mime_type = gi.mimeType;

@@ -391,7 +391,8 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       const auto [at, added] = image_by_path.emplace(file, static_cast<std::uint32_t>(doc.images.size()));
       if (added) {
         ImageSource src;
-        src.name = src.path = file;
+        src.name = texture_file;  // as the scene names it: the .cxb records it (TEXR), whatever the directory the bake runs in
+        src.path = file;
         src.where = w.where(ptr + "/material/albedo_texture") + ": " + ptr + "/material/albedo_texture";
         doc.images.push_back(std::move(src));
       }

@@ -20,7 +20,7 @@ float linear_to_srgb(float c) {
 }  // namespace
 
 Result<TextureImage> read_texture(const ImageSource& src, std::uint32_t max_size) {
-  const std::string who = (src.where.empty() ? "" : src.where + ": ") + "image '" + src.name + "'";
+  const std::string who = (src.where.empty() ? "" : src.where + ": ") + "image '" + (src.path.empty() ? src.name : src.path) + "'";
   auto fail = [&](const std::string& msg) { return make_error(ErrorCode::kInput, who + ": " + msg); };
 
   // Embedded bytes are read through a memory proxy; the extension tells

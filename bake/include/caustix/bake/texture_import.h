@@ -26,7 +26,7 @@
 namespace caustix::bake {
 
 struct ImageSource {
-  std::string name;                 // the file's path, or the glTF image's pointer and name
+  std::string name;                 // the file as the scene or glTF file names it, or the glTF image's pointer and name
   std::string path;                 // a file to read; empty when `bytes` holds the encoded image
   std::vector<std::uint8_t> bytes;  // an embedded image (glTF data URI or buffer view)
   std::string mime_type;            // of `bytes`: "image/png" or "image/jpeg" (glTF's two)
