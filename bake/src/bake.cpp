@@ -343,8 +343,8 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (std::size_t g = 0; g < inside.size(); ++g) {
     if (!inside[g]) continue;
     voice.warn("receiver '" + scene.objects[*inside[g]].name + "' lies inside transparent object '" + scene.objects[g].name +
-                           "' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass "
-                           "by caustic maps whatever the glass method");
+               "' (its bounding box): the light-transport tables never reach it, so the runtime lights that glass "
+               "by caustic maps whatever the glass method");
   }
   if (!voice.progress("meshes", "", 1.0)) return voice.error();
   auto t0 = Clock::now();
@@ -410,7 +410,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     // Dispersive glass (issue 22): the same table at more wavelengths.
     if (o.material.dispersion > 0 && options.transport.wavelengths == 0) {
       voice.warn("transparent object '" + o.name + "' disperses, but --ltt-wavelengths 0 bakes its light-transport "
-                             "table at n_d only: its caustics from the tables have no colour fringes");
+                 "table at n_d only: its caustics from the tables have no colour fringes");
     }
     if (o.material.dispersion > 0) {
       for (const float nm : transport_wavelengths(options.transport.wavelengths)) {
