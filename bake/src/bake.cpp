@@ -164,7 +164,13 @@ class Voice {
   bool progress(const std::string& stage, const std::string& item, double fraction) {
     if (observer_.progress) {
       const std::lock_guard<std::mutex> lock(mutex_);
-      observer_.progress(stage, item, std::clamp(fraction, 0.0, 1.0));
+      // Threads report out of order: a stage's fraction never goes back.
+      if (stage != stage_) {
+        stage_ = stage;
+        fraction_ = 0.0;
+      }
+      fraction_ = std::max(fraction_, std::clamp(fraction, 0.0, 1.0));
+      observer_.progress(stage, item, fraction_);
     }
     return within_budget(stage, item);
   }
@@ -205,6 +211,8 @@ class Voice {
   std::mutex mutex_;
   std::atomic<bool> stopped_{false};
   std::string reason_;
+  std::string stage_;  // the last progress call's, and its fraction
+  double fraction_ = 0.0;
 };
 
 }  // namespace
@@ -349,7 +357,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   if (!voice.progress("meshes", "", 1.0)) return voice.error();
   auto t0 = Clock::now();
   if (!voice.progress("level maps", "", 0.0)) return voice.error();
-  auto stage = bake_level_maps(scene, meshes, options.level_maps);
+  auto stage = bake_level_maps(scene, meshes, options.level_maps, [&](double f) { voice.progress("level maps", "", f); });
   if (!stage) return stage.error();
   out.level_maps = std::move(*stage);
   for (const PairReport& p : out.level_maps.pairs) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +35,7 @@ constexpr std::size_t kReachSamples = 512;
 }  // namespace
 
 Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes,
-                                      const LevelMapOptions& opt) {
+                                      const LevelMapOptions& opt, const std::function<void(double)>& progress) {
   LevelMapStage out;
   const std::size_t n_obj = scene.objects.size();
   std::vector<std::vector<Vec3d>> world(n_obj);
@@ -100,9 +101,16 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
     }
   }
   std::vector<std::string> skip_reason(jobs.size()), coverage(jobs.size());
+  // Progress: each pair's reach test, then its map.
+  std::atomic<std::size_t> steps{0};
+  const auto step = [&] {
+    const std::size_t s = ++steps;
+    if (progress) progress(double(s) / double(2 * jobs.size()));
+  };
   if (!jobs.empty()) {
     const RayCaster occluders(all_pos, all_tris, owner);
     tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
+      step();  // counted as it starts: the test returns early in several places
       const Job& job = jobs[j];
       const Vec3d v{-job.dir.travel[0], -job.dir.travel[1], -job.dir.travel[2]};
       const Water& w = *scene.water;
@@ -185,7 +193,10 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
   std::vector<LevelMap> maps(jobs.size());
   std::vector<PairReport> reports(jobs.size());
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
-    if (!skip_reason[j].empty()) return;
+    if (!skip_reason[j].empty()) {
+      step();
+      return;
+    }
     const Job& job = jobs[j];
     const Object& o = scene.objects[job.object];
     const TriangleMesh& mesh = meshes[o.mesh_index];
@@ -205,6 +216,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
     rep.ms_profile = ms_since(t);
     for (std::uint16_t q : m.depth) rep.covered_texels += q != kEmptyDepth ? 1 : 0;
     rep.depth_precision_m = depth_precision(m.frame);
+    step();
   });
 
   // Merge in (object, light) order.

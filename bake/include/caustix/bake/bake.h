@@ -25,8 +25,8 @@ struct BakeObserver {
   std::function<void(const std::string& warning)> warning;
   // A stage ("import", "compress", "level maps", "light-transport tables",
   // "index grids", "write") on an item (a mesh's path, an object's name, or
-  // empty) at `fraction` of the stage done, in [0, 1]; 1 when the stage
-  // ends. Called one at a time (the bake serialises the calls its worker
+  // empty) at `fraction` of the stage done, in [0, 1], never decreasing
+  // within a stage; 1 when the stage ends. Called one at a time (the bake serialises the calls its worker
   // threads make), from any of the bake's threads.
   std::function<void(const std::string& stage, const std::string& item, double fraction)> progress;
 };

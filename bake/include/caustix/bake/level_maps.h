@@ -13,6 +13,7 @@
 // other opaque objects. Each skip is reported with its reason.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,10 @@ struct LevelMapStage {
 };
 
 // `meshes[i]` is scene.meshes[i] decoded/imported (object space).
+// `progress`, if set, is called with the fraction of the (receiver, light)
+// pairs' reach tests and maps done, from the worker threads (possibly at
+// once: the caller serialises).
 Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes,
-                                      const LevelMapOptions& options);
+                                      const LevelMapOptions& options, const std::function<void(double)>& progress = {});
 
 }  // namespace caustix::bake
