@@ -226,20 +226,17 @@ TEST(Reference, FineSphereFocusAgreesWithOptics) {
   Request q{test::write_scene(j, "reference_fine_ball"), "floor", x0, x0, x0 + n * pix, x0 + n * pix, n, n, 0, 1'500'000, 8, 5};
   auto img = trace(q);
   ASSERT_TRUE(img.ok()) << img.error().message;
-  std::vector<double> e;
-  for (int i = 0; i < n * n; ++i) e.push_back(img->rgb[3 * static_cast<std::size_t>(i) + 1]);
+  std::vector<double> e, var;  // irradiance and its variance per pixel
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n) * n; ++i) {
+    e.push_back(img->rgb[3 * i + 1]);
+    var.push_back(std::pow(img->sigma[i], 2));
+  }
   const auto want = test::landing_image(ball_lens(0.5, 0.75, 1.5, 20000), n, x0, pix);
   for (const double radius : {0.01, 0.02, 0.05}) {
-    double got = 0, var = 0;
-    for (int i = 0; i < n; ++i) {
-      for (int k = 0; k < n; ++k) {
-        if (std::hypot(x0 + (k + 0.5) * pix, x0 + (i + 0.5) * pix) >= radius) continue;
-        const std::size_t p = static_cast<std::size_t>(i) * n + static_cast<std::size_t>(k);
-        got += e[p] * pix * pix;
-        var += std::pow(img->sigma[p] * pix * pix, 2);
-      }
-    }
-    const double w = test::power_within(want, n, x0, pix, radius), sigma = std::sqrt(var) / w;
+    // The power's variance: the sum of (sigma pix^2)^2 over the same pixels.
+    const double got = test::power_within(e, n, x0, pix, radius);
+    const double w = test::power_within(want, n, x0, pix, radius);
+    const double sigma = std::sqrt(test::power_within(var, n, x0, pix, radius) * pix * pix) / w;
     std::printf("[reference, fine ball] power within %.2f m: %.5f vs %.5f optics (%+.2f %%, sigma %.2f %%)\n", radius, got, w,
                 100 * (got / w - 1), 100 * sigma);
     EXPECT_NEAR(got / w, 1.0, 0.005 + 4 * sigma) << "within " << radius << " m";
