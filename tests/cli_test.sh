@@ -89,7 +89,8 @@ contains "bad glTF names the pointer" "$tmp/err" "/nodes/1/mesh: mesh 7 does not
 # Bad input: clear error naming the place, exit 3, old output untouched, no temp files left.
 cp "$tmp/a.cxb" "$tmp/keep.cxb"
 printf '{\n  "objects": [ { "name": "a", "mesh": 5 } ]\n}\n' >"$tmp/bad.json"
-"$bake" "$tmp/bad.json" -o "$tmp/keep.cxb" 2>"$tmp/err"; check "bad scene" 3 $?
+"$bake" "$tmp/bad.json" -o "$tmp/keep.cxb" --report "$tmp/bad_report.json" 2>"$tmp/err"; check "bad scene" 3 $?
+contains "a scene that does not parse fails in the scene stage" "$tmp/bad_report.json" '"stage": "scene"'
 contains "error has line:column" "$tmp/err" "bad.json:2:31: /objects/0/mesh"
 cmp -s "$tmp/a.cxb" "$tmp/keep.cxb"; check "old output untouched" 0 $?
 "$bake" "$tmp/missing.json" -o "$tmp/m.cxb" 2>"$tmp/err"; check "missing scene" 3 $?

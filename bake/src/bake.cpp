@@ -220,6 +220,7 @@ class Voice {
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options) {
   BakeResult out;
   Voice voice(options, out.warnings);
+  if (!voice.progress("scene", scene_path, 0.0)) return voice.error();
   auto doc = load_scene(scene_path);
   if (!doc) return doc.error();
   out.inputs = doc->inputs;
@@ -264,6 +265,8 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     if (image_index[t->image]) t->image = *image_index[t->image];
     else t.reset();
   }
+
+  if (!voice.progress("scene", scene_path, 1.0)) return voice.error();  // read, with its textures
 
   std::vector<std::vector<std::uint8_t>> draco_streams;
   std::vector<TriangleMesh> meshes;

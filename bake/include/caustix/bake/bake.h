@@ -23,11 +23,12 @@ struct BakeObserver {
   // Each warning as soon as it is found (BakeResult::warnings keeps them
   // too), so that a bake that fails or is stopped later has said them.
   std::function<void(const std::string& warning)> warning;
-  // A stage ("import", "compress", "level maps", "light-transport tables",
+  // A stage ("scene": reading it and its textures, "meshes": importing,
+  // refining and compressing them, "level maps", "light-transport tables",
   // "index grids", "write") on an item (a mesh's path, an object's name, or
   // empty) at `fraction` of the stage done, in [0, 1], never decreasing
-  // within a stage; 1 when the stage ends. Called one at a time (the bake serialises the calls its worker
-  // threads make), from any of the bake's threads.
+  // within a stage; 1 when the stage ends. Called one at a time (the bake
+  // serialises the calls its worker threads make), from any of its threads.
   std::function<void(const std::string& stage, const std::string& item, double fraction)> progress;
 };
 
