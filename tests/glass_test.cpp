@@ -652,6 +652,87 @@ TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {
   EXPECT_LT(diff / sa, 0.03);
 }
 
+// Copies of one glass ball (issue 48): baked once, one LTTB for the three
+// (LTTR names the copies), drawn from one set of GPU tables, and the
+// floor's light the same, texel for texel, as from three tables of their
+// own (--no-share). Each copy, turned and scaled, still focuses as optics
+// says for its own radius (the exact sphere of optics_oracle.h, 1 mm
+// pixels): power within 5 cm of its axis within 5 % (BallLensFocusAgrees-
+// WithOptics's bound beyond 1 cm; measured -4.7, -3.0, -3.4 %), and the
+// turned copy within 3 % of the unturned one at 2 and 5 cm (measured +1.4,
+// +1.8 %). At 2 cm the copies read -6.5 to -8.1 % against optics, printed
+// and not asserted: the floor's one focus window (issue 47) has to span
+// all three spots, 2.4 m apart, so it does not sharpen them.
+TEST_F(Glass, CopiesShareOneTableAndFocusAsOptics) {
+  nlohmann::json j = scene("glass_ball");
+  const nlohmann::json ball = j["objects"][1];
+  j["objects"].erase(1);
+  struct Copy {
+    const char* name;
+    double x, r;
+    std::array<double, 3> turn;
+  };
+  const Copy copies[] = {{"a", -1.2, 0.3, {0, 0, 0}}, {"b", 0.0, 0.3, {35, 60, 20}}, {"c", 1.2, 0.2, {-50, 10, 80}}};
+  for (const Copy& c : copies) {
+    nlohmann::json o = ball;
+    o["name"] = c.name;
+    o["transform"] = {{"translate", {c.x, 1.5 * c.r, 0}}, {"rotate_deg", c.turn}, {"scale", c.r}};  // focus f = 1.5 r on the floor
+    j["objects"].push_back(o);
+  }
+  const std::string path = test::write_scene(j, "glass_copies");
+  auto shared = bake::bake_scene(path, {});
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  bake::BakeOptions own;
+  own.share = false;
+  auto separate = bake::bake_scene(path, own);
+  ASSERT_TRUE(separate.ok()) << separate.error().message;
+  auto a = runtime::load_scene(shared->cxb.data(), shared->cxb.size());
+  auto b = runtime::load_scene(separate->cxb.data(), separate->cxb.size());
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  EXPECT_EQ(a->transport_tables.size(), 1u);
+  EXPECT_EQ(b->transport_tables.size(), 3u);
+  EXPECT_EQ(a->desc.objects[2].tables_from, std::optional<std::uint32_t>{1});
+  EXPECT_EQ(a->desc.objects[3].tables_from, std::optional<std::uint32_t>{1});
+  std::printf("[glass copies] .cxb %zu bytes shared, %zu with a table each\n", shared->cxb.size(), separate->cxb.size());
+  EXPECT_LT(shared->cxb.size() * 2, separate->cxb.size());
+
+  const LightTransportTable& t = a->transport_tables[0];
+  const std::uint64_t table_bytes = std::uint64_t{t.vertex_count} * t.resolution * t.resolution * 16;
+  auto ra = runtime::Renderer::create(std::move(*a));
+  auto rb = runtime::Renderer::create(std::move(*b));
+  ASSERT_TRUE(ra.ok() && rb.ok());
+  const int n = 128;
+  const double pix = 0.001;
+  std::vector<std::array<double, 2>> rel;  // each copy's power over optics', within 2 and 5 cm
+  for (const Copy& c : copies) {
+    runtime::IrradianceRequest q = floor_request(n, n * pix / 2);
+    q.x0 = static_cast<float>(c.x - n * pix / 2);
+    q.x1 = static_cast<float>(c.x + n * pix / 2);
+    auto ia = (*ra)->render_irradiance(q);
+    auto ib = (*rb)->render_irradiance(q);
+    ASSERT_TRUE(ia.ok() && ib.ok());
+    EXPECT_EQ(ia->rgb, ib->rgb) << "copy " << c.name << ": the shared table lights it otherwise than its own";
+    std::vector<double> got;
+    for (std::size_t i = 0; i < ia->rgb.size(); i += 3) got.push_back(ia->rgb[i]);
+    const auto want = test::landing_image(ball_lens(c.r, 1.5 * c.r, 1.5, 20000), n, -n * pix / 2, pix);
+    rel.emplace_back();
+    for (const double radius : {0.02, 0.05}) {
+      const double g = test::power_within(got, n, -n * pix / 2, pix, radius), w = test::power_within(want, n, -n * pix / 2, pix, radius);
+      rel.back()[radius == 0.05] = g / w;
+      std::printf("[glass copies] %s (r %.1f m, turned %g/%g/%g deg): power within %.2f m %+.1f %% of optics\n", c.name, c.r, c.turn[0],
+                  c.turn[1], c.turn[2], radius, 100 * (g / w - 1));
+      if (radius == 0.05) EXPECT_NEAR(g / w, 1.0, 0.05) << "copy " << c.name << " within " << radius << " m";
+    }
+  }
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_NEAR(rel[1][k] / rel[0][k], 1.0, 0.03) << "the turned copy against the unturned one";
+  // The GPU holds the one table once (and the same targets as the other).
+  const std::uint64_t ga = (*ra)->engine().stats().memory.glass, gb = (*rb)->engine().stats().memory.glass;
+  std::printf("[glass copies] glass GPU bytes %llu shared, %llu with a table each (a table %llu)\n", static_cast<unsigned long long>(ga),
+              static_cast<unsigned long long>(gb), static_cast<unsigned long long>(table_bytes));
+  EXPECT_GE(gb - ga, 2 * table_bytes);
+}
+
 TEST(LightTransport, LookupAgreesWithDirectTraces) {
   bake::BakeOptions opt;
   const runtime::RuntimeScene s = bake_and_load(scene("glass_ball"), opt);

@@ -195,6 +195,75 @@ TEST_F(Gltf, GlbWithExternalBufferAndHierarchy) {
             baked->warnings.end());
 }
 
+// Duplicated objects as exporters write them (issue 48): each copy of the
+// glass cube its own glTF mesh with its own copy of the data, one turned
+// and scaled, one in a glass that differs only in colour (a tint, drawn at
+// run time), one of another index. The bake stores the mesh once and
+// traces two tables: the cube's, which the turned and the coloured copies
+// use (LTTR), and the other index's. With share off, four of each.
+TEST_F(Gltf, DuplicatedMeshesAndTablesAreStoredOnce) {
+  GltfBuilder g = pool_scene();
+  const SplitCube cube;
+  auto glass = [&](double ior, std::vector<double> colour) {
+    return g.material({{"pbrMetallicRoughness", {{"baseColorFactor", colour}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                       {"extensions",
+                        {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                         {"KHR_materials_ior", {{"ior", ior}}},
+                         {"KHR_materials_volume", {{"thicknessFactor", 1.0}, {"attenuationDistance", 2.0}, {"attenuationColor", {0.5, 0.25, 1.0}}}}}}});
+  };
+  const int same = glass(1.45, {1, 1, 1, 1}), amber = glass(1.45, {1.0, 0.7, 0.4, 1}), denser = glass(1.7, {1, 1, 1, 1});
+  const double s = std::sqrt(0.5);
+  struct Copy {
+    const char* name;
+    int material;
+    json place;
+  };
+  const Copy copies[] = {{"Turned", same, {{"translation", {1.0, 0.5, 0.0}}, {"rotation", {0.0, s, 0.0, s}}, {"scale", {0.5, 0.5, 0.5}}}},
+                         {"Amber", amber, {{"translation", {-1.0, 0.5, 0.0}}}},
+                         {"Denser", denser, {{"translation", {0.0, 0.5, 1.0}}}}};
+  std::vector<int> roots = g.doc["scenes"][0]["nodes"].get<std::vector<int>>();
+  for (const Copy& c : copies) {
+    const int cp = g.positions(cube.positions), cn = g.normals(cube.normals), ci = g.indices(cube.indices);
+    const int m = g.mesh(json::array({{{"attributes", {{"POSITION", cp}, {"NORMAL", cn}}}, {"indices", ci}, {"material", c.material}}}), c.name);
+    json node = c.place;
+    node["name"] = c.name;
+    node["mesh"] = m;
+    roots.push_back(g.node(node));
+  }
+  g.scene(roots);
+  const fs::path p = dir_ / "copies.glb";
+  g.write_glb(p);
+  bake::BakeOptions opt;
+  opt.transport.resolution = 6;  // the tables' accuracy is glass_test's
+  auto shared = bake::bake_scene(p.string(), opt);
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  opt.share = false;
+  auto separate = bake::bake_scene(p.string(), opt);
+  ASSERT_TRUE(separate.ok()) << separate.error().message;
+  EXPECT_EQ(shared->scene.meshes.size(), 2u) << "the floor's and the cube's";
+  EXPECT_EQ(separate->scene.meshes.size(), 5u);
+  EXPECT_EQ(shared->transport.size(), 2u);
+  EXPECT_EQ(separate->transport.size(), 4u);
+  const SceneDesc& sc = shared->scene;
+  const Object *cube0 = find(sc, "Glass"), *turned = find(sc, "Turned"), *amber_cube = find(sc, "Amber"), *denser_cube = find(sc, "Denser");
+  ASSERT_TRUE(cube0 && turned && amber_cube && denser_cube);
+  const auto index = [&](const Object* o) { return static_cast<std::uint32_t>(o - sc.objects.data()); };
+  EXPECT_EQ(turned->tables_from, std::optional<std::uint32_t>{index(cube0)});
+  EXPECT_EQ(amber_cube->tables_from, std::optional<std::uint32_t>{index(cube0)});
+  EXPECT_FALSE(denser_cube->tables_from.has_value()) << "another index needs its own table";
+  EXPECT_EQ(denser_cube->mesh_index, cube0->mesh_index) << "but not its own mesh";
+  const std::size_t notes = std::count_if(shared->notes.begin(), shared->notes.end(), [](const std::string& n) { return n.find("stored once") != std::string::npos; });
+  EXPECT_EQ(notes, 3u);
+  std::printf("[copies] %zu bytes shared, %zu without\n", shared->cxb.size(), separate->cxb.size());
+  EXPECT_LT(shared->cxb.size(), separate->cxb.size());
+  for (const auto* r : {&*shared, &*separate}) {
+    auto c = cxb::read_container(r->cxb.data(), r->cxb.size());
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(c->find(cxb::kTagTransportShared).size(), r == &*shared ? 1u : 0u);
+    EXPECT_TRUE(decode_scene(*c).ok());
+  }
+}
+
 TEST_F(Gltf, ReceiverKeepsHardEdgesGlassIsWelded) {
   GltfBuilder g = pool_scene();
   const fs::path p = dir_ / "pool.glb";

@@ -686,5 +686,99 @@ TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
   }
 }
 
+// Objects sharing one set of tables (issue 48): the required LTTR chunk
+// names, per object in order, the earlier object whose LTTB and LTTS it
+// uses; the sharer gets that object's absorption and spectral tables. Refused:
+// a sharer with a table of its own (LTTB or LTTS), one naming a later
+// object, a receiver, a sharer, or glass of another index or dispersion,
+// an empty or truncated LTTR. A scene that shares nothing has no LTTR.
+TEST(SceneCodec, SharedTablesAreStoredAndValidated) {
+  LightTransportTable base;
+  SceneDesc s = dispersive_scene(base);
+  s.objects[1].material.absorption = base.absorption = {0.5f, 0.25f, 0.125f};
+  for (const char* name : {"lens2", "lens3"}) {
+    Object copy = s.objects[1];
+    copy.name = name;
+    copy.transform = {0, 0, -2, 0, 0, 2, 0, 0, 2, 0, 0, 0, 3, 1, 0, 1};  // turned, scaled, moved
+    copy.tables_from = 1;
+    s.objects.push_back(copy);
+  }
+  LightTransportTable at380 = base;
+  at380.wavelength_nm = 380;
+  at380.ior = index_at(s.objects[1].material.ior, s.objects[1].material.dispersion, 380);
+  auto b = encode_scene(s, {{0}}, {}, {}, {base, at380});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->transport_tables.size(), 1u);
+  EXPECT_EQ(d->spectral_tables.size(), 1u);
+  for (std::size_t i : {2u, 3u}) {
+    const Object& o = d->scene.objects[i];
+    EXPECT_EQ(o.tables_from, std::optional<std::uint32_t>{1});
+    EXPECT_EQ(o.material.absorption, base.absorption) << "the tables' absorption";
+    EXPECT_EQ(o.material.spectral_tables, 1u);
+    EXPECT_EQ(o.transform, s.objects[i].transform);
+  }
+  EXPECT_FALSE(d->scene.objects[1].tables_from.has_value());
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  ASSERT_EQ(c->find(cxb::kTagTransportShared).size(), 1u);
+  EXPECT_TRUE(c->chunks()[c->find(cxb::kTagTransportShared)[0]].flags & cxb::kChunkRequired);
+  LightTransportTable plain_table;
+  auto plain = encode_scene(dispersive_scene(plain_table), {{0}}, {}, {}, {plain_table});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagTransportShared).empty()) << "nothing shared, no LTTR: the bytes of before";
+
+  auto refused = [&](const SceneDesc& scene, const std::vector<LightTransportTable>& tables, const char* what, const char* says) {
+    auto r = decode(encode_scene(scene, {{0}}, {}, {}, tables));
+    ASSERT_FALSE(r.ok()) << "not refused: " << what;
+    EXPECT_EQ(r.error().code, ErrorCode::kContainer) << what;
+    EXPECT_NE(r.error().message.find(says), std::string::npos) << what << ": " << r.error().message;
+    std::printf("[shared tables] %s: %s\n", what, r.error().message.c_str());
+  };
+  LightTransportTable own = base;
+  own.object = 2;
+  refused(s, {base, own, at380}, "a sharer with its own LTTB", "may not have its own");
+  LightTransportTable own380 = at380;
+  own380.object = 3;
+  refused(s, {base, at380, own380}, "a sharer with its own LTTS", "may not have its own");
+  SceneDesc bad = s;
+  bad.objects[2].tables_from = 3;
+  refused(bad, {base, at380}, "a later object's tables", "/objects/2/tables_from");
+  bad = s;
+  bad.objects[2].tables_from = 0;
+  refused(bad, {base, at380}, "a receiver's tables", "/objects/2/tables_from");
+  bad = s;
+  bad.objects[3].tables_from = 2;
+  refused(bad, {base, at380}, "a sharer's tables", "/objects/3/tables_from");
+  bad = s;
+  bad.objects[2].material.ior = 1.6f;
+  refused(bad, {base, at380}, "glass of another index", "/objects/2/tables_from");
+  bad = s;
+  bad.objects[3].material.dispersion = 2.0f;
+  refused(bad, {base, at380}, "glass of another dispersion", "/objects/3/tables_from");
+
+  // The payload itself: empty, truncated, or with bytes left over (the
+  // file rebuilt around it, so that the container's checks pass).
+  const std::size_t k = c->find(cxb::kTagTransportShared)[0];
+  const auto payload = c->payload(k);
+  const std::vector<std::uint8_t> whole(payload.begin(), payload.end());
+  for (const auto& [what, count, size] : {std::tuple{"no object listed", 0u, std::size_t{4}}, std::tuple{"truncated", 2u, std::size_t{15}},
+                                          std::tuple{"bytes left over", 1u, std::size_t{20}}}) {
+    std::vector<std::uint8_t> p(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(size));
+    test::put_u32(p, 0, count);
+    cxb::ContainerWriter w;
+    for (std::size_t i = 0; i < c->chunks().size(); ++i) {
+      const auto& e = c->chunks()[i];
+      const auto q = c->payload(i);
+      w.add_chunk(e.tag, e.flags, i == k ? p : std::vector<std::uint8_t>(q.begin(), q.end()));
+    }
+    const std::vector<std::uint8_t> t = w.finish();
+    auto r = decode(t);
+    ASSERT_FALSE(r.ok()) << what;
+    EXPECT_NE(r.error().message.find("LTTR"), std::string::npos) << what << ": " << r.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace caustix

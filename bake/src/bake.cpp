@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <mutex>
 #include <optional>
 
@@ -124,6 +125,45 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
 }
 
 namespace {
+
+// Shared work (issue 48): a mesh whose imported content (after refinement)
+// and Draco stream equal an earlier mesh's is dropped and its objects draw
+// the earlier one, as exporters duplicate a mesh for every copy of an
+// object (glTF meshes that are not instanced, one OBJ per object). Returns
+// a note per mesh dropped.
+std::vector<std::string> merge_identical_meshes(SceneDesc& scene, std::vector<std::string>& paths, std::vector<TriangleMesh>& meshes,
+                                                std::vector<std::vector<std::uint8_t>>& streams, std::vector<MeshStats>& stats) {
+  const auto same = [&](std::size_t a, std::size_t b) {
+    const TriangleMesh &x = meshes[a], &y = meshes[b];
+    return streams[a] == streams[b] && x.positions == y.positions && x.triangles == y.triangles && x.normals == y.normals && x.uvs == y.uvs;
+  };
+  std::vector<std::string> notes;
+  std::vector<std::uint32_t> to(meshes.size());
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const auto twin = std::find_if(kept.begin(), kept.end(), [&](std::size_t k) { return same(k, i); });
+    if (twin == kept.end()) {
+      to[i] = static_cast<std::uint32_t>(kept.size());
+      kept.push_back(i);
+      continue;
+    }
+    to[i] = to[*twin];
+    notes.push_back(paths[i] + ": the same mesh as " + paths[*twin] + "; stored once");
+  }
+  if (kept.size() == meshes.size()) return notes;
+  for (Object& o : scene.objects) o.mesh_index = to[o.mesh_index];
+  const auto keep = [&](auto& v) {
+    std::remove_reference_t<decltype(v)> out;
+    for (std::size_t k : kept) out.push_back(std::move(v[k]));
+    v = std::move(out);
+  };
+  keep(scene.meshes);
+  keep(paths);
+  keep(meshes);
+  keep(streams);
+  keep(stats);
+  return notes;
+}
 
 // The process's peak resident set (Linux reports kilobytes).
 std::uint64_t peak_resident_bytes() {
@@ -337,6 +377,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     meshes.push_back(std::move(imported->mesh));
   }
 
+  if (options.share) {
+    for (std::string& note : merge_identical_meshes(scene, doc->mesh_paths, meshes, draco_streams, out.meshes)) out.notes.push_back(std::move(note));
+  }
   if (auto issue = validate_scene(scene)) {
     return make_error(ErrorCode::kInput, scene_path + ": " + issue->pointer + ": " + issue->message);
   }
@@ -381,10 +424,18 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   }
   std::vector<LightTransportTable> tables, spectral;
   std::vector<TransportReport> spectral_reports;
-  std::vector<TriangleMesh> glass_meshes;  // decoded, one per transparent object (the index grids use them too)
+  std::map<std::uint32_t, TriangleMesh> glass_meshes;  // decoded, by mesh index (the index grids use them too)
+  // Objects that can use an earlier object's tables do (Object::tables_from).
+  for (std::uint32_t oi = 0; oi < scene.objects.size() && options.share; ++oi) {
+    for (std::uint32_t j = 0; j < oi && !scene.objects[oi].tables_from; ++j) {
+      if (can_share_tables(scene.objects[j], scene.objects[oi])) scene.objects[oi].tables_from = j;
+    }
+  }
   std::size_t table_count = 0, tables_done = 0;  // for the progress
   for (const Object& o : scene.objects) {
-    if (is_transparent(o.role)) table_count += 1 + (o.material.dispersion > 0 ? transport_wavelengths(options.transport.wavelengths).size() : 0);
+    if (is_transparent(o.role) && !o.tables_from) {
+      table_count += 1 + (o.material.dispersion > 0 ? transport_wavelengths(options.transport.wavelengths).size() : 0);
+    }
   }
   // One table, or nothing when a budget stopped it (voice.error()).
   const auto trace = [&](std::uint32_t oi, const TriangleMesh& mesh, TransportReport* rep, float nm) -> std::optional<LightTransportTable> {
@@ -402,10 +453,16 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
     const std::string& path = doc->mesh_paths[o.mesh_index];
-    auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
-    if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
-    glass_meshes.push_back(std::move(*decoded));
-    const TriangleMesh& mesh = glass_meshes.back();
+    if (!glass_meshes.count(o.mesh_index)) {
+      auto decoded = decode_draco(draco_streams[o.mesh_index], scene.meshes[o.mesh_index]);
+      if (!decoded) return Error{ErrorCode::kInternal, path + ": " + decoded.error().message};
+      glass_meshes.emplace(o.mesh_index, std::move(*decoded));
+    }
+    if (o.tables_from) {
+      scene.objects[oi].material.spectral_tables = scene.objects[*o.tables_from].material.spectral_tables;
+      continue;
+    }
+    const TriangleMesh& mesh = glass_meshes.at(o.mesh_index);
     const std::uint64_t r = options.transport.resolution, entries = mesh.positions.size() * r * r;
     if (entries > kMaxTransportEntries) {
       return make_error(ErrorCode::kInput, path + ": transparent object '" + o.name + "': its light-transport table would hold " +
@@ -444,11 +501,12 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   t0 = Clock::now();
   std::vector<IndexGrid> grids;
   const bool scatters = scene_scatters(scene);
+  const auto glass_count = static_cast<double>(std::count_if(scene.objects.begin(), scene.objects.end(), [](const Object& o) { return is_transparent(o.role); }));
   for (std::uint32_t oi = 0, g = 0; oi < scene.objects.size() && scatters; ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
-    if (!voice.progress("index grids", o.name, double(g) / double(glass_meshes.size()))) return voice.error();
-    const TriangleMesh& mesh = glass_meshes[g++];
+    if (!voice.progress("index grids", o.name, double(g++) / glass_count)) return voice.error();
+    const TriangleMesh& mesh = glass_meshes.at(o.mesh_index);
     const std::uint64_t voxels = index_grid_voxels(mesh, options.index_grid);
     if (voxels > kMaxIndexGridVoxels) {
       return make_error(ErrorCode::kInput, doc->mesh_paths[o.mesh_index] + ": transparent object '" + o.name +

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -109,6 +110,11 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
          {"max_exit_position_error_m", t.position_error_m}, {"max_exit_direction_error_deg", t.direction_error_rad * 180.0 / 3.14159265358979}});
   }
+  // Objects drawing another's tables (issue 48), by name: {"copy": "source"}.
+  j["transport"]["shared"] = nlohmann::ordered_json::object();
+  for (const Object& o : r.scene.objects) {
+    if (o.tables_from) j["transport"]["shared"][o.name] = r.scene.objects[*o.tables_from].name;
+  }
   j["index_grids"] = {{"resolution", opt.index_grid.resolution}, {"blur", opt.index_grid.blur},
                       {"octree_epsilon", opt.index_grid.epsilon}, {"grids", nlohmann::ordered_json::array()}};
   for (const IndexGridReport& g : r.index_grids) {
@@ -186,7 +192,16 @@ std::string report_text(const BakeResult& r) {
       s << line;
     }
   }
+  std::map<std::uint32_t, std::uint32_t> copies;  // per table's object, the objects that use it too
+  for (const Object& o : r.scene.objects) {
+    if (o.tables_from) ++copies[*o.tables_from];
+  }
   for (const TransportReport& t : r.transport) {
+    if (copies.count(t.object) && t.wavelength_nm == 0) {
+      std::snprintf(line, sizeof line, "  light-transport tables of '%s' also drawn by %u more objects\n", r.scene.objects[t.object].name.c_str(),
+                    copies[t.object]);
+      s << line;
+    }
     std::snprintf(line, sizeof line,
                   "  light-transport table '%s'%s: %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
                   "%llu after internal reflection or re-entry; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",

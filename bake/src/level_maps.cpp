@@ -32,6 +32,49 @@ std::vector<Vec3d> sample(const std::vector<Vec3d>& pts, std::size_t n) {
 
 constexpr std::size_t kReachSamples = 512;
 
+// The box's axes through the transform's rotation, orthonormalised
+// (right-handed).
+std::array<Vec3d, 3> turned_axes(const Mat4f& t, const ObjectBox& box) {
+  std::array<Vec3d, 3> a{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      a[i][k] = double{t[k]} * box.axes[i][0] + double{t[4 + k]} * box.axes[i][1] + double{t[8 + k]} * box.axes[i][2];
+    }
+  }
+  const auto dot = [](const Vec3d& x, const Vec3d& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+  const auto unit = [&](Vec3d v) {
+    const double n = std::sqrt(dot(v, v));
+    for (double& c : v) c /= n;
+    return v;
+  };
+  a[0] = unit(a[0]);
+  const double along = dot(a[1], a[0]);
+  for (std::size_t k = 0; k < 3; ++k) a[1][k] -= along * a[0][k];
+  a[1] = unit(a[1]);
+  const Vec3d c{a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]};
+  a[2] = c;  // right-handed, as oriented_box's, also through a mirroring transform (the same box)
+  return a;
+}
+
+// The tightest box along the given orthonormal axes holding the points.
+ObjectBox box_along(const std::array<Vec3d, 3>& axes, const std::vector<Vec3d>& pts) {
+  ObjectBox box;
+  for (std::size_t i = 0; i < 3; ++i) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vec3d& p : pts) {
+      const double d = p[0] * axes[i][0] + p[1] * axes[i][1] + p[2] * axes[i][2];
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    box.half[i] = static_cast<float>((hi - lo) / 2);
+    for (std::size_t k = 0; k < 3; ++k) {
+      box.axes[i][k] = static_cast<float>(axes[i][k]);
+      box.center[k] += (hi + lo) / 2 * axes[i][k];
+    }
+  }
+  return box;
+}
+
 }  // namespace
 
 Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<TriangleMesh>& meshes,
@@ -41,11 +84,28 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
   std::vector<std::vector<Vec3d>> world(n_obj);
   for (std::size_t i = 0; i < n_obj; ++i) world[i] = world_points(scene.objects[i].transform, meshes[scene.objects[i].mesh_index].positions);
 
-  // Oriented boxes for culling (CGAL), one per object.
+  // Oriented boxes for culling (CGAL), one per object. Objects that draw
+  // one mesh through a rotation, translation and uniform scale (copies of a
+  // ball) share the orientation of the mesh's own box: the optimiser, 0.35 s
+  // for an 8 k-vertex ball, runs once per mesh in object space (issue 48),
+  // and each object's box is fitted to its own points along those axes.
   auto t0 = Clock::now();
   out.boxes.resize(n_obj);
+  std::vector<std::uint32_t> copies(meshes.size(), 0);
+  for (const Object& o : scene.objects) copies[o.mesh_index] += is_similarity(o.transform) ? 1 : 0;
+  std::vector<std::size_t> shared_meshes;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    if (copies[m] > 1) shared_meshes.push_back(m);
+  }
+  std::vector<ObjectBox> mesh_box(meshes.size());
+  tbb::parallel_for(std::size_t{0}, shared_meshes.size(), [&](std::size_t k) {
+    const std::size_t m = shared_meshes[k];
+    mesh_box[m] = oriented_box(world_points(Mat4f{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, meshes[m].positions));
+  });
   tbb::parallel_for(std::size_t{0}, n_obj, [&](std::size_t i) {
-    out.boxes[i] = oriented_box(world[i]);
+    const Object& o = scene.objects[i];
+    out.boxes[i] = copies[o.mesh_index] > 1 && is_similarity(o.transform) ? box_along(turned_axes(o.transform, mesh_box[o.mesh_index]), world[i])
+                                                                          : oriented_box(world[i]);
     out.boxes[i].object = static_cast<std::uint32_t>(i);
   });
   out.seconds_boxes = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -198,6 +198,10 @@ int main(int argc, char** argv) {
                  "transparent meshes: also split edges whose end normals turn by more than this (degrees) while longer "
                  "than --glass-edge / 4 of the diagonal: finer sampling of curved glass, a sharper focal spot (0: off)")
       ->check(CLI::Range(0.0, 180.0))->capture_default_str();
+  bool no_share = false;
+  app.add_flag("--no-share", no_share,
+               "give every object its own mesh and light-transport tables even where they are identical (shared by "
+               "default: the LTTR chunk, which readers before issue 48 refuse)");
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");
@@ -212,6 +216,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
+  opt.share = !no_share;
 
   if (!preset.empty()) {
     // The preset's values for every option not given on the command line.

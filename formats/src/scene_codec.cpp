@@ -473,6 +473,37 @@ bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
          d.finish();
 }
 
+// LTTR (issue 48): u32 count; per solid transparent object that uses an
+// earlier object's light-transport tables, in object order: u32 object
+// index, u32 the index of the object whose tables it uses
+// (Object::tables_from; validate_scene checks that it may).
+bool shares_tables(const SceneDesc& s) {
+  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.tables_from.has_value(); });
+}
+std::vector<std::uint8_t> encode_table_sharing(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.tables_from.has_value(); })));
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    if (!s.objects[i].tables_from) continue;
+    w.u32(i);
+    w.u32(*s.objects[i].tables_from);
+  }
+  return w.take();
+}
+bool decode_table_sharing(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 8, "object sharing tables")) return false;
+  if (n == 0) return d.fail("an 'LTTR' chunk lists no object");
+  return per_transparent_object(d, s, n, "object sharing tables", is_transparent,
+                                [&](Object& o) {
+                                  std::uint32_t from = 0;
+                                  if (!d.u32(from, "object whose tables it uses")) return false;
+                                  o.tables_from = from;
+                                  return true;
+                                }) &&
+         d.finish();
+}
+
 bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
   std::uint32_t n = 0;
   if (!d.count(n, 65536, 16, "texture image")) return false;
@@ -550,6 +581,7 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (scene_disperses(scene)) w.add_chunk(cxb::kTagDispersion, cxb::kChunkRequired, encode_dispersion(scene));
   if (has_spots(scene)) w.add_chunk(cxb::kTagSpots, cxb::kChunkRequired, encode_spots(scene));
   if (has_tints(scene)) w.add_chunk(cxb::kTagTint, cxb::kChunkRequired, encode_tints(scene));
+  if (shares_tables(scene)) w.add_chunk(cxb::kTagTransportShared, cxb::kChunkRequired, encode_table_sharing(scene));
   // Optional: a reader that predates it draws the receivers untextured; the
   // light does not depend on it.
   if (has_textures(scene)) w.add_chunk(cxb::kTagTextures, 0, encode_textures(scene));
@@ -631,6 +663,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (*tint) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagTint, **tint, [&](ChunkDecoder& d) { return decode_tints(d, s); }));
   }
+  auto lttr = single(cxb::kTagTransportShared, false);
+  if (!lttr) return lttr.error();
+  if (*lttr) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagTransportShared, **lttr, [&](ChunkDecoder& d) { return decode_table_sharing(d, s); }));
+  }
   auto texr = single(cxb::kTagTextures, false);
   if (!texr) return texr.error();
   if (*texr) {
@@ -679,8 +716,8 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     }
     out.level_maps.push_back(std::move(*lm));
   }
-  // Exactly one table per transparent object, in object order; it carries
-  // the material's absorption.
+  // Exactly one table per transparent object that does not use another's
+  // (LTTR), in object order; it carries the material's absorption.
   std::vector<bool> has_table(s.objects.size(), false);
   for (std::size_t i : c.find(cxb::kTagTransport)) {
     auto t = decode_transport_table(c.payload(i), s);
@@ -688,14 +725,19 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     if (has_table[t->object] || (!out.transport_tables.empty() && out.transport_tables.back().object > t->object)) {
       return container_error("chunk " + std::to_string(i) + " 'LTTB': tables must be one per transparent object, in object order");
     }
+    if (const auto from = s.objects[t->object].tables_from) {
+      return container_error("chunk " + std::to_string(i) + " 'LTTB': object '" + s.objects[t->object].name + "' uses object '" +
+                             s.objects[*from].name + "''s tables ('LTTR') and may not have its own");
+    }
     has_table[t->object] = true;
     s.objects[t->object].material.absorption = t->absorption;
     out.transport_tables.push_back(std::move(*t));
   }
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    if (is_transparent(s.objects[i].role) && !has_table[i]) {
+    if (is_transparent(s.objects[i].role) && !has_table[i] && !s.objects[i].tables_from) {
       return container_error("transparent object '" + s.objects[i].name + "' has no 'LTTB' light-transport table");
     }
+    if (const auto from = s.objects[i].tables_from) s.objects[i].material.absorption = s.objects[*from].material.absorption;
   }
   // Tables at other wavelengths (issue 22): dispersive objects only, by
   // object, then by strictly ascending wavelength; each as its object's
@@ -707,6 +749,10 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     if (prev && (prev->object > t->object || (prev->object == t->object && prev->wavelength_nm >= t->wavelength_nm))) {
       return container_error("chunk " + std::to_string(i) + " 'LTTS': tables must be in object order, then in ascending wavelength");
     }
+    if (s.objects[t->object].tables_from) {
+      return container_error("chunk " + std::to_string(i) + " 'LTTS': object '" + s.objects[t->object].name +
+                             "' uses another object's tables ('LTTR') and may not have its own");
+    }
     const LightTransportTable* base = nullptr;
     for (const LightTransportTable& b : out.transport_tables) base = b.object == t->object ? &b : base;
     if (!base || base->resolution != t->resolution || base->max_bounces != t->max_bounces || base->vertex_count != t->vertex_count ||
@@ -716,6 +762,9 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     }
     ++s.objects[t->object].material.spectral_tables;
     out.spectral_tables.push_back(std::move(*t));
+  }
+  for (Object& o : s.objects) {
+    if (o.tables_from) o.material.spectral_tables = s.objects[*o.tables_from].material.spectral_tables;
   }
   // Index grids: in a scene that scatters, exactly one per transparent
   // object, in object order; none otherwise.

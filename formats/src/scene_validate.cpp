@@ -63,7 +63,8 @@ bool is_degenerate(const Mat4f& m) {
   return !(std::fabs(det) > 1e-6 * len[0] * len[1] * len[2]);
 }
 
-// Columns of the upper 3x3 orthogonal and of equal length (relative 1e-4).
+}  // namespace
+
 bool is_similarity(const Mat4f& m) {
   const Vec3f c[3] = {{m[0], m[1], m[2]}, {m[4], m[5], m[6]}, {m[8], m[9], m[10]}};
   const float l0 = length(c[0]);
@@ -77,8 +78,6 @@ bool is_similarity(const Mat4f& m) {
   }
   return true;
 }
-
-}  // namespace
 
 std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_meshes) {
   Checker c;
@@ -161,6 +160,12 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
         c.expect(is_similarity(o.transform), p + "/transform",
                  "a transparent object's transform must be a rotation, translation and uniform scale");
       }
+    }
+    if (o.tables_from) {
+      const std::uint32_t from = *o.tables_from;
+      c.expect(from < i && can_share_tables(s.objects[from], o), p + "/tables_from",
+               "object " + std::to_string(from) + " is not an earlier solid transparent object with its own tables on the same mesh, "
+               "with the same IOR, dispersion and absorption");
     }
     bool finite_transform = true;
     for (float f : o.transform) finite_transform = finite_transform && finite(f);

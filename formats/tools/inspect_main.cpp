@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
                                        {"triangles", m.triangle_count},
                                        {"position_bits", m.position_bits},
                                        {"draco_bytes", scene->draco_meshes[o.mesh_index].size()}});
+      if (o.tables_from) j["scene"]["objects"].back()["tables_from"] = s.objects[*o.tables_from].name;
     }
     j["scene"]["lights"] = s.lights.size();
     j["scene"]["water"] = s.water.has_value();
@@ -128,9 +129,10 @@ int main(int argc, char** argv) {
                   s.lights.size(), s.water ? "water" : "no water", s.camera ? "camera" : "no camera");
       for (const Object& o : s.objects) {
         const MeshInfo& m = s.meshes[o.mesh_index];
-        std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes\n", o.name.c_str(),
+        std::printf("  %-16s %-11s %-24s %7u vertices %7u triangles %6zu Draco bytes%s\n", o.name.c_str(),
                     role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
-                    scene->draco_meshes[o.mesh_index].size());
+                    scene->draco_meshes[o.mesh_index].size(),
+                    o.tables_from ? ("  tables of " + s.objects[*o.tables_from].name).c_str() : "");
       }
       if (s.medium) {
         const auto& e = s.medium->extent;

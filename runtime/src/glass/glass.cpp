@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -60,15 +61,13 @@ struct GlassEngine::Impl {
     LightTransportTable params;  // words dropped after upload
     gl::Buffer buffer;
   };
-  struct Glass {
-    std::uint32_t object = 0;
-    const GpuMesh* mesh = nullptr;
+  // What every object on one table shares (issue 48: objects that use
+  // another's tables, Object::tables_from, draw from the same buffers).
+  struct Tables {
     // By ascending IOR: the table at n_d (LTTB) and, for dispersive glass,
     // those at other wavelengths (LTTS).
     std::vector<Table> tables;
     std::size_t base = 0;  // the n_d table's place
-    std::uint32_t vertices = 0, triangles = 0;
-    gl::Buffer rays, rays_b;  // rays_b: the second table's, dispersive glass only
     // Each vertex's one-ring of triangles (CSR): offsets (vertices + 1),
     // triangle indices (glass_corner_intensity.comp).
     gl::Buffer ring_offsets, ring_triangles;
@@ -81,7 +80,16 @@ struct GlassEngine::Impl {
     // area, object space) times the sampling stride: the surface it stands
     // for.
     std::vector<float> sample_areas;
+    std::uint64_t gpu_bytes = 0;  // the tables and the one-rings
   };
+  struct Glass {
+    std::uint32_t object = 0;
+    const GpuMesh* mesh = nullptr;
+    const Tables* shared = nullptr;  // in table_sets
+    std::uint32_t vertices = 0, triangles = 0;
+    gl::Buffer rays, rays_b;  // this object's exit rays; rays_b: the second table's, dispersive glass only
+  };
+  std::vector<std::unique_ptr<Tables>> table_sets;
   // A sampled vertex's exit ray for one light, in world space: `flux` is
   // what it carries per unit incident irradiance (its surface share,
   // projected towards the light, times T).
@@ -158,9 +166,9 @@ struct GlassEngine::Impl {
       decompose(scene.objects[g.object].transform, rotation, scale);
       const glm::mat4 model = to_glm(scene.objects[g.object].transform);
       const glm::mat3 to_object = glm::transpose(rotation);
-      for (std::uint32_t k = 0; k < g.sample.vertex_count; ++k) {
-        const glm::vec3 p(g.sample_positions[k][0], g.sample_positions[k][1], g.sample_positions[k][2]);
-        const glm::vec3 n = glm::normalize(glm::vec3(g.sample_normals[k][0], g.sample_normals[k][1], g.sample_normals[k][2]));
+      for (std::uint32_t k = 0; k < g.shared->sample.vertex_count; ++k) {
+        const glm::vec3 p(g.shared->sample_positions[k][0], g.shared->sample_positions[k][1], g.shared->sample_positions[k][2]);
+        const glm::vec3 n = glm::normalize(glm::vec3(g.shared->sample_normals[k][0], g.shared->sample_normals[k][1], g.shared->sample_normals[k][2]));
         const glm::vec3 pw(model * glm::vec4(p, 1.0f));
         const glm::vec3 to_light_w = light.type == LightType::kDirectional
                                          ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
@@ -168,12 +176,12 @@ struct GlassEngine::Impl {
         const glm::vec3 to_light = to_object * to_light_w;
         const float cos_theta = glm::dot(n, to_light);
         if (cos_theta <= 0.0f) continue;  // light enters only where the surface faces it
-        const TransportEntry e = lookup(g.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
+        const TransportEntry e = lookup(g.shared->sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
         if (e.status != TransportStatus::kLeaves) continue;
         const glm::vec3 exit(model * glm::vec4(glm::vec3(e.exit[0], e.exit[1], e.exit[2]), 1.0f));
         const glm::vec3 d = rotation * glm::vec3(e.direction[0], e.direction[1], e.direction[2]);
         const float t = static_cast<float>(e.transmittance);
-        out.push_back({exit, d, t, g.sample_areas[k] * scale * scale * cos_theta * t, g.object});
+        out.push_back({exit, d, t, g.shared->sample_areas[k] * scale * scale * cos_theta * t, g.object});
       }
     }
     return out;
@@ -276,16 +284,17 @@ struct GlassEngine::Impl {
     for (Glass& g : glass) {
       const Material& m = scene.objects[g.object].material;
       const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
-      std::size_t a = exact_nd ? g.base : 0;
-      while (!exact_nd && a + 1 < g.tables.size() && g.tables[a + 1].params.ior <= n) ++a;
+      const std::vector<Table>& tables = g.shared->tables;
+      std::size_t a = exact_nd ? g.shared->base : 0;
+      while (!exact_nd && a + 1 < tables.size() && tables[a + 1].params.ior <= n) ++a;
       // Beyond the tables' range (another writer's tables) the nearest one.
-      const bool blend = n > g.tables[a].params.ior && a + 1 < g.tables.size();
+      const bool blend = n > tables[a].params.ior && a + 1 < tables.size();
       for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
         rays.use();
         set_light_uniforms(rays);
         // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
         rays.set("u_weight", skip[g.object] ? glm::vec3(0.0f) : glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
-        set_table(rays, g.tables[a + static_cast<std::size_t>(pass)]);
+        set_table(rays, tables[a + static_cast<std::size_t>(pass)]);
         set_pose(rays, scene, g);
         rays.set("u_vertex_count", g.vertices);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
@@ -296,7 +305,7 @@ struct GlassEngine::Impl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         rays_blend.use();
         rays_blend.set("u_vertex_count", g.vertices);
-        rays_blend.set("u_t", (n - g.tables[a].params.ior) / (g.tables[a + 1].params.ior - g.tables[a].params.ior));
+        rays_blend.set("u_t", (n - tables[a].params.ior) / (tables[a + 1].params.ior - tables[a].params.ior));
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.rays_b.get());
         glDispatchCompute((g.vertices + 63) / 64, 1, 1);
@@ -486,8 +495,8 @@ struct GlassEngine::Impl {
         corner_intensity.use();
         corner_intensity.set("u_triangle_count", g.triangles);
         corner_intensity.set("u_plane_count", planes);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.ring_offsets.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.ring_triangles.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.shared->ring_offsets.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.shared->ring_triangles.get());
         glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       }
@@ -588,33 +597,33 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.composite, "glass_composite", shaders::k_fullscreen_vert_glsl, shaders::k_glass_composite_frag_glsl}}));
   s.nearest = gl::make_nearest_sampler();
 
+  // One set of tables per object that has its own (LTTB); objects that use
+  // another's (Object::tables_from, issue 48) draw from the same buffers.
+  std::vector<const Impl::Tables*> set_of(scene.objects.size(), nullptr);
   for (const LightTransportTable& t : tables) {
-    Impl::Glass g;
-    g.object = t.object;
-    g.mesh = &meshes[scene.objects[t.object].mesh_index];
-    g.vertices = t.vertex_count;
-    g.triangles = static_cast<std::uint32_t>(g.mesh->index_count / 3);
-    g.tables.push_back(Impl::Table{t, {}});
+    auto set = std::make_unique<Impl::Tables>();
+    Impl::Tables& ts = *set;
+    ts.tables.push_back(Impl::Table{t, {}});
     for (const LightTransportTable& q : spectral) {
-      if (q.object == t.object) g.tables.push_back(Impl::Table{q, {}});
+      if (q.object == t.object) ts.tables.push_back(Impl::Table{q, {}});
     }
     // Ascending IOR (the spectral tables descend with wavelength), n_d's among them.
-    std::stable_sort(g.tables.begin(), g.tables.end(), [](const Impl::Table& a, const Impl::Table& b) { return a.params.ior < b.params.ior; });
+    std::stable_sort(ts.tables.begin(), ts.tables.end(), [](const Impl::Table& a, const Impl::Table& b) { return a.params.ior < b.params.ior; });
     const TriangleMesh& mesh = cpu_meshes[scene.objects[t.object].mesh_index];
     if (mesh.positions.size() != t.vertex_count) return make_error(ErrorCode::kInternal, "glass mesh and its transport table disagree on vertices");
-    for (std::size_t k = 0; k < g.tables.size(); ++k) {
-      Impl::Table& table = g.tables[k];
+    for (std::size_t k = 0; k < ts.tables.size(); ++k) {
+      Impl::Table& table = ts.tables[k];
       if (table.params.wavelength_nm == 0) {
-        g.base = k;
+        ts.base = k;
         // Every k-th vertex's rows, at most kSampleBytes of them (and at
         // least kMinSampleVertices vertices).
         const LightTransportTable& full = table.params;
         const std::size_t row = std::size_t{full.resolution} * full.resolution * 4;  // words per vertex
         const std::size_t want = std::max<std::size_t>(kMinSampleVertices, kSampleBytes / (row * 4));
         const std::size_t stride = std::max<std::size_t>(1, (full.vertex_count + want - 1) / want);
-        g.sample = full;
-        g.sample.words.clear();
-        g.sample.vertex_count = 0;
+        ts.sample = full;
+        ts.sample.words.clear();
+        ts.sample.vertex_count = 0;
         std::vector<double> share(full.vertex_count, 0.0);  // a third of each vertex's one-ring area
         for (const auto& tri : mesh.triangles) {
           const auto& a = mesh.positions[tri[0]];
@@ -627,42 +636,57 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
           }
         }
         for (std::size_t v = 0; v < full.vertex_count; v += stride) {
-          g.sample.words.insert(g.sample.words.end(), full.words.begin() + static_cast<std::ptrdiff_t>(v * row),
-                                full.words.begin() + static_cast<std::ptrdiff_t>((v + 1) * row));
-          g.sample_positions.push_back(mesh.positions[v]);
-          g.sample_normals.push_back(mesh.normals[v]);
-          g.sample_areas.push_back(static_cast<float>(share[v] * static_cast<double>(std::min(stride, full.vertex_count - v))));
-          ++g.sample.vertex_count;
+          ts.sample.words.insert(ts.sample.words.end(), full.words.begin() + static_cast<std::ptrdiff_t>(v * row),
+                                 full.words.begin() + static_cast<std::ptrdiff_t>((v + 1) * row));
+          ts.sample_positions.push_back(mesh.positions[v]);
+          ts.sample_normals.push_back(mesh.normals[v]);
+          ts.sample_areas.push_back(static_cast<float>(share[v] * static_cast<double>(std::min(stride, full.vertex_count - v))));
+          ++ts.sample.vertex_count;
         }
       }
       table.buffer = gl::make_buffer();
       glNamedBufferStorage(table.buffer.get(), static_cast<GLsizeiptr>(table.params.words.size() * 4), table.params.words.data(), 0);
+      ts.gpu_bytes += table.params.words.size() * 4;
       table.params.words.clear();
       table.params.words.shrink_to_fit();
-    }
-    g.rays = gl::make_buffer();
-    glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
-    if (g.tables.size() > 1) {
-      g.rays_b = gl::make_buffer();
-      glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
-      s.spectral = true;
     }
     // One-rings from the mesh's triangles (the order the LTT indexes and the GPU draws).
     std::vector<std::uint32_t> idx;
     idx.reserve(mesh.triangles.size() * 3);
     for (const auto& tri : mesh.triangles) idx.insert(idx.end(), tri.begin(), tri.end());
-    std::vector<std::uint32_t> offsets(std::size_t{g.vertices} + 1, 0), ring(idx.size());
+    std::vector<std::uint32_t> offsets(std::size_t{t.vertex_count} + 1, 0), ring(idx.size());
     for (std::uint32_t v : idx) {
-      if (v >= g.vertices) return make_error(ErrorCode::kInternal, "glass mesh index beyond its transport table's vertices");
+      if (v >= t.vertex_count) return make_error(ErrorCode::kInternal, "glass mesh index beyond its transport table's vertices");
       ++offsets[v + 1];
     }
-    for (std::size_t v = 0; v < g.vertices; ++v) offsets[v + 1] += offsets[v];
+    for (std::size_t v = 0; v < t.vertex_count; ++v) offsets[v + 1] += offsets[v];
     std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
     for (std::size_t k = 0; k < idx.size(); ++k) ring[fill[idx[k]]++] = static_cast<std::uint32_t>(k / 3);
-    g.ring_offsets = gl::make_buffer();
-    glNamedBufferStorage(g.ring_offsets.get(), static_cast<GLsizeiptr>(offsets.size() * 4), offsets.data(), 0);
-    g.ring_triangles = gl::make_buffer();
-    glNamedBufferStorage(g.ring_triangles.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(ring.size(), 1) * 4), ring.data(), 0);
+    ts.ring_offsets = gl::make_buffer();
+    glNamedBufferStorage(ts.ring_offsets.get(), static_cast<GLsizeiptr>(offsets.size() * 4), offsets.data(), 0);
+    ts.ring_triangles = gl::make_buffer();
+    glNamedBufferStorage(ts.ring_triangles.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(ring.size(), 1) * 4), ring.data(), 0);
+    ts.gpu_bytes += offsets.size() * 4 + std::max<std::size_t>(ring.size(), 1) * 4;
+    set_of[t.object] = set.get();
+    s.table_sets.push_back(std::move(set));
+  }
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (!is_transparent(o.role)) continue;
+    Impl::Glass g;
+    g.object = i;
+    g.mesh = &meshes[o.mesh_index];
+    g.shared = set_of[o.tables_from.value_or(i)];
+    if (!g.shared) return make_error(ErrorCode::kInternal, "transparent object '" + o.name + "' has no light-transport table");
+    g.vertices = g.shared->tables[g.shared->base].params.vertex_count;
+    g.triangles = static_cast<std::uint32_t>(g.mesh->index_count / 3);
+    g.rays = gl::make_buffer();
+    glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+    if (g.shared->tables.size() > 1) {
+      g.rays_b = gl::make_buffer();
+      glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+      s.spectral = true;
+    }
     s.glass.push_back(std::move(g));
   }
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
@@ -894,11 +918,11 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
     p.set("u_glass_transmit", Impl::transmit(m));
     if (nearby) {
       Impl::set_mesh_pose(p, scene.objects[g.object]);
-      const Vec3f& k = g.tables[g.base].params.absorption;
+      const Vec3f& k = g.shared->tables[g.shared->base].params.absorption;
       p.set("u_glass_absorption", glm::vec3(k[0], k[1], k[2]));
       set_view_samples(p, view_samples(spectrum, m.ior, m.dispersion));  // per pixel, per wavelength
     } else {
-      Impl::set_table(p, g.tables[g.base]);  // the table view refracts at n_d (per vertex; docs/dispersion.md)
+      Impl::set_table(p, g.shared->tables[g.shared->base]);  // the table view refracts at n_d (per vertex; docs/dispersion.md)
       s.set_pose(p, scene, g);
       p.set("u_ior", m.ior);
     }
@@ -926,10 +950,8 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
 
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
-  for (const Impl::Glass& g : impl_->glass) {
-    for (const Impl::Table& t : g.tables) b += std::uint64_t{g.vertices} * t.params.resolution * t.params.resolution * 16;
-    b += std::uint64_t{g.vertices} * ((g.rays_b.get() ? 96 : 48) + 4) + std::uint64_t{g.triangles} * 12 + 4;  // rays, one-rings
-  }
+  for (const auto& set : impl_->table_sets) b += set->gpu_bytes;  // once however many objects share them
+  for (const Impl::Glass& g : impl_->glass) b += std::uint64_t{g.vertices} * (g.rays_b.get() ? 96 : 48);  // rays
   for (const Impl::Target& t : impl_->targets) {
     const std::uint64_t texels = std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size);
     b += texels * (16 + 4) + texels * 16 * t.layers * (t.levels > 1 ? 4 : 3) / 3;  // mips: a third more

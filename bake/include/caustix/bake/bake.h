@@ -50,6 +50,13 @@ struct BakeOptions {
   std::uint32_t max_texture_size = 2048;
   // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
   std::optional<RenderDefaults> render;
+  // Shared work (issue 48): meshes with the same content after import are
+  // stored once, and solid transparent objects on one mesh with the same
+  // IOR, dispersion and absorption use one set of light-transport tables
+  // (Object::tables_from, the LTTR chunk), whatever their transforms.
+  // False: every object gets its own, as before (files a reader that
+  // predates LTTR reads).
+  bool share = true;
   // Not part of the bake's inputs: what it says while it runs, and budgets
   // (issue 48; 0: none). Past either the bake stops with an ErrorCode::kBudget
   // error naming the stage, the object and the option to lower. Checked at
@@ -93,7 +100,7 @@ struct BakeResult {
   std::vector<std::string> notes;   // what the bake did to the input, said unless --quiet
   std::vector<std::string> inputs;  // every file read (for --depfile)
   LevelMapStage level_maps;         // maps moved into the .cxb; reports kept
-  std::vector<TransportReport> transport;  // one per transparent object
+  std::vector<TransportReport> transport;  // one per table traced (an object sharing another's has none)
   std::vector<IndexGridReport> index_grids;  // scenes that scatter: one per transparent object
   double seconds_import = 0, seconds_compress = 0, seconds_level_maps = 0, seconds_transport = 0, seconds_index_grids = 0,
          seconds_write = 0;

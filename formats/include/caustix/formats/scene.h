@@ -151,7 +151,25 @@ struct Object {
   Role role = Role::kReceiver;
   Material material;
   Mat4f transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  // Solid transparent objects (issue 48): the earlier object whose
+  // light-transport tables (LTTB, LTTS) this one uses instead of its own
+  // (the LTTR chunk). Allowed when both are solid glass on the same mesh
+  // with the same IOR, dispersion and absorption, whatever their
+  // transforms: the tables are in object space, and the runtime applies
+  // each object's rotation, translation and uniform scale.
+  std::optional<std::uint32_t> tables_from;
 };
+
+// Whether the upper 3x3 has orthogonal columns of equal length (relative
+// 1e-4): a rotation (or mirroring), translation and uniform scale.
+bool is_similarity(const Mat4f& m);
+
+// Whether `b` may use `a`'s light-transport tables (Object::tables_from).
+inline bool can_share_tables(const Object& a, const Object& b) {
+  return is_transparent(a.role) && is_transparent(b.role) && !a.tables_from && a.mesh_index == b.mesh_index &&
+         a.material.ior == b.material.ior && a.material.dispersion == b.material.dispersion &&
+         a.material.absorption == b.material.absorption;
+}
 
 struct Light {
   LightType type = LightType::kDirectional;
@@ -311,7 +329,8 @@ void normalize_scene(SceneDesc& scene);
 // Serialises the scene, one Draco stream per mesh (meshes[i] <->
 // scene.meshes[i]), the level maps, the object boxes and the light-transport
 // tables (one per transparent object at n_d, wavelength_nm 0, as LTTB; then
-// those at other wavelengths of dispersive objects, as LTTS) and, for scenes that scatter, the
+// those at other wavelengths of dispersive objects, as LTTS; none for an
+// object whose Object::tables_from names another's, LTTR) and, for scenes that scatter, the
 // index grids (one per transparent object) into .cxb bytes. Deterministic.
 std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
                                        const std::vector<std::vector<std::uint8_t>>& draco_meshes,
@@ -326,7 +345,9 @@ struct DecodedScene {
   std::vector<std::span<const std::uint8_t>> draco_meshes;
   std::vector<LevelMap> level_maps;  // in file order; at most one per (object, light)
   std::vector<ObjectBox> boxes;
-  std::vector<LightTransportTable> transport_tables;  // one per transparent object (solid glass: none for thin-walled), in object order
+  // One per solid transparent object, in object order, except those that
+  // use an earlier object's (Object::tables_from).
+  std::vector<LightTransportTable> transport_tables;
   // Tables at other wavelengths (LTTS): for transparent objects with
   // dispersion, by object, then by ascending wavelength.
   std::vector<LightTransportTable> spectral_tables;

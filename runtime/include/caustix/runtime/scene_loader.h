@@ -19,7 +19,7 @@ struct RuntimeScene {
   std::vector<TriangleMesh> meshes;  // desc.meshes[i] <-> meshes[i]
   std::vector<LevelMap> level_maps;  // at most one per (object, light)
   std::vector<ObjectBox> boxes;
-  std::vector<LightTransportTable> transport_tables;  // one per transparent object
+  std::vector<LightTransportTable> transport_tables;  // one per solid transparent object that has its own (Object::tables_from)
   std::vector<LightTransportTable> spectral_tables;   // dispersive objects' tables at other wavelengths
   std::vector<IndexGrid> index_grids;  // one per transparent object, only in scenes that scatter
 };
