@@ -101,7 +101,8 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"rounds", g.rounds}, {"max_edge", g.max_edge_m}, {"longest_flat_edge_in", g.longest_flat_edge_in},
          {"longest_flat_edge_out", g.longest_flat_edge_out}, {"stopped_at_vertex_limit", g.stopped_at_vertex_limit}});
   }
-  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"wavelengths", opt.transport.wavelengths}, {"tables", nlohmann::ordered_json::array()}};
+  j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"wavelengths", opt.transport.wavelengths},
+                    {"rays", opt.transport.rays == RayEngine::kCgal ? "cgal" : "embree"}, {"tables", nlohmann::ordered_json::array()}};
   for (const TransportReport& t : r.transport) {
     j["transport"]["tables"].push_back(
         {{"object", r.scene.objects[t.object].name}, {"wavelength_nm", t.wavelength_nm}, {"vertices", t.vertices}, {"entries", t.entries},

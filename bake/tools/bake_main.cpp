@@ -7,7 +7,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <cstdio>
 #include <cstdlib>
@@ -178,6 +177,11 @@ int main(int argc, char** argv) {
                                                                                                    : "must be 0 or 2.." + std::to_string(caustix::kMaxTransportWavelengths);
       })
       ->capture_default_str();
+  std::string ltt_rays = "embree";
+  app.add_option("--ltt-rays", ltt_rays,
+                 "light-transport tables: what casts their rays: embree (fast, single precision) or cgal (exact "
+                 "predicates, doubles: the tables of bakes before issue 48)")
+      ->check(CLI::IsMember({"embree", "cgal"}))->capture_default_str();
   app.add_option("--volume-res", opt.index_grid.resolution,
                  "scenes that scatter: index-grid voxels along each transparent mesh's longest side (seed 004)")
       ->check(CLI::Range(4u, 1024u))->capture_default_str();
@@ -217,6 +221,7 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
   opt.share = !no_share;
+  opt.transport.rays = ltt_rays == "cgal" ? caustix::bake::RayEngine::kCgal : caustix::bake::RayEngine::kEmbree;
 
   if (!preset.empty()) {
     // The preset's values for every option not given on the command line.

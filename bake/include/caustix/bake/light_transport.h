@@ -22,6 +22,14 @@
 
 namespace caustix::bake {
 
+// What casts the tables' rays (issue 48): Embree (the default; robust
+// mode, single precision) or CGAL's AABB tree (exact predicates, double
+// precision: the baker before issue 48, `caustix-bake --ltt-rays cgal`).
+// Both give tables that do not depend on the thread count; they differ in
+// the last bits of exit points and, for a few grazing directions, in
+// whether the object blocks the light (docs/glass.md).
+enum class RayEngine { kEmbree, kCgal };
+
 struct TransportOptions {
   std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
   std::uint32_t max_bounces = 4;  // internal reflections and re-entries followed (the paper: 0)
@@ -32,6 +40,7 @@ struct TransportOptions {
   // interpolates between the two whose indices bracket each traced
   // wavelength's. 0: caustics from the tables refract at n_d only.
   std::uint32_t wavelengths = kDefaultTransportWavelengths;
+  RayEngine rays = RayEngine::kEmbree;
 };
 
 // The wavelengths (nm) of a dispersive object's extra tables for `count`
@@ -56,7 +65,7 @@ struct TransportReport {
 // the look-up tests. Thread-safe.
 class TransportTracer {
  public:
-  TransportTracer(const Material& material, const TriangleMesh& mesh, std::uint32_t max_bounces);
+  TransportTracer(const Material& material, const TriangleMesh& mesh, std::uint32_t max_bounces, RayEngine rays = RayEngine::kEmbree);
   ~TransportTracer();
   // `to_light`: unit object-space direction towards the light. `rays`
   // counts the ray casts.
