@@ -935,23 +935,31 @@ TEST(LightTransport, TableIsIndependentOfThreadCount) {
 }
 
 // The tables through Embree against those through CGAL's exact tree (issue
-// 48), entry by entry, on the canonical ball (convex) and teapot (re-entries,
-// total internal reflection, overlapping shells): the same status for all
-// but a few grazing entries, and where both leave, exit points and
-// directions within the stored precision (12 bits: a step of 16 / 65535 of
-// the exit box per axis, 0.059 degrees).
+// 48), entry by entry, on the canonical ball (convex, smooth), teapot
+// (re-entries, total internal reflection, overlapping shells) and prism
+// (flat faces on a regular grid of vertices, creases): where both leave,
+// exit points and directions within one stored step (12 bits: 16 / 65535
+// of the exit box per axis; directions 0.12 degrees, two of the 0.059-degree
+// bound), and the same status and class for all but a few entries, whose
+// rays pass within float precision of an edge or a vertex and go their
+// different ways there (measured 0, 0.24 and 1.8 per thousand). Apart are
+// the entries whose direction lies on the vertex's horizon (cos 0: no light
+// enters, T = 0), which CGAL finds blocked by the coplanar triangles of a
+// flat face and Embree, whose ray runs parallel to them, does not (the
+// prism: 12 794 of 254 784).
 TEST(LightTransport, EmbreeTablesAgreeWithCgal) {
   struct Case {
     const char* scene;
     std::uint32_t resolution;
-    double max_other_status;
+    double max_other;
   };
-  for (const Case& c : {Case{"glass_ball", 12, 1e-4}, Case{"glass_teapot", 8, 1e-3}}) {
+  for (const Case& c : {Case{"glass_ball", 12, 1e-4}, Case{"glass_teapot", 8, 5e-4}, Case{"prism", 8, 3e-3}}) {
     const nlohmann::json j = scene(c.scene);
     std::size_t glass = 0;
     while (j["objects"][glass]["role"] != "transparent") ++glass;
     bake::BakeOptions opt;
     opt.transport.resolution = c.resolution;
+    opt.transport.wavelengths = 0;
     const runtime::RuntimeScene s = bake_and_load(j, opt);
     const Object& o = s.desc.objects[glass];
     const TriangleMesh& mesh = s.meshes[o.mesh_index];
@@ -960,14 +968,19 @@ TEST(LightTransport, EmbreeTablesAgreeWithCgal) {
     const LightTransportTable exact = bake::trace_transport_table(0, o.material, mesh, to, nullptr);
     to.rays = bake::RayEngine::kEmbree;
     const LightTransportTable fast = bake::trace_transport_table(0, o.material, mesh, to, nullptr);
-    const std::size_t n = std::size_t{exact.vertex_count} * c.resolution * c.resolution;
-    std::size_t other = 0, both = 0, apart = 0;
+    const std::uint32_t per_vertex = c.resolution * c.resolution;
+    const std::size_t n = std::size_t{exact.vertex_count} * per_vertex;
+    std::size_t other = 0, horizon = 0, both = 0, apart = 0;
     double worst_pos = 0, worst_dir = 0;
     const double step = 16.0 / 65535.0;
     for (std::size_t i = 0; i < n; ++i) {
       const TransportEntry a = exact.load(i), b = fast.load(i);
       if (a.status != b.status || a.bounces != b.bounces) {
-        ++other;
+        const auto& nf = mesh.normals[i / per_vertex];
+        const Dir3 nv{nf[0], nf[1], nf[2]};
+        const auto rc = static_cast<std::uint32_t>(i % per_vertex);
+        const Dir3 w = grid_direction(nv, c.resolution, rc / c.resolution, rc % c.resolution);
+        (w[0] * nv[0] + w[1] * nv[1] + w[2] * nv[2] <= 0 ? horizon : other) += 1;
         continue;
       }
       if (a.status != TransportStatus::kLeaves) continue;
@@ -986,10 +999,10 @@ TEST(LightTransport, EmbreeTablesAgreeWithCgal) {
       worst_pos = std::max(worst_pos, pos);
       worst_dir = std::max(worst_dir, dir);
     }
-    std::printf("[embree vs cgal] %s at R %u: %zu of %zu entries of another status or class; where both leave (%zu), %zu further apart "
-                "than a stored step, the rest within %.2f steps and %.4f deg\n",
-                c.scene, c.resolution, other, n, both, apart, worst_pos, worst_dir);
-    EXPECT_LE(static_cast<double>(other + apart), c.max_other_status * static_cast<double>(n)) << c.scene;
+    std::printf("[embree vs cgal] %s at R %u, %zu entries: %zu of another status or class (and %zu on the horizon); where both "
+                "leave (%zu), %zu further apart than a stored step, the rest within %.2f steps and %.4f deg\n",
+                c.scene, c.resolution, n, other, horizon, both, apart, worst_pos, worst_dir);
+    EXPECT_LE(static_cast<double>(other + apart), c.max_other * static_cast<double>(n)) << c.scene;
   }
 }
 

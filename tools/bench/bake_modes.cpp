@@ -47,7 +47,6 @@
 #include "caustix/formats/frame.h"
 #include "caustix/formats/mesh_decode.h"
 #include "bench_common.h"
-#include "embree_caster.h"
 #include "tradeoff.h"
 
 namespace caustix::bench {
@@ -206,7 +205,12 @@ int raycast(const std::string& meshes, int rays, const std::string& csv) {
       return static_cast<double>(queries.size()) / (ms_since(t) / 1000.0);
     };
     const double cgal_rate = run([&](const Vec3d& o, const Vec3d& d) { return cgal.first_hit(o, d); }, a);
-    const double embree_rate = run([&](const Vec3d& o, const Vec3d& d) { return embree.first_hit(o, d); }, b);
+    const double embree_rate = run(
+        [&](const Vec3d& o, const Vec3d& d) {
+          const auto hit = embree.first_hit_triangle(o, d);
+          return hit ? std::optional<double>(hit->distance) : std::nullopt;
+        },
+        b);
     std::size_t agree = 0;
     double max_rel = 0;
     for (std::size_t i = 0; i < a.size(); ++i) {
