@@ -131,6 +131,33 @@ contains "progress names the meshes" "$tmp/prog" "caustix-bake: meshes: "
 ! grep -q $'\r' "$tmp/prog"; check "no carriage returns in a log" 0 $?
 "$bake" "$scene" -o "$tmp/q.cxb" -q 2>"$tmp/prog"; check "bake -q" 0 $?
 [ ! -s "$tmp/prog" ]; check "nothing on stderr with -q" 0 $?
+# Shared work (issue 48): a turned copy of the ball uses the ball's table
+# (LTTR), which inspect and the report name; --no-share gives it its own;
+# --ltt-rays picks the tables' caster.
+python3 - "$src/assets/scenes/glass_ball.json" "$tmp/twins.json" <<'PY'
+import json, os, sys
+s = json.load(open(sys.argv[1]))
+for o in s["objects"]:
+    o["mesh"] = os.path.join(os.path.dirname(sys.argv[1]), o["mesh"])
+twin = json.loads(json.dumps(s["objects"][1]))
+twin["name"] = "twin"
+twin["transform"] = {"translate": [1.2, 0.5, 0], "rotate_deg": [30, 40, 0], "scale": 0.3}
+s["objects"].append(twin)
+json.dump(s, open(sys.argv[2], "w"))
+PY
+"$bake" "$tmp/twins.json" -o "$tmp/twins.cxb" --ltt-resolution 8 --report "$tmp/twins_report.json" -q; check "bake copies of a ball" 0 $?
+"$inspect" "$tmp/twins.cxb" >"$tmp/out"; check "inspect copies" 0 $?
+contains "one table for both (LTTR)" "$tmp/out" "LTTR"
+contains "inspect names the shared table" "$tmp/out" "tables of ball"
+contains "the report names the sharer" "$tmp/twins_report.json" '"twin": "ball"'
+"$bake" "$tmp/twins.json" -o "$tmp/twins_own.cxb" --ltt-resolution 8 --no-share -q; check "bake copies --no-share" 0 $?
+"$inspect" "$tmp/twins_own.cxb" >"$tmp/out"; check "inspect --no-share copies" 0 $?
+! grep -q "LTTR" "$tmp/out"; check "no LTTR with --no-share" 0 $?
+[ "$(stat -c %s "$tmp/twins.cxb")" -lt "$(stat -c %s "$tmp/twins_own.cxb")" ]; check "sharing makes the file smaller" 0 $?
+"$bake" "$tmp/twins.json" -o "$tmp/twins_cgal.cxb" --ltt-resolution 8 --ltt-rays cgal -q; check "--ltt-rays cgal" 0 $?
+contains "the report names the caster" "$tmp/twins_report.json" '"rays": "embree"'
+"$bake" "$tmp/twins.json" -o "$tmp/x.cxb" --ltt-rays optix 2>"$tmp/err"; check "an unknown --ltt-rays" 2 $?
+contains "the choices are named" "$tmp/err" "optix not in {embree,cgal}"
 "$bake" "$scene" -o "$tmp/no/such/dir/x.cxb" 2>"$tmp/err"; check "unwritable output" 5 $?
 [ -z "$(ls -A "$tmp" | grep '\.tmp\.')" ]; check "no temporary files left" 0 $?
 

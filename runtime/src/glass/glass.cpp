@@ -166,9 +166,10 @@ struct GlassEngine::Impl {
       decompose(scene.objects[g.object].transform, rotation, scale);
       const glm::mat4 model = to_glm(scene.objects[g.object].transform);
       const glm::mat3 to_object = glm::transpose(rotation);
-      for (std::uint32_t k = 0; k < g.shared->sample.vertex_count; ++k) {
-        const glm::vec3 p(g.shared->sample_positions[k][0], g.shared->sample_positions[k][1], g.shared->sample_positions[k][2]);
-        const glm::vec3 n = glm::normalize(glm::vec3(g.shared->sample_normals[k][0], g.shared->sample_normals[k][1], g.shared->sample_normals[k][2]));
+      const Tables& t = *g.shared;
+      for (std::uint32_t k = 0; k < t.sample.vertex_count; ++k) {
+        const glm::vec3 p(t.sample_positions[k][0], t.sample_positions[k][1], t.sample_positions[k][2]);
+        const glm::vec3 n = glm::normalize(glm::vec3(t.sample_normals[k][0], t.sample_normals[k][1], t.sample_normals[k][2]));
         const glm::vec3 pw(model * glm::vec4(p, 1.0f));
         const glm::vec3 to_light_w = light.type == LightType::kDirectional
                                          ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
@@ -176,12 +177,12 @@ struct GlassEngine::Impl {
         const glm::vec3 to_light = to_object * to_light_w;
         const float cos_theta = glm::dot(n, to_light);
         if (cos_theta <= 0.0f) continue;  // light enters only where the surface faces it
-        const TransportEntry e = lookup(g.shared->sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
+        const TransportEntry e = lookup(t.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
         if (e.status != TransportStatus::kLeaves) continue;
         const glm::vec3 exit(model * glm::vec4(glm::vec3(e.exit[0], e.exit[1], e.exit[2]), 1.0f));
         const glm::vec3 d = rotation * glm::vec3(e.direction[0], e.direction[1], e.direction[2]);
-        const float t = static_cast<float>(e.transmittance);
-        out.push_back({exit, d, t, g.shared->sample_areas[k] * scale * scale * cos_theta * t, g.object});
+        const float tr = static_cast<float>(e.transmittance);
+        out.push_back({exit, d, tr, t.sample_areas[k] * scale * scale * cos_theta * tr, g.object});
       }
     }
     return out;
@@ -620,7 +621,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
         const LightTransportTable& full = table.params;
         const std::size_t row = std::size_t{full.resolution} * full.resolution * 4;  // words per vertex
         const std::size_t want = std::max<std::size_t>(kMinSampleVertices, kSampleBytes / (row * 4));
-        const std::size_t stride = std::max<std::size_t>(1, (full.vertex_count + want - 1) / want);
+        const std::size_t every = std::max<std::size_t>(1, (full.vertex_count + want - 1) / want);
         ts.sample = full;
         ts.sample.words.clear();
         ts.sample.vertex_count = 0;
@@ -635,12 +636,12 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
             if (v < share.size()) share[v] += third;
           }
         }
-        for (std::size_t v = 0; v < full.vertex_count; v += stride) {
+        for (std::size_t v = 0; v < full.vertex_count; v += every) {
           ts.sample.words.insert(ts.sample.words.end(), full.words.begin() + static_cast<std::ptrdiff_t>(v * row),
                                  full.words.begin() + static_cast<std::ptrdiff_t>((v + 1) * row));
           ts.sample_positions.push_back(mesh.positions[v]);
           ts.sample_normals.push_back(mesh.normals[v]);
-          ts.sample_areas.push_back(static_cast<float>(share[v] * static_cast<double>(std::min(stride, full.vertex_count - v))));
+          ts.sample_areas.push_back(static_cast<float>(share[v] * static_cast<double>(std::min(every, full.vertex_count - v))));
           ++ts.sample.vertex_count;
         }
       }
