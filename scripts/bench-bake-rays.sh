@@ -11,6 +11,9 @@
 #
 #   scripts/bench-bake-rays.sh [OUT_CSV]   (default docs/results/bake_rays.csv)
 #
+# BEFORE=/path/to/an/older/caustix-bake adds its default (Embree) bake of
+# each scene as rays_engine "embree_before", in the same run.
+#
 # Needs a built tree. About 10 minutes on 2 cores.
 set -euo pipefail
 src=$(cd "$(dirname "$0")/.." && pwd)
@@ -18,24 +21,20 @@ out_csv=${1:-$src/docs/results/bake_rays.csv}
 bake=$src/build/bake/caustix-bake
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-python3 "$src/scripts/scan_blob.py" "$tmp/blob.obj"
-cat > "$tmp/scan.json" <<JSON
-{ "name": "scan",
-  "objects": [
-    { "name": "floor", "mesh": "$src/assets/meshes/plane.obj", "role": "receiver", "material": { "albedo": 1.0 } },
-    { "name": "scan", "mesh": "blob.obj", "role": "transparent", "material": { "transparent": true, "ior": 1.5 },
-      "transform": { "translate": [0, 0.15, 0] } } ],
-  "lights": [ { "type": "directional", "name": "sun", "direction": [0.2, -1, 0.1], "irradiance": 1.0 } ] }
-JSON
+python3 "$src/scripts/scan_blob.py" "$tmp/blob.obj" --scene "$tmp/scan.json"
 mkdir -p "$tmp/prisms" "$tmp/balls"
 python3 "$src/scripts/dispersive_prisms.py" "$tmp/prisms"
 python3 "$src/scripts/twelve_balls.py" "$tmp/balls"
 
 echo "scene,preset,rays_engine,bake_s,tables_s,tables,rays,rays_per_s,cxb_bytes" > "$out_csv"
 run() {  # name scene preset
-  for engine in cgal embree; do
+  for engine in cgal embree ${BEFORE:+embree_before}; do
     t0=$(date +%s.%N)
-    "$bake" "$2" -o "$tmp/out.cxb" --preset "$3" --ltt-rays "$engine" --report "$tmp/r.json" -q
+    if [ "$engine" = embree_before ]; then
+      "$BEFORE" "$2" -o "$tmp/out.cxb" --preset "$3" --report "$tmp/r.json" -q
+    else
+      "$bake" "$2" -o "$tmp/out.cxb" --preset "$3" --ltt-rays "$engine" --report "$tmp/r.json" -q
+    fi
     t1=$(date +%s.%N)
     python3 - "$tmp/r.json" "$1" "$3" "$engine" "$(echo "$t1 - $t0" | bc)" "$(stat -c %s "$tmp/out.cxb")" <<'PY' | tee -a "$out_csv"
 import json, sys
@@ -55,3 +54,4 @@ run scan_82k "$tmp/scan.json" balanced
 run dispersive_prisms_25 "$tmp/prisms/scene.json" fast
 run twelve_balls "$tmp/balls/twelve_balls.gltf" fast
 echo "wrote $out_csv"
+/usr/bin/python3 "$src/scripts/plot_bake_rays.py" "$(dirname "$out_csv")"

@@ -4,7 +4,9 @@
 # each ball its own glTF mesh, three colours of one glass, each turned),
 # baked side by side in one run three ways: as before issue 48 (--no-share
 # --ltt-rays cgal: every object its own mesh and tables, cast through CGAL;
-# the old baker's bytes, checked with cmp), with Embree alone
+# with BEFORE=/path/to/an/older/caustix-bake that baker does this row, and
+# a baker from before the table-level change of formats/src/light_transport.cpp
+# gives the bytes of the bakes before issue 48), with Embree alone
 # (--no-share), and with sharing (the default), then rendered. For the 1 106-vertex ball and the 8 066-vertex
 # one (assets/meshes/sphere_fine.obj). Per row: bake seconds and peak
 # memory, the file's bytes, its LTTB count, the render's peak memory and
@@ -33,8 +35,10 @@ for ball in sphere.obj sphere_fine.obj; do
     flag=()
     [ "$mode" = before ] && flag=(--no-share --ltt-rays cgal)
     [ "$mode" = no-share ] && flag=(--no-share)
+    baker=$bin/bake/caustix-bake
+    [ "$mode" = before ] && baker=${BEFORE:-$baker}
     t0=$(date +%s.%N)
-    /usr/bin/time -v "$bin/bake/caustix-bake" "$dir/twelve_balls.gltf" -o "$dir/$mode.cxb" --preset "$preset" -q "${flag[@]}" 2> "$dir/$mode.bake.time"
+    /usr/bin/time -v "$baker" "$dir/twelve_balls.gltf" -o "$dir/$mode.cxb" --preset "$preset" -q "${flag[@]}" 2> "$dir/$mode.bake.time"
     t1=$(date +%s.%N)
     /usr/bin/time -v "$bin/runtime/caustix-render" "$dir/$mode.cxb" -o "$dir/$mode.exr" --size 640x360 > /dev/null 2> "$dir/$mode.render.time"
     lttb=$("$bin/formats/caustix-inspect" "$dir/$mode.cxb" | grep -c "LTTB" || true)

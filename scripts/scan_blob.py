@@ -1,20 +1,40 @@
 #!/usr/bin/env python3
-"""scan_blob.py OUT.obj [LEVELS]: a closed, scan-like glass mesh for issue 48's
-bake benchmark (scripts/bench-bake-rays.sh): an icosahedron split LEVELS
+"""scan_blob.py OUT.obj [LEVELS] [--scene SCENE.json]: a closed, scan-like glass
+mesh for issue 48's bake benchmarks (scripts/bench-bake-rays.sh,
+bench-ltt-zstd.sh): an icosahedron split LEVELS
 times (default 6: 40 962 vertices, 81 920 triangles, what a decimated
 photogrammetry scan of a small object has), each vertex pushed along its
 direction by a fixed sum of sine bumps (up to 12 % of the 0.1 m radius), so
 that the surface is curved everywhere, concave in places and irregular like
 a scan, with no two triangles alike. Written without normals (computed by
-the importer, as for most scans).
+the importer, as for most scans). --scene also writes a scene of it: glass
+of index 1.5 15 cm over the repository's floor plane, lit by a sun.
 """
+import argparse
+import json
 import math
-import sys
+import os
+
+
+def write_scene(path, mesh):
+    floor = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "assets", "meshes", "plane.obj")
+    scene = {"name": "scan",
+             "objects": [{"name": "floor", "mesh": os.path.abspath(floor), "role": "receiver", "material": {"albedo": 1.0}},
+                         {"name": "scan", "mesh": os.path.relpath(os.path.abspath(mesh), os.path.dirname(os.path.abspath(path))),
+                          "role": "transparent", "material": {"transparent": True, "ior": 1.5},
+                          "transform": {"translate": [0, 0.15, 0]}}],
+             "lights": [{"type": "directional", "name": "sun", "direction": [0.2, -1, 0.1], "irradiance": 1.0}]}
+    with open(path, "w") as o:
+        json.dump(scene, o, indent=2)
 
 
 def main():
-    out = sys.argv[1]
-    levels = int(sys.argv[2]) if len(sys.argv) > 2 else 6
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out")
+    ap.add_argument("levels", nargs="?", type=int, default=6)
+    ap.add_argument("--scene")
+    args = ap.parse_args()
+    out, levels = args.out, args.levels
     t = (1 + 5 ** 0.5) / 2
     v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
          (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
@@ -47,6 +67,8 @@ def main():
             o.write("v %.7f %.7f %.7f\n" % tuple(0.1 * r * c for c in p))
         for a, b, c in f:
             o.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+    if args.scene:
+        write_scene(args.scene, out)
 
 
 if __name__ == "__main__":

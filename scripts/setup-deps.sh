@@ -24,8 +24,9 @@ PACKAGES=(
   libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots
   libgtest-dev clang-14 libclang-rt-14-dev python3
-  # scripts/plot_runtime.py and the other plots of docs/results/
-  python3-matplotlib
+  # scripts/plot_runtime.py and the other plots of docs/results/; zstd's
+  # command for scripts/bench-ltt-zstd.sh
+  python3-matplotlib zstd
 )
 
 SUDO=""

@@ -6,6 +6,8 @@
 // mesh_triangulate_cgal.cpp, mesh_topology.h).
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <cstdio>
@@ -129,6 +131,23 @@ TEST(GeometryKernel, EmbreeRaysThroughSharedEdgesAndVerticesHit) {
     EXPECT_EQ(again, 0u) << "sphere at x = " << offset;
     std::printf("[embree] sphere at x = %g: %zu of 22120 rays at vertices missed, none at edges; CGAL hits all of them\n", offset, at_vertices);
   }
+}
+
+// An Embree caster leaves the process's threads alone: with TBB tasking,
+// Embree turns a device's "threads=N" into a process-wide
+// tbb::global_control, which made every light-transport table trace on one
+// core while its caster lived (and would limit an embedding application's
+// TBB). The table loop must still run on more than one thread.
+TEST(GeometryKernel, EmbreeCasterLeavesTheThreadLimitAlone) {
+  const auto limit = [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); };
+  const std::size_t before = limit();
+  const TriangleMesh sphere = test::uv_sphere(16, 8);
+  std::vector<Vec3d> v;
+  for (const auto& p : sphere.positions) v.push_back({p[0], p[1], p[2]});
+  const EmbreeCaster caster(v, sphere.triangles);
+  ASSERT_TRUE(caster.ok());
+  EXPECT_EQ(limit(), before) << "the caster changed TBB's max_allowed_parallelism";
+  EXPECT_TRUE(caster.first_hit_triangle({0, 0, -5}, {0, 0, 1}).has_value());
 }
 
 // A triangle whose corners are exactly collinear (Draco's quantisation

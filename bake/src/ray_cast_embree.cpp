@@ -1,6 +1,7 @@
 // Embree 3 behind the plain interface of ray_cast.h (issue 48).
 
 #include <embree3/rtcore.h>
+#include <tbb/task_arena.h>
 
 #include <limits>
 
@@ -31,10 +32,12 @@ struct EmbreeCaster::Impl {
 EmbreeCaster::EmbreeCaster(const std::vector<Vec3d>& p, const std::vector<std::array<std::uint32_t, 3>>& tris)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
-  // One build thread: Embree's parallel builders may order a BVH's nodes by
-  // which thread finished first, and with it which of two equally near
-  // triangles (a ray through a shared edge) answers.
-  s.device = rtcNewDevice("threads=1,verbose=0");
+  // No "threads=N" here: with TBB tasking, Embree turns that into a
+  // process-wide tbb::global_control(max_allowed_parallelism, N) for the
+  // device's life (common/tasking/taskschedulertbb.cpp), which made every
+  // table trace on one core and would limit an embedding application's TBB
+  // as well. The build below runs in a one-thread arena instead.
+  s.device = rtcNewDevice("verbose=0");
   if (!s.device) return;
   Vec3d lo = p.empty() ? Vec3d{0, 0, 0} : p[0], hi = lo;
   for (const Vec3d& q : p) {
@@ -67,7 +70,12 @@ EmbreeCaster::EmbreeCaster(const std::vector<Vec3d>& p, const std::vector<std::a
   rtcCommitGeometry(g);
   rtcAttachGeometry(s.scene, g);
   rtcReleaseGeometry(g);
-  rtcCommitScene(s.scene);
+  // One build thread: Embree's parallel builders may order a BVH's nodes by
+  // which thread finished first, and with it which of two equally near
+  // triangles (a ray through a shared edge) answers. Embree's TBB tasks run
+  // in the caller's arena, so this one has a single thread.
+  tbb::task_arena one_thread(1);
+  one_thread.execute([&] { rtcCommitScene(s.scene); });
   if (rtcGetDeviceError(s.device) != RTC_ERROR_NONE) {
     rtcReleaseScene(s.scene);
     rtcReleaseDevice(s.device);

@@ -21,7 +21,17 @@ using cxb::detail::write_zstd_frame;
 using cxb::detail::zstd_decompress_exact;
 
 constexpr double kQ = 65535.0;
-constexpr int kZstdLevel = 6;  // a middle setting, not tuned (the level sweep is still to do)
+// zstd levels, from the sweep in docs/results/ltt_zstd_levels.csv
+// (scripts/bench-ltt-zstd.sh, balanced): level 6, and level 1 for a table
+// over 64 MiB raw. Level 6 compresses at 70-270 MB/s; level 1 at 420-1170
+// MB/s. Against level 6, level 1 is 13.1 % larger on glass_ball, 3.6 % on
+// prism and 11 % on an 8 k-vertex ball at fast, but 0.7 % smaller on
+// glass_teapot and 0.5 % on an 82 k-triangle scan, whose 262 MB table took
+// 3.7 s at level 6 and takes 0.62 s at level 1. A choice by size keeps
+// every table under 64 MiB as it was, and caps a large table's write at
+// about a quarter of a second per 100 MB.
+constexpr int kZstdLevel = 6, kZstdLargeLevel = 1;
+constexpr std::size_t kZstdLargeBytes = std::size_t{64} << 20;
 constexpr std::size_t kMaxRatio = 4096;
 
 // x in [lo, hi] to 16 bits, rounded to a multiple of 2^(16 - bits)
@@ -315,7 +325,8 @@ std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& t) {
   w.vec3(t.exit_max);
   w.f32(t.max_path);
   w.u32(t.vertex_count);
-  write_zstd_frame(w, filter(t), kZstdLevel);
+  const std::vector<std::uint8_t> raw = filter(t);
+  write_zstd_frame(w, raw, raw.size() > kZstdLargeBytes ? kZstdLargeLevel : kZstdLevel);
   return w.take();
 }
 
