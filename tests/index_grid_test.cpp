@@ -7,7 +7,9 @@
 
 #include <tbb/global_control.h>
 
+#include <atomic>
 #include <cmath>
+#include <mutex>
 
 #include "caustix/bake/bake.h"
 #include "caustix/bake/index_grid.h"
@@ -133,6 +135,38 @@ TEST(IndexGrid, SameBytesWhateverTheThreadCount) {
     one = encode_index_grid(voxelize_index(3, m, 1.5f, 1.33f, IndexGridOptions{}));
   }
   EXPECT_EQ(one, encode_index_grid(voxelize_index(3, m, 1.5f, 1.33f, IndexGridOptions{})));
+}
+
+// One object's grid reports its progress as it goes (issue 48: a fine
+// grid of one object takes seconds; the bar must move and the budgets
+// must be able to stop it), and reporting changes nothing in it.
+TEST(IndexGrid, ProgressWithinOneObjectAndAStop) {
+  const TriangleMesh m = sphere();
+  IndexGridOptions o;
+  o.resolution = 96;
+  std::mutex mutex;
+  std::vector<double> said;
+  const IndexGrid g = voxelize_index(0, m, 1.5f, 1.0f, o, [&](double f) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    said.push_back(f);
+    return true;
+  });
+  EXPECT_EQ(encode_index_grid(g), encode_index_grid(voxelize_index(0, m, 1.5f, 1.0f, o)));
+  ASSERT_FALSE(said.empty());
+  std::size_t rows = 0, blur = 0, octree = 0;
+  for (const double f : said) {
+    EXPECT_GE(f, 0.0);
+    EXPECT_LE(f, 1.0);
+    (f <= 0.22 ? rows : f <= 0.72 ? blur : octree) += 1;
+  }
+  EXPECT_GE(rows, 50u) << "about every 1 % of the voxel rows";
+  EXPECT_EQ(blur, 3u) << "after each blur pass";
+  EXPECT_GE(octree, 3u) << "after each octree level";
+  // A stop in the rows leaves them undone: the coverage is short of the volume.
+  std::atomic<int> calls{0};
+  const IndexGrid cut = voxelize_index(0, m, 1.5f, 1.0f, o, [&](double) { return ++calls < 5; });
+  EXPECT_LT(grid_volume(cut), 0.5 * grid_volume(g));
+  EXPECT_LT(calls.load(), 30) << "no more progress after the stop, but for rows already under way";
 }
 
 // The bake writes grids only for scenes that scatter, and refuses a grid

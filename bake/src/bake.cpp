@@ -505,7 +505,8 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   for (std::uint32_t oi = 0, g = 0; oi < scene.objects.size() && scatters; ++oi) {
     const Object& o = scene.objects[oi];
     if (!is_transparent(o.role)) continue;
-    if (!voice.progress("index grids", o.name, double(g++) / glass_count)) return voice.error();
+    const double done = double(g++);
+    if (!voice.progress("index grids", o.name, done / glass_count)) return voice.error();
     const TriangleMesh& mesh = glass_meshes.at(o.mesh_index);
     const std::uint64_t voxels = index_grid_voxels(mesh, options.index_grid);
     if (voxels > kMaxIndexGridVoxels) {
@@ -520,7 +521,9 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     double top = -1e300;
     for (const Vec3d& w : world_points(o.transform, mesh.positions)) top = std::max(top, w[1]);
     const float outside = scene.water && top < scene.water->level ? scene.water->ior : 1.0f;
-    grids.push_back(voxelize_index(oi, mesh, o.material.ior, outside, options.index_grid));
+    grids.push_back(voxelize_index(oi, mesh, o.material.ior, outside, options.index_grid,
+                                   [&](double f) { return voice.progress("index grids", o.name, (done + f) / glass_count); }));
+    if (!voice.within_budget("index grids", o.name)) return voice.error();
     IndexGridReport rep;
     rep.object = oi;
     rep.size = grids.back().size;

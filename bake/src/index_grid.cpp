@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace caustix::bake {
@@ -78,7 +79,17 @@ std::uint64_t index_grid_voxels(const TriangleMesh& mesh, const IndexGridOptions
 }
 
 IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float ior_inside, float ior_outside,
-                         const IndexGridOptions& o) {
+                         const IndexGridOptions& o, const std::function<bool(double)>& progress) {
+  // Progress by step, in shares of the time measured at --volume-res 500
+  // (508^3 voxels of glass_ball's sphere, 2 cores, 6.8 s): the rows 22 %,
+  // the three blur passes 50 %, quantisation and the octree the rest.
+  constexpr double kRowsShare = 0.22, kBlurredShare = 0.72;
+  std::atomic<bool> stop{false};
+  const auto said = [&](double f) {
+    if (progress && !stop.load(std::memory_order_relaxed) && !progress(f)) stop = true;
+    return !stop.load(std::memory_order_relaxed);
+  };
+
   const Layout l = layout_of(mesh, o);
   IndexGrid g;
   g.object = object;
@@ -115,9 +126,12 @@ IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float i
   // row. The rows sit off the voxel lattice by an irrational fraction so
   // that none runs exactly through a vertex or edge of a regular mesh.
   std::vector<float> cov(g.voxels(), 0.0f);
+  std::atomic<std::size_t> rows_done{0};
+  const std::size_t every = std::max<std::size_t>(1, bins.size() / 100);
   tbb::parallel_for(std::size_t{0}, bins.size(), [&](std::size_t row) {
+    if (const std::size_t d = ++rows_done; d % every == 0) said(kRowsShare * double(d) / double(bins.size()));
     const auto& tris = bins[row];
-    if (tris.empty()) return;
+    if (tris.empty() || stop.load(std::memory_order_relaxed)) return;
     const std::uint32_t j = static_cast<std::uint32_t>(row % ny), k = static_cast<std::uint32_t>(row / ny);
     std::vector<double> xs;
     std::vector<double> inside_len(nx, 0.0);
@@ -154,8 +168,12 @@ IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float i
     for (std::uint32_t i = 0; i < nx; ++i) cov[g.index(i, j, k)] = static_cast<float>(inside_len[i] / (ss * ss));
   });
 
+  if (!said(kRowsShare)) return g;
   if (o.blur > 0) {
-    for (int axis = 0; axis < 3; ++axis) blur_axis(cov, g.size, axis, o.blur);
+    for (int axis = 0; axis < 3; ++axis) {
+      blur_axis(cov, g.size, axis, o.blur);
+      if (!said(kRowsShare + (kBlurredShare - kRowsShare) * (axis + 1) / 3)) return g;
+    }
   }
   g.coverage.resize(cov.size());
   for (std::size_t v = 0; v < cov.size(); ++v) {
@@ -172,6 +190,8 @@ IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float i
   std::array<std::uint32_t, 3> dim = g.size;
   std::vector<std::uint16_t> lo(g.coverage), hi(g.coverage);
   std::vector<std::uint8_t> uniform(g.voxels(), 1);
+  int halvings = 1;  // levels until one node covers the grid, for the progress
+  while ((1u << halvings) < std::max({g.size[0], g.size[1], g.size[2]})) ++halvings;
   for (std::uint8_t level = 1; level <= kMaxOctreeLevel; ++level) {
     if (dim[0] == 1 && dim[1] == 1 && dim[2] == 1) break;  // the root covers the grid
     const std::array<std::uint32_t, 3> up{(dim[0] + 1) / 2, (dim[1] + 1) / 2, (dim[2] + 1) / 2};
@@ -202,7 +222,7 @@ IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float i
         }
       }
     }
-    if (!any) break;
+    if (!any || !said(kBlurredShare + (1.0 - kBlurredShare) * level / halvings)) break;
     for (std::uint32_t k = 0; k < g.size[2]; ++k) {
       for (std::uint32_t j = 0; j < g.size[1]; ++j) {
         for (std::uint32_t i = 0; i < g.size[0]; ++i) {

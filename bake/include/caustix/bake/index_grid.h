@@ -5,6 +5,7 @@
 // thread count.
 
 #include <cstdint>
+#include <functional>
 
 #include "caustix/common/mesh.h"
 #include "caustix/formats/index_grid.h"
@@ -27,8 +28,12 @@ std::uint64_t index_grid_voxels(const TriangleMesh& mesh, const IndexGridOptions
 // The mesh (object space, closed) voxelised: the exact inside fraction of
 // each voxel along x over supersample^2 rows in y and z (parity of the
 // crossings of each row), Gaussian-filtered, then the octree levels.
-// ior_outside is the index around the object.
+// ior_outside is the index around the object. `progress`, when given, is
+// called with the fraction done (from any thread, about every 1 % of the
+// voxel rows, then after each later step); once it returns false the grid
+// stops where it is and what is returned is incomplete (the baker's
+// budgets).
 IndexGrid voxelize_index(std::uint32_t object, const TriangleMesh& mesh, float ior_inside, float ior_outside,
-                         const IndexGridOptions& options);
+                         const IndexGridOptions& options, const std::function<bool(double)>& progress = {});
 
 }  // namespace caustix::bake
