@@ -133,20 +133,22 @@ TEST(GeometryKernel, EmbreeRaysThroughSharedEdgesAndVerticesHit) {
   }
 }
 
-// An Embree caster leaves the process's threads alone: with TBB tasking,
-// Embree turns a device's "threads=N" into a process-wide
+// An Embree caster builds its BVH on one thread (so that the tables do not
+// depend on the thread count) and leaves the process's threads alone: with
+// TBB tasking, Embree turns a device's "threads=N" into a process-wide
 // tbb::global_control, which made every light-transport table trace on one
 // core while its caster lived (and would limit an embedding application's
-// TBB). The table loop must still run on more than one thread.
-TEST(GeometryKernel, EmbreeCasterLeavesTheThreadLimitAlone) {
+// TBB). A 160 k-triangle sphere: Embree builds it on every thread it has.
+TEST(GeometryKernel, EmbreeCasterBuildsOnOneThreadAndLeavesTheThreadLimitAlone) {
   const auto limit = [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); };
   const std::size_t before = limit();
-  const TriangleMesh sphere = test::uv_sphere(16, 8);
+  const TriangleMesh sphere = test::uv_sphere(400, 200);
   std::vector<Vec3d> v;
   for (const auto& p : sphere.positions) v.push_back({p[0], p[1], p[2]});
   const EmbreeCaster caster(v, sphere.triangles);
   ASSERT_TRUE(caster.ok());
   EXPECT_EQ(limit(), before) << "the caster changed TBB's max_allowed_parallelism";
+  EXPECT_EQ(caster.build_threads(), 1u);
   EXPECT_TRUE(caster.first_hit_triangle({0, 0, -5}, {0, 0, 1}).has_value());
 }
 

@@ -4,6 +4,9 @@
 #include <tbb/task_arena.h>
 
 #include <limits>
+#include <mutex>
+#include <set>
+#include <thread>
 
 #include "caustix/bake/ray_cast.h"
 
@@ -13,6 +16,8 @@ struct EmbreeCaster::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   Vec3d centre{0, 0, 0};  // subtracted from every position and origin
+  std::mutex mutex;
+  std::set<std::thread::id> builders;  // threads that took part in the build
   RTCRayHit ray(const Vec3d& o, const Vec3d& d) const {
     RTCRayHit rh{};
     rh.ray.org_x = static_cast<float>(o[0] - centre[0]);
@@ -32,12 +37,18 @@ struct EmbreeCaster::Impl {
 EmbreeCaster::EmbreeCaster(const std::vector<Vec3d>& p, const std::vector<std::array<std::uint32_t, 3>>& tris)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
-  // No "threads=N" here: with TBB tasking, Embree turns that into a
-  // process-wide tbb::global_control(max_allowed_parallelism, N) for the
-  // device's life (common/tasking/taskschedulertbb.cpp), which made every
-  // table trace on one core and would limit an embedding application's TBB
-  // as well. The build below runs in a one-thread arena instead.
-  s.device = rtcNewDevice("verbose=0");
+  // One build thread: Embree's parallel builders may order a BVH's nodes by
+  // which thread finished first, and with it which of two equally near
+  // triangles (a ray through a shared edge) answers. Not by "threads=1":
+  // with TBB tasking Embree turns that into a process-wide
+  // tbb::global_control(max_allowed_parallelism, 1) for the device's life
+  // (common/tasking/taskschedulertbb.cpp), which made every table trace on
+  // one core and would cap an embedding application's TBB as well. Instead
+  // the device is made inside a one-thread arena: Embree sizes the arena it
+  // builds in by the concurrency it sees then (Device::initTaskingSystem).
+  // Queries do not use it.
+  tbb::task_arena one_thread(1);
+  one_thread.execute([&] { s.device = rtcNewDevice("verbose=0"); });
   if (!s.device) return;
   Vec3d lo = p.empty() ? Vec3d{0, 0, 0} : p[0], hi = lo;
   for (const Vec3d& q : p) {
@@ -70,12 +81,19 @@ EmbreeCaster::EmbreeCaster(const std::vector<Vec3d>& p, const std::vector<std::a
   rtcCommitGeometry(g);
   rtcAttachGeometry(s.scene, g);
   rtcReleaseGeometry(g);
-  // One build thread: Embree's parallel builders may order a BVH's nodes by
-  // which thread finished first, and with it which of two equally near
-  // triangles (a ray through a shared edge) answers. Embree's TBB tasks run
-  // in the caller's arena, so this one has a single thread.
-  tbb::task_arena one_thread(1);
+  // The threads that build it, counted by the progress monitor (Embree calls
+  // it from each build task).
+  rtcSetSceneProgressMonitorFunction(
+      s.scene,
+      [](void* self, double) {
+        auto& impl = *static_cast<Impl*>(self);
+        const std::lock_guard<std::mutex> lock(impl.mutex);
+        impl.builders.insert(std::this_thread::get_id());
+        return true;
+      },
+      &s);
   one_thread.execute([&] { rtcCommitScene(s.scene); });
+  rtcSetSceneProgressMonitorFunction(s.scene, nullptr, nullptr);
   if (rtcGetDeviceError(s.device) != RTC_ERROR_NONE) {
     rtcReleaseScene(s.scene);
     rtcReleaseDevice(s.device);
@@ -90,6 +108,8 @@ EmbreeCaster::~EmbreeCaster() {
 }
 
 bool EmbreeCaster::ok() const { return impl_->scene != nullptr; }
+
+std::size_t EmbreeCaster::build_threads() const { return impl_->builders.size(); }
 
 std::optional<RayCaster::Hit> EmbreeCaster::first_hit_triangle(const Vec3d& o, const Vec3d& d) const {
   RTCIntersectContext context;

@@ -59,6 +59,9 @@ class EmbreeCaster {
   bool ok() const;
   std::optional<RayCaster::Hit> first_hit_triangle(const Vec3d& origin, const Vec3d& direction) const;
   bool occluded(const Vec3d& origin, const Vec3d& direction) const;
+  // The threads that built the BVH: 1, so that it, and which of two equally
+  // near triangles answers, does not depend on the thread count.
+  std::size_t build_threads() const;
 
  private:
   struct Impl;
