@@ -3,11 +3,10 @@
 # exported as a DCC tool writes duplicated objects (scripts/twelve_balls.py:
 # each ball its own glTF mesh, three colours of one glass, each turned),
 # baked side by side in one run three ways: as before issue 48 (--no-share
-# --ltt-rays cgal: every object its own mesh and tables, cast through CGAL;
-# with BEFORE=/path/to/an/older/caustix-bake that baker does this row, and
-# a baker from before the table-level change of formats/src/light_transport.cpp
-# gives the bytes of the bakes before issue 48), with Embree alone
-# (--no-share), and with sharing (the default), then rendered. For the 1 106-vertex ball and the 8 066-vertex
+# --ltt-rays cgal: every object its own mesh and tables, cast through CGAL,
+# the old baker's bytes; BEFORE=/path/to/an/older/caustix-bake runs this
+# row with that baker), with Embree alone (--no-share), and with sharing
+# (the default), then rendered. For the 1 106-vertex ball and the 8 066-vertex
 # one (assets/meshes/sphere_fine.obj). Per row: bake seconds and peak
 # memory, the file's bytes, its LTTB count, the render's peak memory and
 # its render's relative L1 difference from before's (caustix-compare).
