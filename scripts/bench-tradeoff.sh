@@ -35,16 +35,22 @@ run glass_ball floor -1,-1,1,1 128x128 32000000
 # (focus_1cm, focus_2cm, peak_ratio) judge what the eye goes to first.
 run glass_ball floor -0.05,-0.05,0.05,0.05 100x100 24000000 focus --knobs glass-size glass-turn ltt-resolution glass-method cmap-size presets
 # Media (docs/volume.md): in-scatter references, the media's knobs.
+# An optional fifth argument names a second sweep of the same scene and the
+# knobs after it limit it.
 run_media() {
-  local scene=$1 region=$2 size=$3 photons=$4
-  local ref=build/tradeoff/${scene}_inscatter_ref.exr
+  local scene=$1 region=$2 size=$3 photons=$4 tag=${5:+_$5}
+  local ref=build/tradeoff/${scene}${tag}_inscatter_ref.exr
   if [ ! -f "$ref" ]; then
     ./build/tools/caustix-reference "assets/scenes/$scene.json" --inscatter --region "$region" \
       --size "$size" --photons "$photons" -o "$ref"
   fi
   ./build/tools/caustix-bench tradeoff "assets/scenes/$scene.json" --reference "$ref" --size 320x200 \
-    --csv "docs/results/tradeoff_$scene.csv"
+    --csv "docs/results/tradeoff_$scene$tag.csv" "${@:6}"
 }
 run_media fog_ball -1.5,0,1.5,2.5 120x100 4000000
+# The focal line (issue 47): 1 cm pixels over the ball's focus; peak_ratio
+# is the brightest pixel's in-scatter against the reference's, peak_m how
+# far apart the two lie.
+run_media fog_ball -0.1,0.3,0.1,0.75 20x45 16000000 focus --knobs focus-grid volume-grid volume-photons volume-res view-step presets
 run_media shafts_pool -1.5,0,1.5,2.2 120x88 2000000
 /usr/bin/python3 scripts/plot_tradeoff.py docs/results wavy_pool thesis_teapot glass_ball fog_ball shafts_pool

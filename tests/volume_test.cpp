@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -294,6 +296,91 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
               static_cast<unsigned long long>(img.stats.grid_steps), static_cast<unsigned long long>(u.stats.grid_steps), diff / sum);
   EXPECT_LT(img.stats.grid_steps, u.stats.grid_steps);
   EXPECT_LT(diff / sum, 0.02);
+}
+
+// The focal line under fog_ball's glass ball (issue 47) against exact
+// optics (media_oracle.h: the sphere traced in the test, Fresnel in and
+// out): the in-scatter of the 1 cm column on the axis, 1 cm rows from the
+// ball's bottom to the floor. The runtime's peak within 15 % of optics and
+// at its height within 2 cm (the issue's targets); every row from 5 cm
+// below the ball where optics holds a quarter of its peak within 20 %
+// (measured: at most 14.7 %, 6.5 cm below the ball). Nearer the ball the
+// rows are off by up to 42 %: the index grid's surface, blurred over
+// 1.6 cm voxels (docs/volume.md), and its padding reach 4.7 cm below it. caustix-reference (its own tracer,
+// the mesh) agrees with optics within 5 % at the peak and 1 cm in height
+// (measured with 16 M photons: -0.8 %, the same row).
+TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
+  auto r = bake_and_create(kScenes + "fog_ball.json");
+  ASSERT_TRUE(r);
+  const int rows = 75, width = 11, axis = 5;
+  const double dy = 0.01, y1 = 0.75;
+  InscatterRequest q;
+  q.x0 = -0.055f, q.x1 = 0.055f, q.y0 = float(y1 - rows * dy), q.y1 = float(y1);
+  q.width = width, q.height = rows;
+  q.caustics = r->engine().default_options();
+  const InscatterImage img = inscatter(*r, q);
+  ASSERT_EQ(img.rgb.size(), std::size_t(width * rows * 3));
+  ASSERT_EQ(img.stats.focus_boxes.size(), 1u);
+  const auto& box = img.stats.focus_boxes[0];
+  std::printf("[volume fog_ball axis] focus grid %.3f %.3f %.3f .. %.3f %.3f %.3f\n", box[0], box[1], box[2], box[3], box[4], box[5]);
+  EXPECT_GT(box[3], box[0]);
+  const FogBallColumn exact = fog_ball_column(0.5, 1.25, 1.5, 1.5, 2.5, 0.3, 0.3, -0.005, 0.005, y1, dy, rows);
+  auto at = [&](const std::vector<float>& rgb, int row) { return double(rgb[3 * (std::size_t(row) * width + axis) + 1]); };
+  auto peak_row = [&](auto value) {
+    int best = 0;
+    for (int row = 1; row < rows; ++row) best = value(row) > value(best) ? row : best;
+    return best;
+  };
+  const int pr = peak_row([&](int row) { return at(img.rgb, row); });
+  const int pe = peak_row([&](int row) { return exact.at(std::size_t(row)); });
+  const double v_exact = exact.at(std::size_t(pe));
+  double worst = 0;
+  for (int row = 5; row < rows; ++row) {  // from 5 cm below the ball
+    const double e = exact.at(std::size_t(row));
+    if (e >= 0.25 * v_exact) worst = std::max(worst, std::fabs(at(img.rgb, row) / e - 1));
+  }
+  std::printf("[volume fog_ball axis] peak %.4f at y %.3f (runtime) vs %.4f at y %.3f (optics): %+.1f %%, %+.0f cm; worst row %.1f %%\n",
+              at(img.rgb, pr), y1 - (pr + 0.5) * dy, v_exact, y1 - (pe + 0.5) * dy, 100 * (at(img.rgb, pr) / v_exact - 1),
+              100 * dy * (pe - pr), 100 * worst);
+  RecordProperty("fog_ball_axis_peak_ratio", std::to_string(at(img.rgb, pr) / v_exact));
+  EXPECT_NEAR(at(img.rgb, pr) / v_exact, 1.0, 0.15);
+  EXPECT_LE(std::abs(pr - pe) * dy, 0.02 + 1e-9);
+  EXPECT_LT(worst, 0.20);
+
+  // Without the focus grid the line is what the issue found: the test
+  // tells the two apart (measured: -59 %, 13 cm high).
+  InscatterRequest coarse = q;
+  coarse.caustics.volume.focus_grid = 0;
+  const InscatterImage c = inscatter(*r, coarse);
+  const int pc = peak_row([&](int row) { return at(c.rgb, row); });
+  std::printf("[volume fog_ball axis] without the focus grid: peak %.4f at y %.3f\n", at(c.rgb, pc), y1 - (pc + 0.5) * dy);
+  EXPECT_LT(at(c.rgb, pc) / v_exact, 0.7);
+
+  reference::InscatterRequest rq;
+  rq.scene_path = kScenes + "fog_ball.json";
+  rq.x0 = q.x0, rq.y0 = q.y0, rq.x1 = q.x1, rq.y1 = q.y1;
+  rq.width = width, rq.height = rows;
+  rq.photons = 1'500'000;
+  rq.batches = 4;
+  auto ref = reference::trace_inscatter(rq);
+  ASSERT_TRUE(ref.ok()) << ref.error().message;
+  const int pf = peak_row([&](int row) { return at(ref->rgb, row); });
+  std::printf("[volume fog_ball axis] reference: peak %.4f at y %.3f (%+.1f %% of optics)\n", at(ref->rgb, pf), y1 - (pf + 0.5) * dy,
+              100 * (at(ref->rgb, pf) / v_exact - 1));
+  EXPECT_NEAR(at(ref->rgb, pf) / v_exact, 1.0, 0.05);
+  EXPECT_LE(std::abs(pf - pe) * dy, 0.01 + 1e-9);
+
+  // The profiles for docs/results/fog_focus_axis.png (scripts/plot_fog_focus.py).
+  if (const char* csv = std::getenv("CAUSTIX_FOG_AXIS_CSV")) {
+    std::FILE* f = std::fopen(csv, "w");
+    ASSERT_NE(f, nullptr) << csv;
+    std::fprintf(f, "y_m,optics,optics_direct,runtime_focus_grid,runtime_no_focus_grid,reference\n");
+    for (int row = 0; row < rows; ++row) {
+      std::fprintf(f, "%.3f,%.6f,%.6f,%.6f,%.6f,%.6f\n", y1 - (row + 0.5) * dy, exact.at(std::size_t(row)), exact.direct[std::size_t(row)],
+                   at(img.rgb, row), at(c.rgb, row), at(ref->rgb, row));
+    }
+    std::fclose(f);
+  }
 }
 
 // Extremes: nothing scattering costs nothing (no media, no in-scatter

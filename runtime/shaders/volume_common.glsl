@@ -26,6 +26,17 @@ uniform vec4 u_water_ss, u_water_st;
 // ---- the radiance grid ----
 uniform vec3 u_grid_lo, u_grid_hi;
 uniform ivec3 u_grid_n;
+// The focus grid (issue 47): a second grid of u_focus_n voxels over the
+// box of this light where light through glass concentrates, stored in the
+// same 3D textures after the radiance grid's slices (z from u_grid_n.z
+// on); u_focus_on 0 where the light has none.
+uniform int u_focus_on;
+uniform vec3 u_focus_lo, u_focus_hi;
+uniform ivec3 u_focus_n;
+
+bool in_focus(vec3 x) {
+  return u_focus_on != 0 && all(greaterThanEqual(x, u_focus_lo)) && all(lessThanEqual(x, u_focus_hi));
+}
 
 struct Medium {
   vec3 ss, st;

@@ -79,56 +79,71 @@ float next_event(vec3 x, vec3 d, bool wet) {
   return t >= 1e29 ? -1.0 : t + u_eps;
 }
 
+// Deposits sigma_s x power x length of the chord o + s d, s in [a, b],
+// into every voxel of the grid over [lo, hi] (n voxels, its first at
+// `base` in the accumulator) that it crosses (Amanatides-Woo traversal,
+// the exact decay in each voxel), p the power at s = 0. With `stop_at_surfaces`
+// it ends where an opaque surface is met and returns that s, else b.
+float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int base, vec3 p, Medium m, bool stop_at_surfaces) {
+  vec3 h = (hi - lo) / vec3(n);
+  vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
+  ivec3 cell = clamp(ivec3(floor((start - lo) / h)), ivec3(0), n - 1);
+  ivec3 stp;
+  vec3 next, delta;
+  for (int k = 0; k < 3; ++k) {
+    stp[k] = d[k] > 0.0 ? 1 : -1;
+    if (abs(d[k]) < 1e-12) {
+      next[k] = 1e30;
+      delta[k] = 1e30;
+    } else {
+      float boundary = lo[k] + (float(cell[k]) + (d[k] > 0.0 ? 1.0 : 0.0)) * h[k];
+      next[k] = (boundary - o[k]) / d[k];
+      delta[k] = h[k] / abs(d[k]);
+    }
+  }
+  float s = a;
+  for (int guard = 0; guard < 4096 && s < b; ++guard) {
+    int axis = next.x < next.y ? (next.x < next.z ? 0 : 2) : (next.y < next.z ? 1 : 2);
+    float e = min(next[axis], b);
+    if (e > s) {
+      if (stop_at_surfaces && occluded(o + d * e)) return s;
+      vec3 sc = m.ss * power_length(p, m.st, s, e);
+      int v = base + 6 * ((cell.z * n.y + cell.y) * n.x + cell.x);
+      add_fixed(v, sc.r);
+      add_fixed(v + 1, sc.g);
+      add_fixed(v + 2, sc.b);
+      float l = luminance(sc);
+      add_fixed(v + 3, l * d.x);
+      add_fixed(v + 4, l * d.y);
+      add_fixed(v + 5, l * d.z);
+    }
+    s = e;
+    cell[axis] += stp[axis];
+    next[axis] += delta[axis];
+    if (cell[axis] < 0 || cell[axis] >= n[axis]) break;
+  }
+  return b;
+}
+
 // The chord o + s d, s in [0, len], in medium m with power p at s = 0:
-// deposits sigma_s x power x length into every radiance voxel it crosses
-// (Amanatides-Woo traversal), stops where an opaque surface is met, and
-// leaves p attenuated at its end. Returns whether a surface stopped it.
+// deposits into the radiance grid (and the focus grid where it crosses
+// it), stops where an opaque surface is met, and leaves p attenuated at
+// its end. Returns whether a surface stopped it.
 bool march_chord(vec3 o, vec3 d, float len, inout vec3 p, Medium m, inout float scattered, inout float absorbed) {
   float end = len;
   bool blocked = false;
   vec2 r = box_range(o, d, u_grid_lo, u_grid_hi);
   float a = max(r.x, 0.0), b = min(r.y, len);
   if (any(greaterThan(m.ss, vec3(0.0))) && b > a) {
-    vec3 h = (u_grid_hi - u_grid_lo) / vec3(u_grid_n);
-    vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
-    ivec3 cell = clamp(ivec3(floor((start - u_grid_lo) / h)), ivec3(0), u_grid_n - 1);
-    ivec3 stp;
-    vec3 next, delta;
-    for (int k = 0; k < 3; ++k) {
-      stp[k] = d[k] > 0.0 ? 1 : -1;
-      if (abs(d[k]) < 1e-12) {
-        next[k] = 1e30;
-        delta[k] = 1e30;
-      } else {
-        float boundary = u_grid_lo[k] + (float(cell[k]) + (d[k] > 0.0 ? 1.0 : 0.0)) * h[k];
-        next[k] = (boundary - o[k]) / d[k];
-        delta[k] = h[k] / abs(d[k]);
-      }
+    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, true);
+    if (stop < b) {
+      end = stop;
+      blocked = true;
     }
-    float s = a;
-    for (int guard = 0; guard < 4096 && s < b; ++guard) {
-      int axis = next.x < next.y ? (next.x < next.z ? 0 : 2) : (next.y < next.z ? 1 : 2);
-      float e = min(next[axis], b);
-      if (e > s) {
-        if (occluded(o + d * e)) {
-          end = s;
-          blocked = true;
-          break;
-        }
-        vec3 sc = m.ss * power_length(p, m.st, s, e);
-        int v = 6 * ((cell.z * u_grid_n.y + cell.y) * u_grid_n.x + cell.x);
-        add_fixed(v, sc.r);
-        add_fixed(v + 1, sc.g);
-        add_fixed(v + 2, sc.b);
-        float l = luminance(sc);
-        add_fixed(v + 3, l * d.x);
-        add_fixed(v + 4, l * d.y);
-        add_fixed(v + 5, l * d.z);
-      }
-      s = e;
-      cell[axis] += stp[axis];
-      next[axis] += delta[axis];
-      if (cell[axis] < 0 || cell[axis] >= u_grid_n[axis]) break;
+    if (u_focus_on != 0) {
+      vec2 f = box_range(o, d, u_focus_lo, u_focus_hi);
+      float fa = max(f.x, 0.0), fb = min(f.y, min(end, b));
+      if (fb > fa) deposit(o, d, fa, fb, u_focus_lo, u_focus_hi, u_focus_n, 6 * u_grid_n.x * u_grid_n.y * u_grid_n.z, p, m, false);
     }
   }
   if (!blocked && occluded(o + d * len)) blocked = true;

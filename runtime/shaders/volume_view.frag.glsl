@@ -10,8 +10,8 @@ layout(location = 0, index = 0) out vec4 o_color;
 // Compositing by dual-source blending (u_composite 2): the transmittance.
 layout(location = 0, index = 1) out vec4 o_transmittance;
 
-layout(binding = 4) uniform sampler3D u_source;     // per light: rgb S (volume_resolve)
-layout(binding = 5) uniform sampler3D u_direction;  // per light: mean direction of travel
+layout(binding = 4) uniform sampler3D u_source;     // per light: rgb S (volume_resolve); the focus grid after the radiance grid's slices
+layout(binding = 5) uniform sampler3D u_direction;  // per light: mean direction of travel, laid out as u_source
 layout(binding = 6) uniform sampler2D u_scene_depth;
 layout(binding = 7) uniform sampler2D u_scene_color;
 uniform mat4 u_view_proj, u_inv_view_proj;
@@ -20,6 +20,8 @@ uniform int u_composite;        // 1: colour x T + L; 2: L, and T for blending o
 uniform int u_water_excluded;   // composite: the water's own attenuation is the water surface's
 uniform float u_scale;
 uniform float u_view_step;      // metres
+uniform float u_view_step_focus;  // metres, inside the focus grid
+uniform vec3 u_atlas;           // u_source's size in texels
 uniform float u_step;           // voxels, in index grids
 uniform int u_octree;
 uniform int u_max_steps;
@@ -38,6 +40,29 @@ bool behind_scene(vec3 x) {
   vec2 uv = 0.5 * ndc.xy + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
   return 0.5 * ndc.z + 0.5 > texture(u_scene_depth, uv).r;
+}
+
+// u_source's coordinate for x: the focus grid's where x lies in it, else
+// the radiance grid's, each clamped to its own texel centres (the edge
+// clamping of a texture of its own).
+vec3 grid_coord(vec3 x) {
+  vec3 t;
+  if (in_focus(x)) {
+    t = clamp((x - u_focus_lo) / (u_focus_hi - u_focus_lo) * vec3(u_focus_n), vec3(0.5), vec3(u_focus_n) - 0.5) + vec3(0.0, 0.0, u_grid_n.z);
+  } else {
+    t = clamp((x - u_grid_lo) / (u_grid_hi - u_grid_lo) * vec3(u_grid_n), vec3(0.5), vec3(u_grid_n) - 0.5);
+  }
+  return t / u_atlas;
+}
+
+// The view step at x: finer inside the focus grid, and a step outside it
+// ends inside it, `jitter` of a fine step past where the ray enters it
+// (against banding there too).
+float view_step_at(vec3 x, vec3 d, float jitter) {
+  if (u_focus_on == 0) return u_view_step;
+  if (in_focus(x)) return u_view_step_focus;
+  vec2 r = box_range(x, d, u_focus_lo, u_focus_hi);
+  return r.y > r.x && r.x > 0.0 ? min(u_view_step, r.x + (1e-4 + jitter) * u_view_step_focus) : u_view_step;
 }
 
 void main() {
@@ -72,13 +97,14 @@ void main() {
       int g = glass_at(x, u);
       vec3 x0 = x, d0 = d;
       float len;
+      float step_here = view_step_at(x, d, jitter);
       if (g >= 0) {
         float c0, c1;
         vec3 grad;
-        len = grid_step(g, u, x, d, u_step, u_octree != 0, u_view_step, c0, c1, grad);
+        len = grid_step(g, u, x, d, u_step, u_octree != 0, step_here, c0, c1, grad);
         tr *= surface_transmittance(g, c0, c1, d0, grad);
       } else {
-        len = pending > 0.0 ? pending : u_view_step;
+        len = pending > 0.0 ? min(pending, step_here) : step_here;
         pending = 0.0;
         x += len * d;
       }
@@ -93,8 +119,8 @@ void main() {
       bool wet = u_water_on != 0 && mid.y < u_water_level;
       Medium m = medium_at(mid, wet);
       if (any(greaterThan(m.ss, vec3(0.0)))) {
-        vec3 gc = (mid - u_grid_lo) / (u_grid_hi - u_grid_lo);
-        if (all(greaterThanEqual(gc, vec3(0.0))) && all(lessThanEqual(gc, vec3(1.0)))) {
+        if (in_box(mid, u_grid_lo, u_grid_hi)) {
+          vec3 gc = grid_coord(mid);
           vec3 S = texture(u_source, gc).rgb;
           vec3 md = texture(u_direction, gc).xyz;
           float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;

@@ -174,6 +174,9 @@ int main(int argc, char** argv) {
                  "media: radiance-grid voxels along the media's longest side; default: the bake preset's, else " +
                      std::to_string(built_in.volume.grid))
       ->check(CLI::Range(2, 1024));
+  app.add_option("--volume-focus", volume.focus_grid,
+                 "media: focus-grid voxels a side, over where light through glass concentrates (a ball's focal line); 0: none")
+      ->check(CLI::Range(0, 256))->capture_default_str();
   app.add_option("--volume-step", volume.step, "media: photon and view steps where an object's index varies, index-grid voxels")
       ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
   app.add_option("--view-step", volume.view_step, "media: viewing-pass steps, radiance-grid voxels")
@@ -273,6 +276,7 @@ int main(int argc, char** argv) {
   caustics.volume.enabled = !no_media;
   caustics.volume.step = volume.step;
   caustics.volume.view_step = volume.view_step;
+  caustics.volume.focus_grid = volume.focus_grid;
   if (volume_photons > 0) caustics.volume.photons = volume_photons;
   if (volume_grid > 0) caustics.volume.grid = volume_grid;
   look.max_texture_size = water_limit >= 0 ? water_limit : default_water_look(scene->desc).max_texture_size;

@@ -206,7 +206,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
   std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv, passes_csv;
-  std::uint32_t planes = 0, csize = 0, gsize = 0;
+  std::uint32_t planes = 0, csize = 0, gsize = 0, volume_focus = runtime::VolumeOptions{}.focus_grid;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
   bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false;
@@ -228,6 +228,8 @@ struct RuntimeModes final : Modes {
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass.md)");
+    fr->add_option("--volume-focus", volume_focus, "media: focus-grid voxels a side (0: none; docs/volume.md)")
+        ->check(CLI::Range(0, 256))->capture_default_str();
     fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
     fr->add_option("--glass-view", glass_view, "the view through glass: table (seed 002 §3) or nearby (nearby-geometry refraction, seed 003)")
@@ -293,6 +295,7 @@ struct RuntimeModes final : Modes {
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
     co.glass_focus = !glass_no_focus;
+    co.volume.focus_grid = volume_focus;
     co.map_size = csize;
     co.glass_method = *runtime::parse_glass_method(glass_method);
     co.caustic_map.photons = cmap_photons;

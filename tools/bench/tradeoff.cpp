@@ -75,6 +75,8 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.bake.index_grid.epsilon = static_cast<float>(v); }, true},
       {"volume-res", {32, 64, 128}, false, false,
        [](Setting& s, double v) { s.bake.index_grid.resolution = static_cast<std::uint32_t>(v); }, true},
+      {"focus-grid", {0, 16, 32, 64, 96, 128}, false, false,
+       [](Setting& s, double v) { s.caustics.volume.focus_grid = static_cast<std::uint32_t>(v); }, true},
       {"view-step", {0.25, 0.5, 1, 2}, false, false,
        [](Setting& s, double v) { s.caustics.volume.view_step = static_cast<float>(v); }, true},
       // Image-space caustic maps (issue 20; docs/caustic-maps.md).
@@ -233,7 +235,9 @@ int tradeoff(const TradeoffRequest& q) {
     if (!times) return times.error();
     // What the media cost in a frame: the same frames without them; of
     // which the light side (photon marching and resolve: Engine::update
-    // with and without them, to glFinish), the rest being the viewing pass.
+    // with and without them, to glFinish, every light set again before each
+    // update so that its light side is redone as when it moves), the rest
+    // being the viewing pass.
     double media_ms = 0, march_ms = 0;
     if ((*renderer)->engine().has_media()) {
       runtime::CausticsOptions off = s.caustics;
@@ -243,9 +247,13 @@ int tradeoff(const TradeoffRequest& q) {
       media_ms = times->median_ms - plain->median_ms;
       auto update_ms = [&](const runtime::CausticsOptions& co) -> Result<double> {
         std::vector<double> ms;
+        runtime::Engine& engine = (*renderer)->engine();
         for (int i = 0; i < q.warmup + q.frames; ++i) {
+          for (std::uint32_t li = 0; li < engine.scene().lights.size(); ++li) {
+            if (Status st = engine.set_light(li, engine.scene().lights[li]); !st) return st.error();
+          }
           const auto t = Clock::now();
-          if (Status st = (*renderer)->engine().update(runtime::FrameUpdate{0.0f, co}); !st) return st.error();
+          if (Status st = engine.update(runtime::FrameUpdate{0.0f, co}); !st) return st.error();
           (*renderer)->finish();
           if (i >= q.warmup) ms.push_back(ms_since(t));
         }

@@ -75,6 +75,17 @@ class GlassEngine {
   // The target's textures of `light` from its last update_light(), if any.
   std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
 
+  // A sample of the rays of `light` leaving the glass (world space, the
+  // n_d table's rows of every k-th vertex, on the CPU: no GPU work, no
+  // wait), each with the flux it carries per unit incident irradiance: what
+  // orients the planes and places the focus windows, and the media's
+  // focus grids (issue 47).
+  struct ExitRay {
+    glm::vec3 exit, direction;
+    float flux;
+  };
+  std::vector<ExitRay> exit_sample(const SceneDesc& scene, std::uint32_t light) const;
+
   // Draws the transparent objects as glass over the opaque scene's colour
   // and depth into the bound draw framebuffer: view rays through the table
   // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby), the

@@ -35,6 +35,14 @@ class VolumeEngine {
   // index grids are sampled from one sampler array).
   static constexpr std::size_t kMaxObjects = 4;
 
+  // A ray of light leaving a transparent object (world space), with the
+  // flux it carries per unit of incident irradiance: a sample of where the
+  // glass sends light, which places the focus grid (issue 47).
+  struct FocusRay {
+    glm::vec3 origin, direction;
+    float flux;
+  };
+
   // Null (and no error) when nothing in the scene scatters. `grids` are
   // the scene's IGRD chunks (one per transparent object); `scene_min_y`
   // the lowest point of the objects' world bounds (the water's medium ends
@@ -56,9 +64,13 @@ class VolumeEngine {
   // Remade only when the light, the transforms, the water or the options
   // (`caustics`, which holds `options`) changed since (`versions`), and
   // only when `due` unless none exists (issue 44); counted into `work`.
+  // `focus_rays` (called only when the light is remade; may be empty)
+  // gives the light's rays out of the glass: where they concentrate,
+  // the focus grid takes the photons' deposits at finer voxels.
   Status update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& options, const WaterSurface* water,
                       const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light,
-                      const CausticsOptions& caustics, const SceneVersions& versions, bool due, EffectWork& work);
+                      const std::function<std::vector<FocusRay>()>& focus_rays, const CausticsOptions& caustics,
+                      const SceneVersions& versions, bool due, EffectWork& work);
   // The viewing pass into the bound framebuffer and viewport, through
   // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
   // the viewport's size) each pixel becomes colour x T + L x scale, else

@@ -44,8 +44,14 @@ struct VolumeOptions {
   // step everywhere inside the grid (the uniform baseline).
   float step = 0.5f;
   bool octree = true;
-  // Viewing pass: steps along the camera's rays, in radiance-grid voxels.
+  // Viewing pass: steps along the camera's rays, in radiance-grid voxels
+  // (focus-grid voxels inside the focus grid).
   float view_step = 0.5f;
+  // The focus grid (issue 47): voxels along each side of a second grid
+  // over the box where the light through transparent objects concentrates
+  // (a ball's focal line), placed per light from the glass's sampled exit
+  // rays; 0 turns it off. Only scenes with glass in a medium have one.
+  std::uint32_t focus_grid = 64;
   bool operator==(const VolumeOptions&) const = default;
 };
 inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
@@ -379,6 +385,9 @@ struct VolumeStats {
   double truncated = 0;                // still carried when the step limit ended the march
   double deposited = 0;                // the radiance grid's sum of scattered power (read back), = scattered
   std::array<std::uint32_t, 3> grid_size{0, 0, 0};
+  // The focus grids (issue 47), per light: the world box (x0, y0, z0, x1,
+  // y1, z1) each light's concentrated light got, empty where it has none.
+  std::vector<std::array<float, 6>> focus_boxes;
   std::uint64_t grid_bytes = 0;        // radiance grids (accumulator and textures) and index grids on the GPU
   double march_ms = 0, resolve_ms = 0; // GPU time of the last update's photon pass and grid resolve (timer queries)
 };
