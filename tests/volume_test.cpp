@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -465,6 +466,20 @@ TEST_F(Volume, Extremes) {
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().code, ErrorCode::kUsage);
   EXPECT_NE(refused.error().message.find("lower the volume grid"), std::string::npos) << refused.error().message;
+
+  // The focus grid (issue 47): none without glass, and its size checked.
+  q.caustics.volume.grid = 64;
+  q.caustics.volume.photons = 16;
+  const InscatterImage plain = inscatter(*r, q);
+  ASSERT_EQ(plain.stats.focus_boxes.size(), 1u);
+  EXPECT_EQ(plain.stats.focus_boxes[0], (std::array<float, 6>{0, 0, 0, 0, 0, 0}));
+  for (std::uint32_t focus : {1u, 129u}) {
+    q.caustics.volume.focus_grid = focus;
+    auto bad = r->render_inscatter(q);
+    ASSERT_FALSE(bad.ok()) << focus;
+    EXPECT_EQ(bad.error().code, ErrorCode::kUsage);
+    EXPECT_NE(bad.error().message.find("focus grid"), std::string::npos) << bad.error().message;
+  }
 }
 
 }  // namespace

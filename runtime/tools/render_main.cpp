@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 1024));
   app.add_option("--volume-focus", volume.focus_grid,
                  "media: focus-grid voxels a side, over where light through glass concentrates (a ball's focal line); 0: none")
-      ->check(CLI::Range(0, 256))->capture_default_str();
+      ->check(CLI::Range(0, 128))->capture_default_str();
   app.add_option("--volume-step", volume.step, "media: photon and view steps where an object's index varies, index-grid voxels")
       ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
   app.add_option("--view-step", volume.view_step, "media: viewing-pass steps, radiance-grid voxels")

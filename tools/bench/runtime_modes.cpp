@@ -229,7 +229,7 @@ struct RuntimeModes final : Modes {
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass.md)");
     fr->add_option("--volume-focus", volume_focus, "media: focus-grid voxels a side (0: none; docs/volume.md)")
-        ->check(CLI::Range(0, 256))->capture_default_str();
+        ->check(CLI::Range(0, 128))->capture_default_str();
     fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
     fr->add_option("--glass-view", glass_view, "the view through glass: table (seed 002 §3) or nearby (nearby-geometry refraction, seed 003)")

@@ -379,9 +379,9 @@ Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o)
   s.ran = false;
   if (!o.enabled) return Status::success();
   if (o.photons < 1 || o.photons > 8192 || o.grid < 2 || o.grid > 1024 || !(o.step >= 0.05f && o.step <= 16.0f) ||
-      !(o.view_step >= 0.05f && o.view_step <= 16.0f) || o.focus_grid == 1 || o.focus_grid > 256) {
+      !(o.view_step >= 0.05f && o.view_step <= 16.0f) || o.focus_grid == 1 || o.focus_grid > 128) {
     return make_error(ErrorCode::kUsage,
-                      "volume options: photons 1..8192 per axis, grid 2..1024, focus grid 0 (off) or 2..256, step and view step 0.05..16 voxels");
+                      "volume options: photons 1..8192 per axis, grid 2..1024, focus grid 0 (off) or 2..128, step and view step 0.05..16 voxels");
   }
   const Box box = s.scattering_box(scene);
   if (box.empty()) return Status::success();

@@ -50,7 +50,8 @@ struct VolumeOptions {
   // The focus grid (issue 47): voxels along each side of a second grid
   // over the box where the light through transparent objects concentrates
   // (a ball's focal line), placed per light from the glass's sampled exit
-  // rays; 0 turns it off. Only scenes with glass in a medium have one.
+  // rays; 0 turns it off, else 2..128. Only scenes with glass in a medium
+  // have one.
   std::uint32_t focus_grid = 64;
   bool operator==(const VolumeOptions&) const = default;
 };
