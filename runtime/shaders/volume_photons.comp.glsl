@@ -19,6 +19,7 @@ uniform uint u_side;           // photons per axis
 uniform uint u_seed;
 uniform int u_source;          // 0: the light's window at y = u_window_y; 1: the water surface
 uniform vec4 u_window;         // x0, z0, x1, z1 (source 0); the water's extent (source 1)
+uniform vec4 u_skip;           // x0, z0, x1, z1: photons starting here are another dispatch's (x1 > x0)
 uniform float u_window_y;
 uniform uvec2 u_water_cells;
 uniform float u_water_ior;
@@ -182,6 +183,7 @@ void main() {
   vec3 p;
   bool wet = false;
   if (u_source == 0) {
+    if (u_skip.z > u_skip.x && all(greaterThanEqual(xz, u_skip.xy)) && all(lessThan(xz, u_skip.zw))) return;
     x = vec3(xz.x, u_window_y, xz.y);
     d = point ? normalize(x - lp) : caustix_light.light_direction.xyz;
     float e = point ? abs(d.y) / dot(x - lp, x - lp) * caustix_spot_factor(d, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : abs(d.y);
