@@ -305,7 +305,7 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
 // ball's bottom to the floor. The runtime's peak within 15 % of optics and
 // at its height within 2 cm (the issue's targets); every row from 5 cm
 // below the ball where optics holds a quarter of its peak within 20 %
-// (measured: at most 14.7 %, 6.5 cm below the ball). Nearer the ball the
+// (measured: at most 15.0 %, 6.5 cm below the ball). Nearer the ball the
 // rows are off by up to 42 %: the index grid's surface, blurred over
 // 1.6 cm voxels (docs/volume.md), and its padding reach 4.7 cm below it. caustix-reference (its own tracer,
 // the mesh) agrees with optics within 5 % at the peak and 1 cm in height
@@ -349,7 +349,8 @@ TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   EXPECT_LT(worst, 0.20);
 
   // Without the focus grid the line is what the issue found: the test
-  // tells the two apart (measured: -59 %, 13 cm high).
+  // tells the two apart (measured: -59 %, 13 cm high; with it -5.8 %, the
+  // same row).
   InscatterRequest coarse = q;
   coarse.caustics.volume.focus_grid = 0;
   const InscatterImage c = inscatter(*r, coarse);
