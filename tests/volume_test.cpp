@@ -309,7 +309,7 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
 // rows are off by up to 42 %: the index grid's surface, blurred over
 // 1.6 cm voxels (docs/volume.md), and its padding reach 4.7 cm below it. caustix-reference (its own tracer,
 // the mesh) agrees with optics within 5 % at the peak and 1 cm in height
-// (measured with 16 M photons: -0.8 %, the same row).
+// (measured with 4 M photons: -0.8 %, the same row).
 TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   auto r = bake_and_create(kScenes + "fog_ball.json");
   ASSERT_TRUE(r);
