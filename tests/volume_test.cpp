@@ -306,10 +306,11 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
 // at its height within 2 cm (the targets); every row from 5 cm
 // below the ball where optics holds a quarter of its peak within 20 %
 // (measured: at most 15.0 %, 6.5 cm below the ball). Nearer the ball the
-// rows are off by up to 73 %: the index grid's surface, blurred over
-// 1.6 cm voxels (docs/volume.md), and its padding reach 4.7 cm below it. caustix-reference (its own tracer,
-// the mesh) agrees with optics within 5 % at the peak and 1 cm in height
-// (measured with 4 M photons: -0.8 %, the same row).
+// rows are off by up to 73 %: the index grid's surface, blurred over 1.6 cm
+// voxels (docs/volume.md), and its padding reach 4.7 cm below it.
+// caustix-reference (its own tracer, the mesh) agrees with optics within
+// 5 % at the peak and 1 cm in height (measured with 4 M photons: -0.8 %,
+// the same row).
 TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   auto r = bake_and_create(kScenes + "fog_ball.json");
   ASSERT_TRUE(r);
