@@ -307,7 +307,7 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
 // below the ball where optics holds a quarter of its peak within 20 %
 // (measured: at most 15.0 %, 6.5 cm below the ball). Nearer the ball the
 // rows are off by up to 73 %: the index grid's surface, blurred over 1.6 cm
-// voxels (docs/volume.md), and its padding reach 4.7 cm below it.
+// voxels (docs/volume.md), and the grid's padding (4 voxels, 6 cm) lie there.
 // caustix-reference (its own tracer, the mesh) agrees with optics within
 // 5 % at the peak and 1 cm in height (measured with 4 M photons: -0.8 %,
 // the same row).
