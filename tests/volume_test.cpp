@@ -326,6 +326,10 @@ TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   const auto& box = img.stats.focus_boxes[0];
   std::printf("[volume fog_ball axis] focus grid %.3f %.3f %.3f .. %.3f %.3f %.3f\n", box[0], box[1], box[2], box[3], box[4], box[5]);
   EXPECT_GT(box[3], box[0]);
+  // (P/2)^2 photons of the glass's own, besides P^2 over the light's window.
+  const std::uint64_t side = q.caustics.volume.photons;
+  EXPECT_EQ(img.stats.glass_photons, (side / 2) * (side / 2));
+  EXPECT_EQ(img.stats.photons, side * side + (side / 2) * (side / 2));
   const FogBallColumn exact = fog_ball_column(0.5, 1.25, 1.5, 1.5, 2.5, 0.3, 0.3, -0.005, 0.005, y1, dy, rows);
   auto at = [&](const std::vector<float>& rgb, int row) { return double(rgb[3 * (std::size_t(row) * width + axis) + 1]); };
   auto peak_row = [&](auto value) {
@@ -355,6 +359,7 @@ TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   InscatterRequest coarse = q;
   coarse.caustics.volume.focus_grid = 0;
   const InscatterImage c = inscatter(*r, coarse);
+  EXPECT_EQ(c.stats.glass_photons, 0u);
   const int pc = peak_row([&](int row) { return at(c.rgb, row); });
   std::printf("[volume fog_ball axis] without the focus grid: peak %.4f at y %.3f\n", at(c.rgb, pc), y1 - (pc + 0.5) * dy);
   EXPECT_LT(at(c.rgb, pc) / v_exact, 0.7);

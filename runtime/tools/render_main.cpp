@@ -351,8 +351,8 @@ int main(int argc, char** argv) {
     written = write_float_image(out_path, width, height, 3, img->rgb, attributes);
     if (verbose) {
       const VolumeStats& v = img->stats;
-      std::printf("media: %llu photons, %llu steps (%llu in index grids), grid %ux%ux%u, %.1f MB; march %.2f ms, resolve %.2f ms (GPU)\n",
-                  static_cast<unsigned long long>(v.photons), static_cast<unsigned long long>(v.steps),
+      std::printf("media: %llu photons (%llu over the glass), %llu steps (%llu in index grids), grid %ux%ux%u, %.1f MB; march %.2f ms, resolve %.2f ms (GPU)\n",
+                  static_cast<unsigned long long>(v.photons), static_cast<unsigned long long>(v.glass_photons), static_cast<unsigned long long>(v.steps),
                   static_cast<unsigned long long>(v.grid_steps), v.grid_size[0], v.grid_size[1], v.grid_size[2],
                   static_cast<double>(v.grid_bytes) / 1e6, v.march_ms, v.resolve_ms);
       std::printf("energy / E0 (m^2): in %.6g = scattered %.6g + absorbed %.6g + leaving %.6g + reflected %.6g + truncated %.6g; grid holds %.6g\n",

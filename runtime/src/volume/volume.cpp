@@ -144,7 +144,7 @@ struct VolumeEngine::Impl {
     bool valid = false;  // source and direction hold this light's radiance for the current grid
     bool timed = false;  // remade this frame: its photons and timer queries are this frame's
     double scale = 1, tally_scale = 1;  // fixed-point units per unit of power (light units)
-    std::uint64_t photons = 0;
+    std::uint64_t photons = 0, glass_photons = 0;  // emitted; of which over the glass's own window
     Box focus;  // the light's focus grid; empty: none
   };
   std::vector<Glass> glass;
@@ -176,7 +176,7 @@ struct VolumeEngine::Impl {
   struct Tallied {
     std::vector<std::uint32_t> words;
     std::vector<double> scale, tally_scale;
-    std::vector<std::uint64_t> photons;
+    std::vector<std::uint64_t> photons, glass_photons;
     std::vector<bool> timed;
   } tallied;
   std::uint64_t tallied_frame = 0;
@@ -441,7 +441,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   s.made.made(li, key);
   s.counting = true;
   Impl::PerLight& pl = s.lights[li];
-  pl.photons = 0;
+  pl.photons = pl.glass_photons = 0;
   pl.focus = s.focus_n > 0 && focus_rays ? focus_box(focus_rays(), s.grid_box, s.grid_n) : Box{};
   if (!pl.focus.empty()) {
     // Only where its voxels are at least twice as fine as the radiance
@@ -474,7 +474,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     float y = 0;
     double bound = 0;  // largest power per unit of the window's area
     glm::vec4 skip{0.0f};  // photons starting in this rectangle are another source's (x1 > x0)
-    std::uint32_t salt = 0;  // on the light's seed: other jitter than the light's window
+    bool glass = false;      // the glass's own window (other jitter than the light's)
     std::uint32_t side = 0;  // photons per axis
   };
   std::vector<Source> sources;
@@ -509,8 +509,8 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
       glm::vec4 gw = lens.empty() ? glm::vec4(0.0f) : window_of(lens);
       gw = glm::vec4(std::max(gw.x, win.x), std::max(gw.y, win.y), std::min(gw.z, win.z), std::min(gw.w, win.w));
       const bool split = gw.z > gw.x && gw.w > gw.y;
-      sources.push_back({0, win, y_top, bound, split ? gw : glm::vec4(0.0f), 0, o.photons});
-      if (split) sources.push_back({0, gw, y_top, bound, glm::vec4(0.0f), 0x632BE5ABu, glass_side(o.photons)});
+      sources.push_back({0, win, y_top, bound, split ? gw : glm::vec4(0.0f), false, o.photons});
+      if (split) sources.push_back({0, gw, y_top, bound, glm::vec4(0.0f), true, glass_side(o.photons)});
     }
   }
   if (under_scatters && water) {
@@ -519,7 +519,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     if (lit) {
       const double d = lp.y - s.water_box->hi.y;
       sources.push_back({1, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y,
-                         glm::vec4(0.0f), 0, o.photons});
+                         glm::vec4(0.0f), false, o.photons});
     }
   }
   // Fixed point: one photon crossing one voxel deposits at most
@@ -575,7 +575,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
       s.set_media(p, scene, w.nm);
     }
     for (const Source& src : sources) {
-      p.set("u_seed", 0x9E3779B9u * (li + 1) + src.salt);
+      p.set("u_seed", 0x9E3779B9u * (li + 1) + (src.glass ? 0x632BE5ABu : 0u));
       p.set("u_source", src.kind);
       p.set("u_window", src.window);
       p.set("u_window_y", src.y);
@@ -583,6 +583,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
       p.set("u_side", src.side);
       glDispatchCompute((src.side * src.side + 63) / 64, 1, 1);
       pl.photons += std::uint64_t{src.side} * src.side;
+      if (src.glass) pl.glass_photons += std::uint64_t{src.side} * src.side;
     }
   }
   glEndQuery(GL_TIME_ELAPSED);
@@ -691,6 +692,7 @@ void VolumeEngine::end_frame(std::uint64_t frame) {
     t.scale.push_back(l.scale);
     t.tally_scale.push_back(l.tally_scale);
     t.photons.push_back(l.photons);
+    t.glass_photons.push_back(l.glass_photons);
     t.timed.push_back(l.timed);
   }
 }
@@ -714,6 +716,7 @@ VolumeStats VolumeEngine::stats(bool wait) {
     const std::uint32_t* w = &t.words[kTallyWords * li];
     const double k = 1.0 / (t.tally_scale[li] * s.e0);
     st.photons += t.photons[li];
+    st.glass_photons += t.glass_photons[li];
     st.power_in += w[0] * k;
     st.scattered += w[1] * k;
     st.absorbed += w[2] * k;
