@@ -682,14 +682,8 @@ Status Engine::update(const FrameUpdate& f) {
       const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
       const bool spectral = waves.size() > 1 || co.wavelength_nm.has_value();
       // The glass's sampled exit rays place the light's focus grid.
-      std::function<std::vector<VolumeEngine::FocusRay>()> focus_rays;
-      if (s.glass) {
-        focus_rays = [&s, li]() {
-          std::vector<VolumeEngine::FocusRay> out;
-          for (const GlassEngine::ExitRay& r : s.glass->exit_sample(s.scene, li)) out.push_back({r.exit, r.direction, r.flux});
-          return out;
-        };
-      }
+      std::function<std::vector<ExitRay>()> focus_rays;
+      if (s.glass) focus_rays = [&s, li]() { return s.glass->exit_sample(s.scene, li); };
       CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr, waves, spectral,
                                                      [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }, focus_rays, co, v, due,
                                                      work.media));

@@ -840,7 +840,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   return gl::check_gl("glass caustics");
 }
 
-std::vector<GlassEngine::ExitRay> GlassEngine::exit_sample(const SceneDesc& scene, std::uint32_t light) const {
+std::vector<ExitRay> GlassEngine::exit_sample(const SceneDesc& scene, std::uint32_t light) const {
   std::vector<ExitRay> out;
   for (const Impl::SampledRay& r : impl_->sampled_rays(scene, scene.lights[light])) out.push_back({r.exit, r.direction, r.flux});
   return out;

@@ -20,6 +20,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "exit_ray.h"
 #include "made_from.h"
 #include "view_spectrum.h"
 #include "gpu_mesh.h"
@@ -75,15 +76,10 @@ class GlassEngine {
   // The target's textures of `light` from its last update_light(), if any.
   std::optional<Binding> binding(std::uint32_t object, std::uint32_t light) const;
 
-  // A sample of the rays of `light` leaving the glass (world space, the
-  // n_d table's rows of every k-th vertex, on the CPU: no GPU work, no
-  // wait), each with the flux it carries per unit incident irradiance: what
+  // A sample of the rays of `light` leaving the glass (the n_d table's
+  // rows of every k-th vertex, on the CPU: no GPU work, no wait): what
   // orients the planes and places the focus windows, and the media's
   // focus grids (issue 47).
-  struct ExitRay {
-    glm::vec3 exit, direction;
-    float flux;
-  };
   std::vector<ExitRay> exit_sample(const SceneDesc& scene, std::uint32_t light) const;
 
   // Draws the transparent objects as glass over the opaque scene's colour

@@ -23,6 +23,7 @@
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
 #include "caustix/runtime/gl_objects.h"
+#include "exit_ray.h"
 #include "made_from.h"
 
 namespace caustix::runtime {
@@ -34,14 +35,6 @@ class VolumeEngine {
   // At most this many transparent objects in a scene with media (their
   // index grids are sampled from one sampler array).
   static constexpr std::size_t kMaxObjects = 4;
-
-  // A ray of light leaving a transparent object (world space), with the
-  // flux it carries per unit of incident irradiance: a sample of where the
-  // glass sends light, which places the focus grid (issue 47).
-  struct FocusRay {
-    glm::vec3 origin, direction;
-    float flux;
-  };
 
   // Null (and no error) when nothing in the scene scatters. `grids` are
   // the scene's IGRD chunks (one per transparent object); `scene_min_y`
@@ -69,7 +62,7 @@ class VolumeEngine {
   // the focus grid takes the photons' deposits at finer voxels.
   Status update_light(const SceneDesc& scene, std::uint32_t li, const VolumeOptions& options, const WaterSurface* water,
                       const std::vector<WavelengthSample>& waves, bool spectral, const std::function<void()>& bind_light,
-                      const std::function<std::vector<FocusRay>()>& focus_rays, const CausticsOptions& caustics,
+                      const std::function<std::vector<ExitRay>()>& focus_rays, const CausticsOptions& caustics,
                       const SceneVersions& versions, bool due, EffectWork& work);
   // The viewing pass into the bound framebuffer and viewport, through
   // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
