@@ -233,6 +233,48 @@ TEST_F(CausticMap, BallLensFluxAndFocalSpot) {
   expect_ball_lens(f, n, half, "caustic map");
 }
 
+// The focal spot with caustic maps (issue 47): power within 0.5, 1, 2 and
+// 5 cm of glass_ball's axis and the brightest 2 mm pixel, in 0.5 mm pixels,
+// against the exact sphere (optics_oracle.h; caustix-reference agrees with
+// it, glass_test). The 512^2 map's 7.8 mm texels and its splats spread the
+// focus; the focus window, placed on the GPU where the photons land
+// concentrated, resolves it. The issue's target: 10 % at every radius
+// >= 1 cm; without the window the test asserts the spot is not resolved,
+// so that it can tell the two apart.
+TEST_F(CausticMap, BallLensFocusAgreesWithOptics) {
+  const int n = 204;
+  const double x0 = -0.051, pix = 0.0005;
+  const auto want = test::landing_image(test::ball_lens(0.5, 0.75, 1.5, 20000), n, x0, pix);
+  auto r = test::bake_and_create(test::write_scene(test::canonical_scene("glass_ball"), "caustic_map_test"));
+  ASSERT_TRUE(r);
+  for (const bool focus : {true, false}) {
+    runtime::CausticsOptions o = caustic_maps();
+    o.caustic_map.focus = focus;
+    const Floor f = render(*r, n, 0.5 * n * pix, o, x0 + 0.5 * n * pix);
+    const char* label = focus ? "focus window" : "no window";
+    std::printf("[glass_ball caustic map, %s] window centre (%.4f, %.4f), half-size %.4f of the map\n", label, f.stats.focus[0],
+                f.stats.focus[1], f.stats.focus[2]);
+    if (focus) {
+      // A square around the axis, far smaller than the map.
+      EXPECT_GT(f.stats.focus[2], 0.0f);
+      EXPECT_LT(f.stats.focus[2], 0.05f);
+      EXPECT_NEAR(f.stats.focus[0], 0.5f, f.stats.focus[2]);
+      EXPECT_NEAR(f.stats.focus[1], 0.5f, f.stats.focus[2]);
+    } else {
+      EXPECT_EQ(f.stats.focus[2], 0.0f);
+    }
+    std::vector<double> got(f.e.begin(), f.e.end());
+    for (const double radius : {0.005, 0.01, 0.02, 0.05}) {
+      const double g = test::power_within(got, n, x0, pix, radius), w = test::power_within(want, n, x0, pix, radius);
+      std::printf("[glass_ball caustic map, %s] power within %.3f m: %.5f vs %.5f optics (%+.1f %%)\n", label, radius, g, w, 100 * (g / w - 1));
+      if (focus && radius >= 0.01) EXPECT_NEAR(g / w, 1.0, 0.10) << "within " << radius << " m";
+      if (!focus && radius == 0.01) EXPECT_LT(g / w, 0.85) << "the main map alone resolves the spot: the test tells nothing";
+    }
+    const double gp = test::peak_block(got, n, 4), wp = test::peak_block(want, n, 4);
+    std::printf("[glass_ball caustic map, %s] brightest 2 mm pixel %.1f vs %.1f E0 optics (%+.1f %%)\n", label, gp, wp, 100 * (gp / wp - 1));
+  }
+}
+
 // Adaptive caustic maps (Wyman & Nichols 2009): with a budget that takes
 // every covered texel the traversal ends at the grid's texels and traces
 // exactly the uniform grid's photons; with a smaller one it traces at most
@@ -270,7 +312,12 @@ TEST_F(CausticMap, AdaptiveRefinesOverTheCastersWithinTheBudget) {
 // the casters' grid; Wyman & Dachsbacher 2008's variable-sized splats), so
 // a 4x4 cell's photon, which carries 16 photons' flux from one point, does
 // not print the cells' lattice into the caustic as ring bands (moire):
-// the bands in the shadow annulus stay within those of the uniform grid.
+// the bands in the shadow annulus stay within twice those of the uniform
+// grid. (Within 1.25 times until issue 47: the uniform grid's own bands,
+// 0.0290, came mostly from the glass's back normals read per texel, and
+// interpolated they fell to 0.0138, while the leaves' stayed at 0.023.
+// Splats of the leaves' own width, 0.5 or 1 times the spacing, read 0.086
+// and 0.047: twice the uniform grid's still tells them apart.)
 TEST_F(CausticMap, AdaptiveLeavesLeaveNoRingBands) {
   const nlohmann::json ball = test::canonical_scene("glass_ball");
   const int n = 600;
@@ -283,7 +330,7 @@ TEST_F(CausticMap, AdaptiveLeavesLeaveNoRingBands) {
   const double adaptive = ring_band_spread(render(ball, n, half, o), r0, r1);
   std::printf("[glass_ball] ring-band spread in %.2f..%.2f m: uniform 512^2 %.4f, adaptive 2^16 over 1024^2 %.4f\n", r0, r1,
               uniform, adaptive);
-  EXPECT_LT(adaptive, 1.25 * uniform);
+  EXPECT_LT(adaptive, 2.0 * uniform);
 }
 
 // The nephroid: its cusp on the lit axis within 2 pixels of the exact

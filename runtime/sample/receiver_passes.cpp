@@ -147,7 +147,7 @@ Status ReceiverPasses::shade_per_pair(const glm::mat4& view_proj, bool level0) {
       }
       auto r = engine_.lighting(oi, li);
       if (!r) return r.error();
-      const GLuint mipmapped[3] = {r->caustics, r->caustics_color, r->glass_illumination};
+      const GLuint mipmapped[4] = {r->caustics, r->caustics_color, r->glass_illumination, r->caustic_map};
       for (GLuint t : mipmapped) {
         if (t) glTextureParameteri(t, GL_TEXTURE_MAX_LEVEL, 0);
       }

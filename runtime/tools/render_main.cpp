@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   // Image-space caustic maps (seed 003; docs/caustic-maps.md).
   std::string glass_method = to_string(built_in.glass_method);
   CausticMapOptions cmap;
-  bool cmap_two_pass = false, cmap_drop_tir = false;
+  bool cmap_two_pass = false, cmap_drop_tir = false, cmap_no_focus = false;
   app.add_option("--glass-method", glass_method,
                  "light through glass: table (light-transport tables, seed 002) or caustic-map (image-space caustic maps, seed 003); mirrors always use caustic maps")
       ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
@@ -126,6 +126,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 64))->capture_default_str();
   app.add_option("--cmap-bounces", cmap.bounces, "caustic maps: caster surfaces (mirror reflections) followed per photon")
       ->check(CLI::Range(1, 8))->capture_default_str();
+  app.add_flag("--cmap-no-focus", cmap_no_focus,
+               "caustic maps: no focus window, the map alone over the whole scene (default: a finer window where the photons concentrate; docs/caustic-maps.md)");
   app.add_flag("--cmap-drop-tir", cmap_drop_tir, "caustic maps: drop photons totally reflected at the glass's exit (default: leave them unrefracted)");
   app.add_option("--cmap-edge-cos", cmap.edge_cos, "caustic maps: edge testing, drop photons entering glass where |n.l| is below this (0: off)")
       ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
@@ -268,6 +270,7 @@ int main(int argc, char** argv) {
   if (app.count("--cmap-budget") == 0) cmap.photon_budget = caustics.caustic_map.photon_budget;
   cmap.two_pass = cmap_two_pass;
   cmap.tir_one_sided = !cmap_drop_tir;
+  cmap.focus = !cmap_no_focus;
   caustics.caustic_map = cmap;
   shadow_options.filter = *parse_shadow_filter(shadow_filter);
   caustics.shadows = shadow_options;

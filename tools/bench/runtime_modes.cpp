@@ -209,7 +209,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t planes = 0, csize = 0, gsize = 0, volume_focus = runtime::VolumeOptions{}.focus_grid;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
-  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false;
+  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, cmap_no_focus = false;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
@@ -238,6 +238,7 @@ struct RuntimeModes final : Modes {
     fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
     fr->add_option("--cmap-adaptive", cmap_adaptive, "caustic maps: adaptive traversal levels (0: uniform grid)")->check(CLI::Range(0, 8))->capture_default_str();
     fr->add_option("--cmap-budget", cmap_budget, "caustic maps, adaptive: most photons per light")->check(CLI::Range(1, 1 << 24))->capture_default_str();
+    fr->add_flag("--cmap-no-focus", cmap_no_focus, "caustic maps: no focus window (docs/caustic-maps.md)");
     fr->add_option("--supersample", supersample, "antialiasing: N x N samples per pixel (the renderer's FrameParams::supersample)")
         ->check(CLI::Range(1, 4))->capture_default_str();
     fr->add_option("--wavelengths", wavelengths, "dispersion: wavelengths traced in a scene with dispersion (docs/dispersion.md)")
@@ -302,6 +303,7 @@ struct RuntimeModes final : Modes {
     co.caustic_map.map_size = cmap_size;
     co.caustic_map.adaptive_levels = cmap_adaptive;
     co.caustic_map.photon_budget = cmap_budget;
+    co.caustic_map.focus = !cmap_no_focus;
     co.wavelengths = wavelengths;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);

@@ -88,6 +88,8 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { caustic_maps(s).map_size = static_cast<std::uint32_t>(v); }, false, true},
       {"cmap-sigma", {0, 0.5, 1, 2}, false, false,
        [](Setting& s, double v) { caustic_maps(s).splat_sigma = static_cast<float>(v); }, false, true},
+      // The caustic map's focus window (issue 47): 1 on, 0 off.
+      {"cmap-focus", {1, 0}, false, false, [](Setting& s, double v) { caustic_maps(s).focus = v != 0; }, false, true},
       {"cmap-iterations", {1, 2, 4, 10}, false, false,
        [](Setting& s, double v) { caustic_maps(s).iterations = static_cast<std::uint32_t>(v); }, false, true},
       // Adaptive caustic maps over a 1024^2 grid, 4 levels, this many photons.

@@ -28,14 +28,33 @@ constexpr GLintptr kDispatchOffset = 16, kPhotonDispatchOffset = 32, kDrawOffset
 // Caustic map texels a side of one texel of the adaptive photons' density
 // map (causticmap_density.vert).
 constexpr int kDensityBlock = 8;
+// The focus window (issue 47; causticmap_focus.comp): landed photons are
+// counted in kFocusBins x kFocusBins cells over the map; a cell is
+// concentrated where at least kFocusConcentration times the photons its
+// area would catch straight from the light landed in it, and at least
+// kFocusMinPhotons. The window is the square around those cells and one
+// cell more, no larger than kFocusMaxHalf of the map (else the main map
+// does nearly as well) and no smaller than kFocusMinHalf: the same
+// constants as the tables' windows (glass.cpp). It has half the main map's
+// texels a side (focus_side) and lies above the main map in the same
+// texture, whose height is then map_size + map_size / 2; which photons'
+// light goes there is causticmap_splat.vert's.
+constexpr int kFocusBins = 128;  // causticmap_focus.comp's kBins
+constexpr float kFocusConcentration = 4.0f;
+constexpr float kFocusMinPhotons = 4.0f;
+constexpr float kFocusMaxHalf = 0.25f;
+constexpr float kFocusMinHalf = 0.5f / 64.0f;
+constexpr int kFocusWindowBytes = 16 + 4 * kFocusBins * kFocusBins;
+int focus_side(int size) { return std::max(1, size / 2); }
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-gl::Texture make_map(int size, GLenum format, GLenum filter) {
+gl::Texture make_map(int size, GLenum format, GLenum filter, int height = 0, int levels = 1) {
   gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
-  glTextureStorage2D(t.get(), 1, format, size, size);
+  glTextureStorage2D(t.get(), levels, format, size, height > 0 ? height : size);
   gl::set_sampling(t.get(), filter);
+  if (levels > 1) glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   return t;
 }
 
@@ -70,6 +89,9 @@ struct CausticMapEngine::Impl {
     gl::Texture front_pos, front_nrm, back_pos, back_nrm, caster_depth;
     gl::Texture map, receivers, receiver_depth, scratch, scratch2;
     gl::Texture density;  // adaptive: finest-grid photons per kDensityBlock^2 texels
+    bool focus = false;   // the map holds a focus window above the main map (and mips)
+    gl::Buffer focus_buffer;  // causticmap_focus.comp's Focus: the window, then the cells' counts
+    gl::Texture focus_density;  // photons per kDensityBlock^2 of the window's texels
     gl::Framebuffer caster_fbo, receiver_fbo, splat_fbo;
     gl::Buffer photon_buffer;
     // Adaptive traversal (causticmap_adaptive.comp): coverage pyramid, cell
@@ -87,7 +109,7 @@ struct CausticMapEngine::Impl {
   };
   std::vector<PerLight> lights;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program capture, photons, splat, density, blur, adaptive;
+  gl::Program capture, photons, splat, density, blur, adaptive, focus;
   // The photon pass that also lands photons on receivers inside glass
   // (CAUSTIX_RECEIVERS_INSIDE), built the first time a receiver's box
   // meets a glass's: the test costs the pass 13 % on llvmpipe even where
@@ -114,7 +136,7 @@ struct CausticMapEngine::Impl {
   float max_splat_radius = 0;  // texels: (the largest point size - 1) / 2
 
   // photons_side: the capture's side (a multiple of 2^levels when adaptive).
-  void ensure(PerLight& pl, int photons_side, int size, std::uint32_t levels, std::uint32_t budget) {
+  void ensure(PerLight& pl, int photons_side, int size, std::uint32_t levels, std::uint32_t budget, bool with_focus) {
     const bool new_side = pl.photons != photons_side;
     if (new_side || pl.levels != levels || pl.budget != budget) {
       pl.levels = levels;
@@ -144,13 +166,26 @@ struct CausticMapEngine::Impl {
       pl.front_pos = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
       pl.front_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
       pl.back_pos = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
-      pl.back_nrm = make_map(photons_side, GL_RGBA32F, GL_NEAREST);
+      pl.back_nrm = make_map(photons_side, GL_RGBA32F, GL_LINEAR);
       pl.caster_depth = make_map(photons_side, GL_DEPTH_COMPONENT32F, GL_NEAREST);
       pl.caster_fbo = gl::make_framebuffer();
     }
-    if (pl.size != size) {
+    if (pl.size != size || pl.focus != with_focus) {
       pl.size = size;
-      pl.map = make_map(size, GL_RGBA32F, GL_LINEAR);
+      pl.focus = with_focus;
+      // With a focus window, mips: its texels are finer than the pixels
+      // that usually look at them, and a focus read at one point would
+      // flicker as the view moves (as the tables' windows, docs/glass.md).
+      int mips = 1;
+      while (with_focus && ((size + focus_side(size)) >> mips) > 0) ++mips;
+      pl.map = make_map(size, GL_RGBA32F, GL_LINEAR, with_focus ? size + focus_side(size) : size, mips);
+      pl.focus_buffer = gl::Buffer();
+      pl.focus_density = gl::Texture();
+      if (with_focus) {
+        pl.focus_density = make_map(std::max(1, focus_side(size) / kDensityBlock), GL_R32F, GL_LINEAR);
+        pl.focus_buffer = gl::make_buffer();
+        glNamedBufferStorage(pl.focus_buffer.get(), kFocusWindowBytes, nullptr, 0);
+      }
       pl.receivers = make_map(size, GL_RGBA32F, GL_NEAREST);
       pl.receiver_depth = make_map(size, GL_DEPTH_COMPONENT32F, GL_NEAREST);
       pl.scratch = make_map(size, GL_RGBA32F, GL_NEAREST);
@@ -167,6 +202,12 @@ struct CausticMapEngine::Impl {
     const std::uint64_t p2 = std::uint64_t(photons_side) * std::uint64_t(photons_side), s2 = std::uint64_t(size) * std::uint64_t(size);
     const std::uint64_t dside = std::uint64_t(std::max(1, size / kDensityBlock));
     pl.bytes = p2 * (4 * 16 + 4) + s2 * (4 * 16 + 4) + 4 * dside * dside;
+    if (with_focus) {
+      // The window's rows, the mips (a third more) and the cells.
+      const std::uint64_t rows = std::uint64_t(size) * std::uint64_t(focus_side(size));
+      const std::uint64_t fd = std::uint64_t(std::max(1, focus_side(size) / kDensityBlock));
+      pl.bytes += 16 * rows + 16 * (s2 + rows) / 3 + kFocusWindowBytes + 4 * fd * fd;
+    }
     if (levels > 0) {
       pl.bytes += std::uint64_t{32 + 12} * budget + kStateBytes;
       for (std::uint32_t k = 0; k <= levels; ++k) pl.bytes += 16 * std::uint64_t(photons_side >> k) * std::uint64_t(photons_side >> k);
@@ -288,6 +329,7 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
       {&s.density, "causticmap_density", shaders::k_causticmap_density_vert_glsl, shaders::k_causticmap_density_frag_glsl},
       {&s.blur, "causticmap_blur", shaders::k_causticmap_blur_comp_glsl},
       {&s.adaptive, "causticmap_adaptive", shaders::k_causticmap_adaptive_comp_glsl},
+      {&s.focus, "causticmap_focus", shaders::k_causticmap_focus_comp_glsl},
   }));
   s.lights.resize(scene.lights.size());
   s.made.resize(scene.lights.size());
@@ -369,7 +411,8 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const int size = static_cast<int>(o.map_size);
   const std::uint32_t cell = 1u << o.adaptive_levels;
   const int side = static_cast<int>((o.photons + cell - 1) / cell * cell);
-  s.ensure(pl, side, size, o.adaptive_levels, o.photon_budget);
+  s.ensure(pl, side, size, o.adaptive_levels, o.photon_budget, o.focus);
+  const int fside = focus_side(size);
   const bool adaptive = o.adaptive_levels > 0;
   // A texel of margin on each side (at most 1 %) so that nothing touches
   // the border.
@@ -426,7 +469,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const float none[4] = {0, 0, 0, -1e30f};
   glBindFramebuffer(GL_FRAMEBUFFER, pl.receiver_fbo.get());
   glViewport(0, 0, size, size);
-  glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 0, zero);
+  glClearTexImage(pl.map.get(), 0, GL_RGBA, GL_FLOAT, zero);  // the window's rows too (outside the framebuffer's size x size)
   glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 1, none);
   glClearNamedFramebufferfi(pl.receiver_fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glDepthFunc(GL_LESS);
@@ -505,13 +548,29 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
   p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
   p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
-  s.splat.set("u_size", static_cast<float>(size));
-  s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
   s.splat.set("u_max_radius", s.max_splat_radius);
   s.splat.set("u_variable", variable ? 1 : 0);
   s.splat.set("u_block", static_cast<float>(kDensityBlock));
   s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
   s.splat.set("u_v", f.v);
+  s.splat.set("u_main_size", static_cast<float>(size));
+  s.splat.set("u_window_size", static_cast<float>(fside));
+  s.splat.set("u_window_sigma", sigma);
+  s.splat.set("u_grid", adaptive ? 0 : side);
+  if (o.focus) {
+    // The focus cells' threshold: the photons (finest-grid units) a cell
+    // catches straight from the light, times kFocusConcentration.
+    const float photon_area = 4.0f * f.caster_half.x * f.caster_half.y / static_cast<float>(side * side);
+    const float cell_area = 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(kFocusBins * kFocusBins);
+    s.focus.set("u_photons", side);
+    s.focus.set("u_adaptive", adaptive ? 1 : 0);
+    const float min_count = std::max(kFocusMinPhotons, kFocusConcentration * cell_area / photon_area);
+    s.focus.set("u_min_count", min_count);
+    s.splat.set("u_min_count", min_count);
+    s.focus.set("u_min_half", kFocusMinHalf);
+    s.focus.set("u_max_half", kFocusMaxHalf);
+    glProgramUniform2i(s.focus.id(), s.focus.loc("u_params"), size - 1, size + fside - 1);
+  }
   const auto draw_photons = [&] {
     if (adaptive) {
       glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
@@ -553,6 +612,29 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
       glDispatchCompute(groups, groups, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    // The focus window, from where the first wavelength's photons landed
+    // (the others' focus lies within its margin).
+    if (o.focus && k == 0) {
+      s.focus.use();
+      glClearNamedBufferData(pl.focus_buffer.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, pl.focus_buffer.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, adaptive ? pl.state.get() : s.counters.get());
+      glBindImageTexture(0, pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      s.focus.set("u_stage", 0);
+      if (adaptive) {
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+        glDispatchComputeIndirect(kPhotonDispatchOffset);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+      } else {
+        const GLuint groups = static_cast<GLuint>((side + 7) / 8);
+        glDispatchCompute(groups, groups, 1);
+      }
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      s.focus.set("u_stage", 1);
+      glDispatchCompute(1, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                      GL_FRAMEBUFFER_BARRIER_BIT);
+    }
     glEndQuery(GL_TIME_ELAPSED);
 
     // Splats into the caustic map (one pass), or into one texel each and a
@@ -565,21 +647,28 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     glBlendEquation(GL_FUNC_ADD);
     glEnable(GL_PROGRAM_POINT_SIZE);
     glBindVertexArray(s.empty_vao.get());
-    // Adaptive one-pass splats size themselves by the landed photons'
-    // density: count them first.
-    if (variable) {
-      const int dside = std::max(1, size / kDensityBlock);
+    // Photons counted into a density texture of `side` texels (over the
+    // main map, or over the focus window: causticmap_density.vert).
+    const auto count_photons = [&](GLuint texture, int side_texels, int window) {
       const float no_photons[4] = {0, 0, 0, 0};
-      glClearTexImage(pl.density.get(), 0, GL_RGBA, GL_FLOAT, no_photons);
-      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.density.get(), 0);
+      glClearTexImage(texture, 0, GL_RGBA, GL_FLOAT, no_photons);
+      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, texture, 0);
       glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
       glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-      glViewport(0, 0, dside, dside);
+      glViewport(0, 0, side_texels, side_texels);
       glBlendFunc(GL_ONE, GL_ONE);
       s.density.use();
+      s.density.set("u_window", window);
       draw_photons();
       glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    }
+    };
+    // Adaptive one-pass splats size themselves by the landed photons'
+    // density: count them first.
+    if (variable) count_photons(pl.density.get(), std::max(1, size / kDensityBlock), 0);
+    // The focus window's share of each photon (causticmap_splat.vert): for
+    // adaptive leaves from the photons counted over the window.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, o.focus ? pl.focus_buffer.get() : s.counters.get());
+    if (o.focus && adaptive) count_photons(pl.focus_density.get(), std::max(1, fside / kDensityBlock), 1);
     glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
     glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
@@ -588,7 +677,25 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     s.splat.use();
     glBindTextureUnit(0, pl.receivers.get());
     glBindTextureUnit(1, pl.density.get());
+    glBindTextureUnit(2, o.focus ? pl.focus_density.get() : pl.density.get());
+    s.splat.set("u_focus", o.focus ? 1 : 0);
+    s.splat.set("u_window", 0);
+    s.splat.set("u_size", static_cast<float>(size));
+    s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
+    s.splat.set("u_origin", glm::vec2(0.0f));
     draw_photons();
+    if (o.focus) {
+      // The window's share into its texels above the main map, one-pass
+      // Gaussians (also with the two-pass blur, which covers the main map
+      // only).
+      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.map.get(), 0);
+      glViewport(0, size, fside, fside);
+      s.splat.set("u_window", 1);
+      s.splat.set("u_size", static_cast<float>(fside));
+      s.splat.set("u_sigma", sigma);
+      s.splat.set("u_origin", glm::vec2(0.0f, static_cast<float>(size)));
+      draw_photons();
+    }
     glDisable(GL_PROGRAM_POINT_SIZE);
     glDisable(GL_BLEND);
     if (k + 1 < waves.size()) {
@@ -612,6 +719,10 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
       glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
+  if (o.focus) {
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glGenerateTextureMipmap(pl.map.get());
+  }
   glEndQuery(GL_TIME_ELAPSED);
   timed.reset();
   pl.timed = true;
@@ -626,6 +737,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   const float n = static_cast<float>(size);
   b.texel_diagonal = 0.5f * std::hypot(2.0f * f.map_half.x / n, 2.0f * f.map_half.y / n);
   b.tolerance = texel + 1e-4f * diagonal;
+  b.main_share = o.focus ? static_cast<float>(size) / static_cast<float>(size + fside) : 1.0f;
   pl.valid = true;
   return gl::check_gl("caustic map");
 }
@@ -711,6 +823,12 @@ CausticMapStats CausticMapEngine::stats(bool wait) {
       glGetNamedBufferSubData(pl.photon_buffer.get(), 0, static_cast<GLsizeiptr>(ph.size() * 4), ph.data());
       for (std::size_t i = 0; i < ph.size(); i += 8) {
         if (ph[i + 7] > 0) st.landed_power += 0.2126 * ph[i + 4] + 0.7152 * ph[i + 5] + 0.0722 * ph[i + 6];
+      }
+      st.focus = {0, 0, 0};
+      if (pl.focus) {
+        float w[4] = {0, 0, 0, 0};
+        glGetNamedBufferSubData(pl.focus_buffer.get(), 0, sizeof w, w);
+        st.focus = {w[0], w[1], w[2]};
       }
     }
     if (pl.timed) {

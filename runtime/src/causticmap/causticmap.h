@@ -58,6 +58,9 @@ class CausticMapEngine {
     GLuint map = 0;       // RGBA32F: irradiance rgb (W/m^2 without the light's colour), alpha the receivers' V
     float texel_diagonal = 0;  // half a texel's diagonal, metres (the slope-scaled visibility tolerance)
     float tolerance = 0;       // constant visibility tolerance along V, metres
+    // The main map's share of the texture's height: 1, or with a focus
+    // window above it map_size / (map_size + map_size / 2).
+    float main_share = 1;
   };
   // Forgets the light's map (an update without caster light).
   void clear(std::uint32_t light);

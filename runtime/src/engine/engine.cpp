@@ -258,10 +258,11 @@ struct Engine::Impl {
       b.cmap_origin = vec4_of(f.origin, 1.0f);
       b.cmap_u = vec4_of(f.u, cm->texel_diagonal);
       b.cmap_v = vec4_of(f.v, cm->tolerance);
-      b.cmap_w = vec4_of(f.w, 0.0f);
+      b.cmap_w = vec4_of(f.w, cm->main_share);
       b.cmap_half = vec4_of(f.half, 0.0f);
       r.caustic_map = cm->map;
       r.world_to_caustic_map = frame_matrix(f);
+      for (int c = 0; c < 4; ++c) r.world_to_caustic_map[c][1] *= cm->main_share;  // t over the main map's rows
     }
     std::optional<GlassEngine::Binding> g;
     if (glass && !under && co.method != CausticsMethod::kNone && co.glass_method == GlassMethod::kTable) g = glass->binding(oi, li);

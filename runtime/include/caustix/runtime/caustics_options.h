@@ -116,6 +116,12 @@ struct CausticMapOptions {
   // normal turns first, until photon_budget photons.
   std::uint32_t adaptive_levels = 0;
   std::uint32_t photon_budget = 1u << 16;  // adaptive: most photons traced (>= the coarsest level's cells; <= 2^24)
+  // A focus window (issue 47): where the landed photons concentrate, the
+  // same photons splatted a second time into a square of half the map's
+  // texels a side, placed on the GPU from this update's photons; the
+  // texture then holds it above the main map (map_size x (map_size +
+  // map_size / 2), with mips; docs/caustic-maps.md). false: the map alone.
+  bool focus = true;
   bool operator==(const CausticMapOptions&) const = default;
 };
 
@@ -362,6 +368,10 @@ struct CausticMapStats {
   // landed_power is the last wavelength's (its photons carry its bin's
   // weights), so it is the whole landed power only when this is 1.
   std::uint32_t wavelengths = 1;
+  // The focus window of the last light with a caustic map (CausticMapOptions::focus):
+  // centre s, t and half-size in the main map's texture coordinates (0: none).
+  // Only when waiting (it is placed on the GPU).
+  std::array<float, 3> focus{0, 0, 0};
 };
 
 // What the photon marching did (seed 004), summed over lights. Energies

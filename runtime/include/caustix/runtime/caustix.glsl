@@ -218,7 +218,15 @@ float caustix_glass_lod(vec2 uv) { return textureQueryLod(caustix_glass_illumina
 #else
 float caustix_glass_lod(vec2 uv) { return 0.0; }  // a stage without derivatives samples level 0
 #endif
-vec4 caustix_fetch_caustic_map(vec2 uv) { return texture(caustix_caustic_map, uv); }
+vec4 caustix_fetch_caustic_map(vec2 uv) { return textureLod(caustix_caustic_map, uv, 0.0); }  // the main map: level 0
+vec3 caustix_fetch_caustic_map_lod(vec2 uv, float lod) { return textureLod(caustix_caustic_map, uv, lod).rgb; }
+vec4 caustix_caustic_map_texel(ivec2 t) { return texelFetch(caustix_caustic_map, t, 0); }
+vec2 caustix_caustic_map_size() { return vec2(textureSize(caustix_caustic_map, 0)); }
+#ifndef CAUSTIX_NO_DERIVATIVES
+float caustix_caustic_map_lod(vec2 uv) { return textureQueryLod(caustix_caustic_map, uv).x; }
+#else
+float caustix_caustic_map_lod(vec2 uv) { return 0.0; }
+#endif
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   return glass ? texture(caustix_glass_shadow_2d, vec3(uv, ref)) : texture(caustix_shadow_2d, vec3(uv, ref));
 }
@@ -293,6 +301,10 @@ vec3 caustix_fetch_glass_illumination(vec2 uv, int plane) {
 }
 float caustix_glass_lod(vec2 uv) { return 0.0; }  // level 0, as every fetch here
 vec4 caustix_fetch_caustic_map(vec2 uv) { return textureLod(caustix_caustic_map, caustix_table_uv(8, uv, textureSize(caustix_caustic_map, 0), 0), 0.0); }
+vec3 caustix_fetch_caustic_map_lod(vec2 uv, float lod) { return caustix_fetch_caustic_map(uv).rgb; }
+vec2 caustix_caustic_map_size() { return caustix_table_size(8); }
+vec4 caustix_caustic_map_texel(ivec2 t) { return caustix_fetch_caustic_map((vec2(t) + 0.5) / caustix_caustic_map_size()); }
+float caustix_caustic_map_lod(vec2 uv) { return 0.0; }  // level 0, as every fetch here
 float caustix_shadow_tap(bool glass, vec2 uv, float ref) {
   vec3 c = glass ? caustix_table_uv(6, uv, textureSize(caustix_glass_shadow_2d, 0), 0) : caustix_table_uv(0, uv, textureSize(caustix_shadow_2d, 0), 0);
   return glass ? texture(caustix_glass_shadow_2d, vec4(c, ref)) : texture(caustix_shadow_2d, vec4(c, ref));
@@ -404,16 +416,37 @@ vec3 caustix_glass_irradiance(vec3 p) {
 // slope-scaled tolerance as for the caustics map). Not multiplied by the
 // shadow maps: the photons found their own way (a mirror lights the floor
 // its own wall shades from the sun).
+//
+// With a focus window (issue 47; engine.h's LightBlock says where it lies)
+// the main map fills the texture's lowest rows (t scaled by cmap_w.w), and
+// inside the window's square the light of the photons that landed densely
+// there is in the window's finer texels instead: the two add up. The
+// window has mips, so that a focus finer than the pixel is averaged, not
+// aliased; its level is taken before any pixel returns, so that the
+// derivatives are alike across the pixels around the window's edge.
 vec3 caustix_caustic_map_irradiance(vec3 p, vec3 n) {
   vec3 rel = p - caustix_light.cmap_origin.xyz;
   vec3 c = vec3(dot(rel, caustix_light.cmap_u.xyz), dot(rel, caustix_light.cmap_v.xyz), dot(rel, caustix_light.cmap_w.xyz));
   vec2 uv = 0.5 * (c.xz / caustix_light.cmap_half.xyz.xz + 1.0);
+  float share = caustix_light.cmap_w.w;
+  vec2 size = caustix_caustic_map_size();
+  vec4 window = vec4(0.0);
+  vec2 fuv = vec2(0.0), d = vec2(2.0);
+  float lod = 0.0;
+  if (share < 1.0) {
+    window = caustix_caustic_map_texel(ivec2(size) - 1);  // (centre s, t, half-size, 1)
+    float side = size.y - size.x;  // the window's texels a side
+    d = (uv - window.xy) / max(window.z, 1e-30);
+    fuv = (0.5 * (d + 1.0) * side + vec2(0.0, size.x)) / size;
+    lod = caustix_caustic_map_lod(fuv);
+  }
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-  vec4 m = caustix_fetch_caustic_map(uv);
+  vec4 m = caustix_fetch_caustic_map(vec2(uv.x, min(uv.y * share, share - 0.5 / size.y)));
   float cos_t = abs(dot(n, caustix_light.cmap_v.xyz));
   float slope = sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 0.05);
   if (c.y < m.a - caustix_light.cmap_v.w - caustix_light.cmap_u.w * slope) return vec3(0.0);
-  return m.rgb;
+  if (window.z <= 0.0 || max(abs(d.x), abs(d.y)) >= 1.0) return m.rgb;
+  return m.rgb + caustix_fetch_caustic_map_lod(fuv, lod);
 }
 
 // Path length in water along the refracted light (eq. 4-17's d).

@@ -147,10 +147,22 @@ struct LightBlock {
   // map. The map holds irradiance on the receivers' first surface seen
   // from the light (rgb, without the light's colour) and that surface's
   // coordinate along V (alpha).
+  // With a focus window (CausticMapOptions::focus, issue 47) the texture
+  // holds the main map in its lowest map_size rows, so its texture
+  // coordinate t is the frame's times cmap_w.w, and above them the window:
+  // the texels [0, m) x [map_size, map_size + m), m = map_size / 2, over
+  // the square of half-size h around (s, t) = (c_s, c_t) in the main map's
+  // coordinates, where its last texel (map_size - 1, map_size + m - 1)
+  // holds (c_s, c_t, h, 1) (h 0: no window this update). The window is
+  // placed on the GPU, so only that texel carries it. Inside the square
+  // the irradiance is the main map's plus the window's: the light of the
+  // photons that landed densely there is in the window only. The texture
+  // has mips for the window; the main map is read at level 0 (caustix.glsl,
+  // caustix_caustic_map_irradiance, does all this).
   glm::vec4 cmap_origin{0};     // w: 1 where a caustic map is bound, else 0
   glm::vec4 cmap_u{0};          // w: half a texel's diagonal (m)
   glm::vec4 cmap_v{0};          // w: visibility tolerance along V (m)
-  glm::vec4 cmap_w{0};
+  glm::vec4 cmap_w{0};          // w: the main map's share of the texture's height (1 without a focus window)
   glm::vec4 cmap_half{0};
   // A spot light's cone (issue 45): x cos(outer), y 1 / (cos(inner) -
   // cos(outer)), z 1 for a spot, 0 for a light without a cone; the axis is
@@ -190,7 +202,8 @@ struct ReceiverLighting {
   // (s, t) the texture coordinate of the caustics and position maps (of the
   // glass textures), in [0, 1] over the region they cover, and v the
   // coordinate along V in metres (what the position map and the glass
-  // planes hold). Identity where the mode does not use them.
+  // planes hold). Identity where the mode does not use them. The caustic
+  // map's t covers [0, cmap_w.w): its main map, below a focus window.
   glm::mat4 world_to_caustics{1.0f};
   glm::mat4 world_to_glass{1.0f};
   glm::mat4 world_to_caustic_map{1.0f};

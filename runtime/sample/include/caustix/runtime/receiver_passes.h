@@ -30,8 +30,8 @@ class ReceiverPasses {
   // The receivers' G-buffer seen through `view_proj` (GL clip conventions).
   Status draw_gbuffer(const glm::mat4& view_proj);
   // The per-pair path into the target (after draw_gbuffer with the same
-  // matrix). `level0`: the receivers' mipmapped caustics maps and glass
-  // illumination textures (those with focus windows) are read at
+  // matrix). `level0`: the receivers' mipmapped caustics maps, glass
+  // illumination textures and caustic maps (those with focus windows) are read at
   // level 0 only, as the table reads them (for comparing texel for texel;
   // it sets and restores their GL_TEXTURE_MAX_LEVEL).
   Status shade_per_pair(const glm::mat4& view_proj, bool level0 = false);
