@@ -35,7 +35,8 @@
 // centres, it is the product of three ramps: the count over u_min_count
 // (1 where the photons land at kFocusConcentration times the light's own
 // density) from 1/2 to 1; the photons per window texel from kSparse to
-// kDense; and the distance to the window's edge over its outermost cell. So the share changes over a cell or more (3 cm on a 4 m floor),
+// kDense; and the distance to the window's edge, from the widest splat's
+// radius in, over a cell. So the share changes over a cell or more (3 cm on a 4 m floor),
 // several of the main map's splats wide: where it changed within a splat,
 // the main map's blur of its part against the window's sharp part moved
 // light across the change (a bright square edge, 25 % on glass_ball).
@@ -71,6 +72,7 @@ uniform float u_min_count;   // causticmap_focus.comp's: a concentrated cell's c
 // A Gaussian of half the photons' spacing leaves e^(-2 pi^2 / 4), 0.7 %,
 // of their lattice's ripple.
 const float kSpread = 0.5;
+const float kMinSigma = 0.1;
 // The window's widest splat, times its least sigma: photons the window
 // takes land concentrated, and a wider splat would cost its square in
 // fragments (up to the main map's sigma, some 8-30 window texels, made
@@ -106,7 +108,8 @@ float window_share(vec2 st, vec2 w) {
   float n = mix(mix(cell_count(c), cell_count(c + ivec2(1, 0)), f.x), mix(cell_count(c + ivec2(0, 1)), cell_count(c + ivec2(1, 1)), f.x), f.y);
   float cell = u_window_size / (2.0 * focus.z * float(kBins));  // window texels a cell's side
   float per_texel = n / (cell * cell);  // photons per window texel
-  float edge = min(min(w.x, w.y), u_window_size - max(w.x, w.y));
+  // From the widest splat's radius in: no splat is cut at the edge.
+  float edge = min(min(w.x, w.y), u_window_size - max(w.x, w.y)) - radius_of(kMaxSpread * max(u_window_sigma, 1.0)) - 1.0;
   return clamp(2.0 * n / u_min_count - 1.0, 0.0, 1.0) * clamp((per_texel - kSparse) / (kDense - kSparse), 0.0, 1.0) *
          clamp(edge / cell, 0.0, 1.0);
 }
@@ -162,6 +165,9 @@ void main() {
       v_sigma = clamp(2.0 * a.z * d0, u_sigma, a.z * u_sigma);
     }
   }
+  // Below a tenth of a texel the Gaussian is the texel the photon lands in
+  // (and narrower ones underflow at every texel centre, losing the flux).
+  if (v_sigma < kMinSigma) v_sigma = 0.0;
   float radius = radius_of(v_sigma);
   // A point of odd size 2r + 1 centred on the texel the photon is in
   // covers the texels within r of it on each axis.
