@@ -36,10 +36,11 @@
 // (1 where the photons land at kFocusConcentration times the light's own
 // density) from 1/2 to 1; the photons per window texel from kSparse to
 // kDense; and the distance to the window's edge, from the widest splat's
-// radius in, over a cell. So the share changes over a cell or more (3 cm on a 4 m floor),
-// several of the main map's splats wide: where it changed within a splat,
-// the main map's blur of its part against the window's sharp part moved
-// light across the change (a bright square edge, 25 % on glass_ball).
+// radius in, over a cell. So the share changes over a cell or more (3 cm
+// on a 4 m floor), several of the main map's splats wide: where it changed
+// within a splat, the main map's blur of its part against the window's
+// sharp part moved light across the change (a bright square edge, 25 % on
+// glass_ball).
 // The window's sigma is u_window_sigma window texels, or the photons' own
 // spacing where that is wider, so that they print no lattice (moire):
 // - the uniform grid (u_grid > 0): kSpread times the distance to the
@@ -49,8 +50,9 @@
 // - adaptive leaves: twice d0 = u_block / sqrt(count) window texels times
 //   the leaf's spacing, from causticmap_density's count over the window
 //   (u_window_density), as the main map's leaves above;
-// never wider than kMaxSpread times u_window_sigma. Both passes compute the same
-// share: the main map gets the rest, and every photon's flux stays whole.
+// never wider than kMaxSpread times u_window_sigma. Both passes compute
+// the same share: the main map gets the rest, and every photon's flux
+// stays whole.
 layout(std430, binding = 0) readonly buffer Photons { vec4 photon[]; };  // 2 per photon: (s, t, spacing, -), (flux rgb, alive)
 layout(std430, binding = 6) readonly buffer Focus { vec4 focus; uint bins[]; };  // (centre s, centre t, half-size, 1), the cells' counts
 const int kBins = 128;  // causticmap_focus.comp's
