@@ -22,7 +22,7 @@ layout(std430, binding = 0) readonly buffer Photons { vec4 photon[]; };  // 2 pe
 layout(std430, binding = 5) readonly buffer State { uint list_count[2]; uint leaves; };  // adaptive: the leaves traced
 layout(std430, binding = 6) buffer Focus { vec4 window; uint bins[]; };
 layout(rgba32f, binding = 0) writeonly uniform image2D u_map;
-const int kBins = 128;
+const int kBins = 128;  // gl/focus_window.h
 uniform int u_stage;
 uniform int u_photons;     // grid side (uniform grid)
 uniform int u_adaptive;

@@ -55,7 +55,7 @@
 // stays whole.
 layout(std430, binding = 0) readonly buffer Photons { vec4 photon[]; };  // 2 per photon: (s, t, spacing, -), (flux rgb, alive)
 layout(std430, binding = 6) readonly buffer Focus { vec4 focus; uint bins[]; };  // (centre s, centre t, half-size, 1), the cells' counts
-const int kBins = 128;  // causticmap_focus.comp's
+const int kBins = 128;  // causticmap_focus.comp's (gl/focus_window.h)
 layout(binding = 1) uniform sampler2D u_density;  // finest-grid photons per block (causticmap_density)
 layout(binding = 2) uniform sampler2D u_window_density;  // the same over the window (adaptive leaves)
 uniform float u_size;        // caustic map texels a side

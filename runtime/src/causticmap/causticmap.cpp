@@ -9,6 +9,7 @@
 
 #include "caustix/formats/frame.h"
 #include "caustix_shaders.h"
+#include "focus_window.h"
 #include "pass_timer.h"
 #include "readback.h"
 #include "shader_text.h"
@@ -34,18 +35,18 @@ constexpr int kDensityBlock = 8;
 // area would catch straight from the light landed in it, and at least
 // kFocusMinPhotons. The window is the square around those cells and one
 // cell more, no larger than kFocusMaxHalf of the map (else the main map
-// does nearly as well) and no smaller than kFocusMinHalf: the same
-// constants as the tables' windows (glass.cpp). It has half the main map's
+// does nearly as well) and no smaller than kFocusMinHalf: the tables'
+// windows' constants (gl/focus_window.h). It has half the main map's
 // texels a side (focus_side) and lies above the main map in the same
 // texture, whose height is then map_size + map_size / 2; which photons'
 // light goes there is causticmap_splat.vert's.
-constexpr int kFocusBins = 128;  // causticmap_focus.comp's kBins
-constexpr float kFocusConcentration = 4.0f;
-constexpr float kFocusMinPhotons = 4.0f;
-constexpr float kFocusMaxHalf = 0.25f;
-constexpr float kFocusMinHalf = 0.5f / 64.0f;
+constexpr int kFocusBins = focus::kBins;  // causticmap_focus.comp's and causticmap_splat.vert's kBins
+constexpr float kFocusConcentration = static_cast<float>(focus::kConcentration);
+constexpr float kFocusMinPhotons = static_cast<float>(focus::kMinSamples);
+constexpr float kFocusMaxHalf = focus::kMaxHalf;
+constexpr float kFocusMinHalf = focus::kMinHalf;
 constexpr int kFocusWindowBytes = 16 + 4 * kFocusBins * kFocusBins;
-int focus_side(int size) { return std::max(1, size / 2); }
+int focus_side(int size) { return std::max(1, static_cast<int>(focus::kTexels * static_cast<float>(size))); }
 
 glm::vec3 to_glm(const Vec3f& v) { return {v[0], v[1], v[2]}; }
 Vec3f to_vec3f(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -182,7 +183,6 @@ struct CausticMapEngine::Impl {
       pl.focus_buffer = gl::Buffer();
       pl.focus_density = gl::Texture();
       if (with_focus) {
-        pl.focus_density = make_map(std::max(1, focus_side(size) / kDensityBlock), GL_R32F, GL_LINEAR);
         pl.focus_buffer = gl::make_buffer();
         glNamedBufferStorage(pl.focus_buffer.get(), kFocusWindowBytes, nullptr, 0);
       }
@@ -199,6 +199,10 @@ struct CausticMapEngine::Impl {
       glNamedFramebufferDrawBuffers(pl.receiver_fbo.get(), 2, bufs);
       pl.splat_fbo = gl::make_framebuffer();
     }
+    // The count over the window sizes adaptive leaves' splats only.
+    const bool window_density = with_focus && levels > 0;
+    if (!window_density) pl.focus_density = gl::Texture();
+    else if (!pl.focus_density.get()) pl.focus_density = make_map(std::max(1, focus_side(size) / kDensityBlock), GL_R32F, GL_LINEAR);
     const std::uint64_t p2 = std::uint64_t(photons_side) * std::uint64_t(photons_side), s2 = std::uint64_t(size) * std::uint64_t(size);
     const std::uint64_t dside = std::uint64_t(std::max(1, size / kDensityBlock));
     pl.bytes = p2 * (4 * 16 + 4) + s2 * (4 * 16 + 4) + 4 * dside * dside;
@@ -206,7 +210,7 @@ struct CausticMapEngine::Impl {
       // The window's rows, the mips (a third more) and the cells.
       const std::uint64_t rows = std::uint64_t(size) * std::uint64_t(focus_side(size));
       const std::uint64_t fd = std::uint64_t(std::max(1, focus_side(size) / kDensityBlock));
-      pl.bytes += 16 * rows + 16 * (s2 + rows) / 3 + kFocusWindowBytes + 4 * fd * fd;
+      pl.bytes += 16 * rows + 16 * (s2 + rows) / 3 + kFocusWindowBytes + (window_density ? 4 * fd * fd : 0);
     }
     if (levels > 0) {
       pl.bytes += std::uint64_t{32 + 12} * budget + kStateBytes;
@@ -677,7 +681,7 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     s.splat.use();
     glBindTextureUnit(0, pl.receivers.get());
     glBindTextureUnit(1, pl.density.get());
-    glBindTextureUnit(2, o.focus ? pl.focus_density.get() : pl.density.get());
+    glBindTextureUnit(2, pl.focus_density.get() ? pl.focus_density.get() : pl.density.get());
     s.splat.set("u_focus", o.focus ? 1 : 0);
     s.splat.set("u_window", 0);
     s.splat.set("u_size", static_cast<float>(size));

@@ -10,6 +10,7 @@
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/spectrum.h"
+#include "focus_window.h"
 #include "pass_timer.h"
 #include "shader_text.h"
 
@@ -32,18 +33,19 @@ constexpr std::size_t kMinSampleVertices = 64;
 // The window is the square around the concentrated cells and one cell
 // more, no larger than kFocusMaxHalf of the frame (else the main texture
 // does nearly as well) and no smaller than kFocusMinHalf (at most 32
-// times the main texture's resolution, with kFocusTexels).
-constexpr int kFocusBins = 128;
-constexpr double kFocusConcentration = 4.0;
-constexpr int kFocusMinRays = 4;
-constexpr float kFocusMaxHalf = 0.25f;
-constexpr float kFocusMinHalf = 0.5f / 64.0f;
+// times the main texture's resolution, with kFocusTexels). The caustic
+// maps' windows use the same constants (gl/focus_window.h).
+constexpr int kFocusBins = focus::kBins;
+constexpr double kFocusConcentration = focus::kConcentration;
+constexpr int kFocusMinRays = focus::kMinSamples;
+constexpr float kFocusMaxHalf = focus::kMaxHalf;
+constexpr float kFocusMinHalf = focus::kMinHalf;
 // The window's texels per side, as a fraction of the main texture's: its
 // layers hold it in their lower-left quarter. A full layer cost glass_teapot's
 // illumination pass 3.4 times its time (85 -> 286 ms, llvmpipe, the light
 // moving); half the texels keep glass_ball's focus within 4.5 % of optics
 // at 0.5 cm, against 2.9 % (docs/glass.md).
-constexpr float kFocusTexels = 0.5f;
+constexpr float kFocusTexels = focus::kTexels;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
