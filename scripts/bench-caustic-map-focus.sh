@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# The caustic maps' focus window (issue 47; docs/caustic-maps.md) side by
-# side in one run: caustix-bench frames with the window ("window") and
-# without it (--cmap-no-focus, "none"), and OLD's binary ("old", an
-# earlier build, when given), alternating in rounds, with the light still
-# and turning every frame; per-pass GPU times too.
+# The focus windows (issue 47) side by side in one run: caustix-bench
+# frames with the window ("window") and without it ("none"), and OLD's
+# binary ("old", an earlier build, when given), alternating in rounds, with
+# the light still and turning every frame; per-pass GPU times too.
+# METHOD=caustic-map (the default) measures the caustic maps' window
+# (docs/caustic-maps.md; none: --cmap-no-focus), METHOD=tables the glass
+# tables' (docs/glass.md; none: --glass-no-focus).
 #
-#   [BENCH=build/tools/caustix-bench] [OLD=DIR/caustix-bench] [SIZE=640x480]
-#   [FRAMES=8] [WARMUP=3] [ROUNDS=3] [SCENES="glass_ball glass_teapot ..."]
+#   [METHOD=caustic-map|tables] [BENCH=build/tools/caustix-bench]
+#   [OLD=DIR/caustix-bench] [SIZE=640x480] [FRAMES=8] [WARMUP=3] [ROUNDS=3]
+#   [SCENES="glass_ball glass_teapot ..."]
 #   scripts/bench-caustic-map-focus.sh CXB_DIR OUT_DIR
 #
 # CXB_DIR holds the scenes baked with the defaults (caustix-bake
@@ -19,7 +22,14 @@ SIZE=${SIZE:-640x480}
 FRAMES=${FRAMES:-8}
 WARMUP=${WARMUP:-3}
 ROUNDS=${ROUNDS:-3}
-SCENES=${SCENES:-glass_ball glass_teapot dispersive_ball mirror_ring}
+METHOD=${METHOD:-caustic-map}
+case $METHOD in
+  caustic-map) method=(--glass-method caustic-map); no_focus=--cmap-no-focus
+    SCENES=${SCENES:-glass_ball glass_teapot dispersive_ball mirror_ring} ;;
+  tables) method=(); no_focus=--glass-no-focus
+    SCENES=${SCENES:-glass_ball glass_teapot dispersive_ball} ;;
+  *) echo "METHOD must be caustic-map or tables" >&2; exit 2 ;;
+esac
 CXB=$1
 OUT=$2
 mkdir -p "$OUT"
@@ -32,10 +42,10 @@ for round in $(seq 1 "$ROUNDS"); do
       for variant in window none old; do
         case $variant in
           window) bench=$BENCH; extra=() ;;
-          none) bench=$BENCH; extra=(--cmap-no-focus) ;;
+          none) bench=$BENCH; extra=("$no_focus") ;;
           old) [ -n "${OLD:-}" ] || continue; bench=$OLD; extra=() ;;
         esac
-        "$bench" frames "$CXB/$scene.cxb" --glass-method caustic-map "${extra[@]}" "${move[@]}" --size "$SIZE" \
+        "$bench" frames "$CXB/$scene.cxb" "${method[@]}" "${extra[@]}" "${move[@]}" --size "$SIZE" \
           --frames "$FRAMES" --warmup "$WARMUP" --label "$variant-$light-$round" $header \
           --passes "$OUT/passes_$variant.csv" >> "$OUT/frames.csv"
         header=

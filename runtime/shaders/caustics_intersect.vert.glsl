@@ -17,7 +17,8 @@ layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 uniform float u_map_size;
 #ifdef TEXEL_MAP
 // Glass focus windows (issue 47): the primitives are in the main
-// texture's texels; this texture's are (q - xy) * z.
+// texture's texels; this texture's are (q - xy) * z. The window's wide
+// ones are GLASS_WIDE's (glass_window_split.glsl, prefixed).
 uniform vec3 u_texel_map;
 #endif
 #ifdef DEPTH_SHIFT
@@ -35,6 +36,15 @@ void main() {
   q0 = (q0 - u_texel_map.xy) * u_texel_map.z;
   q1 = (q1 - u_texel_map.xy) * u_texel_map.z;
   q2 = (q2 - u_texel_map.xy) * u_texel_map.z;
+#ifdef GLASS_WIDE
+  const bool wide_pass = true;
+#else
+  const bool wide_pass = false;
+#endif
+  if (glass_window_wide(q0, q1, q2) != wide_pass) {  // the other program draws it
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
 #endif
   v_prim = prim;
   float delta = 0.7072;  // half a texel diagonal, rounded up
@@ -78,4 +88,8 @@ void main() {
     p = a + along * mix(-delta, longest + delta, float(k & 1)) + across * mix(lo, hi, float(k >> 1));
   }
   gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, 0.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
+#ifdef GLASS_WIDE
+  glass_wide_corner(q0, q1, q2, p, p1, prims[PRIM_STRIDE * prim + 2], prims[PRIM_STRIDE * prim + 3], prims[PRIM_STRIDE * prim + 4],
+                    prims[PRIM_STRIDE * prim + 5]);
+#endif
 }

@@ -46,6 +46,11 @@ constexpr float kFocusMinHalf = focus::kMinHalf;
 // moving); half the texels keep glass_ball's focus within 4.5 % of optics
 // at 0.5 cm, against 2.9 % (docs/glass.md).
 constexpr float kFocusTexels = focus::kTexels;
+// A window's primitives at least this many of its texels high across their
+// longest edge are plainly rasterised (glass_window_split.glsl): on
+// glass_teapot with the light moving they were most of the window's
+// fragments (docs/glass.md).
+constexpr float kFocusWideTexels = 4.0f;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
@@ -131,7 +136,8 @@ struct GlassEngine::Impl {
   std::vector<Thin> thin;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, surface, back_faces, nearby, thin_view;
+  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, illumination_wide, surface, back_faces,
+      nearby, thin_view;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
   // (world position, outward normal), over the glass's window.
   gl::Texture back_position, back_normal, back_depth;
@@ -504,8 +510,8 @@ struct GlassEngine::Impl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       }
       timed.emplace("glass: illumination", gl::PassKind::kRaster);
-      illumination.use();
       illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
+      illumination_wide.set("u_smooth", co.glass_smooth ? 1 : 0);
       glBindTextureUnit(0, t.target.get());
       glBindVertexArray(empty_vao.get());
       // The main layers, then the focus window's (issue 47): the same
@@ -519,12 +525,22 @@ struct GlassEngine::Impl {
                                           : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
         const int side = window == 0 ? size : static_cast<int>(std::ceil(kFocusTexels * s));
         glViewport(0, 0, side, side);
-        illumination.set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
-        illumination.set("u_texel_map", map);
+        // In the window the wide primitives (kFocusWideTexels window texels
+        // high) are glass_illumination_wide's (glass_window_split.glsl).
+        const float wide = window == 0 ? 0.0f : kFocusWideTexels;
+        for (const gl::Program* p : {&illumination, &illumination_wide}) {
+          p->set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
+          p->set("u_texel_map", map);
+          p->set("u_wide_texels", wide);
+        }
         for (std::uint32_t k = 0; k < planes; ++k) {
           const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
           glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
           // Six vertices a primitive (caustics_intersect.vert), plane k's from k * per_plane.
+          illumination.use();
+          glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
+          if (window == 0) continue;
+          illumination_wide.use();
           glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
         }
       }
@@ -583,7 +599,10 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);
   const std::string thin_fs = with_optics(shaders::k_glass_thin_frag_glsl);
   const std::string stride = "#define PRIM_STRIDE 6\n#define TEXEL_MAP\n";
-  const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride);
+  const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + shaders::k_glass_window_split_glsl);
+  const std::string wide_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_wide_frag_glsl;
+  const std::string wide_vs =
+      insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + "#define GLASS_WIDE\n" + shaders::k_glass_window_split_glsl);
   const std::string illum_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_frag_glsl;
   const std::string geometry_src = insert_after_version(shaders::k_glass_geometry_comp_glsl, std::string("#define CAUSTIX_OPTICS_ONLY\n") + shaders::k_caustix_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
@@ -593,6 +612,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.corner_intensity, "glass_corner_intensity", shaders::k_glass_corner_intensity_comp_glsl},
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
+       {&s.illumination_wide, "glass_illumination_wide", wide_vs.c_str(), wide_fs.c_str()},
        {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
        {&s.back_faces, "glass_back", shaders::k_mesh_vert_glsl, shaders::k_glass_back_frag_glsl},
        {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()},
