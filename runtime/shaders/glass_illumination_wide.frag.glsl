@@ -7,7 +7,13 @@
 // line, in closed form from the centre's distance d to it (a linear ramp
 // while the line crosses two opposite sides, a quadratic corner piece
 // where it cuts off a corner). Where two edges cross the texel (the
-// triangle's corners) it is clipped exactly (caustics_coverage.glsl).
+// triangle's corners) it is clipped exactly (caustics_coverage.glsl). The
+// intensity and direction come interpolated to the texel's centre by the
+// rasteriser, extrapolated linearly where the centre lies past an edge
+// (glass_illumination.frag clamps it to the triangle there): on
+// glass_ball's focus the two programs' images differ by 0.05 % (relative
+// L1, 0.5 mm pixels). No clamping of the result: a wavelength bin's
+// sRGB weights can be negative.
 layout(binding = 0) uniform sampler2D u_target;  // xyz: world normal of the first surface, w: frame V (-1e30: none)
 
 in vec3 v_intensity;

@@ -13,11 +13,14 @@
 // 0: every primitive exactly (the main layers).
 uniform float u_wide_texels;
 
+// Both programs decide alike, so that each primitive is drawn once:
+// `precise` keeps either compilation from contracting the arithmetic
+// differently.
 bool glass_window_wide(vec2 q0, vec2 q1, vec2 q2) {
   if (u_wide_texels <= 0.0) return false;
-  vec2 e01 = q1 - q0, e12 = q2 - q1, e20 = q0 - q2;
-  float longest = sqrt(max(max(dot(e01, e01), dot(e12, e12)), dot(e20, e20)));
-  float twice = abs(e01.x * e20.y - e01.y * e20.x);
+  precise vec2 e01 = q1 - q0, e12 = q2 - q1, e20 = q0 - q2;
+  precise float longest = sqrt(max(max(dot(e01, e01), dot(e12, e12)), dot(e20, e20)));
+  precise float twice = abs(e01.x * e20.y - e01.y * e20.x);
   return twice >= u_wide_texels * longest;  // its height over the longest edge, twice / longest
 }
 

@@ -47,9 +47,10 @@ constexpr float kFocusMinHalf = focus::kMinHalf;
 // at 0.5 cm, against 2.9 % (docs/glass.md).
 constexpr float kFocusTexels = focus::kTexels;
 // A window's primitives at least this many of its texels high across their
-// longest edge are plainly rasterised (glass_window_split.glsl): on
-// glass_teapot with the light moving they were most of the window's
-// fragments (docs/glass.md).
+// longest edge are drawn by the second program, which covers the texels
+// along one edge in closed form (glass_window_split.glsl): on glass_teapot
+// with the light moving they were most of the window's fragments
+// (docs/glass.md).
 constexpr float kFocusWideTexels = 4.0f;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
@@ -536,7 +537,8 @@ struct GlassEngine::Impl {
         for (std::uint32_t k = 0; k < planes; ++k) {
           const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
           glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
-          // Six vertices a primitive (caustics_intersect.vert), plane k's from k * per_plane.
+          // Six vertices a primitive (caustics_intersect.vert, either
+          // program), plane k's from k * per_plane.
           illumination.use();
           glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
           if (window == 0) continue;
