@@ -46,12 +46,6 @@ constexpr float kFocusMinHalf = focus::kMinHalf;
 // moving); half the texels keep glass_ball's focus within 4.5 % of optics
 // at 0.5 cm, against 2.9 % (docs/glass.md).
 constexpr float kFocusTexels = focus::kTexels;
-// A window's primitives at least this many of its texels high across their
-// longest edge are drawn by the second program, which covers the texels
-// along one edge in closed form (glass_window_split.glsl): on glass_teapot
-// with the light moving they were most of the window's fragments
-// (docs/glass.md).
-constexpr float kFocusWideTexels = 4.0f;
 
 glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 
@@ -526,9 +520,11 @@ struct GlassEngine::Impl {
                                           : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
         const int side = window == 0 ? size : static_cast<int>(std::ceil(kFocusTexels * s));
         glViewport(0, 0, side, side);
-        // In the window the wide primitives (kFocusWideTexels window texels
-        // high) are glass_illumination_wide's (glass_window_split.glsl).
-        const float wide = window == 0 ? 0.0f : kFocusWideTexels;
+        // In the window the wide primitives (CausticsOptions::
+        // glass_focus_wide window texels high) are the second program's
+        // (glass_window_split.glsl): on glass_teapot with the light moving
+        // they were most of the window's fragments.
+        const float wide = window == 0 || !std::isfinite(co.glass_focus_wide) ? 0.0f : std::max(co.glass_focus_wide, 0.0f);
         for (const gl::Program* p : {&illumination, &illumination_wide}) {
           p->set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
           p->set("u_texel_map", map);

@@ -174,6 +174,14 @@ struct CausticsOptions {
   // a square fitted to that region, and the shading reads it there. Off:
   // one texture per plane over the whole target, as the paper.
   bool glass_focus = true;
+  // In a focus window, the triangles at least this many of its texels high
+  // across their longest edge are drawn by a second program that covers
+  // the texels along one edge in closed form instead of clipping them
+  // (docs/glass.md, "The window's wide primitives"): the same light (0.05 %
+  // of glass_ball's focus image) for less of the window's cost with the
+  // light moving (glass_teapot +50 % -> +24 % on llvmpipe). 0 (or not
+  // finite): every triangle clipped.
+  float glass_focus_wide = 4.0f;
   // Water caustics: each intersection triangle's irradiance interpolated
   // from its corners' (estimated from the water grid around each vertex by
   // central differences) and scaled to keep eq. 4-18's flux, instead of one
