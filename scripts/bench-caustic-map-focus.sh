@@ -5,9 +5,11 @@
 # the light still and turning every frame; per-pass GPU times too.
 # METHOD=caustic-map (the default) measures the caustic maps' window
 # (docs/caustic-maps.md; none: --cmap-no-focus), METHOD=tables the glass
-# tables' (docs/glass.md; none: --glass-no-focus).
+# tables' (docs/glass.md; none: --glass-no-focus; with FULL=1 also "full":
+# --glass-focus-spectral full, a dispersive glass's windows at their own
+# texels).
 #
-#   [METHOD=caustic-map|tables] [BENCH=build/tools/caustix-bench]
+#   [METHOD=caustic-map|tables] [FULL=1] [BENCH=build/tools/caustix-bench]
 #   [OLD=DIR/caustix-bench] [SIZE=640x480] [FRAMES=8] [WARMUP=3] [ROUNDS=3]
 #   [SCENES="glass_ball glass_teapot ..."]
 #   scripts/bench-caustic-map-focus.sh CXB_DIR OUT_DIR
@@ -39,10 +41,11 @@ for round in $(seq 1 "$ROUNDS"); do
     for light in still turning; do
       move=()
       [ "$light" = turning ] && move=(--move-light)
-      for variant in window none old; do
+      for variant in window none full old; do
         case $variant in
           window) bench=$BENCH; extra=() ;;
           none) bench=$BENCH; extra=("$no_focus") ;;
+          full) [ "$METHOD" = tables ] && [ -n "${FULL:-}" ] || continue; bench=$BENCH; extra=(--glass-focus-spectral full) ;;
           old) [ -n "${OLD:-}" ] || continue; bench=$OLD; extra=() ;;
         esac
         "$bench" frames "$CXB/$scene.cxb" "${method[@]}" "${extra[@]}" "${move[@]}" --size "$SIZE" \

@@ -62,7 +62,7 @@ SceneDesc full_scene() {
   c.position = {1, 2, 3};
   c.fov_y_deg = 60;
   s.camera = c;
-  s.render = RenderDefaults{"fast", 256, 128, 3, 96, 48, 300, 200, 3, 5000, 384};
+  s.render = RenderDefaults{"fast", 256, 128, 3, 96, 48, 300, 200, 3, 5000, 384, 0};
   return s;
 }
 
@@ -129,6 +129,7 @@ TEST(SceneCodec, EveryFieldSurvives) {
   EXPECT_EQ(r.render->cmap_adaptive_levels, 3u);
   EXPECT_EQ(r.render->water_texture, 384u);
   EXPECT_EQ(r.render->cmap_photon_budget, 5000u);
+  EXPECT_EQ(r.render->glass_spectral_coarse, 0u);
   ASSERT_EQ(d->draco_meshes.size(), 1u);
   EXPECT_EQ(d->draco_meshes[0].size(), 4u);
 }
@@ -270,12 +271,17 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
   d = decode(encode_scene(s, {{0}}));
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("/render/water_texture"), std::string::npos) << d.error().message;
+  s = full_scene();
+  s.render->glass_spectral_coarse = 2;
+  d = decode(encode_scene(s, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("/render/glass_spectral_coarse"), std::string::npos) << d.error().message;
 
   // A chunk written before issue 19 ends after the glass planes (before
   // issue 20, after the media's pair; before issue 44, after the caustic
-  // maps' four): what follows keeps its defaults. Any other length is
-  // refused.
-  for (const std::size_t cut : {28u, 20u, 4u, 8u, 2u}) {
+  // maps' four; before issue 47's field, after the water textures' limit):
+  // what follows keeps its defaults. Any other length is refused.
+  for (const std::size_t cut : {32u, 24u, 8u, 4u, 12u, 2u}) {
     const auto full = encode_scene(full_scene(), {{0}});
     auto c = cxb::read_container(full.data(), full.size());
     ASSERT_TRUE(c.ok());
@@ -287,13 +293,14 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
       w.add_chunk(c->chunks()[i].tag, c->chunks()[i].flags, std::move(payload));
     }
     auto old = decode(w.finish());
-    if (cut == 28 || cut == 20 || cut == 4) {
+    if (cut == 32 || cut == 24 || cut == 8 || cut == 4) {
       ASSERT_TRUE(old.ok()) << old.error().message;
-      EXPECT_EQ(old->scene.render->volume_photons, cut == 28 ? RenderDefaults{}.volume_photons : 96u);
-      EXPECT_EQ(old->scene.render->volume_grid, cut == 28 ? RenderDefaults{}.volume_grid : 48u);
-      EXPECT_EQ(old->scene.render->cmap_photons, cut == 4 ? 300u : RenderDefaults{}.cmap_photons);
-      EXPECT_EQ(old->scene.render->cmap_photon_budget, cut == 4 ? 5000u : RenderDefaults{}.cmap_photon_budget);
-      EXPECT_EQ(old->scene.render->water_texture, RenderDefaults{}.water_texture);
+      EXPECT_EQ(old->scene.render->volume_photons, cut == 32 ? RenderDefaults{}.volume_photons : 96u);
+      EXPECT_EQ(old->scene.render->volume_grid, cut == 32 ? RenderDefaults{}.volume_grid : 48u);
+      EXPECT_EQ(old->scene.render->cmap_photons, cut <= 8 ? 300u : RenderDefaults{}.cmap_photons);
+      EXPECT_EQ(old->scene.render->cmap_photon_budget, cut <= 8 ? 5000u : RenderDefaults{}.cmap_photon_budget);
+      EXPECT_EQ(old->scene.render->water_texture, cut == 4 ? 384u : RenderDefaults{}.water_texture);
+      EXPECT_EQ(old->scene.render->glass_spectral_coarse, RenderDefaults{}.glass_spectral_coarse);
       EXPECT_EQ(old->scene.render->glass_planes, 3u);
     } else {
       EXPECT_FALSE(old.ok()) << cut;

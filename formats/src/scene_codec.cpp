@@ -110,6 +110,7 @@ std::vector<std::uint8_t> encode_render(const RenderDefaults& r) {
   w.u32(r.cmap_adaptive_levels);
   w.u32(r.cmap_photon_budget);
   w.u32(r.water_texture);
+  w.u32(r.glass_spectral_coarse);
   return w.take();
 }
 
@@ -360,6 +361,8 @@ bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
   }
   // And the water textures' limit (issue 44).
   if (d.remaining() > 0 && !d.u32(r.water_texture, "render defaults")) return false;
+  // And the dispersive glass's coarse focus windows (issue 47).
+  if (d.remaining() > 0 && !d.u32(r.glass_spectral_coarse, "render defaults")) return false;
   return d.finish();
 }
 

@@ -275,6 +275,7 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(r.cmap_photon_budget >= 1 && r.cmap_photon_budget <= (1u << 24), "/render/cmap_photon_budget", "must be in [1, 2^24]");
     c.expect(r.water_texture == 0 || (r.water_texture >= 16 && r.water_texture <= kMaxRuntimeMapSize), "/render/water_texture",
              "must be 0 or in [16, 8192]");
+    c.expect(r.glass_spectral_coarse <= 1, "/render/glass_spectral_coarse", "must be 0 or 1");
   }
   return c.issue;
 }

@@ -83,6 +83,16 @@ int main(int argc, char** argv) {
   bool glass_no_focus = false;
   app.add_flag("--glass-no-focus", glass_no_focus,
                "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as seed 002 (docs/glass.md)");
+  float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
+  app.add_option("--glass-focus-wide", glass_focus_wide,
+                 "glass (table): in a focus window, triangles at least this many of its texels high are drawn by a second program that "
+                 "covers the texels along one edge in closed form (0: every triangle clipped; docs/glass.md)")
+      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+  std::string glass_focus_spectral;
+  app.add_option("--glass-focus-spectral", glass_focus_spectral,
+                 "glass (table): where glass disperses, focus windows drawn per wavelength at half their texels a side and interpolated "
+                 "(coarse) or at their own (full); default: the bake preset's (accurate: full), else coarse (docs/glass.md)")
+      ->check(CLI::IsMember({"coarse", "full"}));
   bool caustics_flat = false;
   app.add_flag("--caustics-flat", caustics_flat,
                "water caustics: one irradiance per water triangle, as seed 000's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
@@ -254,6 +264,8 @@ int main(int argc, char** argv) {
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.glass_smooth = !glass_flat;
   caustics.glass_focus = !glass_no_focus;
+  caustics.glass_focus_wide = glass_focus_wide;
+  if (!glass_focus_spectral.empty()) caustics.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;
   caustics.wavelengths = wavelengths;

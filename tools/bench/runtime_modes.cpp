@@ -80,7 +80,7 @@ void write_passes(const std::string& path, const std::string& label, const std::
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
            std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light,
-           int supersample, const std::string& passes_csv, bool still) {
+           int supersample, const std::string& passes_csv, bool still, const std::string& glass_focus_spectral) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -90,6 +90,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
+  if (!glass_focus_spectral.empty()) with_defaults.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   std::vector<runtime::GpuTimes> gpu;
   auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, r->engine().default_water_look(), std::nullopt,
                            glass_view, supersample, passes_csv.empty() ? nullptr : &gpu, still);
@@ -210,6 +211,8 @@ struct RuntimeModes final : Modes {
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
   bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, cmap_no_focus = false;
+  float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
+  std::string glass_focus_spectral;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
@@ -228,6 +231,13 @@ struct RuntimeModes final : Modes {
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass.md)");
+    fr->add_option("--glass-focus-wide", glass_focus_wide,
+                   "glass (table): focus windows' wide triangles, in window texels (0: every triangle clipped; docs/glass.md)")
+        ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+    fr->add_option("--glass-focus-spectral", glass_focus_spectral,
+                   "glass (table): dispersive glass's focus windows at half their texels (coarse) or their own (full); default: the "
+                   "file's preset, else coarse (docs/glass.md)")
+        ->check(CLI::IsMember({"coarse", "full"}));
     fr->add_option("--volume-focus", volume_focus, "media: focus-grid voxels a side (0: none; docs/volume.md)")
         ->check(CLI::Range(0, 128))->capture_default_str();
     fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
@@ -296,6 +306,7 @@ struct RuntimeModes final : Modes {
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
     co.glass_focus = !glass_no_focus;
+    co.glass_focus_wide = glass_focus_wide;
     co.volume.focus_grid = volume_focus;
     co.map_size = csize;
     co.glass_method = *runtime::parse_glass_method(glass_method);
@@ -307,7 +318,7 @@ struct RuntimeModes final : Modes {
     co.wavelengths = wavelengths;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);
-    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample, passes_csv, still);
+    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample, passes_csv, still, glass_focus_spectral);
   }
 };
 

@@ -59,6 +59,7 @@ void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.caustic_map.map_size = render.cmap_map_size;
   o.caustic_map.adaptive_levels = render.cmap_adaptive_levels;
   o.caustic_map.photon_budget = render.cmap_photon_budget;
+  o.glass_focus_spectral_coarse = render.glass_spectral_coarse != 0;
 }
 
 CausticsOptions default_caustics_options(const SceneDesc& scene) {

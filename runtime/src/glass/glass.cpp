@@ -131,8 +131,8 @@ struct GlassEngine::Impl {
   std::vector<Thin> thin;
   std::vector<Target> targets;
   std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, illumination_wide, surface, back_faces,
-      nearby, thin_view;
+  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, illumination_wide, window_resolve, surface,
+      back_faces, nearby, thin_view;
   // GlassView::kNearby: the glass's nearest back faces seen from the camera
   // (world position, outward normal), over the glass's window.
   gl::Texture back_position, back_normal, back_depth;
@@ -454,7 +454,7 @@ struct GlassEngine::Impl {
   // Step 4 of update_light for one target and the rays of one wavelength
   // (blending adds into its illumination textures).
   void illuminate(const SceneDesc& scene, Target& t, const CausticsOptions& co,
-                  const std::function<void(const gl::Program&)>& set_light_uniforms) {
+                  const std::function<void(const gl::Program&)>& set_light_uniforms, bool coarse) {
     const int size = t.size;
     const std::uint32_t planes = t.planes;
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
@@ -512,14 +512,28 @@ struct GlassEngine::Impl {
       // The main layers, then the focus window's (issue 47): the same
       // primitives, their texel coordinates q taken to the window's
       // (q - offset) * scale, over the layer's lower-left quarter
-      // (kFocusTexels: a quarter of the fragments of a full layer).
+      // (kFocusTexels: a quarter of the fragments of a full layer); a
+      // coarse window (update_light) at half that scale into the square
+      // beside it (window_squares), which resolve_window interpolates.
       const float half = t.focus[2];
+      const WindowSquares sq = window_squares(size);
       for (int window = 0; window < (half > 0.0f ? 2 : 1); ++window) {
         const float s = static_cast<float>(size);
-        const glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
-                                          : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
-        const int side = window == 0 ? size : static_cast<int>(std::ceil(kFocusTexels * s));
+        glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
+                                    : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
+        int side = window == 0 ? size : sq.side;
         glViewport(0, 0, side, side);
+        if (window == 1 && coarse) {
+          // Half the texels a side, into the square at (sq.side, sq.side):
+          // (q - xy) * z / 2 + sq.side. The whole layer's viewport keeps
+          // gl_FragCoord in that map; the scissor keeps the light in it.
+          const float shift = static_cast<float>(sq.side) / (0.5f * map.z);
+          map = glm::vec3(map.x - shift, map.y - shift, 0.5f * map.z);
+          side = size;
+          glViewport(0, 0, size, size);
+          glScissor(sq.side, sq.side, sq.coarse_side, sq.coarse_side);
+          glEnable(GL_SCISSOR_TEST);
+        }
         // In the window the wide primitives (CausticsOptions::
         // glass_focus_wide window texels high) are the second program's
         // (glass_window_split.glsl): on glass_teapot with the light moving
@@ -541,8 +555,41 @@ struct GlassEngine::Impl {
           illumination_wide.use();
           glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
         }
+        if (window == 1 && coarse) glDisable(GL_SCISSOR_TEST);
       }
     }
+  }
+  // Where a focus window's layers hold it: the window over [0, side)^2
+  // (kFocusTexels of the texture's side, where caustix.glsl reads it) and,
+  // where the texture has room (side + coarse_side <= size), the square of
+  // half its texels a side at (side, side) that a coarse window is drawn
+  // into (update_light).
+  struct WindowSquares {
+    int side = 0, coarse_side = 0;
+    bool coarse = false;
+  };
+  static WindowSquares window_squares(int size) {
+    WindowSquares sq;
+    sq.side = static_cast<int>(std::ceil(kFocusTexels * static_cast<float>(size)));
+    sq.coarse_side = (sq.side + 1) / 2;
+    sq.coarse = sq.side + sq.coarse_side <= size;
+    return sq;
+  }
+  // A coarse window into its own (glass_window_resolve.comp), then the
+  // square cleared, so that the mips and the next update see none of it.
+  void resolve_window(const Target& t) {
+    const WindowSquares sq = window_squares(t.size);
+    const gl::TimedPass timed("glass: window resolve", gl::PassKind::kCompute);
+    window_resolve.use();
+    window_resolve.set("u_side", sq.side);
+    window_resolve.set("u_coarse", sq.side);
+    window_resolve.set("u_coarse_side", sq.coarse_side);
+    window_resolve.set("u_first_layer", static_cast<int>(t.planes));
+    glBindImageTexture(0, t.illumination.get(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glDispatchCompute(static_cast<GLuint>((sq.side + 7) / 8), static_cast<GLuint>((sq.side + 7) / 8), t.planes);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glClearTexSubImage(t.illumination.get(), 0, sq.side, sq.side, static_cast<GLint>(t.planes), sq.coarse_side, sq.coarse_side,
+                       static_cast<GLsizei>(t.planes), GL_RGBA, GL_FLOAT, nullptr);
   }
   // The target's textures at `size` with `planes` planes; the
   // illumination texture with twice the layers once a focus window is
@@ -611,6 +658,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
        {&s.target_program, "glass_target", shaders::k_mesh_vert_glsl, shaders::k_glass_target_frag_glsl},
        {&s.illumination, "glass_illumination", illum_vs.c_str(), illum_fs.c_str()},
        {&s.illumination_wide, "glass_illumination_wide", wide_vs.c_str(), wide_fs.c_str()},
+       {&s.window_resolve, "glass_window_resolve", shaders::k_glass_window_resolve_comp_glsl},
        {&s.surface, "glass_surface", surface_vs.c_str(), surface_fs.c_str()},
        {&s.back_faces, "glass_back", shaders::k_mesh_vert_glsl, shaders::k_glass_back_frag_glsl},
        {&s.nearby, "glass_nearby", shaders::k_mesh_vert_glsl, nearby_fs.c_str()},
@@ -837,6 +885,19 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   // plane, splatted with exact coverage and eq. 3; each traced wavelength
   // adds its rays' light (weighted by its bin) into the same textures.
   glDisable(GL_DEPTH_TEST);
+  // Where glass disperses a focus window is drawn once per traced
+  // wavelength (the dispersive ball: 8 times), and at its own texels it
+  // cost that ball's frame +26-31 % with the light turning (llvmpipe).
+  // With CausticsOptions::glass_focus_spectral_coarse such a window is
+  // drawn at half its texels a side and interpolated into its own
+  // (resolve_window): docs/glass.md, "A window per wavelength". A
+  // monochromatic image (CausticsOptions::wavelength_nm) is drawn the same
+  // way, so that it is what the RGB image sums; one wavelength (the d line
+  // alone) is the glass without dispersion, as drawn without it.
+  const bool spectral_window = co.glass_focus_spectral_coarse && s.spectral && (waves.size() > 1 || co.wavelength_nm.has_value());
+  const auto coarse_window = [&](const Impl::Target& t) {
+    return spectral_window && t.focus[2] > 0.0f && Impl::window_squares(t.size).coarse;
+  };
   for (std::size_t k = 0; k < waves.size(); ++k) {
     if (k > 0) {
       // The primitives the last wavelength's draws read are rewritten below.
@@ -847,9 +908,12 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     glBlendFunc(GL_ONE, GL_ONE);
     for (Impl::Target& t : s.targets) {
       if (t.light != li) continue;
-      s.illuminate(scene, t, co, set_light_uniforms);
+      s.illuminate(scene, t, co, set_light_uniforms, coarse_window(t));
     }
     glDisable(GL_BLEND);
+  }
+  for (Impl::Target& t : s.targets) {
+    if (t.light == li && coarse_window(t)) s.resolve_window(t);
   }
   for (Impl::Target& t : s.targets) {
     if (t.light != li || t.levels == 1) continue;
