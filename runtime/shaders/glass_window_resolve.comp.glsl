@@ -1,7 +1,7 @@
 #version 450 core
 // Glass focus windows drawn coarse (issue 47; docs/glass.md, "A window
-// per wavelength"): with several traced wavelengths the window's layers
-// were drawn at half their texels a side, into a square of the same layers
+// per wavelength"): where glass disperses the window's layers were drawn
+// at half their texels a side, into a square of the same layers
 // beside the window (glass.cpp, window_squares); here each window texel
 // takes that light, bilinearly interpolated at its centre. The coarse
 // texels tile the window's exactly (coarse texel m covers window texels 2m

@@ -527,6 +527,7 @@ struct GlassEngine::Impl {
           // Half the texels a side, into the square at (sq.side, sq.side):
           // (q - xy) * z / 2 + sq.side. The whole layer's viewport keeps
           // gl_FragCoord in that map; the scissor keeps the light in it.
+          // (glass_focus_wide then counts the square's texels.)
           const float shift = static_cast<float>(sq.side) / (0.5f * map.z);
           map = glm::vec3(map.x - shift, map.y - shift, 0.5f * map.z);
           side = size;
