@@ -1040,5 +1040,61 @@ TEST(LightTransport, EmbreeTablesAgreeWithCgal) {
   }
 }
 
+// Where a look-up's cell holds two path classes, the class of its heaviest
+// corner is extrapolated linearly from that class's entries up to the
+// query instead of averaged over its corners (linear_fit_weights()). The
+// prism (flat faces: a look-up in a cell of one class is near exact) with
+// the light straight down, every slope vertex against its exact trace,
+// landing on the floor 0.3 m below the bottom. Light entering at x0 <
+// -0.425 m reflects totally before it leaves, so the vertices near there
+// look up cells that hold both classes. Before: mean landing error 1.6 mm,
+// 36 vertices over 1 cm, at most 3.1 cm (x0 = -0.4375: -0.3811 m for
+// -0.4122 m). Now 0.4 mm, 3 over 1 cm, at most 2.2 cm (vertices next to
+// the end faces, where the edge refinement puts them within 3 mm of the
+// switch). Which class a vertex takes is unchanged: the 4 on the wrong
+// side of the switch (3 mm from it) are docs/glass.md's unsolved part.
+TEST(LightTransport, MixedCellsExtrapolateTheirPathClass) {
+  nlohmann::json j = scene("prism");
+  j["objects"][1]["material"].erase("dispersion");
+  bake::BakeOptions opt;
+  opt.transport.wavelengths = 0;
+  const runtime::RuntimeScene s = bake_and_load(j, opt);
+  const LightTransportTable& t = s.transport_tables[0];
+  const Object& o = s.desc.objects[t.object];
+  const TriangleMesh& mesh = s.meshes[o.mesh_index];
+  const bake::TransportTracer tracer(o.material, mesh, opt.transport.max_bounces);
+  const Dir3 down{0, 1, 0};  // towards the light
+  const auto landing = [](const TransportEntry& e) { return e.exit[0] - e.direction[0] * e.exit[1] / e.direction[1]; };
+  int slope = 0, wrong = 0, reflected = 0, off = 0;
+  double worst = 0, sum = 0;
+  for (std::uint32_t v = 0; v < t.vertex_count; ++v) {
+    const Dir3 n{mesh.normals[v][0], mesh.normals[v][1], mesh.normals[v][2]};
+    if (std::fabs(n[0] - 1 / std::sqrt(5.0)) > 1e-3 || std::fabs(n[1] - 2 / std::sqrt(5.0)) > 1e-3) continue;
+    // Not the slope's end edges, whose light runs within the end faces'
+    // planes (the exact trace and the table's go their different ways there).
+    if (std::fabs(mesh.positions[v][2]) > 0.49) continue;
+    const TransportEntry exact = tracer.trace(v, down);
+    const TransportEntry got = lookup(t, v, n, down);
+    if (exact.status != TransportStatus::kLeaves) continue;  // a vertex on the slope's upper edge
+    ASSERT_EQ(got.status, TransportStatus::kLeaves);
+    ++slope;
+    reflected += exact.bounces > 0 ? 1 : 0;
+    if (got.bounces != exact.bounces) {
+      ++wrong;
+      continue;
+    }
+    const double err = std::fabs(landing(got) - landing(exact));
+    off += err > 0.01 ? 1 : 0;
+    sum += err;
+    worst = std::max(worst, std::fabs(landing(got) - landing(exact)));
+  }
+  std::printf("[prism, light straight down] %d slope vertices (%d reflected totally): %d of another class; landing error "
+              "mean %.5f m, at most %.4f m, %d over 1 cm\n", slope, reflected, wrong, sum / (slope - wrong), worst, off);
+  EXPECT_GT(reflected, 200);
+  EXPECT_LE(wrong, 4);
+  EXPECT_LT(worst, 0.025);
+  EXPECT_LE(off, 3);
+}
+
 }  // namespace
 }  // namespace caustix

@@ -215,6 +215,49 @@ std::array<double, 4> catmull_rom(double a, bool use_lo, bool use_hi) {
   return w;
 }
 
+bool alike(const TransportEntry& a, const TransportEntry& b) {
+  return a.status == TransportStatus::kLeaves && b.status == TransportStatus::kLeaves && a.bounces == b.bounces &&
+         dot3(a.direction, b.direction) >= kSameExitCos;
+}
+
+// Where the inner 2 x 2 of the bicubic stencil does not leave alike (a
+// jump of the transport inside the cell), the value at the query (ax, ay)
+// of the plane a + b x + c y fitted by weighted least squares to the
+// stencil's entries that leave alike with entry `heavy` (x, y their grid
+// offsets from the query, weights 1 / (1/4 + x^2 + y^2)): linear
+// extrapolation of that path class up to the query instead of its nearest
+// corners' mean, which is off by the transport's gradient times up to a
+// cell (the prism's vertex 6 cm from its switch between the direct and
+// the totally reflected exit landed 3.1 cm off the floor, docs/glass.md).
+// Writes each entry's weight (summing to 1) and returns false where the
+// entries lie on a line (no plane: the caller averages its corners).
+bool linear_fit_weights(const std::array<TransportEntry, 16>& e, std::uint32_t heavy, double ax, double ay,
+                        std::array<double, 16>& lambda) {
+  std::array<double, 16> wk{};
+  std::array<double, 6> m{};  // sum w [1 x y]^T [1 x y]: 00 01 02 11 12 22
+  for (std::uint32_t k = 0; k < 16; ++k) {
+    if (!alike(e[k], e[heavy])) continue;
+    const double x = double(k & 3) - 1 - ax, y = double(k >> 2) - 1 - ay;
+    wk[k] = 1 / (0.25 + x * x + y * y);
+    m[0] += wk[k];
+    m[1] += wk[k] * x;
+    m[2] += wk[k] * y;
+    m[3] += wk[k] * x * x;
+    m[4] += wk[k] * x * y;
+    m[5] += wk[k] * y * y;
+  }
+  // First row of the inverse (cofactors over the determinant).
+  const double c0 = m[3] * m[5] - m[4] * m[4], c1 = m[2] * m[4] - m[1] * m[5], c2 = m[1] * m[4] - m[2] * m[3];
+  const double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
+  if (!(det > 1e-6 * m[0] * m[0] * m[0])) return false;
+  for (std::uint32_t k = 0; k < 16; ++k) {
+    if (wk[k] == 0) continue;
+    const double x = double(k & 3) - 1 - ax, y = double(k >> 2) - 1 - ay;
+    lambda[k] = wk[k] * (c0 + c1 * x + c2 * y) / det;
+  }
+  return true;
+}
+
 }  // namespace
 
 TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
@@ -230,13 +273,13 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   const double ax = fx - x0, ay = fy - y0;
   TransportEntry out;
   Dir3 dir{0, 0, 0};
+  std::array<TransportEntry, 16> e;  // the bicubic stencil, loaded in that mode
+  std::array<bool, 16> ok{};
   if (mode == Interpolation::kBicubic) {
     // Stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)). The
     // inner 2 x 2 must leave alike with entry 5 (b reflections, exit
     // within 30 degrees); an outer column or row with a sample outside the
     // grid or not leaving alike is replaced by linear extrapolation.
-    std::array<TransportEntry, 16> e;
-    std::array<bool, 16> ok{};
     for (std::uint32_t k = 0; k < 16; ++k) {
       const std::int64_t x = std::int64_t{x0} + (k & 3) - 1, y = std::int64_t{y0} + (k >> 2) - 1;
       if (x < 0 || y < 0 || x >= t.resolution || y >= t.resolution) continue;
@@ -291,11 +334,38 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
     if (w[k] > 0 && (best < 0 || w[k] > w[best])) best = k;
   }
   if (best < 0) return TransportEntry{};
+  if (mode == Interpolation::kBicubic) {
+    const std::uint32_t heavy = 5 + (best & 1) + 4 * (best >> 1);
+    std::array<double, 16> lambda{};
+    if (linear_fit_weights(e, heavy, ax, ay, lambda)) {
+      double leaving = 0, same = 0, transmittance = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (w[k] <= 0) continue;
+        leaving += w[k];
+        if (alike(c[k], c[best])) same += w[k];
+      }
+      for (std::uint32_t k = 0; k < 16; ++k) {
+        if (lambda[k] == 0) continue;
+        transmittance += lambda[k] * e[k].transmittance;
+        out.path += lambda[k] * e[k].path;
+        for (std::size_t i = 0; i < 3; ++i) {
+          out.exit[i] += lambda[k] * e[k].exit[i];
+          dir[i] += lambda[k] * e[k].direction[i];
+        }
+      }
+      out.path = std::max(out.path, 0.0);
+      out.transmittance = std::clamp(transmittance, 0.0, 1.0) * leaving / same;
+      out.bounces = c[best].bounces;
+      out.direction = normalized(dir);
+      out.status = TransportStatus::kLeaves;
+      return out;
+    }
+  }
   double leaving = 0, same = 0, transmittance = 0;
   for (int k = 0; k < 4; ++k) {
     if (w[k] <= 0) continue;
     leaving += w[k];
-    if (c[k].bounces != c[best].bounces || dot3(c[k].direction, c[best].direction) < kSameExitCos) continue;
+    if (!alike(c[k], c[best])) continue;
     same += w[k];
     transmittance += w[k] * c[k].transmittance;
     out.path += w[k] * c[k].path;

@@ -48,6 +48,10 @@ vec3 rotate_onto(vec3 a, vec3 b, vec3 x) {
   return x * c + cross(v, x) + v * (dot(v, x) / (1.0 + c));
 }
 
+// A vertex's path class: the internal reflections and re-entries of its
+// exit ray (glass_rays.comp).
+float path_class_of(uint v) { return rays[3u * v + 1u].w; }
+
 void main() {
   uint p = gl_GlobalInvocationID.x;
   if (p >= 3u * u_triangle_count * u_plane_count) return;
@@ -75,12 +79,14 @@ void main() {
     d[k] = rays[3u * id[k] + 1u].xyz;
     leaves = leaves && o[k].w > 0.0;
   }
-  // A torn triangle: its corners leave through different faces of the
-  // object (or after different reflections), and two exit rays differ by
-  // more than 30 degrees, more than a smooth surface turns them across one
-  // triangle (glass_ball: nothing above 20, 1.2 % of its flux above 12).
-  // Its volume would smear the light between the corners' landings (a
-  // tilted pane: +2.6 % over its footprint); it is dropped. Nor can a
+  // A torn triangle: its corners leave after different numbers of
+  // internal reflections, or through different faces, two exit rays then
+  // differing by more than 30 degrees, more than a smooth surface turns
+  // them across one triangle (glass_ball: nothing above 20, 1.2 % of its
+  // flux above 12). Its volume would smear the light between the corners'
+  // landings (a tilted pane: +2.6 % over its footprint; the prism's direct
+  // and totally reflected exits, 27.8 degrees apart, spread its band's
+  // light between them: docs/glass.md); it is dropped. Nor can a
   // triangle whose corners do not all pass light (the object shades some
   // from the light, or traps their light) be interpolated across; its light
   // leaves as parallel beams instead, one per corner that passes light: a
@@ -92,7 +98,9 @@ void main() {
   // for torn triangles too would bring 0.481, but as scattered spots where
   // grazing exits spread the light thinly (docs/glass.md).
   float spread = min(min(dot(d[0], d[1]), dot(d[1], d[2])), dot(d[2], d[0]));
-  bool whole = leaves && spread >= 0.8660254;
+  float path_class = path_class_of(id[0]);
+  bool same_class = path_class_of(id[1]) == path_class && path_class_of(id[2]) == path_class;
+  bool whole = leaves && spread >= 0.8660254 && same_class;
   int corner = whole ? -1 : int(slot);
   bool reached = cos_theta > 0.0 && (whole ? slot == 0u : !leaves && o[corner].w > 0.0);
   if (!reached) {  // an empty slot (most of them): the draw skips it

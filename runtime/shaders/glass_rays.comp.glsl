@@ -7,7 +7,7 @@
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // position, normal
-layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };          // per vertex: exit + valid, dir + 0, colour + 0
+layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };          // per vertex: exit + valid, dir + path class (bounces), colour + 0
 
 uniform uint u_vertex_count;
 uniform mat4 u_model;
@@ -31,6 +31,6 @@ void main() {
   vec3 dir_w = u_rotation * t.dir;
   vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale) * u_weight;
   rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
-  rays[3u * v + 1u] = vec4(dir_w, 0.0);
+  rays[3u * v + 1u] = vec4(dir_w, float(t.bounces));
   rays[3u * v + 2u] = vec4(colour, 0.0);
 }

@@ -23,9 +23,9 @@ void main() {
   vec4 ea = rays_a[3u * v], eb = rays_b[3u * v];
   vec4 da = rays_a[3u * v + 1u], db = rays_b[3u * v + 1u];
   vec4 ca = rays_a[3u * v + 2u], cb = rays_b[3u * v + 2u];
-  if (ea.w > 0.0 && eb.w > 0.0 && dot(da.xyz, db.xyz) > 0.8660254) {
+  if (ea.w > 0.0 && eb.w > 0.0 && da.w == db.w && dot(da.xyz, db.xyz) > 0.8660254) {
     rays_a[3u * v] = vec4(mix(ea.xyz, eb.xyz, u_t), 1.0);
-    rays_a[3u * v + 1u] = vec4(normalize(mix(da.xyz, db.xyz, u_t)), 0.0);
+    rays_a[3u * v + 1u] = vec4(normalize(mix(da.xyz, db.xyz, u_t)), da.w);  // w: the path class
     rays_a[3u * v + 2u] = vec4(mix(ca.rgb, cb.rgb, u_t), 0.0);  // signed: a bin's weight can be negative
   } else if (u_t >= 0.5) {
     rays_a[3u * v] = eb;

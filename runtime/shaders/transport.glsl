@@ -4,9 +4,12 @@
 // normal, Catmull-Rom over the 4 x 4 neighbouring grid directions where the
 // inner 2 x 2 leave alike (the same number of internal reflections, exits
 // within 30 degrees; an outer row or column that does not, or lies outside
-// the grid, replaced by linear extrapolation); otherwise bilinear over the neighbours leaving alike with
-// the heaviest leaving one (same reflections, exits within 30 degrees),
-// with the transmittance scaled by the share of the weight that leaves.
+// the grid, replaced by linear extrapolation); otherwise the path class of
+// the heaviest leaving corner (same reflections, exits within 30 degrees)
+// extrapolated linearly from that class's entries in the 4 x 4 (a
+// weighted least-squares plane; bilinear over the class's corners where
+// they lie on a line), with the transmittance scaled by the share of the
+// weight that leaves.
 layout(std430, binding = 1) readonly buffer Table { uint table[]; };
 
 const float LTT_SAME_EXIT_COS = 0.8660254;  // kSameExitCos: 30 degrees
@@ -22,6 +25,7 @@ struct Transport {
   float transmittance;
   float path;        // object-space metres inside
   bool leaves;
+  uint bounces;      // the path's class: internal reflections and re-entries
 };
 
 // Duff et al. 2017, as tangent_frame() in C++.
@@ -45,6 +49,12 @@ struct LttEntry {
   bool leaves;
   uint bounces;
 };
+
+// Two leaving entries of one path class: the same reflections, exits
+// within 30 degrees (alike() in C++).
+bool ltt_alike(LttEntry p, LttEntry q) {
+  return p.leaves && q.leaves && p.bounces == q.bounces && dot(p.dir, q.dir) >= LTT_SAME_EXIT_COS;
+}
 
 LttEntry ltt_entry(uint vertex, int x, int y) {
   uint idx = 4u * ((vertex * uint(u_ltt_resolution) + uint(y)) * uint(u_ltt_resolution) + uint(x));
@@ -87,13 +97,15 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
   o.dir = vec3(0.0);
   o.transmittance = 0.0;
   o.path = 0.0;
+  o.bounces = 0u;
 
   // Bicubic: stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)).
   LttEntry e[16];
-  bool ok[16];
+  bool ok[16], ok_grid[16];
   for (int k = 0; k < 16; ++k) {
     int x = x0 + (k & 3) - 1, y = y0 + (k >> 2) - 1;
     ok[k] = x >= 0 && y >= 0 && x < r && y < r;
+    ok_grid[k] = ok[k];
     if (ok[k]) {
       e[k] = ltt_entry(vertex, x, y);
       ok[k] = e[k].leaves;
@@ -119,6 +131,7 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
     o.path = max(o.path, 0.0);
     o.dir = normalize(o.dir);
     o.leaves = true;
+    o.bounces = bounces;
     return o;
   }
 
@@ -136,17 +149,55 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
   o.leaves = best >= 0;
   if (!o.leaves) return o;
   LttEntry heavy = e[5 + (best & 1) + 4 * (best >> 1)];
+  o.bounces = heavy.bounces;
   float leaving = 0.0, same = 0.0;
   for (int k = 0; k < 4; ++k) {
     if (w[k] <= 0.0) continue;
     LttEntry c = e[5 + (k & 1) + 4 * (k >> 1)];
     leaving += w[k];
-    if (c.bounces != heavy.bounces || dot(c.dir, heavy.dir) < LTT_SAME_EXIT_COS) continue;
+    if (!ltt_alike(c, heavy)) continue;
     same += w[k];
     o.exit += w[k] * c.exit;
     o.transmittance += w[k] * c.transmittance;
     o.dir += w[k] * c.dir;
     o.path += w[k] * c.path;
+  }
+  // The plane fitted to the stencil's entries of the heavy corner's class
+  // (linear_fit_weights() in C++), where they do not lie on a line.
+  float wk[16];
+  float m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0, m4 = 0.0, m5 = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    wk[k] = 0.0;
+    if (!(ok_grid[k] && ltt_alike(e[k], heavy))) continue;
+    float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
+    wk[k] = 1.0 / (0.25 + x * x + y * y);
+    m0 += wk[k];
+    m1 += wk[k] * x;
+    m2 += wk[k] * y;
+    m3 += wk[k] * x * x;
+    m4 += wk[k] * x * y;
+    m5 += wk[k] * y * y;
+  }
+  float c0 = m3 * m5 - m4 * m4, c1 = m2 * m4 - m1 * m5, c2 = m1 * m4 - m2 * m3;
+  float det = m0 * c0 + m1 * c1 + m2 * c2;
+  if (det > 1e-6 * m0 * m0 * m0) {
+    o.exit = vec3(0.0);
+    o.dir = vec3(0.0);
+    o.path = 0.0;
+    float tr = 0.0;
+    for (int k = 0; k < 16; ++k) {
+      if (wk[k] == 0.0) continue;
+      float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
+      float lambda = wk[k] * (c0 + c1 * x + c2 * y) / det;
+      o.exit += lambda * e[k].exit;
+      o.dir += lambda * e[k].dir;
+      o.path += lambda * e[k].path;
+      tr += lambda * e[k].transmittance;
+    }
+    o.path = max(o.path, 0.0);
+    o.transmittance = clamp(tr, 0.0, 1.0) * leaving / same;
+    o.dir = normalize(o.dir);
+    return o;
   }
   o.exit /= same;
   o.path /= same;

@@ -133,9 +133,12 @@ Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, 
 //  kBicubic:  the 4 x 4 neighbours, Catmull-Rom weights per axis (exact for
 //             quadratics). The inner 2 x 2 must leave alike (after the same
 //             count b of internal reflections and re-entries, exit directions within 30
-//             degrees of each other), else it falls back to kBilinear (a
-//             discontinuity of the transport, which a cubic would ring
-//             across). An outer row or column that leaves the grid or holds
+//             degrees of each other). Else (a discontinuity of the
+//             transport, which a cubic would ring across) the class of the
+//             heaviest leaving corner is extrapolated linearly up to the
+//             query: the plane fitted by weighted least squares to the
+//             16 entries of that class, or kBilinear's mean where they lie
+//             on a line. An outer row or column that leaves the grid or holds
 //             an entry not leaving alike (the horizon row of a sphere is
 //             trapped at the critical angle) is replaced by the linear
 //             extrapolation of the two inner ones.
