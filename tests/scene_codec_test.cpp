@@ -693,6 +693,68 @@ TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
   }
 }
 
+// Where a table's path class switches (LTTW, issue 47): optional, one per
+// table, naming it by object and wavelength; the bytes survive. Refused: a
+// second for one table, one for no table, another size; truncated
+// anywhere. A file without it loads with no switches (what a reader that
+// predates it sees, as it skips the optional chunk).
+TEST(SceneCodec, TableSwitchesAreStoredAndValidated) {
+  LightTransportTable base;
+  const SceneDesc s = dispersive_scene(base);
+  const std::size_t entries = std::size_t{base.vertex_count} * base.resolution * base.resolution;
+  LightTransportTable spectral = base;
+  spectral.wavelength_nm = 380;
+  spectral.ior = index_at(s.objects[1].material.ior, s.objects[1].material.dispersion, 380);
+  base.switches.assign(2 * entries, 0);
+  base.switches[1] = 200;
+  base.switches[2 * entries - 2] = 1;
+  auto b = encode_scene(s, {{0}}, {}, {}, {base, spectral});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->transport_tables.at(0).switches, base.switches);
+  EXPECT_TRUE(d->spectral_tables.at(0).switches.empty());
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  ASSERT_EQ(c->find(cxb::kTagTransportSwitches).size(), 1u);
+  EXPECT_FALSE(c->chunks()[c->find(cxb::kTagTransportSwitches)[0]].flags & cxb::kChunkRequired);
+
+  const auto with = [&](const std::vector<std::vector<std::uint8_t>>& payloads) {
+    std::vector<LightTransportTable*> tables;
+    auto r = decode(encode_scene(s, {{0}}, {}, {}, {base, spectral}));
+    if (!r.ok()) return Status(r.error());
+    LightTransportTable a = r->transport_tables.at(0), b2 = r->spectral_tables.at(0);
+    a.switches.clear();
+    for (const auto& p : payloads) {
+      const Status st = decode_transport_switches(p, {&a, &b2});
+      if (!st) return st;
+    }
+    return Status::success();
+  };
+  const std::vector<std::uint8_t> good = encode_transport_switches(base);
+  EXPECT_TRUE(with({good}).ok());
+  EXPECT_FALSE(with({good, good}).ok()) << "two for one table";
+  LightTransportTable other = base;
+  other.object = 0;
+  EXPECT_FALSE(with({encode_transport_switches(other)}).ok()) << "object 0 has no table";
+  other = base;
+  other.wavelength_nm = 780;
+  EXPECT_FALSE(with({encode_transport_switches(other)}).ok()) << "no table at 780 nm";
+  other = base;
+  other.vertex_count += 1;
+  other.switches.assign(other.switches.size() + 2 * base.resolution * base.resolution, 0);
+  const Status st = with({encode_transport_switches(other)});
+  ASSERT_FALSE(st.ok()) << "another vertex count";
+  EXPECT_NE(st.error().message.find("LTTW"), std::string::npos) << st.error().message;
+  for (std::size_t cut : {std::size_t{0}, std::size_t{6}, std::size_t{19}, good.size() - 1}) {
+    EXPECT_FALSE(with({std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(cut))}).ok()) << "cut at " << cut;
+  }
+  // Without the chunk: no switches.
+  base.switches.clear();
+  d = decode(encode_scene(s, {{0}}, {}, {}, {base, spectral}));
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_TRUE(d->transport_tables.at(0).switches.empty());
+}
+
 // Objects sharing one set of tables (issue 48): the required LTTR chunk
 // names, per object in order, the earlier object whose LTTB and LTTS it
 // uses; the sharer gets that object's absorption and spectral tables. Refused:

@@ -102,12 +102,12 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"longest_flat_edge_out", g.longest_flat_edge_out}, {"stopped_at_vertex_limit", g.stopped_at_vertex_limit}});
   }
   j["transport"] = {{"resolution", opt.transport.resolution}, {"max_bounces", opt.transport.max_bounces}, {"bits", opt.transport.bits}, {"wavelengths", opt.transport.wavelengths},
-                    {"rays", opt.transport.rays == RayEngine::kCgal ? "cgal" : "embree"}, {"tables", nlohmann::ordered_json::array()}};
+                    {"rays", opt.transport.rays == RayEngine::kCgal ? "cgal" : "embree"}, {"switches", opt.transport.switches}, {"tables", nlohmann::ordered_json::array()}};
   for (const TransportReport& t : r.transport) {
     j["transport"]["tables"].push_back(
         {{"object", r.scene.objects[t.object].name}, {"wavelength_nm", t.wavelength_nm}, {"vertices", t.vertices}, {"entries", t.entries},
          {"leaving", t.leaving}, {"trapped", t.trapped}, {"occluded", t.occluded}, {"internally_reflected", t.reflected},
-         {"rays", t.rays}, {"seconds", t.seconds}, {"rays_per_second", t.seconds > 0 ? static_cast<double>(t.rays) / t.seconds : 0.0},
+         {"switch_edges", t.switch_edges}, {"rays", t.rays}, {"seconds", t.seconds}, {"rays_per_second", t.seconds > 0 ? static_cast<double>(t.rays) / t.seconds : 0.0},
          {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
          {"max_exit_position_error_m", t.position_error_m}, {"max_exit_direction_error_deg", t.direction_error_rad * 180.0 / 3.14159265358979}});
   }
@@ -205,14 +205,14 @@ std::string report_text(const BakeResult& r) {
     }
     std::snprintf(line, sizeof line,
                   "  light-transport table '%s'%s: %u vertices x %llu directions, %llu leave, %llu trapped, %llu occluded, "
-                  "%llu after internal reflection or re-entry; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
+                  "%llu after internal reflection or re-entry, %llu class switches; %.2f M rays in %.2f s (%.2f M rays/s); %llu B raw -> %llu B stored\n",
                   r.scene.objects[t.object].name.c_str(),
                   t.wavelength_nm > 0 ? (" at " + std::to_string(static_cast<int>(std::lround(t.wavelength_nm))) + " nm").c_str() : "",
                   t.vertices,
                   static_cast<unsigned long long>(t.vertices ? t.entries / t.vertices : 0),
                   static_cast<unsigned long long>(t.leaving), static_cast<unsigned long long>(t.trapped),
                   static_cast<unsigned long long>(t.occluded), static_cast<unsigned long long>(t.reflected),
-                  static_cast<double>(t.rays) * 1e-6, t.seconds, t.seconds > 0 ? static_cast<double>(t.rays) * 1e-6 / t.seconds : 0.0,
+                  static_cast<unsigned long long>(t.switch_edges), static_cast<double>(t.rays) * 1e-6, t.seconds, t.seconds > 0 ? static_cast<double>(t.rays) * 1e-6 / t.seconds : 0.0,
                   static_cast<unsigned long long>(t.raw_bytes), static_cast<unsigned long long>(t.stored_bytes));
     s << line;
   }

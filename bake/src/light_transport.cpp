@@ -304,7 +304,8 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
   const std::size_t per_vertex = std::size_t{opt.resolution} * opt.resolution;
   table.words.assign(mesh.positions.size() * per_vertex * 4, 0);
 
-  std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0}, done{0};
+  table.switches.assign(mesh.positions.size() * per_vertex * 2, 0);
+  std::atomic<std::uint64_t> rays{0}, leaving{0}, trapped{0}, occluded{0}, reflected{0}, switch_edges{0}, done{0};
   std::atomic<bool> stop{false};
   // Progress about every 1 % of the vertices (and the last).
   const std::uint64_t every = std::max<std::uint64_t>(1, mesh.positions.size() / 100);
@@ -322,6 +323,33 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
         table.store(table.entry_index(static_cast<std::uint32_t>(v), row, col), e);
       }
     }
+    // Where two neighbouring grid directions leave unalike (the path class
+    // switches between them), the switch found by bisection along the grid
+    // edge, so that the runtime can cut a triangle whose corners lie on
+    // both sides at the switch (docs/glass.md, "The prism's left band
+    // edge"). The class of the stored entry decides each half.
+    std::uint64_t n_switch = 0;
+    for (std::uint32_t row = 0; row < (opt.switches ? opt.resolution : 0); ++row) {
+      for (std::uint32_t col = 0; col < opt.resolution; ++col) {
+        const std::size_t i = table.entry_index(static_cast<std::uint32_t>(v), row, col);
+        const TransportEntry a = table.load(i);
+        for (std::uint32_t axis = 0; axis < 2; ++axis) {
+          const std::uint32_t r2 = row + axis, c2 = col + 1 - axis;
+          if (r2 >= opt.resolution || c2 >= opt.resolution) continue;
+          const TransportEntry b = table.load(table.entry_index(static_cast<std::uint32_t>(v), r2, c2));
+          if (a.status != TransportStatus::kLeaves || b.status != TransportStatus::kLeaves || leave_alike(a, b)) continue;
+          double lo = 0, hi = 1;
+          for (std::uint32_t step = 0; step < kSwitchSteps; ++step) {
+            const double f = 0.5 * (lo + hi);
+            const Dir3 w = grid_direction_at(n, opt.resolution, row + f * axis, col + f * (1 - axis));
+            (leave_alike(tracer.trace(static_cast<std::uint32_t>(v), w, &local_rays), a) ? lo : hi) = f;
+          }
+          table.switches[2 * i + axis] = static_cast<std::uint8_t>(std::clamp(std::lround(128 * (lo + hi)), 1L, 255L));
+          ++n_switch;
+        }
+      }
+    }
+    switch_edges += n_switch;
     rays += local_rays;
     leaving += n_leave;
     trapped += n_trap;
@@ -342,12 +370,14 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     report->trapped = trapped;
     report->occluded = occluded;
     report->reflected = reflected;
+    report->switch_edges = switch_edges;
     report->rays = rays;
     report->raw_bytes = report->entries * 16;
     report->position_error_m = table.position_error_bound();
     report->direction_error_rad = table.direction_error_bound();
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
+  if (switch_edges == 0) table.switches.clear();
   return table;
 }
 

@@ -177,6 +177,11 @@ int main(int argc, char** argv) {
                                                                                                    : "must be 0 or 2.." + std::to_string(caustix::kMaxTransportWavelengths);
       })
       ->capture_default_str();
+  bool no_switches = false;
+  app.add_flag("--no-ltt-switches", no_switches,
+               "light-transport tables: do not locate where their path class switches (LTTW): a faster bake (about half "
+               "the rays of a prism or teapot), and the runtime drops triangles torn between two classes instead of "
+               "cutting them at the switch (docs/glass.md)");
   std::string ltt_rays = "embree";
   app.add_option("--ltt-rays", ltt_rays,
                  "light-transport tables: what casts their rays: embree (fast, single precision) or cgal (exact "
@@ -222,6 +227,7 @@ int main(int argc, char** argv) {
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
   opt.share = !no_share;
   opt.transport.rays = ltt_rays == "cgal" ? caustix::bake::RayEngine::kCgal : caustix::bake::RayEngine::kEmbree;
+  opt.transport.switches = !no_switches;
 
   if (!preset.empty()) {
     // The preset's values for every option not given on the command line.

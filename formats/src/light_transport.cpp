@@ -133,6 +133,10 @@ Dir3 oct_decode(double u, double v) {
 }
 
 Dir3 grid_direction(const Dir3& n, std::uint32_t r, std::uint32_t row, std::uint32_t col) {
+  return grid_direction_at(n, r, row, col);
+}
+
+Dir3 grid_direction_at(const Dir3& n, std::uint32_t r, double row, double col) {
   const double step = 2.0 / (r - 1);
   const Dir3 l = hemi_oct_decode(-1.0 + col * step, -1.0 + row * step);
   Dir3 t, b;
@@ -215,10 +219,6 @@ std::array<double, 4> catmull_rom(double a, bool use_lo, bool use_hi) {
   return w;
 }
 
-bool alike(const TransportEntry& a, const TransportEntry& b) {
-  return a.status == TransportStatus::kLeaves && b.status == TransportStatus::kLeaves && a.bounces == b.bounces &&
-         dot3(a.direction, b.direction) >= kSameExitCos;
-}
 
 // Where the inner 2 x 2 of the bicubic stencil does not leave alike (a
 // jump of the transport inside the cell), the value at the query (ax, ay)
@@ -229,14 +229,15 @@ bool alike(const TransportEntry& a, const TransportEntry& b) {
 // corners' mean, which is off by the transport's gradient times up to a
 // cell (the prism's vertex 6 cm from its switch between the direct and
 // the totally reflected exit landed 3.1 cm off the floor, docs/glass.md).
-// Writes each entry's weight (summing to 1) and returns false where the
-// entries lie on a line (no plane: the caller averages its corners).
+// The slopes are held near 0 where the entries do not fix them (all on a
+// line: constant across it). Writes each entry's weight (summing to 1);
+// false where no entry leaves alike with `heavy` (never for a leaving one).
 bool linear_fit_weights(const std::array<TransportEntry, 16>& e, std::uint32_t heavy, double ax, double ay,
                         std::array<double, 16>& lambda) {
   std::array<double, 16> wk{};
   std::array<double, 6> m{};  // sum w [1 x y]^T [1 x y]: 00 01 02 11 12 22
   for (std::uint32_t k = 0; k < 16; ++k) {
-    if (!alike(e[k], e[heavy])) continue;
+    if (!leave_alike(e[k], e[heavy])) continue;
     const double x = double(k & 3) - 1 - ax, y = double(k >> 2) - 1 - ay;
     wk[k] = 1 / (0.25 + x * x + y * y);
     m[0] += wk[k];
@@ -246,16 +247,54 @@ bool linear_fit_weights(const std::array<TransportEntry, 16>& e, std::uint32_t h
     m[4] += wk[k] * x * y;
     m[5] += wk[k] * y * y;
   }
+  if (m[0] == 0) return false;
+  // A slope held near 0 where the entries do not fix it (all on a line:
+  // constant across it; one entry: its value).
+  m[3] += 1e-3 * m[0];
+  m[5] += 1e-3 * m[0];
   // First row of the inverse (cofactors over the determinant).
   const double c0 = m[3] * m[5] - m[4] * m[4], c1 = m[2] * m[4] - m[1] * m[5], c2 = m[1] * m[4] - m[2] * m[3];
   const double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
-  if (!(det > 1e-6 * m[0] * m[0] * m[0])) return false;
   for (std::uint32_t k = 0; k < 16; ++k) {
     if (wk[k] == 0) continue;
     const double x = double(k & 3) - 1 - ax, y = double(k >> 2) - 1 - ay;
     lambda[k] = wk[k] * (c0 + c1 * x + c2 * y) / det;
   }
   return true;
+}
+
+// The heaviest leaving corner of the query's cell on the query's side of
+// the switch through the cell, where the table stores the switch on
+// exactly two of the cell's edges: the class at the query direction
+// itself, not the heaviest corner's (a tie at the cell's middle); else
+// `best`. Corner k is (x0 + (k & 1), y0 + (k >> 1)). As
+// ltt_side_of_switch() in transport.glsl.
+int side_of_switch(const LightTransportTable& t, std::uint32_t vertex, std::uint32_t x0, std::uint32_t y0,
+                   const std::array<TransportEntry, 4>& c, double ax, double ay, const std::array<double, 4>& w, int best) {
+  if (t.switches.empty()) return best;
+  static constexpr int kEnds[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};  // bottom, top (along columns), left, right
+  std::array<double, 2> px{}, py{};
+  int count = 0;
+  for (int s = 0; s < 4; ++s) {
+    const int i = kEnds[s][0], j = kEnds[s][1];
+    if (c[i].status != TransportStatus::kLeaves || c[j].status != TransportStatus::kLeaves || leave_alike(c[i], c[j])) continue;
+    const std::size_t entry = t.entry_index(vertex, y0 + (i >> 1), x0 + (i & 1));
+    const std::uint8_t b = t.switches[2 * entry + (s < 2 ? 0 : 1)];
+    if (b == 0 || count == 2) return best;
+    const double f = b / 256.0;
+    px[count] = (i & 1) + (s < 2 ? f : 0.0);
+    py[count] = (i >> 1) + (s < 2 ? 0.0 : f);
+    ++count;
+  }
+  if (count != 2) return best;
+  const double dx = px[1] - px[0], dy = py[1] - py[0];
+  const bool side = dx * (ay - py[0]) - dy * (ax - px[0]) > 0;
+  int pick = -1;
+  for (int k = 0; k < 4; ++k) {
+    const bool sk = dx * ((k >> 1) - py[0]) - dy * ((k & 1) - px[0]) > 0;
+    if (w[k] > 0 && sk == side && (pick < 0 || w[k] > w[pick])) pick = k;
+  }
+  return pick < 0 ? best : pick;
 }
 
 }  // namespace
@@ -334,16 +373,14 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
     if (w[k] > 0 && (best < 0 || w[k] > w[best])) best = k;
   }
   if (best < 0) return TransportEntry{};
+  best = side_of_switch(t, vertex, x0, y0, c, ax, ay, w, best);
   if (mode == Interpolation::kBicubic) {
     const std::uint32_t heavy = 5 + (best & 1) + 4 * (best >> 1);
     std::array<double, 16> lambda{};
     if (linear_fit_weights(e, heavy, ax, ay, lambda)) {
-      double leaving = 0, same = 0, transmittance = 0;
-      for (int k = 0; k < 4; ++k) {
-        if (w[k] <= 0) continue;
-        leaving += w[k];
-        if (alike(c[k], c[best])) same += w[k];
-      }
+      // As below: the transmittance scaled by the leaving share of the weight.
+      double leaving = 0, transmittance = 0;
+      for (int k = 0; k < 4; ++k) leaving += w[k];
       for (std::uint32_t k = 0; k < 16; ++k) {
         if (lambda[k] == 0) continue;
         transmittance += lambda[k] * e[k].transmittance;
@@ -354,7 +391,7 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
         }
       }
       out.path = std::max(out.path, 0.0);
-      out.transmittance = std::clamp(transmittance, 0.0, 1.0) * leaving / same;
+      out.transmittance = std::clamp(transmittance, 0.0, 1.0) * leaving;
       out.bounces = c[best].bounces;
       out.direction = normalized(dir);
       out.status = TransportStatus::kLeaves;
@@ -365,7 +402,7 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   for (int k = 0; k < 4; ++k) {
     if (w[k] <= 0) continue;
     leaving += w[k];
-    if (!alike(c[k], c[best])) continue;
+    if (!leave_alike(c[k], c[best])) continue;
     same += w[k];
     transmittance += w[k] * c[k].transmittance;
     out.path += w[k] * c[k].path;
@@ -381,6 +418,50 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   out.direction = normalized(dir);
   out.status = TransportStatus::kLeaves;
   return out;
+}
+
+bool leave_alike(const TransportEntry& a, const TransportEntry& b) {
+  return a.status == TransportStatus::kLeaves && b.status == TransportStatus::kLeaves && a.bounces == b.bounces &&
+         dot3(a.direction, b.direction) >= kSameExitCos;
+}
+
+std::vector<std::uint8_t> encode_transport_switches(const LightTransportTable& t) {
+  ByteWriter w;
+  w.u32(t.object);
+  w.f32(t.wavelength_nm);
+  w.u32(t.resolution);
+  w.u32(t.vertex_count);
+  write_zstd_frame(w, t.switches, kZstdLevel);
+  return w.take();
+}
+
+Status decode_transport_switches(std::span<const std::uint8_t> payload, std::vector<LightTransportTable*> tables) {
+  ChunkDecoder d(cxb::kTagTransportSwitches, payload);
+  std::uint32_t object = 0, resolution = 0, vertex_count = 0, packed_size = 0;
+  float wavelength = 0;
+  if (!d.u32(object, "object index") || !d.f32(wavelength, "wavelength") || !d.u32(resolution, "resolution") ||
+      !d.u32(vertex_count, "vertex count") || !d.u32(packed_size, "switch data size")) {
+    return d.error();
+  }
+  LightTransportTable* t = nullptr;
+  for (LightTransportTable* c : tables) t = c->object == object && c->wavelength_nm == wavelength ? c : t;
+  if (!t || !t->switches.empty() || t->resolution != resolution || t->vertex_count != vertex_count) {
+    d.fail("no table of object " + std::to_string(object) + " at " + std::to_string(wavelength) +
+           " nm without switches and of this resolution and vertex count");
+    return d.error();
+  }
+  std::span<const std::uint8_t> packed;
+  if (!d.span(packed, packed_size, "switch data") || !d.finish()) return d.error();
+  const std::size_t raw_size = std::size_t{vertex_count} * resolution * resolution * 2;
+  const std::string expected = std::to_string(vertex_count) + " x " + std::to_string(resolution) + "^2 entries";
+  if (raw_size > kMaxRatio * (packed.size() + 64)) {
+    d.fail("switch data of " + expected + " exceeds the 4096:1 bound");
+    return d.error();
+  }
+  std::vector<std::uint8_t> raw;
+  if (!zstd_decompress_exact(d, packed, raw_size, "switch data", expected, raw)) return d.error();
+  t->switches = std::move(raw);
+  return {};
 }
 
 std::vector<std::uint8_t> encode_transport_table(const LightTransportTable& t) {

@@ -596,6 +596,11 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   for (const auto& t : tables) {
     w.add_chunk(t.wavelength_nm > 0 ? cxb::kTagSpectralTransport : cxb::kTagTransport, cxb::kChunkRequired, encode_transport_table(t));
   }
+  // Optional: a reader that predates it drops triangles torn between path
+  // classes instead of cutting them at the switch.
+  for (const auto& t : tables) {
+    if (!t.switches.empty()) w.add_chunk(cxb::kTagTransportSwitches, 0, encode_transport_switches(t));
+  }
   for (const auto& g : index_grids) w.add_chunk(cxb::kTagIndexGrid, cxb::kChunkRequired, encode_index_grid(g));
   return w.finish();
 }
@@ -768,6 +773,15 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   }
   for (Object& o : s.objects) {
     if (o.tables_from) o.material.spectral_tables = s.objects[*o.tables_from].material.spectral_tables;
+  }
+  // Where the tables' path classes switch (issue 47): at most one LTTW per
+  // table, naming it by object and wavelength.
+  for (std::size_t i : c.find(cxb::kTagTransportSwitches)) {
+    std::vector<LightTransportTable*> tables;
+    for (auto& t : out.transport_tables) tables.push_back(&t);
+    for (auto& t : out.spectral_tables) tables.push_back(&t);
+    const Status st = decode_transport_switches(c.payload(i), tables);
+    if (!st) return Error{st.error().code, "chunk " + std::to_string(i) + ": " + st.error().message};
   }
   // Index grids: in a scene that scatters, exactly one per transparent
   // object, in object order; none otherwise.

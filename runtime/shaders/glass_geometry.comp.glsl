@@ -10,9 +10,11 @@
 // (as for water, docs/caustics.md) by widening the triangle, which keeps
 // its flux (below). Three primitives per (triangle,
 // plane), p = (plane * triangles + t) * 3 + slot: slot 0 the triangle's
-// volume, or, where the triangle is torn or some corners pass no light, one
+// volume; or, where it is torn between two path classes, its up to three
+// parts cut at the switch; or, where some corners pass no light, one
 // corner beam per slot (below). Each: (q0, q1), (q2, S0 in texels or -1 for
-// a corner beam, reached), (rgb intensity, -), d0, d1, d2.
+// a corner beam or a part, drawn at its constant intensity, reached), (rgb
+// intensity, -), d0, d1, d2.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };
@@ -48,9 +50,21 @@ vec3 rotate_onto(vec3 a, vec3 b, vec3 x) {
   return x * c + cross(v, x) + v * (dot(v, x) / (1.0 + c));
 }
 
-// A vertex's path class: the internal reflections and re-entries of its
-// exit ray (glass_rays.comp).
-float path_class_of(uint v) { return rays[3u * v + 1u].w; }
+// Whether vertex a's ray at slot ia (1: its own class, 4: the other class
+// of its stencil) and b's at ib leave alike: the same internal reflections
+// and re-entries (the direction's w), exits within 30 degrees.
+bool alike(uint a, uint ia, uint b, uint ib) {
+  vec4 p = rays[6u * a + ia], q = rays[6u * b + ib];
+  return p.w == q.w && dot(p.xyz, q.xyz) >= 0.8660254;
+}
+
+// Vertex v's ray of its own class, or (own false) of the other one.
+void cut_ray(uint v, bool own, out vec3 exit, out vec3 dir, out vec3 colour) {
+  uint b = 6u * v + (own ? 0u : 3u);
+  exit = rays[b].xyz;
+  dir = rays[b + 1u].xyz;
+  colour = rays[b + 2u].rgb;
+}
 
 void main() {
   uint p = gl_GlobalInvocationID.x;
@@ -75,8 +89,8 @@ void main() {
   vec3 d[3];
   bool leaves = true;
   for (int k = 0; k < 3; ++k) {
-    o[k] = rays[3u * id[k]];
-    d[k] = rays[3u * id[k] + 1u].xyz;
+    o[k] = rays[6u * id[k]];
+    d[k] = rays[6u * id[k] + 1u].xyz;
     leaves = leaves && o[k].w > 0.0;
   }
   // A torn triangle: its corners leave after different numbers of
@@ -86,7 +100,9 @@ void main() {
   // flux above 12). Its volume would smear the light between the corners'
   // landings (a tilted pane: +2.6 % over its footprint; the prism's direct
   // and totally reflected exits, 27.8 degrees apart, spread its band's
-  // light between them: docs/glass.md); it is dropped. Nor can a
+  // light between them: docs/glass.md). Where two classes meet and the
+  // tables say where they switch (LTTW), it is cut there (below);
+  // otherwise it is dropped. Nor can a
   // triangle whose corners do not all pass light (the object shades some
   // from the light, or traps their light) be interpolated across; its light
   // leaves as parallel beams instead, one per corner that passes light: a
@@ -98,26 +114,83 @@ void main() {
   // for torn triangles too would bring 0.481, but as scattered spots where
   // grazing exits spread the light thinly (docs/glass.md).
   float spread = min(min(dot(d[0], d[1]), dot(d[1], d[2])), dot(d[2], d[0]));
-  float path_class = path_class_of(id[0]);
-  bool same_class = path_class_of(id[1]) == path_class && path_class_of(id[2]) == path_class;
+  bool same_class = alike(id[0], 1u, id[1], 1u) && alike(id[0], 1u, id[2], 1u);
   bool whole = leaves && spread >= 0.8660254 && same_class;
-  int corner = whole ? -1 : int(slot);
-  bool reached = cos_theta > 0.0 && (whole ? slot == 0u : !leaves && o[corner].w > 0.0);
+
+  // The cut of a triangle whose corners fall in two path classes: corner s
+  // alone in one, u and w in the other. Each corner's rays (glass_rays.comp)
+  // hold its own class and the other class of its table's stencil
+  // extrapolated to the light's direction, with the distance d (grid
+  // cells) from that direction to the switch between the two. The switch
+  // crosses edge s-u at t = d_s / (d_s + d_u) from s (the switch moving
+  // evenly across the triangle) and s-w likewise; there each class's ray is
+  // interpolated between its own ray at one end and its extrapolated one at
+  // the other. s's part is the triangle (s, P_u, P_w), the others' the
+  // quad (u, w, P_w, P_u) as (u, w, P_w) and (u, P_w, P_u): slots 0, 1, 2,
+  // each its share of the triangle's area, at its own constant intensity.
+  bool cut = false;
+  int cs = 0;
+  float t_u = 0.0, t_w = 0.0;
+  bool part_s = false, part_uw = false;
+  if (leaves && !same_class) {
+    bool g1 = !alike(id[0], 1u, id[1], 1u), g2 = !alike(id[0], 1u, id[2], 1u);
+    cs = g1 && g2 ? 0 : (g1 ? 1 : 2);
+    int cu = (cs + 1) % 3, cw = (cs + 2) % 3;
+    uint vs = id[cs], vu = id[cu], vw = id[cw];
+    float ds = rays[6u * vs + 2u].w, du = rays[6u * vu + 2u].w, dw = rays[6u * vw + 2u].w;
+    if (alike(vu, 1u, vw, 1u) && ds >= 0.0 && du >= 0.0 && dw >= 0.0) {
+      t_u = ds / max(ds + du, 1e-6);
+      t_w = ds / max(ds + dw, 1e-6);
+      // s's class at u and w, and u's and w's at s: the extrapolated rays.
+      part_s = rays[6u * vu + 3u].w > 0.0 && rays[6u * vw + 3u].w > 0.0 && alike(vs, 1u, vu, 4u) && alike(vs, 1u, vw, 4u);
+      part_uw = rays[6u * vs + 3u].w > 0.0 && alike(vu, 1u, vs, 4u);
+      cut = part_s || part_uw;
+    }
+  }
+  int corner = whole || cut ? -1 : int(slot);
+  bool reached = cos_theta > 0.0 && (whole ? slot == 0u : (cut ? (slot == 0u ? part_s : part_uw) : !leaves && o[corner].w > 0.0));
   if (!reached) {  // an empty slot (most of them): the draw skips it
     prims[6u * p + 1u] = vec4(0.0);
     return;
   }
   vec3 colour, dir[3], start[3];
   float flux;
-  if (corner < 0) {
-    colour = (rays[3u * id[0] + 2u].rgb + rays[3u * id[1] + 2u].rgb + rays[3u * id[2] + 2u].rgb) / 3.0;
+  if (cut) {
+    // The part's three points: (corner, corner, corner, or a cut point on
+    // s-u (3) or s-w (4)); and whose class they carry.
+    int cu = (cs + 1) % 3, cw = (cs + 2) % 3;
+    ivec3 pts = slot == 0u ? ivec3(cs, 3, 4) : (slot == 1u ? ivec3(cu, cw, 4) : ivec3(cu, 4, 3));
+    bool of_s = slot == 0u;
+    float share = slot == 0u ? t_u * t_w : (slot == 1u ? 1.0 - t_w : t_w * (1.0 - t_u));
+    colour = vec3(0.0);
+    for (int k = 0; k < 3; ++k) {
+      vec3 e, dd, cc;
+      if (pts[k] < 3) {
+        cut_ray(id[pts[k]], of_s == (pts[k] == cs), e, dd, cc);
+      } else {
+        int other_end = pts[k] == 3 ? cu : cw;
+        float tt = pts[k] == 3 ? t_u : t_w;
+        vec3 e0, d0, c0, e1, d1, c1;
+        cut_ray(id[cs], of_s, e0, d0, c0);
+        cut_ray(id[other_end], !of_s, e1, d1, c1);
+        e = mix(e0, e1, tt);
+        dd = normalize(mix(d0, d1, tt));
+        cc = mix(c0, c1, tt);
+      }
+      start[k] = e;
+      dir[k] = dd;
+      colour += cc / 3.0;
+    }
+    flux = beam * share;
+  } else if (corner < 0) {
+    colour = (rays[6u * id[0] + 2u].rgb + rays[6u * id[1] + 2u].rgb + rays[6u * id[2] + 2u].rgb) / 3.0;
     flux = beam;
     for (int k = 0; k < 3; ++k) {
       dir[k] = d[k];
       start[k] = o[k].xyz;
     }
   } else {
-    colour = rays[3u * id[corner] + 2u].rgb;
+    colour = rays[6u * id[corner] + 2u].rgb;
     flux = beam / 3.0;
     vec3 dk = d[corner];
     for (int k = 0; k < 3; ++k) {
@@ -152,7 +225,18 @@ void main() {
   // draw over the smaller area: 0.9 % of the light through glass_ball, all
   // of it from the focal millimetres (issue 47).
   float s_min = flux / u_max_magnification;
-  if (s0 < s_min && s0 > 0.0) {
+  if (s0 < 1e-4 * s_min) {
+    // A point or so thin that widening it would lose the float precision
+    // of its corners (a cut part's rays can meet in one point, where the
+    // coverage of a degenerate triangle would be a whole texel's): a
+    // triangle of area s_min, as wide as it is high, on its centroid.
+    vec2 m = (q[0] + q[1] + q[2]) / 3.0;
+    float h = sqrt(s_min * to_texels.x * to_texels.y);
+    q[0] = m + vec2(-h, -h / 3.0);
+    q[1] = m + vec2(h, -h / 3.0);
+    q[2] = m + vec2(0.0, 2.0 * h / 3.0);
+    s0 = s_min;
+  } else if (s0 < s_min && s0 > 0.0) {
     int a = 0;
     float longest = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -174,7 +258,7 @@ void main() {
   // z: the intersection triangle's area in texels for a whole triangle
   // (glass_vertex_intensity.comp weighs its one-rings by it), -1 for a
   // corner beam (drawn with its own constant intensity).
-  prims[6u * p + 1u] = vec4(q[2], corner < 0 ? max(s0 / texel_area, 1e-12) : -1.0, 1.0);
+  prims[6u * p + 1u] = vec4(q[2], corner < 0 && !cut ? max(s0 / texel_area, 1e-12) : -1.0, 1.0);
   prims[6u * p + 2u] = vec4(intensity, 0.0);
   prims[6u * p + 3u] = vec4(dir[0], 0.0);
   prims[6u * p + 4u] = vec4(dir[1], 0.0);

@@ -7,7 +7,11 @@
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // position, normal
-layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };          // per vertex: exit + valid, dir + path class (bounces), colour + 0
+// Per vertex, 6 vec4: exit + valid, dir + path class (bounces), colour +
+// the distance (grid cells) to the switch to the other class (-1: none
+// known); the other class's exit + valid, dir + class, colour + 0
+// (ltt_lookup_ex: what glass_geometry.comp cuts torn triangles with).
+layout(std430, binding = 2) writeonly buffer Rays { vec4 rays[]; };
 
 uniform uint u_vertex_count;
 uniform mat4 u_model;
@@ -24,13 +28,15 @@ void main() {
   vec3 pw = (u_model * vec4(p, 1.0)).xyz;
   vec3 to_light_w = caustix_light.mode.y == 1 ? -caustix_light.light_direction.xyz : normalize(caustix_light.light_position.xyz - pw);
   vec3 to_light = transpose(u_rotation) * to_light_w;
-  Transport t = ltt_lookup(v, n, to_light);
+  Transport other;
+  float dist;
+  Transport t = ltt_lookup_ex(v, n, to_light, true, other, dist);
   // Light the object itself shadows from elsewhere does not enter here.
   float visible = t.leaves ? caustix_shadow_visibility(pw, u_rotation * n, to_light_w) : 0.0;
-  vec3 exit_w = (u_model * vec4(t.exit, 1.0)).xyz;
-  vec3 dir_w = u_rotation * t.dir;
-  vec3 colour = t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale) * u_weight;
-  rays[3u * v] = vec4(exit_w, t.leaves && visible > 0.0 ? 1.0 : 0.0);
-  rays[3u * v + 1u] = vec4(dir_w, float(t.bounces));
-  rays[3u * v + 2u] = vec4(colour, 0.0);
+  rays[6u * v] = vec4((u_model * vec4(t.exit, 1.0)).xyz, t.leaves && visible > 0.0 ? 1.0 : 0.0);
+  rays[6u * v + 1u] = vec4(u_rotation * t.dir, float(t.bounces));
+  rays[6u * v + 2u] = vec4(t.transmittance * visible * exp(-u_glass_absorption * t.path * u_scale) * u_weight, dist);
+  rays[6u * v + 3u] = vec4((u_model * vec4(other.exit, 1.0)).xyz, other.leaves && visible > 0.0 ? 1.0 : 0.0);
+  rays[6u * v + 4u] = vec4(u_rotation * other.dir, float(other.bounces));
+  rays[6u * v + 5u] = vec4(other.transmittance * visible * exp(-u_glass_absorption * other.path * u_scale) * u_weight, 0.0);
 }

@@ -80,7 +80,112 @@ vec4 ltt_catmull_rom(float a, bool use_lo, bool use_hi) {
   return w;
 }
 
-Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
+// The plane fitted by weighted least squares (weights 1 / (1/4 + r^2), r
+// the grid offset from the query a) to the stencil's entries leaving alike
+// with `ref`, at the query (linear_fit_weights() in C++): that path class
+// extrapolated linearly. False where none does.
+bool ltt_fit(LttEntry e[16], bool in_grid[16], LttEntry ref, vec2 a, out Transport o) {
+  o.exit = vec3(0.0);
+  o.dir = vec3(0.0);
+  o.transmittance = 0.0;
+  o.path = 0.0;
+  o.leaves = false;
+  o.bounces = ref.bounces;
+  float wk[16];
+  float m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0, m4 = 0.0, m5 = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    wk[k] = 0.0;
+    if (!(in_grid[k] && ltt_alike(e[k], ref))) continue;
+    float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
+    wk[k] = 1.0 / (0.25 + x * x + y * y);
+    m0 += wk[k];
+    m1 += wk[k] * x;
+    m2 += wk[k] * y;
+    m3 += wk[k] * x * x;
+    m4 += wk[k] * x * y;
+    m5 += wk[k] * y * y;
+  }
+  if (m0 == 0.0) return false;
+  // A slope held near 0 where the entries do not fix it (all on a line:
+  // constant across it; one entry: its value).
+  m3 += 1e-3 * m0;
+  m5 += 1e-3 * m0;
+  float c0 = m3 * m5 - m4 * m4, c1 = m2 * m4 - m1 * m5, c2 = m1 * m4 - m2 * m3;
+  float det = m0 * c0 + m1 * c1 + m2 * c2;
+  for (int k = 0; k < 16; ++k) {
+    if (wk[k] == 0.0) continue;
+    float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
+    float lambda = wk[k] * (c0 + c1 * x + c2 * y) / det;
+    o.exit += lambda * e[k].exit;
+    o.dir += lambda * e[k].dir;
+    o.path += lambda * e[k].path;
+    o.transmittance += lambda * e[k].transmittance;
+  }
+  o.path = max(o.path, 0.0);
+  o.transmittance = clamp(o.transmittance, 0.0, 1.0);
+  o.dir = normalize(o.dir);
+  o.leaves = true;
+  return true;
+}
+
+// Where the path class switches on the grid edge from entry (x, y) to the
+// next column (axis 0) or row (axis 1), as a fraction of the edge (the
+// baker's bisection, the LTTW chunk, stored after the entries from word
+// u_ltt_switch_base); -1 where none is stored.
+uniform uint u_ltt_switch_base;  // 0: the table has no switches
+
+float ltt_switch(uint vertex, int x, int y, uint axis) {
+  if (u_ltt_switch_base == 0u) return -1.0;
+  uint i = 2u * ((vertex * uint(u_ltt_resolution) + uint(y)) * uint(u_ltt_resolution) + uint(x)) + axis;
+  uint b = (table[u_ltt_switch_base + i / 4u] >> (8u * (i % 4u))) & 0xFFu;
+  return b == 0u ? -1.0 : float(b) / 256.0;
+}
+
+// The heaviest leaving corner of the query's cell (k: (k & 1, k >> 1);
+// weights w) on the query's side of the switch through the cell, where
+// the table stores the switch on exactly two of the cell's edges (the
+// class at the query direction itself, not the heaviest corner's, which at
+// the cell's middle is a tie); else `best`, the heaviest of all.
+// lookup() in C++ decides alike.
+int ltt_side_of_switch(uint vertex, int x0, int y0, LttEntry e[16], vec2 a, float w[4], int best) {
+  // Edges: bottom 0-1, top 2-3 (along the columns), left 0-2, right 1-3.
+  ivec2 ends[4] = ivec2[4](ivec2(0, 1), ivec2(2, 3), ivec2(0, 2), ivec2(1, 3));
+  vec2 pts[2];
+  int count = 0;
+  for (int s = 0; s < 4; ++s) {
+    int i = ends[s].x, j = ends[s].y;
+    LttEntry p = e[5 + (i & 1) + 4 * (i >> 1)], q = e[5 + (j & 1) + 4 * (j >> 1)];
+    if (!(p.leaves && q.leaves) || ltt_alike(p, q)) continue;
+    float fr = ltt_switch(vertex, x0 + (i & 1), y0 + (i >> 1), s < 2 ? 0u : 1u);
+    if (fr < 0.0 || count == 2) return best;
+    pts[count++] = vec2(i & 1, i >> 1) + (s < 2 ? vec2(fr, 0.0) : vec2(0.0, fr));
+  }
+  if (count != 2) return best;
+  vec2 d = pts[1] - pts[0];
+  float side = d.x * (a.y - pts[0].y) - d.y * (a.x - pts[0].x);
+  int pick = -1;
+  for (int k = 0; k < 4; ++k) {
+    float sk = d.x * (float(k >> 1) - pts[0].y) - d.y * (float(k & 1) - pts[0].x);
+    if (w[k] > 0.0 && (sk > 0.0) == (side > 0.0) && (pick < 0 || w[k] > w[pick])) pick = k;
+  }
+  return pick < 0 ? best : pick;
+}
+
+float ltt_segment_distance(vec2 p, vec2 q) {  // from the origin
+  vec2 d = q - p;
+  float h = clamp(-dot(p, d) / max(dot(d, d), 1e-12), 0.0, 1.0);
+  return length(p + h * d);
+}
+
+// Look-up at `vertex` (normal n) for the direction to the light, and, with
+// `want_other`, what a triangle torn between two path classes needs to be
+// cut at the switch (glass_geometry.comp): `other`, the nearest other
+// leaving class of the 4 x 4 stencil extrapolated to the query (leaves
+// false where there is none), and `dist`, the distance in grid cells from
+// the query to the switch between the two classes, along the segments
+// through the stored switch points of the stencil's cells (-1 where none
+// is stored).
+Transport ltt_lookup_ex(uint vertex, vec3 n, vec3 to_light, bool want_other, out Transport other, out float dist) {
   vec3 t, b;
   ltt_frame(n, t, b);
   vec3 l = vec3(dot(to_light, t), dot(to_light, b), max(dot(to_light, n), 0.0));
@@ -98,21 +203,23 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
   o.transmittance = 0.0;
   o.path = 0.0;
   o.bounces = 0u;
+  o.leaves = false;
+  other = o;
+  dist = -1.0;
 
   // Bicubic: stencil k = (column x0 - 1 + (k & 3), row y0 - 1 + (k >> 2)).
   LttEntry e[16];
-  bool ok[16], ok_grid[16];
+  bool ok[16], in_grid[16];
   for (int k = 0; k < 16; ++k) {
     int x = x0 + (k & 3) - 1, y = y0 + (k >> 2) - 1;
-    ok[k] = x >= 0 && y >= 0 && x < r && y < r;
-    ok_grid[k] = ok[k];
-    if (ok[k]) {
-      e[k] = ltt_entry(vertex, x, y);
-      ok[k] = e[k].leaves;
-    }
+    in_grid[k] = x >= 0 && y >= 0 && x < r && y < r;
+    e[k].leaves = false;
+    if (in_grid[k]) e[k] = ltt_entry(vertex, x, y);
+    ok[k] = in_grid[k] && e[k].leaves;
   }
   uint bounces = e[5].bounces;
   for (int k = 0; k < 16; ++k) ok[k] = ok[k] && e[k].bounces == bounces && dot(e[k].dir, e[5].dir) >= LTT_SAME_EXIT_COS;
+  LttEntry ref = e[5];
   if (ok[5] && ok[6] && ok[9] && ok[10]) {
     bool row0 = ok[1] && ok[2], row3 = ok[13] && ok[14];
     bool col0 = ok[4] && ok[8] && (!row0 || ok[0]) && (!row3 || ok[12]);
@@ -132,76 +239,72 @@ Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
     o.dir = normalize(o.dir);
     o.leaves = true;
     o.bounces = bounces;
-    return o;
-  }
-
-  // Bilinear fallback over the inner 2 x 2 (stencil 5, 6, 9, 10): only the
-  // corners leaving alike with the heaviest leaving one, renormalised; the
-  // transmittance scaled by the leaving share of the weight.
-  float w[4];
-  int best = -1;
-  for (int k = 0; k < 4; ++k) {
-    int dx = k & 1, dy = k >> 1;
-    w[k] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y);
-    if (!e[5 + dx + 4 * dy].leaves) w[k] = 0.0;
-    if (w[k] > 0.0 && (best < 0 || w[k] > w[best])) best = k;
-  }
-  o.leaves = best >= 0;
-  if (!o.leaves) return o;
-  LttEntry heavy = e[5 + (best & 1) + 4 * (best >> 1)];
-  o.bounces = heavy.bounces;
-  float leaving = 0.0, same = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    if (w[k] <= 0.0) continue;
-    LttEntry c = e[5 + (k & 1) + 4 * (k >> 1)];
-    leaving += w[k];
-    if (!ltt_alike(c, heavy)) continue;
-    same += w[k];
-    o.exit += w[k] * c.exit;
-    o.transmittance += w[k] * c.transmittance;
-    o.dir += w[k] * c.dir;
-    o.path += w[k] * c.path;
-  }
-  // The plane fitted to the stencil's entries of the heavy corner's class
-  // (linear_fit_weights() in C++), where they do not lie on a line.
-  float wk[16];
-  float m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0, m4 = 0.0, m5 = 0.0;
-  for (int k = 0; k < 16; ++k) {
-    wk[k] = 0.0;
-    if (!(ok_grid[k] && ltt_alike(e[k], heavy))) continue;
-    float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
-    wk[k] = 1.0 / (0.25 + x * x + y * y);
-    m0 += wk[k];
-    m1 += wk[k] * x;
-    m2 += wk[k] * y;
-    m3 += wk[k] * x * x;
-    m4 += wk[k] * x * y;
-    m5 += wk[k] * y * y;
-  }
-  float c0 = m3 * m5 - m4 * m4, c1 = m2 * m4 - m1 * m5, c2 = m1 * m4 - m2 * m3;
-  float det = m0 * c0 + m1 * c1 + m2 * c2;
-  if (det > 1e-6 * m0 * m0 * m0) {
-    o.exit = vec3(0.0);
-    o.dir = vec3(0.0);
-    o.path = 0.0;
-    float tr = 0.0;
-    for (int k = 0; k < 16; ++k) {
-      if (wk[k] == 0.0) continue;
-      float x = float(k & 3) - 1.0 - a.x, y = float(k >> 2) - 1.0 - a.y;
-      float lambda = wk[k] * (c0 + c1 * x + c2 * y) / det;
-      o.exit += lambda * e[k].exit;
-      o.dir += lambda * e[k].dir;
-      o.path += lambda * e[k].path;
-      tr += lambda * e[k].transmittance;
+  } else {
+    // Where the inner 2 x 2 (stencil 5, 6, 9, 10) does not leave alike: the
+    // class of the heaviest leaving corner fitted over the stencil, the
+    // transmittance scaled by the leaving share of the bilinear weight.
+    float w[4];
+    int best = -1;
+    for (int k = 0; k < 4; ++k) {
+      int dx = k & 1, dy = k >> 1;
+      w[k] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y);
+      if (!e[5 + dx + 4 * dy].leaves) w[k] = 0.0;
+      if (w[k] > 0.0 && (best < 0 || w[k] > w[best])) best = k;
     }
-    o.path = max(o.path, 0.0);
-    o.transmittance = clamp(tr, 0.0, 1.0) * leaving / same;
-    o.dir = normalize(o.dir);
-    return o;
+    if (best < 0) return o;
+    best = ltt_side_of_switch(vertex, x0, y0, e, a, w, best);
+    ref = e[5 + (best & 1) + 4 * (best >> 1)];
+    float leaving = w[0] + w[1] + w[2] + w[3];
+    ltt_fit(e, in_grid, ref, a, o);  // ref itself is one of them
+    o.transmittance *= leaving;
   }
-  o.exit /= same;
-  o.path /= same;
-  o.transmittance *= leaving / same;
-  o.dir = normalize(o.dir);
+  if (!want_other) return o;
+
+  // The nearest leaving entry of another class, and that class's fit.
+  int near = -1;
+  float near_d2 = 1e9;
+  for (int k = 0; k < 16; ++k) {
+    if (!(in_grid[k] && e[k].leaves) || ltt_alike(e[k], ref)) continue;
+    vec2 q = vec2(float(k & 3) - 1.0, float(k >> 2) - 1.0) - a;
+    if (dot(q, q) < near_d2) {
+      near_d2 = dot(q, q);
+      near = k;
+    }
+  }
+  if (near < 0 || !ltt_fit(e, in_grid, e[near], a, other)) return o;
+  // The switch between the two classes: per cell of the stencil the points
+  // stored on its edges whose ends are one of each class; two make a
+  // segment, other counts are taken as points.
+  LttEntry oref = e[near];
+  dist = -1.0;
+  for (int cell = 0; cell < 9; ++cell) {
+    int k00 = (cell % 3) + 4 * (cell / 3);
+    int ends[8] = int[8](k00, k00 + 1, k00 + 4, k00 + 5, k00, k00 + 4, k00 + 1, k00 + 5);
+    vec2 pts[4];
+    int count = 0;
+    for (int s = 0; s < 4; ++s) {
+      int i = ends[2 * s], j = ends[2 * s + 1];
+      if (!(in_grid[i] && in_grid[j])) continue;
+      bool ij = ltt_alike(e[i], ref) && ltt_alike(e[j], oref), ji = ltt_alike(e[i], oref) && ltt_alike(e[j], ref);
+      if (!(ij || ji)) continue;
+      uint axis = s < 2 ? 0u : 1u;
+      float fr = ltt_switch(vertex, x0 + (i & 3) - 1, y0 + (i >> 2) - 1, axis);
+      if (fr < 0.0) continue;
+      pts[count++] = vec2(float(i & 3) - 1.0, float(i >> 2) - 1.0) - a + (axis == 0u ? vec2(fr, 0.0) : vec2(0.0, fr));
+    }
+    float dc = 1e9;
+    if (count == 2) {
+      dc = ltt_segment_distance(pts[0], pts[1]);
+    } else {
+      for (int s = 0; s < count; ++s) dc = min(dc, length(pts[s]));
+    }
+    if (count > 0 && (dist < 0.0 || dc < dist)) dist = dc;
+  }
   return o;
+}
+
+Transport ltt_lookup(uint vertex, vec3 n, vec3 to_light) {
+  Transport other;
+  float dist;
+  return ltt_lookup_ex(vertex, n, to_light, false, other, dist);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +20,10 @@ namespace {
 
 constexpr std::uint32_t kMaxGlassPlanes = 16;  // u_glass_plane_v[16] in the shaders
 constexpr std::size_t kPrimitiveBytes = 6 * 16;
+// Per glass vertex and traced wavelength (glass_rays.comp): its exit ray,
+// direction and colour, and those of the other path class in its table's
+// stencil with the distance to their switch: 6 vec4.
+constexpr std::size_t kRayBytes = 6 * 16;
 // The CPU sample of each glass's n_d table (Glass::sample): about 4 MB of
 // rows (655 vertices at the default 20 x 20 directions), never fewer than
 // 64 vertices.
@@ -60,8 +65,9 @@ void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
 
 struct GlassEngine::Impl {
   struct Table {
-    LightTransportTable params;  // words dropped after upload
-    gl::Buffer buffer;
+    LightTransportTable params;  // words and switches dropped after upload
+    gl::Buffer buffer;           // the entries, then the switch bytes (LTTW) if any
+    std::uint32_t switch_base = 0;  // the switches' first word in the buffer; 0: none
   };
   // What every object on one table shares (issue 48: objects that use
   // another's tables, Object::tables_from, draw from the same buffers).
@@ -299,6 +305,7 @@ struct GlassEngine::Impl {
         // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
         rays.set("u_weight", skip[g.object] ? glm::vec3(0.0f) : glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
         set_table(rays, tables[a + static_cast<std::size_t>(pass)]);
+        rays.set("u_ltt_switch_base", tables[a + static_cast<std::size_t>(pass)].switch_base);  // the view's look-up needs none
         set_pose(rays, scene, g);
         rays.set("u_vertex_count", g.vertices);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
@@ -714,11 +721,20 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
           ++ts.sample.vertex_count;
         }
       }
+      // The switch bytes (LTTW) after the entries, padded to a word.
+      std::vector<std::uint32_t>& words = table.params.words;
+      if (!table.params.switches.empty()) {
+        table.switch_base = static_cast<std::uint32_t>(words.size());
+        words.resize(words.size() + (table.params.switches.size() + 3) / 4, 0);
+        std::memcpy(words.data() + table.switch_base, table.params.switches.data(), table.params.switches.size());
+      }
       table.buffer = gl::make_buffer();
-      glNamedBufferStorage(table.buffer.get(), static_cast<GLsizeiptr>(table.params.words.size() * 4), table.params.words.data(), 0);
-      ts.gpu_bytes += table.params.words.size() * 4;
-      table.params.words.clear();
-      table.params.words.shrink_to_fit();
+      glNamedBufferStorage(table.buffer.get(), static_cast<GLsizeiptr>(words.size() * 4), words.data(), 0);
+      ts.gpu_bytes += words.size() * 4;
+      words.clear();
+      words.shrink_to_fit();
+      table.params.switches.clear();
+      table.params.switches.shrink_to_fit();
     }
     // One-rings from the mesh's triangles (the order the LTT indexes and the GPU draws).
     std::vector<std::uint32_t> idx;
@@ -751,10 +767,10 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
     g.vertices = g.shared->tables[g.shared->base].params.vertex_count;
     g.triangles = static_cast<std::uint32_t>(g.mesh->index_count / 3);
     g.rays = gl::make_buffer();
-    glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+    glNamedBufferStorage(g.rays.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * kRayBytes), nullptr, 0);
     if (g.shared->tables.size() > 1) {
       g.rays_b = gl::make_buffer();
-      glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * 48), nullptr, 0);
+      glNamedBufferStorage(g.rays_b.get(), static_cast<GLsizeiptr>(std::size_t{g.vertices} * kRayBytes), nullptr, 0);
       s.spectral = true;
     }
     s.glass.push_back(std::move(g));
@@ -1043,7 +1059,7 @@ void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj,
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
   for (const auto& set : impl_->table_sets) b += set->gpu_bytes;  // once however many objects share them
-  for (const Impl::Glass& g : impl_->glass) b += std::uint64_t{g.vertices} * (g.rays_b.get() ? 96 : 48);  // rays
+  for (const Impl::Glass& g : impl_->glass) b += std::uint64_t{g.vertices} * kRayBytes * (g.rays_b.get() ? 2 : 1);  // rays
   for (const Impl::Target& t : impl_->targets) {
     const std::uint64_t texels = std::uint64_t(t.size) * static_cast<std::uint64_t>(t.size);
     b += texels * (16 + 4) + texels * 16 * t.layers * (t.levels > 1 ? 4 : 3) / 3;  // mips: a third more

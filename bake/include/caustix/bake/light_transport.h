@@ -41,6 +41,11 @@ struct TransportOptions {
   // wavelength's. 0: caustics from the tables refract at n_d only.
   std::uint32_t wavelengths = kDefaultTransportWavelengths;
   RayEngine rays = RayEngine::kEmbree;
+  // Locate where the path class switches between neighbouring grid
+  // directions (LightTransportTable::switches, the LTTW chunk), by
+  // kSwitchSteps traces per such grid edge: what the runtime cuts triangles
+  // torn between two classes with (issue 47).
+  bool switches = true;
 };
 
 // The wavelengths (nm) of a dispersive object's extra tables for `count`
@@ -52,6 +57,7 @@ struct TransportReport {
   float wavelength_nm = 0;           // 0: the table at n_d (LTTB), else an LTTS table's wavelength
   std::uint32_t vertices = 0;
   std::uint64_t entries = 0, leaving = 0, trapped = 0, occluded = 0, reflected = 0;
+  std::uint64_t switch_edges = 0;    // grid edges whose ends leave unalike, bisected for the switch (LTTW)
   std::uint64_t rays = 0;            // ray casts (occlusion + inside segments)
   double seconds = 0;
   std::uint64_t raw_bytes = 0;       // 16 bytes per entry

@@ -101,6 +101,15 @@ struct LightTransportTable {
   // Significant bits store() keeps per field (kMinTransportBits..16). Not
   // stored in the file; a decoded table says 16.
   std::uint32_t precision_bits = 16;
+  // Where the path class switches between neighbouring grid directions
+  // (issue 47; the optional LTTW chunk): 2 bytes per entry, in the order
+  // of the entries, for the grid edge to the next column and to the next
+  // row. 0: no switch there (the two do not both leave, or leave alike, or
+  // the edge leaves the grid); k in 1..255: the two leave unalike and the
+  // class switches at k / 256 of the way from this entry, found by
+  // bisecting the traced direction (kSwitchSteps halvings). Empty: none
+  // stored (files from before issue 47's cut, or a table without a switch).
+  std::vector<std::uint8_t> switches;
 
   std::size_t entry_index(std::uint32_t vertex, std::uint32_t row, std::uint32_t col) const {
     return (std::size_t{vertex} * resolution + row) * resolution + col;
@@ -125,8 +134,15 @@ Dir3 hemi_oct_decode(double s, double t);
 std::array<double, 2> oct_encode(const Dir3& d);
 Dir3 oct_decode(double u, double v);
 // The grid direction (object space, towards the light) of (row, col) at a
-// vertex with unit normal n.
+// vertex with unit normal n; grid_direction_at() between grid points
+// (fractional row and column, linear in the hemi-octahedral square).
 Dir3 grid_direction(const Dir3& n, std::uint32_t resolution, std::uint32_t row, std::uint32_t col);
+Dir3 grid_direction_at(const Dir3& n, std::uint32_t resolution, double row, double col);
+// Halvings of a grid edge when the baker looks for a class switch on it.
+inline constexpr std::uint32_t kSwitchSteps = 4;
+// Two entries leave alike: both leave, after the same count b, with exit
+// directions within kSameExitCos (defined below).
+bool leave_alike(const TransportEntry& a, const TransportEntry& b);
 
 // How lookup() blends the grid directions around the query direction.
 //  kBilinear: the four neighbours, bilinear weights.
@@ -159,9 +175,19 @@ const char* to_string(Interpolation mode);
 // share of the weight that leaves (trapped and occluded count as 0), so
 // light fades out where the table says it cannot pass. A direction below
 // the vertex's horizon is clamped onto it. Returns status kTrapped if no
-// neighbour leaves. runtime/shaders/transport.glsl mirrors this function.
+// neighbour leaves. Where the table has switches (LTTW) crossing exactly
+// two edges of the query's cell, "the heaviest leaving one" is taken on the
+// query's side of the line through them. runtime/shaders/transport.glsl
+// mirrors this function; its ltt_lookup_ex() also gives the other class
+// and the distance to the switch, which have no C++ counterpart.
 TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, const Dir3& n, const Dir3& to_light,
                       Interpolation mode = kDefaultInterpolation);
+
+// The LTTW payload of a table's switches (table.switches non-empty), and
+// its decoding onto the table it names (object and wavelength), which must
+// have no switches yet; refuses sizes other than the table's.
+std::vector<std::uint8_t> encode_transport_switches(const LightTransportTable& table);
+Status decode_transport_switches(std::span<const std::uint8_t> payload, std::vector<LightTransportTable*> tables);
 
 // The LTTB payload (a table at n_d), or for wavelength_nm > 0 the LTTS
 // payload: f32 wavelength, then LTTB's fields.

@@ -38,6 +38,7 @@ inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling),
 // Light-transport tables (formats/light_transport.h).
 inline constexpr Tag kTagTransport = make_tag("LTTB");  // required, one per transparent object
 inline constexpr Tag kTagSpectralTransport = make_tag("LTTS");  // required if present: tables at other wavelengths (issue 22)
+inline constexpr Tag kTagTransportSwitches = make_tag("LTTW");  // optional, at most one per table: where its path class switches (issue 47)
 inline constexpr Tag kTagTransportShared = make_tag("LTTR");  // required if present, at most once: objects that use another's tables (issue 48)
 // Index grids for media (formats/index_grid.h).
 inline constexpr Tag kTagIndexGrid = make_tag("IGRD");  // required, one per transparent object of a scattering scene
