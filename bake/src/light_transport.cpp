@@ -29,6 +29,7 @@ struct Surface {
   std::vector<Vec3d> pos;
   std::vector<Vec3d> geo_normal;  // per triangle, outward (counter-clockwise front)
   std::vector<Vec3d> origin;      // per vertex: where its rays start (sample_origins)
+  std::vector<char> flat;         // per vertex: every triangle of it lies in its tangent plane (flat_vertices)
 
   // Smooth (Phong-interpolated) outward normal at point p of triangle t,
   // which the refraction uses so that a tessellated sphere refracts like a
@@ -62,18 +63,25 @@ struct Surface {
 // 1 % of the way towards the mean centroid of its triangles, which keeps it
 // on its own face; the exit point changes by 1 % of a third of an edge.
 // Vertices of curved surfaces stay: in the tangent plane they would float
-// above their own facets.
-std::vector<Vec3d> sample_origins(const TriangleMesh& mesh, const std::vector<Vec3d>& pos, const std::vector<Vec3d>& geo) {
+// above their own facets. flat_vertices() says which are flat.
+std::vector<char> flat_vertices(const TriangleMesh& mesh, const std::vector<Vec3d>& geo) {
+  std::vector<char> flat(mesh.positions.size(), 1);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (std::uint32_t v : mesh.triangles[t]) {
+      if (dot(geo[t], unit(to_d(mesh.normals[v]))) < 1.0 - 5e-7) flat[v] = 0;
+    }
+  }
+  return flat;
+}
+
+std::vector<Vec3d> sample_origins(const TriangleMesh& mesh, const std::vector<Vec3d>& pos, const std::vector<char>& flat) {
   std::vector<Vec3d> centre(pos.size(), Vec3d{0, 0, 0});
   std::vector<double> count(pos.size(), 0);
-  std::vector<char> flat(pos.size(), 1);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
+  for (const auto& tri : mesh.triangles) {
     const Vec3d c = mul(add(add(pos[tri[0]], pos[tri[1]]), pos[tri[2]]), 1.0 / 3.0);
     for (std::uint32_t v : tri) {
       centre[v] = add(centre[v], c);
       count[v] += 1;
-      if (dot(geo[t], unit(to_d(mesh.normals[v]))) < 1.0 - 5e-7) flat[v] = 0;
     }
   }
   std::vector<Vec3d> origin(pos);
@@ -128,7 +136,8 @@ struct TransportTracer::Impl {
   std::uint32_t max_bounces;
   bool convex = false;
   Impl(const Material& m, const TriangleMesh& mesh, std::uint32_t bounces, std::vector<Vec3d> pos, std::vector<Vec3d> geo, RayEngine rays)
-      : surface{mesh, pos, geo, sample_origins(mesh, pos, geo)}, eps(0), eta_in(1.0 / m.ior), eta_out(m.ior), max_bounces(bounces) {
+      : surface{mesh, pos, geo, {}, flat_vertices(mesh, geo)}, eps(0), eta_in(1.0 / m.ior), eta_out(m.ior), max_bounces(bounces) {
+    surface.origin = sample_origins(mesh, surface.pos, surface.flat);
     if (rays == RayEngine::kEmbree) embree = std::make_unique<EmbreeCaster>(surface.pos, mesh.triangles);
     if (embree && !embree->ok()) embree.reset();
     cgal = std::make_unique<RayCaster>(surface.pos, mesh.triangles, std::vector<std::uint32_t>(mesh.triangles.size(), 0));
@@ -178,6 +187,8 @@ TransportTracer::TransportTracer(const Material& material, const TriangleMesh& m
 }
 
 TransportTracer::~TransportTracer() = default;
+
+bool TransportTracer::flat(std::uint32_t v) const { return impl_->surface.flat[v] != 0; }
 
 TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::uint64_t* rays) const {
   const Impl& m = *impl_;
@@ -328,8 +339,12 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     // edge, so that the runtime can cut a triangle whose corners lie on
     // both sides at the switch (docs/glass.md, "The prism's left band
     // edge"). The class of the stored entry decides each half.
+    // Only on flat faces, where a switch draws a straight, sharp band edge
+    // (a prism's, a cube's; docs/glass.md): on curved glass the bisection
+    // would cost a scan-like blob's table 3 times its rays.
     std::uint64_t n_switch = 0;
-    for (std::uint32_t row = 0; row < (opt.switches ? opt.resolution : 0); ++row) {
+    const bool bisect = opt.switches && tracer.flat(static_cast<std::uint32_t>(v));
+    for (std::uint32_t row = 0; row < (bisect ? opt.resolution : 0); ++row) {
       for (std::uint32_t col = 0; col < opt.resolution; ++col) {
         const std::size_t i = table.entry_index(static_cast<std::uint32_t>(v), row, col);
         const TransportEntry a = table.load(i);

@@ -43,8 +43,8 @@ struct TransportOptions {
   RayEngine rays = RayEngine::kEmbree;
   // Locate where the path class switches between neighbouring grid
   // directions (LightTransportTable::switches, the LTTW chunk), by
-  // kSwitchSteps traces per such grid edge: what the runtime cuts triangles
-  // torn between two classes with (issue 47).
+  // kSwitchSteps traces per such grid edge, at the vertices of flat faces:
+  // what the runtime cuts triangles torn between two classes with (issue 47).
   bool switches = true;
 };
 
@@ -76,6 +76,9 @@ class TransportTracer {
   // `to_light`: unit object-space direction towards the light. `rays`
   // counts the ray casts.
   TransportEntry trace(std::uint32_t vertex, const Dir3& to_light, std::uint64_t* rays = nullptr) const;
+  // Whether every triangle of the vertex lies in its tangent plane (a flat
+  // face's vertex, whose rays start just inside the face).
+  bool flat(std::uint32_t vertex) const;
 
  private:
   struct Impl;
