@@ -748,6 +748,20 @@ TEST(SceneCodec, TableSwitchesAreStoredAndValidated) {
   for (std::size_t cut : {std::size_t{0}, std::size_t{6}, std::size_t{19}, good.size() - 1}) {
     EXPECT_FALSE(with({std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(cut))}).ok()) << "cut at " << cut;
   }
+  // A large table with one switch: zeros compress far past the tables'
+  // 4096:1 bound, and still decode (the table's size bounds the data).
+  LightTransportTable sparse = base;
+  sparse.vertex_count = 4000;
+  sparse.resolution = 20;
+  sparse.switches.assign(std::size_t{4000} * 400 * 2, 0);
+  sparse.switches[12345] = 77;
+  const std::vector<std::uint8_t> packed = encode_transport_switches(sparse);
+  LightTransportTable target = sparse;
+  target.switches.clear();
+  const Status sparse_ok = decode_transport_switches(packed, {&target});
+  ASSERT_TRUE(sparse_ok.ok()) << sparse_ok.error().message;
+  EXPECT_GT(sparse.switches.size(), 4096 * packed.size());
+  EXPECT_EQ(target.switches, sparse.switches);
   // Without the chunk: no switches.
   base.switches.clear();
   d = decode(encode_scene(s, {{0}}, {}, {}, {base, spectral}));

@@ -185,7 +185,8 @@ TransportEntry lookup(const LightTransportTable& table, std::uint32_t vertex, co
 
 // The LTTW payload of a table's switches (table.switches non-empty), and
 // its decoding onto the table it names (object and wavelength), which must
-// have no switches yet; refuses sizes other than the table's.
+// have no switches yet; refuses sizes other than the table's (which bound
+// the decompressed size: no ratio bound, few switches compress past 4096:1).
 std::vector<std::uint8_t> encode_transport_switches(const LightTransportTable& table);
 Status decode_transport_switches(std::span<const std::uint8_t> payload, std::vector<LightTransportTable*> tables);
 
