@@ -5,10 +5,11 @@
 // inner 2 x 2 leave alike (the same number of internal reflections, exits
 // within 30 degrees; an outer row or column that does not, or lies outside
 // the grid, replaced by linear extrapolation); otherwise the path class of
-// the heaviest leaving corner (same reflections, exits within 30 degrees)
+// the heaviest leaving corner (same reflections, exits within 30 degrees;
+// on the query's side of the switch where the table stores one, LTTW)
 // extrapolated linearly from that class's entries in the 4 x 4 (a
-// weighted least-squares plane; bilinear over the class's corners where
-// they lie on a line), with the transmittance scaled by the share of the
+// weighted least-squares plane, its slopes held near 0 where the entries
+// lie on a line), with the transmittance scaled by the share of the
 // weight that leaves.
 layout(std430, binding = 1) readonly buffer Table { uint table[]; };
 
@@ -51,7 +52,7 @@ struct LttEntry {
 };
 
 // Two leaving entries of one path class: the same reflections, exits
-// within 30 degrees (alike() in C++).
+// within 30 degrees (leave_alike() in C++).
 bool ltt_alike(LttEntry p, LttEntry q) {
   return p.leaves && q.leaves && p.bounces == q.bounces && dot(p.dir, q.dir) >= LTT_SAME_EXIT_COS;
 }
@@ -276,7 +277,6 @@ Transport ltt_lookup_ex(uint vertex, vec3 n, vec3 to_light, bool want_other, out
   // stored on its edges whose ends are one of each class; two make a
   // segment, other counts are taken as points.
   LttEntry oref = e[near];
-  dist = -1.0;
   for (int cell = 0; cell < 9; ++cell) {
     int k00 = (cell % 3) + 4 * (cell / 3);
     int ends[8] = int[8](k00, k00 + 1, k00 + 4, k00 + 5, k00, k00 + 4, k00 + 1, k00 + 5);

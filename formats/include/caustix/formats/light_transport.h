@@ -153,8 +153,8 @@ bool leave_alike(const TransportEntry& a, const TransportEntry& b);
 //             transport, which a cubic would ring across) the class of the
 //             heaviest leaving corner is extrapolated linearly up to the
 //             query: the plane fitted by weighted least squares to the
-//             16 entries of that class, or kBilinear's mean where they lie
-//             on a line. An outer row or column that leaves the grid or holds
+//             16 entries of that class, its slopes held near 0 where they
+//             lie on a line. An outer row or column that leaves the grid or holds
 //             an entry not leaving alike (the horizon row of a sphere is
 //             trapped at the critical angle) is replaced by the linear
 //             extrapolation of the two inner ones.
