@@ -12,7 +12,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/common/include/ ${PROJECT_SOURCE_DIR}/fo
 install(FILES ${PROJECT_BINARY_DIR}/common/include/caustix/common/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/caustix/common COMPONENT development)
 
-install(TARGETS caustix_common caustix_formats caustix_formats_draco caustix_runtime
+install(TARGETS caustix_common caustix_formats caustix_formats_draco caustix_scene_loader caustix_gl caustix_runtime
         EXPORT caustixTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT development
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -18,7 +18,7 @@
 
 #include "bake_fixture.h"
 #include "caustix/runtime/engine.h"
-#include "caustix/runtime/receiver_passes.h"
+#include "caustix/sample/receiver_passes.h"
 #include "gl_fixture.h"
 #include "scene_fixture.h"
 
@@ -41,10 +41,10 @@ struct Images {
 // deferred pass).
 Images render_both(Engine& engine, const glm::mat4& view_proj, bool level0) {
   Images out;
-  auto passes = runtime::ReceiverPasses::create(engine, kSize, kSize);
+  auto passes = sample::ReceiverPasses::create(engine, kSize, kSize);
   EXPECT_TRUE(passes.ok()) << (passes.ok() ? "" : passes.error().message);
   if (!passes.ok()) return out;
-  runtime::ReceiverPasses& p = **passes;
+  sample::ReceiverPasses& p = **passes;
   EXPECT_TRUE(p.draw_gbuffer(view_proj).ok());
   EXPECT_TRUE(p.shade_per_pair(view_proj, level0).ok());
   out.forward = p.read_irradiance();
@@ -191,7 +191,7 @@ TEST_F(AllReceivers, AnObjectNotInTheFileIsLitThroughAHostReceiversCausticsMap) 
   frame.caustics = engine.default_options();
   ASSERT_TRUE(engine.update(frame).ok());
   ASSERT_EQ(engine.lighting(floor, 0)->block.mode.x, static_cast<int>(runtime::LightMode::kCaustics));
-  auto passes = runtime::ReceiverPasses::create(engine, kSize, kSize);
+  auto passes = sample::ReceiverPasses::create(engine, kSize, kSize);
   ASSERT_TRUE(passes.ok()) << passes.error().message;
   // Looking down on the sphere from above (its lit hemisphere).
   const glm::mat4 view_proj = glm::ortho(-0.65f, 0.65f, -0.65f, 0.65f, 0.1f, 10.0f) *

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "caustix/bake/bake.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "caustix/runtime/scene_loader.h"
 
 namespace caustix::test {
@@ -31,11 +31,11 @@ inline std::optional<runtime::RuntimeScene> bake_and_load(const std::string& sce
 }
 
 // A renderer of that scene (needs a current GL context); null on failure.
-inline std::unique_ptr<runtime::Renderer> bake_and_create(const std::string& scene_path,
+inline std::unique_ptr<sample::Renderer> bake_and_create(const std::string& scene_path,
                                                           const bake::BakeOptions& options = {}) {
   auto scene = bake_and_load(scene_path, options);
   if (!scene) return nullptr;
-  auto r = runtime::Renderer::create(*scene);
+  auto r = sample::Renderer::create(*scene);
   if (!r.ok()) {
     ADD_FAILURE() << r.error().message;
     return nullptr;

@@ -23,7 +23,7 @@
 
 #include "bake_fixture.h"
 #include "caustix/formats/spectrum.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
 #include "hostile_meshes.h"
 #include "optics_oracle.h"
@@ -67,8 +67,8 @@ class CausticMap : public test::GlTest {
     return r ? render(*r, n, half, o, cx) : Floor{};
   }
   // The floor's irradiance over [cx - half, cx + half] x [-half, half].
-  static Floor render(runtime::Renderer& r, int n, double half, const runtime::CausticsOptions& o, double cx = 0) {
-    runtime::IrradianceRequest q;
+  static Floor render(sample::Renderer& r, int n, double half, const runtime::CausticsOptions& o, double cx = 0) {
+    sample::IrradianceRequest q;
     q.receiver = "floor";
     q.x0 = static_cast<float>(cx - half);
     q.x1 = static_cast<float>(cx + half);
@@ -107,8 +107,8 @@ class CausticMap : public test::GlTest {
     return sum;
   }
   // The mean E/E0 (red) over the middle 5 cm of a receiver's top seen from above.
-  static double top_mean(runtime::Renderer& r, const std::string& receiver, runtime::GlassMethod method) {
-    runtime::IrradianceRequest q;
+  static double top_mean(sample::Renderer& r, const std::string& receiver, runtime::GlassMethod method) {
+    sample::IrradianceRequest q;
     q.receiver = receiver;
     q.x0 = q.z0 = -0.025f;
     q.x1 = q.z1 = 0.025f;
@@ -469,10 +469,10 @@ TEST_F(CausticMap, Extremes) {
   {
     auto scene = test::bake_and_load(test::write_scene(ring(0.9), "caustic_map_bad"));
     ASSERT_TRUE(scene.has_value());
-    auto r = runtime::Renderer::create(*scene);
+    auto r = sample::Renderer::create(*scene);
     ASSERT_TRUE(r.ok());
     for (int k = 0; k < 6; ++k) {
-      runtime::IrradianceRequest q;
+      sample::IrradianceRequest q;
       q.receiver = "floor";
       q.width = q.height = 8;
       q.caustics = caustic_maps();

@@ -23,14 +23,14 @@
 #include "caustix/formats/spectrum.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 
 namespace caustix {
 namespace {
 
 using runtime::CausticsMethod;
 using runtime::CausticsOptions;
-using runtime::IrradianceRequest;
+using sample::IrradianceRequest;
 
 using test::fresnel_t;
 using test::kPi;
@@ -61,19 +61,19 @@ double high_frequency(const metrics::Image& img, const metrics::Image& base) {
 
 class Caustics : public test::GlTest {
  protected:
-  std::unique_ptr<runtime::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
+  std::unique_ptr<sample::Renderer> renderer(const nlohmann::json& j, const bake::BakeOptions& opt = {}) {
     return test::bake_and_create(test::write_scene(j, "caustics_test"), opt);
   }
 
-  static metrics::Image irradiance(runtime::Renderer& r, IrradianceRequest q) {
+  static metrics::Image irradiance(sample::Renderer& r, IrradianceRequest q) {
     auto img = r.render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
     for (float v : img->rgb) EXPECT_TRUE(std::isfinite(v)) << "non-finite irradiance";
     return metrics::Image{img->width, img->height, img->rgb};
   }
 
-  static metrics::Image beauty(runtime::Renderer& r, const CausticsOptions& co, int w, int h, float time) {
-    runtime::FrameParams f{r.default_camera(), time, w, h, co, {}, {}, {}, 1};
+  static metrics::Image beauty(sample::Renderer& r, const CausticsOptions& co, int w, int h, float time) {
+    sample::FrameParams f{r.default_camera(), time, w, h, co, {}, {}, {}, 1};
     EXPECT_TRUE(r.render(f).ok());
     const auto rgba = r.read_hdr();
     metrics::Image img{w, h, {}};

@@ -24,7 +24,7 @@
 #include <fstream>
 
 #include "caustix/metrics/error_split.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "reference.h"
 
 namespace caustix {
@@ -47,7 +47,7 @@ struct Judged {
   }
 };
 
-Judged judge(const runtime::IrradianceImage& a, const metrics::Image& ref) {
+Judged judge(const sample::IrradianceImage& a, const metrics::Image& ref) {
   const metrics::Image img{a.width, a.height, a.rgb}, aux{a.width, a.height, a.aux};
   Judged j{metrics::split_error(img, ref, aux)};
   double abs = 0, sum = 0, signed_sum = 0;
@@ -84,7 +84,7 @@ TEST_F(CurvedReceivers, SphereUnderFlatWaterGetsFresnelTimesCosineUpToTheTermina
   j["lights"][0]["direction"] = {std::sin(theta), -std::cos(theta), 0.0};
   auto r = test::bake_and_create(test::write_scene(j, "curved_flat"));
   ASSERT_TRUE(r);
-  runtime::IrradianceRequest q;
+  sample::IrradianceRequest q;
   q.receiver = "sphere";
   q.x0 = q.z0 = -0.6f;
   q.x1 = q.z1 = 0.6f;
@@ -139,7 +139,7 @@ Judged against_reference(const nlohmann::json& j, const std::string& tag, const 
   auto r = test::bake_and_create(path);
   EXPECT_TRUE(r);
   if (!r) return {};
-  runtime::IrradianceRequest q;
+  sample::IrradianceRequest q;
   q.receiver = receiver;
   q.x0 = x0;
   q.z0 = z0;

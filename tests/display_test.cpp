@@ -12,7 +12,7 @@
 #include <iostream>
 
 #include "bake_fixture.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
 #include "scene_fixture.h"
 
@@ -21,9 +21,9 @@
 namespace caustix {
 namespace {
 
-using runtime::DisplayOptions;
-using runtime::FrameParams;
-using runtime::ToneMap;
+using sample::DisplayOptions;
+using sample::FrameParams;
+using sample::ToneMap;
 
 // The formulas of present.frag.glsl: Narkowicz's ACES fit (with its 0.6
 // pre-scale) or 1 - e^-x, then the sRGB encoding (IEC 61966-2-1).
@@ -56,7 +56,7 @@ class Display : public test::GlTest {
     hdr = r_->read_hdr();
     out = r_->read_display();
   }
-  std::unique_ptr<runtime::Renderer> r_;
+  std::unique_ptr<sample::Renderer> r_;
 };
 
 TEST_F(Display, PixelsFollowExposureAutoExposureAndToneCurve) {
@@ -83,7 +83,7 @@ TEST_F(Display, PixelsFollowExposureAutoExposureAndToneCurve) {
       // drawn) weighs 1/1000 of a surface.
       double sum = 0, weights = 0;
       for (std::size_t i = 0; i < hdr.size(); i += 4) {
-        const bool sky = hdr[i] == runtime::kSkyColor[0] && hdr[i + 1] == runtime::kSkyColor[1] && hdr[i + 2] == runtime::kSkyColor[2];
+        const bool sky = hdr[i] == sample::kSkyColor[0] && hdr[i + 1] == sample::kSkyColor[1] && hdr[i + 2] == sample::kSkyColor[2];
         const double w = sky ? 1e-3 : 1.0;
         sum += w * std::log(1e-4 + luminance(&hdr[i]));
         weights += w;
@@ -152,7 +152,7 @@ TEST_F(Display, LitFloorLeavesHeadroomForCaustics) {
 // pixel quantise to 1/N of a row, 0.29/N.
 TEST_F(Display, SupersamplingSmoothsStairSteps) {
   const int w = 320, h = 200;
-  const double sky = 0.2126 * runtime::kSkyColor[0] + 0.7152 * runtime::kSkyColor[1] + 0.0722 * runtime::kSkyColor[2];
+  const double sky = 0.2126 * sample::kSkyColor[0] + 0.7152 * sample::kSkyColor[1] + 0.0722 * sample::kSkyColor[2];
   const auto staircase = [&](int ss) {
     FrameParams f = params(w, h);
     f.supersample = ss;

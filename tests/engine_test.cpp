@@ -21,7 +21,7 @@
 
 #include "bake_fixture.h"
 #include "caustix/runtime/engine.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "caustix/runtime/version.h"
 #include "caustix/runtime/water_sim.h"
 #include "gl_fixture.h"

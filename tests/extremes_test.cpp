@@ -17,7 +17,7 @@
 #include <functional>
 
 #include "caustix/bake/bake.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "caustix/runtime/scene_loader.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
@@ -92,10 +92,10 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
   auto loaded = test::bake_and_load(test::write_scene(j, std::string("extremes_") + c.name), opt);
   ASSERT_TRUE(loaded);
   expect_finite_level_maps(*loaded);
-  auto r = runtime::Renderer::create(*loaded);
+  auto r = sample::Renderer::create(*loaded);
   ASSERT_TRUE(r.ok()) << r.error().message;
   const float lo = static_cast<float>(c.offset - c.scale), hi = static_cast<float>(c.offset + c.scale);
-  runtime::IrradianceRequest q{"floor", lo, lo, hi, hi, 16, 16, 0.0f, co};
+  sample::IrradianceRequest q{"floor", lo, lo, hi, hi, 16, 16, 0.0f, co};
   auto img = (*r)->render_irradiance(q);
   ASSERT_TRUE(img.ok()) << img.error().message;
   // Light travelling (cos e, -sin e, 0) meets the water at theta = 90 - e
@@ -123,7 +123,7 @@ TEST_F(Extremes, MapsWithoutPlanesRender) {
     auto r = test::bake_and_create(test::kScenes + "thesis_teapot.json", opt);
     ASSERT_TRUE(r);
     for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kVolumetric}) {
-      runtime::IrradianceRequest q{"floor", -2, -2, 2, 2, 8, 8, 0.0f, {}};
+      sample::IrradianceRequest q{"floor", -2, -2, 2, 2, 8, 8, 0.0f, {}};
       q.caustics.method = method;
       auto img = r->render_irradiance(q);
       ASSERT_TRUE(img.ok()) << size << "^2: " << img.error().message;
@@ -145,9 +145,9 @@ TEST_F(Extremes, TinyObjectFarOutIsWarnedAbout) {
   EXPECT_TRUE(warned);
   auto loaded = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  auto r = runtime::Renderer::create(*loaded);
+  auto r = sample::Renderer::create(*loaded);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  runtime::IrradianceRequest q{"floor", 9999.99f, 9999.99f, 10000.01f, 10000.01f, 8, 8, 0.0f, {}};
+  sample::IrradianceRequest q{"floor", 9999.99f, 9999.99f, 10000.01f, 10000.01f, 8, 8, 0.0f, {}};
   auto img = (*r)->render_irradiance(q);
   ASSERT_TRUE(img.ok()) << img.error().message;
   for (float v : img->rgb) ASSERT_TRUE(std::isfinite(v));
@@ -198,7 +198,7 @@ TEST_F(Extremes, TwoMillionTriangleReceiver) {
   std::filesystem::remove(mesh);
   ASSERT_TRUE(r);
   ASSERT_EQ(r->scene().meshes[0].triangle_count, 2u * n * n);
-  runtime::IrradianceRequest q{"floor", -1, -1, 1, 1, 16, 16, 0.0f, {}};
+  sample::IrradianceRequest q{"floor", -1, -1, 1, 1, 16, 16, 0.0f, {}};
   auto img = r->render_irradiance(q);
   ASSERT_TRUE(img.ok()) << img.error().message;
   const double cos_theta = std::sin(60 * kPi / 180), expected = fresnel_t(cos_theta, 1.33) * cos_theta;
@@ -227,7 +227,7 @@ TEST_F(Extremes, SteepWavesConserveEnergyAndStayBounded) {
     // Whole periods along x and a whole row of water-grid cells along z
     // (0.75 m): smooth caustics keep each water triangle's flux exactly
     // but move it within the triangle pair of a cell (docs/caustics.md).
-    runtime::IrradianceRequest q{"floor", -1, 0.0f, 1, 0.75f, w, 4, 0.0f, {}};
+    sample::IrradianceRequest q{"floor", -1, 0.0f, 1, 0.75f, w, 4, 0.0f, {}};
     q.caustics.map_size = 2048;
     auto img = r->render_irradiance(q);
     ASSERT_TRUE(img.ok()) << img.error().message;
@@ -290,10 +290,10 @@ TEST_P(CanonicalCorners, StayFinite) {
   auto loaded = test::bake_and_load(test::write_scene(j, std::string("corner_") + name + "_" + corner.name), opt);
   ASSERT_TRUE(loaded);
   expect_finite_level_maps(*loaded);
-  auto r = runtime::Renderer::create(*loaded);
+  auto r = sample::Renderer::create(*loaded);
   ASSERT_TRUE(r.ok()) << r.error().message;
   for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kSplat}) {
-    runtime::FrameParams f;
+    sample::FrameParams f;
     f.camera = loaded->desc.camera.value_or(Camera{});
     f.width = 96;
     f.height = 72;

@@ -15,8 +15,8 @@
 
 #include "bake_fixture.h"
 #include "caustix/formats/slicing.h"
-#include "caustix/runtime/gl_objects.h"
-#include "caustix/runtime/renderer.h"
+#include "gl_objects.h"
+#include "caustix/sample/renderer.h"
 #include "caustix_shaders.h"
 #include "gl_fixture.h"
 #include "scene_fixture.h"
@@ -25,8 +25,8 @@ namespace caustix {
 namespace {
 
 using runtime::CausticsStats;
-using runtime::FrameParams;
-using runtime::Renderer;
+using sample::FrameParams;
+using sample::Renderer;
 
 class FrameCost : public test::GlTest {};
 
@@ -170,7 +170,7 @@ TEST_F(FrameCost, AnOverflowingListDrawsWhatFitsSaysSoAndGrows) {
   Mat4f aside = home;
   aside[12] += 9.8f;  // x in [5.8, 13.8]: 0.2 m under the water (which ends at 6)
   ASSERT_TRUE(r->set_object_transform(0, aside).ok());
-  runtime::IrradianceRequest q{"floor", -1, -1, 1, 1, 16, 16, 0.0f, runtime::default_caustics_options(r->scene())};
+  sample::IrradianceRequest q{"floor", -1, -1, 1, 1, 16, 16, 0.0f, runtime::default_caustics_options(r->scene())};
   q.pixel_samples = 1;
   ASSERT_TRUE(r->render_irradiance(q).ok());  // warm-up: the list measured for the floor aside
   ASSERT_FALSE(r->caustics_stats(true).overflowed);

@@ -18,7 +18,7 @@
 
 #include "caustix/bake/bake.h"
 #include "caustix/formats/spectrum.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
@@ -35,14 +35,14 @@ struct Floor {
 
 class GlassDispersion : public test::GlTest {
  protected:
-  static std::unique_ptr<runtime::Renderer> create(const std::string& name, std::uint32_t table_wavelengths) {
+  static std::unique_ptr<sample::Renderer> create(const std::string& name, std::uint32_t table_wavelengths) {
     bake::BakeOptions opt;
     opt.transport.wavelengths = table_wavelengths;
     return test::bake_and_create(test::write_scene(test::canonical_scene(name), "glass_dispersion_test"), opt);
   }
   // The floor's irradiance over |x|, |z| < half, n x n, glass by its tables.
-  static Floor render(runtime::Renderer& r, int n, double half, const runtime::CausticsOptions& o) {
-    runtime::IrradianceRequest q;
+  static Floor render(sample::Renderer& r, int n, double half, const runtime::CausticsOptions& o) {
+    sample::IrradianceRequest q;
     q.receiver = "floor";
     q.x0 = q.z0 = static_cast<float>(-half);
     q.x1 = q.z1 = static_cast<float>(half);
@@ -271,7 +271,7 @@ TEST_F(GlassDispersion, TablesAtNdOnlyRefuseAMonochromaticImage) {
   auto r = create("dispersive_ball", 0);
   ASSERT_TRUE(r);
   EXPECT_EQ(r->scene().objects[1].material.spectral_tables, 0u);
-  runtime::IrradianceRequest q;
+  sample::IrradianceRequest q;
   q.receiver = "floor";
   q.width = q.height = 16;
   q.caustics.wavelength_nm = 500;

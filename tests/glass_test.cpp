@@ -25,7 +25,7 @@
 #include "caustix/common/mesh_topology.h"
 #include "caustix/formats/frame.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "hostile_meshes.h"
@@ -49,8 +49,8 @@ runtime::RuntimeScene bake_and_load(const nlohmann::json& j, const bake::BakeOpt
 }
 
 // The floor's irradiance image over |x|, |z| < half, n x n pixels.
-runtime::IrradianceRequest floor_request(int n, double half) {
-  runtime::IrradianceRequest q;
+sample::IrradianceRequest floor_request(int n, double half) {
+  sample::IrradianceRequest q;
   q.receiver = "floor";
   q.x0 = q.z0 = static_cast<float>(-half);
   q.x1 = q.z1 = static_cast<float>(half);
@@ -64,9 +64,9 @@ class Glass : public test::GlTest {
   static std::vector<float> floor_irradiance(const nlohmann::json& j, int n, const bake::BakeOptions& opt = {},
                                              std::uint32_t glass_map_size = runtime::CausticsOptions{}.glass_map_size,
                                              double half = 2) {
-    auto r = runtime::Renderer::create(bake_and_load(j, opt));
+    auto r = sample::Renderer::create(bake_and_load(j, opt));
     EXPECT_TRUE(r.ok()) << r.error().message;
-    runtime::IrradianceRequest q = floor_request(n, half);
+    sample::IrradianceRequest q = floor_request(n, half);
     q.caustics.glass_map_size = glass_map_size;
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
@@ -121,10 +121,10 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
   const int n = 204;
   const double x0 = -0.051, pix = 0.0005;
   const auto want = test::landing_image(ball_lens(0.5, 0.75, 1.5, 20000), n, x0, pix);
-  auto r = runtime::Renderer::create(bake_and_load(scene("glass_ball")));
+  auto r = sample::Renderer::create(bake_and_load(scene("glass_ball")));
   ASSERT_TRUE(r.ok()) << r.error().message;
   const auto render = [&](bool focus, float wide) {
-    runtime::IrradianceRequest q;
+    sample::IrradianceRequest q;
     q.receiver = "floor";
     q.x0 = q.z0 = static_cast<float>(x0);
     q.x1 = q.z1 = static_cast<float>(x0 + n * pix);
@@ -197,10 +197,10 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
 TEST_F(Glass, SmoothCausticsLeaveNoFacetSpokes) {
   const int n = 300;
   const double half = 0.6, pix = 2 * half / n;
-  auto r = runtime::Renderer::create(bake_and_load(scene("glass_ball")));
+  auto r = sample::Renderer::create(bake_and_load(scene("glass_ball")));
   ASSERT_TRUE(r.ok()) << r.error().message;
   const auto floor = [&](bool smooth) {
-    runtime::IrradianceRequest q = floor_request(n, half);
+    sample::IrradianceRequest q = floor_request(n, half);
     q.caustics.glass_smooth = smooth;
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok());
@@ -541,11 +541,11 @@ TEST_F(Glass, HalfShadedPaneSendsTheLightOfItsLitHalf) {
                           {"transform", {{"translate", {-0.75, 1.2, 0}}, {"scale", {1.5, 1, 2}}}}});
   bake::BakeOptions opt;
   opt.glass_refine.max_edge = 0;
-  auto r = runtime::Renderer::create(bake_and_load(j, opt));
+  auto r = sample::Renderer::create(bake_and_load(j, opt));
   ASSERT_TRUE(r.ok()) << r.error().message;
   double transmitted = 0;
   for (auto method : {runtime::CausticsMethod::kLevelMap, runtime::CausticsMethod::kNone}) {
-    runtime::IrradianceRequest q = floor_request(n, half);
+    sample::IrradianceRequest q = floor_request(n, half);
     q.caustics.method = method;
     auto img = (*r)->render_irradiance(q);
     ASSERT_TRUE(img.ok()) << img.error().message;
@@ -752,14 +752,14 @@ TEST_F(Glass, CopiesShareOneTableAndFocusAsOptics) {
 
   const LightTransportTable& t = a->transport_tables[0];
   const std::uint64_t table_bytes = std::uint64_t{t.vertex_count} * t.resolution * t.resolution * 16;
-  auto ra = runtime::Renderer::create(std::move(*a));
-  auto rb = runtime::Renderer::create(std::move(*b));
+  auto ra = sample::Renderer::create(std::move(*a));
+  auto rb = sample::Renderer::create(std::move(*b));
   ASSERT_TRUE(ra.ok() && rb.ok());
   const int n = 128;
   const double pix = 0.001;
   std::vector<std::array<double, 2>> rel;  // each copy's power over optics', within 2 and 5 cm
   for (const Copy& c : copies) {
-    runtime::IrradianceRequest q = floor_request(n, n * pix / 2);
+    sample::IrradianceRequest q = floor_request(n, n * pix / 2);
     q.x0 = static_cast<float>(c.x - n * pix / 2);
     q.x1 = static_cast<float>(c.x + n * pix / 2);
     auto ia = (*ra)->render_irradiance(q);

@@ -29,7 +29,7 @@
 
 #include "bake_fixture.h"
 #include "caustix/formats/spectrum.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
@@ -106,15 +106,15 @@ class GlassView : public test::GlTest {
     renderer_ = slab(0.0, "glass_view_test");
     ASSERT_TRUE(renderer_);
   }
-  static std::unique_ptr<runtime::Renderer> slab(double dispersion, const char* tag) {
+  static std::unique_ptr<sample::Renderer> slab(double dispersion, const char* tag) {
     auto scene = test::bake_and_load(test::write_scene(slab_scene(dispersion), tag));
     if (!scene) return nullptr;
-    auto r = runtime::Renderer::create(*scene);
+    auto r = sample::Renderer::create(*scene);
     EXPECT_TRUE(r.ok()) << r.error().message;
     return r.ok() ? std::move(*r) : nullptr;
   }
-  static runtime::FrameParams frame(const runtime::GlassViewOptions& o) {
-    runtime::FrameParams f;
+  static sample::FrameParams frame(const runtime::GlassViewOptions& o) {
+    sample::FrameParams f;
     f.camera.position = {kEye.x, kEye.y, kEye.z};
     f.camera.target = {0, 0, 0};
     f.camera.fov_y_deg = 45;
@@ -149,7 +149,7 @@ class GlassView : public test::GlTest {
     ADD_FAILURE() << "no edge in the column";
     return 0;
   }
-  std::unique_ptr<runtime::Renderer> renderer_;
+  std::unique_ptr<sample::Renderer> renderer_;
 };
 
 TEST_F(GlassView, NearbyRefractionPutsTheStripWhereSnellSays) {
@@ -201,9 +201,9 @@ TEST_F(GlassView, NearbyViewRefractsEachWavelengthAtItsIndex) {
   ASSERT_TRUE(dispersive);
   runtime::GlassViewOptions o;
   o.method = runtime::GlassView::kNearby;
-  runtime::FrameParams f = frame(o);
+  sample::FrameParams f = frame(o);
   f.caustics.method = runtime::CausticsMethod::kNone;
-  auto image = [](runtime::Renderer& r, const runtime::FrameParams& fp) {
+  auto image = [](sample::Renderer& r, const sample::FrameParams& fp) {
     const Status st = r.render(fp);
     EXPECT_TRUE(st.ok()) << st.error().message;
     return r.read_hdr();
@@ -268,9 +268,9 @@ TEST_F(GlassView, AnObjectInsideTheGlassDoesNotBlackenTheTableView) {
     opt.transport.resolution = 8;  // the view's exit points, not the caustic, are under test
     auto loaded = test::bake_and_load(test::write_scene(scene, tag), opt);
     EXPECT_TRUE(loaded);
-    auto r = runtime::Renderer::create(*loaded);
+    auto r = sample::Renderer::create(*loaded);
     EXPECT_TRUE(r.ok());
-    runtime::FrameParams f;
+    sample::FrameParams f;
     f.camera = (*r)->default_camera();
     f.width = f.height = 128;
     EXPECT_TRUE((*r)->render(f).ok());
@@ -331,12 +331,12 @@ TEST_F(GlassView, ATintedSlabDarkensTheFloorSeenThroughItByTintSquared) {
   for (int k = 0; k < 3; ++k) {
     runtime::RuntimeScene scene = *baked;
     for (std::size_t c = 0; c < 3; ++c) scene.desc.objects[2].material.tint[c] = static_cast<float>(tints[k][c]);
-    auto r = runtime::Renderer::create(scene);
+    auto r = sample::Renderer::create(scene);
     ASSERT_TRUE(r.ok()) << r.error().message;
     for (int v = 0; v < 2; ++v) {
       runtime::GlassViewOptions o;
       o.method = v == 0 ? runtime::GlassView::kTable : runtime::GlassView::kNearby;
-      runtime::FrameParams f = frame(o);
+      sample::FrameParams f = frame(o);
       ASSERT_TRUE((*r)->render(f).ok());
       const std::vector<float> hdr = (*r)->read_hdr();
       for (int row = static_cast<int>(row0) - 4; row <= static_cast<int>(row0) + 4; ++row) {
@@ -398,7 +398,7 @@ TEST_F(GlassView, AThinPaneShowsWhatIsBehindItStraightThroughScaledByItsSheet) {
     Material& m = scene.desc.objects[2].material;
     for (std::size_t c = 0; c < 3; ++c) m.tint[c] = k == 0 ? 0.0f : k == 1 ? static_cast<float>(tint[c]) : 1.0f;
     if (k == 3) m.ior = 1.0f;
-    auto r = runtime::Renderer::create(scene);
+    auto r = sample::Renderer::create(scene);
     ASSERT_TRUE(r.ok()) << r.error().message;
     for (int v = 0; v < 2; ++v) {
       runtime::GlassViewOptions o;

@@ -15,16 +15,16 @@
 #include "scene_fixture.h"
 #include "caustix/bake/bake.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/image_output.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/image_output.h"
+#include "caustix/sample/renderer.h"
 #include "gltf_fixture.h"
 
 namespace caustix {
 namespace {
 
-using runtime::FrameParams;
+using sample::FrameParams;
 using runtime::HeadlessContext;
-using runtime::Renderer;
+using sample::Renderer;
 
 struct Image {
   int w = 0, h = 0;
@@ -55,19 +55,19 @@ TEST(Render, LitReceiverBackgroundAndShadow) {
   // (E0: renderer.h, kSkyColor).
   const Image img = render("tests/data/lit_box.json", 96, 96);
   const float* corner = img.at(0, 0);
-  EXPECT_EQ(corner[0], 2.0f * runtime::kSkyColor[0]);
-  EXPECT_EQ(corner[1], 2.0f * runtime::kSkyColor[1]);
-  EXPECT_EQ(corner[2], 2.0f * runtime::kSkyColor[2]);
+  EXPECT_EQ(corner[0], 2.0f * sample::kSkyColor[0]);
+  EXPECT_EQ(corner[1], 2.0f * sample::kSkyColor[1]);
+  EXPECT_EQ(corner[2], 2.0f * sample::kSkyColor[2]);
 
   // Box top: albedo 0.9 red * (ambient + E0 cos 45deg = 1.41).
   const float* box = img.at(48, 48);
-  EXPECT_NEAR(box[0], 0.9f * (0.12f * 2.0f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_NEAR(box[0], 0.9f * (0.12f * 2.0f * sample::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
   EXPECT_LT(box[1], box[0] * 0.5f);
 
   // Floor left of the box is lit; right of it (downwind) is in its shadow.
   const float* lit = img.at(48, 26);
   const float* shadow = img.at(48, 70);
-  EXPECT_NEAR(lit[0], 0.8f * (0.12f * 2.0f * runtime::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
+  EXPECT_NEAR(lit[0], 0.8f * (0.12f * 2.0f * sample::kSkyColor[0] + 2.0f * std::sqrt(0.5f)), 0.02f);
   EXPECT_LT(shadow[0], 0.15f * lit[0]);
 }
 
@@ -108,7 +108,7 @@ TEST(Render, DefaultSceneHasNoNanAndIsNotEmpty) {
     std::size_t non_sky = 0;
     for (std::size_t i = 0; i < img.rgba.size(); i += 4) {
       for (std::size_t k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(img.rgba[i + k])) << "pixel " << i / 4;
-      non_sky += img.rgba[i] != runtime::kSkyColor[0] ? 1 : 0;
+      non_sky += img.rgba[i] != sample::kSkyColor[0] ? 1 : 0;
     }
     EXPECT_GT(non_sky, img.rgba.size() / 4 / 3) << "the scene covers too little of the image";
   }
@@ -148,7 +148,7 @@ std::string write_quadrant_png(const std::string& tag) {
     }
   }
   const std::string path = (std::filesystem::temp_directory_path() / ("caustix_" + tag + ".png")).string();
-  EXPECT_TRUE(runtime::write_u8_image(path, 64, 64, 3, px).ok());
+  EXPECT_TRUE(sample::write_u8_image(path, 64, 64, 3, px).ok());
   return path;
 }
 
@@ -242,11 +242,11 @@ TEST(Render, TheAnalyticSkyIsScaledToTheFlatSkyAtTheZenithAndBrightAboutTheSun) 
   FrameParams f;
   f.camera = (*r)->default_camera();
   f.width = f.height = 64;
-  f.sky = runtime::SkyModel::kAnalytic;
+  f.sky = sample::SkyModel::kAnalytic;
   ASSERT_TRUE((*r)->render(f).ok());
   const Image img{64, 64, (*r)->read_hdr()};
   const auto luminance = [](const float* c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; };
-  const double flat = luminance(runtime::kSkyColor);
+  const double flat = luminance(sample::kSkyColor);
   // The four centre pixels straddle the zenith (0.7 degrees off it).
   double zenith = 0;
   for (int k = 0; k < 4; ++k) zenith += 0.25 * luminance(img.at(31 + k / 2, 31 + k % 2));

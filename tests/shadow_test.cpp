@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "bake_fixture.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
 #include "scene_fixture.h"
 
@@ -37,13 +37,13 @@ class Shadows : public test::GlTest {
     test::GlTest::SetUp();
     auto scene = test::bake_and_load(test::write_scene(box_scene(), "shadow_test"));
     ASSERT_TRUE(scene.has_value());
-    auto r = runtime::Renderer::create(*scene);
+    auto r = sample::Renderer::create(*scene);
     ASSERT_TRUE(r.ok()) << r.error().message;
     renderer_ = std::move(*r);
   }
   // Floor irradiance / E0 over [x0, x1] x [z0, z1], w x h pixels.
   std::vector<float> floor(const runtime::ShadowOptions& so, float x0, float x1, float z0, float z1, int w, int h) {
-    runtime::IrradianceRequest q;
+    sample::IrradianceRequest q;
     q.receiver = "floor";
     q.x0 = x0;
     q.x1 = x1;
@@ -59,7 +59,7 @@ class Shadows : public test::GlTest {
     for (std::size_t i = 0; i < img->rgb.size(); i += 3) e.push_back(img->rgb[i]);
     return e;
   }
-  std::unique_ptr<runtime::Renderer> renderer_;
+  std::unique_ptr<sample::Renderer> renderer_;
 };
 
 runtime::ShadowOptions vsm(std::uint32_t width) {
@@ -124,7 +124,7 @@ TEST_F(Shadows, AbsurdVsmKnobsAreRefusedByName) {
     if (k == 0) so.vsm_filter = 4;
     if (k == 1) so.vsm_filter = 65;
     if (k == 2) so.vsm_bleeding = std::nanf("");
-    runtime::IrradianceRequest q;
+    sample::IrradianceRequest q;
     q.receiver = "floor";
     q.width = q.height = 8;
     q.caustics.shadows = so;

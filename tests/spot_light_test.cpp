@@ -23,13 +23,13 @@
 #include <cstdio>
 
 #include "caustix/bake/bake.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 
 namespace caustix {
 namespace {
 
 using runtime::CausticsMethod;
-using runtime::IrradianceRequest;
+using sample::IrradianceRequest;
 using test::kPi;
 using V3 = std::array<double, 3>;
 

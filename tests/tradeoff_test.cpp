@@ -15,7 +15,7 @@
 #include "caustix/bake/bake.h"
 #include "caustix/bake/presets.h"
 #include "caustix/metrics/image_metrics.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
 #include "reference.h"
@@ -49,10 +49,10 @@ class Tradeoff : public test::GlTest {
                      const std::string& receiver, std::array<double, 4> region) {
     auto loaded = test::bake_and_load(test::kScenes + scene + ".json", opt);
     if (!loaded) return {};
-    auto r = runtime::Renderer::create(*loaded);
+    auto r = sample::Renderer::create(*loaded);
     EXPECT_TRUE(r.ok()) << r.error().message;
     if (!r.ok()) return {};
-    runtime::IrradianceRequest q;
+    sample::IrradianceRequest q;
     q.receiver = receiver;
     q.x0 = static_cast<float>(region[0]);
     q.z0 = static_cast<float>(region[1]);

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "bake_fixture.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "caustix/bake/bake.h"
 #include "caustix/formats/spectrum.h"
 #include "gl_fixture.h"
@@ -26,9 +26,9 @@
 namespace caustix::test {
 namespace {
 
-using runtime::InscatterImage;
-using runtime::InscatterRequest;
-using runtime::Renderer;
+using sample::InscatterImage;
+using sample::InscatterRequest;
+using sample::Renderer;
 
 class Volume : public GlTest {
  protected:
@@ -412,7 +412,7 @@ TEST_F(Volume, Extremes) {
     j.erase("medium");
     auto without = make(j, "volume_beauty_clear");
     ASSERT_TRUE(with && without);
-    runtime::FrameParams f{with->default_camera(), 0.0f, 64, 48, with->engine().default_options(), {}, {}, {}, 1};
+    sample::FrameParams f{with->default_camera(), 0.0f, 64, 48, with->engine().default_options(), {}, {}, {}, 1};
     f.caustics.volume.enabled = false;
     ASSERT_TRUE(with->render(f).ok());
     const std::vector<float> a = with->read_hdr();

@@ -297,7 +297,7 @@ TEST_F(WaterSim, TheEnginesCausticsFollowTheSimulatedWater) {
   auto sim = make(*e.water_grid(), {});
   ASSERT_TRUE(sim);
   auto spread = [&] {
-    runtime::IrradianceRequest req;
+    sample::IrradianceRequest req;
     req.receiver = "floor";
     req.x0 = 0.9f, req.z0 = 0.9f, req.x1 = 1.9f, req.z1 = 1.9f;
     req.width = req.height = 64;

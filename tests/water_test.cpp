@@ -20,8 +20,8 @@
 
 #include "bake_fixture.h"
 #include "caustix/formats/spectrum.h"
-#include "caustix/runtime/image_output.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/image_output.h"
+#include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
 #include "optics_oracle.h"
 #include "scene_fixture.h"
@@ -45,9 +45,9 @@ Camera make_camera(Vec3f position, Vec3f target, Vec3f up, float fov) {
   return c;
 }
 
-std::vector<float> render(runtime::Renderer& r, const Camera& c, int w, int h, const WaterLook& look,
+std::vector<float> render(sample::Renderer& r, const Camera& c, int w, int h, const WaterLook& look,
                           runtime::CausticsMethod method = runtime::CausticsMethod::kLevelMap) {
-  runtime::FrameParams f;
+  sample::FrameParams f;
   f.camera = c;
   f.width = w;
   f.height = h;
@@ -68,7 +68,7 @@ std::vector<float> render(runtime::Renderer& r, const Camera& c, int w, int h, c
 // flat_pool lit straight down with a dark plate on its floor, x in [2, 4]
 // m (its near edge at x = 2 m), 2 cm thick, turned `turn_deg` about its
 // centre's vertical.
-std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string& tag, double dispersion = 0.0) {
+std::unique_ptr<sample::Renderer> plate_pool(double turn_deg, const std::string& tag, double dispersion = 0.0) {
   nlohmann::json j = test::canonical_scene("flat_pool");
   if (dispersion > 0) j["water"]["dispersion"] = dispersion;
   j["lights"][0]["direction"] = {0.0, -1.0, 0.0};
@@ -85,13 +85,13 @@ std::unique_ptr<runtime::Renderer> plate_pool(double turn_deg, const std::string
 constexpr int kEdgeW = 640, kEdgeH = 480;
 constexpr float kEdgeFov = 60.0f;
 
-std::vector<float> render_edge(runtime::Renderer& r, std::optional<float> wavelength_nm = std::nullopt, std::uint32_t wavelengths = 8) {
+std::vector<float> render_edge(sample::Renderer& r, std::optional<float> wavelength_nm = std::nullopt, std::uint32_t wavelengths = 8) {
   WaterLook look;
   look.reflection = false;  // F = 0: the pixel is the refracted colour alone
   look.colour = false;
   look.glow = false;
   look.texture_size = 1024;
-  runtime::FrameParams f;
+  sample::FrameParams f;
   f.camera = make_camera({0, 6, 0}, {0, 0, 0}, {0, 0, -1}, kEdgeFov);
   f.width = kEdgeW;
   f.height = kEdgeH;
@@ -235,7 +235,7 @@ TEST_F(Water, MoreIterationsNeverIncreaseLookupError) {
 struct LookupError {
   double over_2_texels = 0, mean = 0;
 };
-LookupError lookup_error(runtime::Renderer& r, const Camera& cam, int w, int h, WaterLook look) {
+LookupError lookup_error(sample::Renderer& r, const Camera& cam, int w, int h, WaterLook look) {
   look.glow = false;
   look.debug = WaterDebug::kExactLookup;
   const std::vector<float> exact = render(r, cam, w, h, look);
@@ -392,7 +392,7 @@ TEST_F(Water, GlintsGlowRoundNotAsAnX) {
     return num / den;
   };
   double glow_total = 0;
-  auto glow_of = [&](runtime::Renderer& rr, bool star) {
+  auto glow_of = [&](sample::Renderer& rr, bool star) {
     WaterLook look;
     look.glow_star = star;
     look.glow = false;
@@ -537,7 +537,7 @@ TEST_F(Water, GoldenImagesThesisTeapot) {
                         {"water_teapot_below", make_camera({1.6f, 0.9f, 1.7f}, {-0.2f, 2.1f, -0.4f}, {0, 1, 0}, 60.0f)}};
   const int w = 320, h = 240;
   for (const View& v : views) {
-    runtime::FrameParams f;
+    sample::FrameParams f;
     f.camera = v.camera;
     f.width = w;
     f.height = h;
@@ -549,11 +549,11 @@ TEST_F(Water, GoldenImagesThesisTeapot) {
     for (std::size_t i = 0; i < rgba.size(); i += 4) rgb.insert(rgb.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
     const std::string path = std::string(CAUSTIX_SOURCE_DIR) + "/assets/golden/" + v.name + ".png";
     if (update) {
-      ASSERT_TRUE(runtime::write_u8_image(path, w, h, 3, rgb).ok());
+      ASSERT_TRUE(sample::write_u8_image(path, w, h, 3, rgb).ok());
       std::cout << "updated " << path << "\n";
       continue;
     }
-    auto golden = runtime::read_rgb_image(path);
+    auto golden = sample::read_rgb_image(path);
     ASSERT_TRUE(golden.ok()) << golden.error().message << " (CAUSTIX_UPDATE_GOLDEN=1 writes it)";
     ASSERT_EQ(golden->width, w);
     ASSERT_EQ(golden->height, h);

@@ -306,7 +306,15 @@ TransportEntry lookup(const LightTransportTable& t, std::uint32_t vertex, const 
   const Dir3 local{dot3(to_light, tb), dot3(to_light, bb), std::max(dot3(to_light, n), 0.0)};
   const auto st = hemi_oct_encode(local);
   const double r1 = t.resolution - 1;
-  const double fx = std::clamp((st[0] + 1.0) * 0.5 * r1, 0.0, r1), fy = std::clamp((st[1] + 1.0) * 0.5 * r1, 0.0, r1);
+  // A direction on or below the horizon maps onto the grid's border, where
+  // rounding may leave it a hair inside: snapped onto it (transport.glsl
+  // alike, whose float rounding is coarser), so that the row or column
+  // beyond gets no weight (a trapped horizon row stays trapped).
+  const auto grid = [r1](double s) {
+    const double f = std::clamp((s + 1.0) * 0.5 * r1, 0.0, r1);
+    return f < 1e-5 ? 0.0 : f > r1 - 1e-5 ? r1 : f;
+  };
+  const double fx = grid(st[0]), fy = grid(st[1]);
   const auto x0 = static_cast<std::uint32_t>(std::min(std::floor(fx), r1 - 1));
   const auto y0 = static_cast<std::uint32_t>(std::min(std::floor(fy), r1 - 1));
   const double ax = fx - x0, ay = fy - y0;

@@ -195,6 +195,12 @@ Transport ltt_lookup_ex(uint vertex, vec3 n, vec3 to_light, bool want_other, out
   int r = u_ltt_resolution;
   float r1 = float(r - 1);
   vec2 f = clamp((st + 1.0) * 0.5 * r1, 0.0, r1);
+  // A direction on or below the horizon (l.z = 0) maps onto the grid's
+  // border, where float rounding leaves f a few ulps inside: snap it there,
+  // as lookup()'s double arithmetic has it, so that the row or column
+  // beyond gets no weight (a trapped horizon row stays trapped).
+  f = mix(f, vec2(0.0), lessThan(f, vec2(1e-5)));
+  f = mix(f, vec2(r1), greaterThan(f, vec2(r1 - 1e-5)));
   vec2 f0 = min(floor(f), vec2(r1 - 1.0));
   vec2 a = f - f0;
   int x0 = int(f0.x), y0 = int(f0.y);

@@ -10,14 +10,15 @@
 
 #include "caustix/common/cli.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/image_output.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/image_output.h"
+#include "caustix/sample/renderer.h"
 #include "caustix/runtime/scene_loader.h"
 #include "caustix/runtime/water_sim.h"
 
 int main(int argc, char** argv) {
   using namespace caustix;
   using namespace caustix::runtime;
+  using namespace caustix::sample;
   std::string in_path, out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
   float time = 0.0f, epsilon = 0.0f;
   std::uint32_t planes = 0, caustics_size = 0;

@@ -41,8 +41,8 @@
 #include "caustix/common/cli.h"
 #include "caustix/formats/spectrum.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/image_output.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/image_output.h"
+#include "caustix/sample/renderer.h"
 #include "caustix/runtime/scene_loader.h"
 #include "caustix/runtime/water_sim.h"
 
@@ -88,7 +88,7 @@ struct ViewState {
   float light_power = 1.0f;  // E0 (directional) or I (point)
   bool light_moved = false;
   caustix::runtime::GlassViewOptions glass_view;
-  caustix::runtime::DisplayOptions display;
+  caustix::sample::DisplayOptions display;
   int supersample = 1;
   bool ui = true;
   // Interactive water.
@@ -128,11 +128,11 @@ std::optional<glm::vec3> on_plane(const std::pair<glm::vec3, glm::vec3>& ray, fl
 // Panel history of the per-stage GPU times.
 struct TimeHistory {
   static constexpr std::size_t kFrames = 240;
-  std::array<std::deque<float>, caustix::runtime::PassTimes::kCount + 1> series;  // + total
-  void add(const caustix::runtime::PassTimes& t) {
-    for (int k = 0; k <= caustix::runtime::PassTimes::kCount; ++k) {
+  std::array<std::deque<float>, caustix::sample::PassTimes::kCount + 1> series;  // + total
+  void add(const caustix::sample::PassTimes& t) {
+    for (int k = 0; k <= caustix::sample::PassTimes::kCount; ++k) {
       auto& d = series[static_cast<std::size_t>(k)];
-      d.push_back(k < caustix::runtime::PassTimes::kCount ? t.ms[k] : t.total_ms());
+      d.push_back(k < caustix::sample::PassTimes::kCount ? t.ms[k] : t.total_ms());
       if (d.size() > kFrames) d.pop_front();
     }
   }
@@ -181,10 +181,11 @@ bool pow2_combo(const char* label, std::uint32_t& v, std::uint32_t lo, std::uint
 
 // The panel: every knob of ViewState, the times and counters. Returns true
 // when the screenshot button was pressed.
-bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory& history, const std::string& gl_name,
+bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& history, const std::string& gl_name,
                 double frame_ms, const std::string& note) {
   using namespace caustix;
   using namespace caustix::runtime;
+  using namespace caustix::sample;
   bool screenshot = false;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(390, 0), ImGuiCond_FirstUseEver);
@@ -348,6 +349,7 @@ bool draw_panel(ViewState& st, caustix::runtime::Renderer& r, const TimeHistory&
 int main(int argc, char** argv) {
   using namespace caustix;
   using namespace caustix::runtime;
+  using namespace caustix::sample;
   std::string in_path, size = "1280x720", screenshot;
   int frames = 0;
   CLI::App app{"caustix-view: interactive viewer for a baked .cxb scene"};

@@ -27,16 +27,16 @@ Result<Session> open_scene(const std::string& cxb) {
   if (!scene) return scene.error();
   auto ctx = runtime::HeadlessContext::create();
   if (!ctx) return ctx.error();
-  auto r = runtime::Renderer::create(*scene);
+  auto r = sample::Renderer::create(*scene);
   if (!r) return r.error();
   return Session{std::move(*ctx), std::move(*r)};
 }
 
-Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
+Result<FrameTimes> time_frames(sample::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light, const runtime::WaterLook& look,
                                const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view,
                                int supersample, std::vector<runtime::GpuTimes>* gpu, bool still) {
-  runtime::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
+  sample::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
   r.engine().set_gpu_timing(gpu != nullptr);
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {

@@ -10,7 +10,7 @@
 
 #include "caustix/common/status.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 
 namespace CLI {
 class App;
@@ -47,7 +47,7 @@ double median(std::vector<double> v);
 // A baked scene loaded into a headless context and a renderer.
 struct Session {
   std::unique_ptr<runtime::HeadlessContext> context;
-  std::unique_ptr<runtime::Renderer> renderer;
+  std::unique_ptr<sample::Renderer> renderer;
 };
 Result<Session> open_scene(const std::string& cxb);
 
@@ -63,7 +63,7 @@ struct FrameTimes {
 // With `gpu`, the engine's per-pass GPU times are on and every measured
 // frame's (as they arrive: each the frame before) is appended. `still`
 // keeps the time at 0 (a paused scene).
-Result<FrameTimes> time_frames(runtime::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
+Result<FrameTimes> time_frames(sample::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light = false, const runtime::WaterLook& look = {},
                                const std::optional<Camera>& camera = std::nullopt,
                                const runtime::GlassViewOptions& glass_view = {}, int supersample = 1,

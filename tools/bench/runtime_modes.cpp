@@ -26,8 +26,8 @@
 #include "caustix/common/cli.h"
 #include "caustix/metrics/image_metrics.h"
 #include "caustix/runtime/gl_context.h"
-#include "caustix/runtime/receiver_passes.h"
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/receiver_passes.h"
+#include "caustix/sample/renderer.h"
 #include "bench_common.h"
 #include "water.h"
 
@@ -119,7 +119,7 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
     runtime::CausticsOptions co;
     co.method = m;
     if (planes > 0) co.planes = planes;
-    runtime::FrameParams f;
+    sample::FrameParams f;
     f.camera = r->default_camera();
     f.time = 1.0f;
     f.width = width;
@@ -158,7 +158,7 @@ int receivers_cost(const std::string& cxb, int width, int height, int warmup, in
   const glm::mat4 view_proj =
       glm::perspective(glm::radians(cam.fov_y_deg), static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane) *
       glm::lookAt(v3(cam.position), v3(cam.target), v3(cam.up));
-  auto passes = runtime::ReceiverPasses::create(e, width, height);
+  auto passes = sample::ReceiverPasses::create(e, width, height);
   if (!passes) return cli::fail("caustix-bench", passes.error());
   runtime::FrameUpdate f;
   f.caustics = e.default_options();
@@ -186,7 +186,7 @@ int receivers_cost(const std::string& cxb, int width, int height, int warmup, in
   auto update_table_ms = median_ms(update);
   if (!update_table_ms) return cli::fail("caustix-bench", update_table_ms.error());
   const runtime::CausticsStats st = e.stats();
-  runtime::ReceiverPasses& p = **passes;
+  sample::ReceiverPasses& p = **passes;
   if (Status s = p.draw_gbuffer(view_proj); !s) return cli::fail("caustix-bench", s.error());
   auto per_pair_ms = median_ms([&]() { return p.shade_per_pair(view_proj); });
   auto deferred_ms = median_ms([&]() { return p.shade_deferred(); });

@@ -11,7 +11,7 @@
 #include "caustix/bake/scene_json.h"
 #include "caustix/common/cli.h"
 #include "caustix/metrics/image_metrics.h"
-#include "caustix/runtime/image_output.h"
+#include "caustix/sample/image_output.h"
 
 namespace caustix::bench {
 namespace {
@@ -153,7 +153,7 @@ struct Reference {
 };
 
 Result<Reference> load_reference(const std::string& path) {
-  auto img = runtime::read_rgb_image(path);
+  auto img = sample::read_rgb_image(path);
   if (!img) return img.error();
   Reference r;
   r.receiver = img->attribute("caustix:receiver");
@@ -199,11 +199,11 @@ int tradeoff(const TradeoffRequest& q) {
     const double bake_s = ms_since(t0) / 1000.0;
     auto scene = runtime::load_scene(baked->cxb.data(), baked->cxb.size());
     if (!scene) return scene.error();
-    auto renderer = runtime::Renderer::create(*scene);
+    auto renderer = sample::Renderer::create(*scene);
     if (!renderer) return renderer.error();
     metrics::Image judged;
     if (ref->receiver.empty()) {
-      runtime::InscatterRequest iq;
+      sample::InscatterRequest iq;
       iq.x0 = static_cast<float>(ref->region[0]);
       iq.y0 = static_cast<float>(ref->region[1]);
       iq.x1 = static_cast<float>(ref->region[2]);
@@ -217,7 +217,7 @@ int tradeoff(const TradeoffRequest& q) {
       if (!img) return img.error();
       judged = {img->width, img->height, std::move(img->rgb)};
     } else {
-    runtime::IrradianceRequest ir;
+    sample::IrradianceRequest ir;
     ir.receiver = ref->receiver;
     ir.x0 = static_cast<float>(ref->region[0]);
     ir.z0 = static_cast<float>(ref->region[1]);

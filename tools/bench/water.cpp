@@ -14,7 +14,7 @@ namespace caustix::bench {
 int water_effects(const std::string& cxb, int width, int height, int warmup, int frames, const std::string& csv) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
-  runtime::Renderer& r = *session->renderer;
+  sample::Renderer& r = *session->renderer;
   if (!r.scene().water) {
     return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, cxb + ": the scene has no water"));
   }
@@ -122,7 +122,7 @@ int water_sim_cost(const std::string& cxb, int frames, const std::string& csv) {
     row("-", std::to_string(n) + "x" + std::to_string(n), "step", *ms, static_cast<double>(st.substeps) / (frames + 2));
   }
   if (!session) return kExitOk;
-  runtime::Renderer& r = *session->renderer;
+  sample::Renderer& r = *session->renderer;
   runtime::Engine& e = r.engine();
   const auto grid = e.water_grid();
   if (!grid) return fail(make_error(ErrorCode::kUsage, cxb + ": the scene has no water"));

@@ -11,14 +11,14 @@
 #include "caustix/common/cli.h"
 #include "caustix/metrics/error_split.h"
 #include "caustix/metrics/image_metrics.h"
-#include "caustix/runtime/image_output.h"
+#include "caustix/sample/image_output.h"
 
 namespace {
 
 using namespace caustix;
 
 Result<std::pair<metrics::Image, std::optional<std::array<double, 4>>>> load(const std::string& path) {
-  auto img = runtime::read_rgb_image(path);
+  auto img = sample::read_rgb_image(path);
   if (!img) return img.error();
   return std::pair{metrics::Image{img->width, img->height, std::move(img->rgb)}, img->region()};
 }
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
         map[3 * i + 1] = static_cast<float>(std::fabs(d));
         map[3 * i + 2] = split->class_of[i];
       }
-      if (Status st = runtime::write_float_image(map_path, a->first.width, a->first.height, 3, map); !st) {
+      if (Status st = sample::write_float_image(map_path, a->first.width, a->first.height, 3, map); !st) {
         return cli::fail("caustix-compare", st.error());
       }
     }

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "caustix/common/cli.h"
-#include "caustix/runtime/image_output.h"
+#include "caustix/sample/image_output.h"
 #include "caustix/formats/spectrum.h"
 #include "reference.h"
 
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char rect[160];
     std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", iq.x0, iq.y0, iq.x1, iq.y1);
-    if (Status st = runtime::write_float_image(out_path, img->width, img->height, 3, img->rgb,
+    if (Status st = sample::write_float_image(out_path, img->width, img->height, 3, img->rgb,
                                                {{"caustix:region", rect}, {"caustix:image", "inscatter"},
                                                 {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", "reference"},
                                                 {"caustix:wavelength", iq.wavelength_nm > 0 ? std::to_string(iq.wavelength_nm) : "rgb"},
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   char rect[160];
   std::snprintf(rect, sizeof rect, "%.9g,%.9g,%.9g,%.9g", q.x0, q.z0, q.x1, q.z1);
-  if (Status st = runtime::write_float_image(out_path, img->width, img->height, 3, img->rgb,
+  if (Status st = sample::write_float_image(out_path, img->width, img->height, 3, img->rgb,
                                              {{"caustix:region", rect}, {"caustix:receiver", q.receiver},
                                               {"caustix:e0", std::to_string(img->e0)}, {"caustix:method", "reference"},
                                               {"caustix:time", std::to_string(q.time)},

@@ -12,9 +12,10 @@
 
 #include "caustics.h"
 #include "caustix/formats/frame.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "gl_calls.h"
 #include "gl_state.h"
+#include "scene_inputs.h"
 #include "pass_timer.h"
 #include "receiver_table.h"
 #include "causticmap.h"
@@ -53,20 +54,6 @@ glm::mat4 frame_matrix(const BoundingFrame& f) {
 
 Error usage(const std::string& what) { return make_error(ErrorCode::kUsage, what); }
 
-// The caller's scene colour or depth texture for `call`: a 2D texture of
-// the internal format `want`.
-Status check_scene_texture(const char* call, unsigned tex, GLint want, const char* what) {
-  const std::string prefix = std::string(call) + ": " + what;
-  if (tex == 0 || !glIsTexture(tex)) return usage(prefix + " " + std::to_string(tex) + " is not a GL texture");
-  GLint target = 0, format = 0;
-  glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
-  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
-  if (target != GL_TEXTURE_2D || format != want) {
-    return usage(prefix + " must be a 2D " + (want == GL_RGBA32F ? "GL_RGBA32F" : "GL_DEPTH_COMPONENT32F") + " texture");
-  }
-  return Status::success();
-}
-
 }  // namespace
 
 glm::mat4 View::projection() const {
@@ -92,7 +79,6 @@ struct Engine::Impl {
   std::optional<ShadowMaps> shadows;
   std::optional<WaterSurface> water;
   std::optional<WaterView> water_view;
-  gl::Program water_plain;
   std::unique_ptr<CausticsEngine> caustics;
   std::unique_ptr<GlassEngine> glass;
   std::unique_ptr<CausticMapEngine> caustic_maps;  // created on the first update that needs it
@@ -100,6 +86,9 @@ struct Engine::Impl {
   std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
   VolumeOptions volume_options;           // of the last update()
   gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
+  // The caller's scene colour and depth as the view-side draws read them
+  // (copies where they are multisampled or attached where a pass draws).
+  gl::SceneReader scene_reader;
 
   // Engine::bind_all()'s table, built at its first call, then kept current
   // by update(): the lights whose products an update remade are copied.
@@ -449,9 +438,6 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
     auto water = WaterSurface::create(*s.scene.water);
     if (!water) return water.error();
     s.water.emplace(std::move(*water));
-    auto wp = gl::Program::build("water_plain", shaders::k_water_vert_glsl, shaders::k_water_plain_frag_glsl);
-    if (!wp) return wp.error();
-    s.water_plain = std::move(*wp);
     auto view = WaterView::create();
     if (!view) return view.error();
     s.water_view.emplace(std::move(*view));
@@ -738,7 +724,10 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
                           unsigned scene_depth) {
   Impl& s = *impl_;
   if (!s.water) return usage("draw_water: the scene has no water");
-  if (scene_depth != 0) CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_water", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  gl::SceneTexture depth;
+  if (scene_depth != 0) {
+    CAUSTIX_ASSIGN_OR_RETURN(depth, gl::describe_scene_texture("draw_water", scene_depth, gl::SceneTextureKind::kDepth, "scene depth"));
+  }
   if (look.steps < 1 || look.steps > 64 || look.max_steps < 1 || look.max_steps > 64 || look.texture_size < 0 ||
       look.texture_size > 8192 || !(look.fov_ext >= 1.0f && look.fov_ext <= 4.0f) ||
       (look.max_texture_size != 0 && (look.max_texture_size < 16 || look.max_texture_size > 8192))) {
@@ -754,10 +743,8 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
   int viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
   glGetIntegerv(GL_VIEWPORT, viewport);
-  if (scene_depth != 0) {
-    GLint w = 0, h = 0;
-    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &w);
-    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &h);
+  if (depth) {
+    const int w = depth.width, h = depth.height;
     if (w < viewport[0] + viewport[2] || h < viewport[1] + viewport[3]) {
       return usage("draw_water: scene depth is " + std::to_string(w) + "x" + std::to_string(h) +
                    ", smaller than the viewport's far corner " + std::to_string(viewport[0] + viewport[2]) + "x" +
@@ -765,113 +752,27 @@ Status Engine::draw_water(const View& view, const WaterLook& look, const std::fu
     }
   }
 
-  ViewCamera main;
-  main.view = view.view;
-  main.proj = view.projection();
-  main.eye = view.eye();
-  const glm::mat4 view_proj = main.proj * main.view;
-  const WaterMedium medium = s.medium(main.eye, look);
+  WaterView::Frame f;
+  f.target_fbo = static_cast<GLuint>(target_fbo);
+  std::copy(viewport, viewport + 4, f.viewport);
+  f.main.view = view.view;
+  f.main.proj = view.projection();
+  f.main.eye = view.eye();
+  f.fov_y_deg = view.fov_y_deg;
+  f.aspect = view.aspect;
+  f.near_plane = view.near_plane;
+  f.far_plane = view.far_plane;
+  f.water = &*s.scene.water;
+  f.medium = s.medium(f.main.eye, look);
+  f.waves = view_samples(s.view_spectrum, s.scene.water->ior, s.scene.water->dispersion);
   // The sun (first directional light): highlight and glow.
-  glm::vec3 sun_dir(0.0f), sun_color(0.0f);
   for (const Light& l : s.scene.lights) {
     if (l.type != LightType::kDirectional) continue;
-    sun_dir = glm::normalize(to_glm(l.direction));
-    sun_color = to_glm(l.color) * l.irradiance;
+    f.sun_direction = glm::normalize(to_glm(l.direction));
+    f.sun_color = to_glm(l.color) * l.irradiance;
     break;
   }
-
-  const bool textured = look.textures && draw_scene;
-  std::optional<WaterCameras> cams;
-  if (textured) {
-    // Seed 001's two textures (§5.1-5.2), drawn by the application.
-    cams = water_cameras(main, view.fov_y_deg, view.aspect, view.near_plane, view.far_plane, *s.scene.water, look);
-    int size = look.texture_size;
-    if (size == 0) {  // auto: a texel per pixel across the extended field of view, within the limit
-      const float pixels = look.fov_ext * static_cast<float>(std::max(viewport[2], viewport[3]));
-      const int limit = look.max_texture_size > 0 ? look.max_texture_size : 4096;
-      size = std::min(std::clamp((static_cast<int>(std::ceil(pixels)) + 63) / 64 * 64, 64, 4096), limit);
-    }
-    s.water_view->ensure_targets(size);
-    const int n = s.water_view->size();
-    const glm::vec3 refr_clear = cams->under ? look.sky : medium.color;
-    // From below, the mirrored texture shows the water's inside, fogged
-    // along the mirrored camera's rays (§7.5).
-    const glm::vec3 refl_clear = cams->under ? medium.color : look.sky;
-    struct Pass {
-      GLuint fbo;
-      WaterPass p;
-      glm::vec3 clear;
-    };
-    // The reflection first: the refraction's depth, drawn last into the
-    // buffer both share, is the one the surface reads.
-    const Pass passes[2] = {
-        {s.water_view->reflection_fbo(),
-         WaterPass{s.water_view->reflection_fbo(), n, cams->reflection.proj * cams->reflection.view, cams->reflection_clip, true, cams->under, cams->reflection.eye, medium.k, medium.color},
-         refl_clear},
-        {s.water_view->refraction_fbo(),
-         WaterPass{s.water_view->refraction_fbo(), n, cams->refraction.proj * cams->refraction.view, cams->refraction_clip, false, false, cams->refraction.eye, medium.k, medium.color},
-         refr_clear}};
-    const gl::TimedPass timed("water: refraction and reflection textures (the application's passes)", gl::PassKind::kRaster);
-    for (const Pass& p : passes) {
-      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
-      glDepthMask(GL_TRUE);  // clears obey the write masks
-      const float clear[4] = {p.clear.r, p.clear.g, p.clear.b, 0.0f};
-      glClearNamedFramebufferfv(p.fbo, GL_COLOR, 0, clear);
-      const float far_depth = 1.0f;
-      glClearNamedFramebufferfv(p.fbo, GL_DEPTH, 0, &far_depth);
-      // The callback runs with the caller's state (program, VAO, textures,
-      // samplers, active unit, capabilities, ...) but for what WaterPass
-      // lists (engine.h): the pass's framebuffer and viewport, depth test
-      // LESS with writes, no blending or culling, the clip distance, the
-      // winding.
-      guard.restore();
-      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
-      glViewport(0, 0, n, n);
-      glDepthMask(GL_TRUE);
-      glEnable(GL_DEPTH_TEST);
-      glDepthFunc(GL_LESS);
-      glDisable(GL_BLEND);
-      glDisable(GL_CULL_FACE);
-      glEnable(GL_CLIP_DISTANCE0);
-      glFrontFace(p.p.mirrored ? GL_CW : GL_CCW);
-      draw_scene(p.p);
-      // The callback may have left anything: back to what the passes below assume.
-      guard.enter();
-      glDisable(GL_CLIP_DISTANCE0);
-      glFrontFace(GL_CCW);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glDisable(GL_SCISSOR_TEST);
-      glDisable(GL_STENCIL_TEST);
-      glDisable(GL_CULL_FACE);
-    }
-  }
-
-  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
-  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-  glEnable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
-  glDepthFunc(GL_LESS);
-  if (textured) {
-    glDisable(GL_BLEND);
-    const Water& water = *s.scene.water;
-    const WaterView::SurfaceParams sp{&*cams, view_proj, main.eye, view_samples(s.view_spectrum, water.ior, water.dispersion),
-                                      medium.color, medium.k, sun_dir, sun_color};
-    s.water_view->draw_surface(sp, look, [&]() { s.water->draw(); });
-    if (look.glow && look.debug == WaterDebug::kNone && !cams->under && sun_color != glm::vec3(0.0f)) {
-      s.water_view->draw_glow(sp, look, static_cast<GLuint>(target_fbo), viewport, scene_depth, [&]() { s.water->draw(); });
-    }
-  } else {
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
-    s.water_plain.use();
-    s.water_plain.set("u_view_proj", view_proj);
-    s.water_plain.set("u_eye", main.eye);
-    s.water_plain.set("u_sky", look.sky);
-    s.water_plain.set("u_ior", s.scene.water->ior);
-    s.water_plain.set("u_sun_direction", sun_dir);
-    s.water_plain.set("u_sun_color", sun_color);
-    s.water->draw();
-  }
+  CAUSTIX_RETURN_IF_ERROR(s.water_view->draw(f, look, draw_scene, guard, s.scene_reader, depth, [&]() { s.water->draw(); }));
   return gl::check_gl("water surface");
 }
 
@@ -883,12 +784,14 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
     if (value < 1 || value > 64) return usage(std::string("draw_glass: ") + name + " must be 1..64, got " + std::to_string(value));
   }
   if (!s.glass) return Status::success();
-  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_color, GL_RGBA32F, "scene colour"));
-  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_glass", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  gl::SceneTexture color, depth;
+  CAUSTIX_ASSIGN_OR_RETURN(color, gl::describe_scene_texture("draw_glass", scene_color, gl::SceneTextureKind::kColor, "scene colour"));
+  CAUSTIX_ASSIGN_OR_RETURN(depth, gl::describe_scene_texture("draw_glass", scene_depth, gl::SceneTextureKind::kDepth, "scene depth"));
+  if (color.width != depth.width || color.height != depth.height) return usage("draw_glass: scene colour and depth differ in size");
   const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
-  s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, scene_color, scene_depth, 2.0f * s.scene_radius(),
-                      options, s.view_spectrum);
+  CAUSTIX_RETURN_IF_ERROR(s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, color, depth, s.scene_reader,
+                                              2.0f * s.scene_radius(), options, s.view_spectrum));
   return gl::check_gl("glass surface");
 }
 
@@ -898,15 +801,13 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
   Impl& s = *impl_;
   if (!s.volume) return Status::success();
   if (!s.updated) return usage("draw_media: update() has not run yet");
-  if (scene_color != 0) CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_media", scene_color, GL_RGBA32F, "scene colour"));
-  CAUSTIX_RETURN_IF_ERROR(check_scene_texture("draw_media", scene_depth, GL_DEPTH_COMPONENT32F, "scene depth"));
+  gl::SceneTexture color, depth;
   if (scene_color != 0) {
-    GLint cw = 0, ch = 0, dw = 0, dh = 0;
-    glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_WIDTH, &cw);
-    glGetTextureLevelParameteriv(scene_color, 0, GL_TEXTURE_HEIGHT, &ch);
-    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_WIDTH, &dw);
-    glGetTextureLevelParameteriv(scene_depth, 0, GL_TEXTURE_HEIGHT, &dh);
-    if (cw != dw || ch != dh) return usage("draw_media: scene colour and depth differ in size");
+    CAUSTIX_ASSIGN_OR_RETURN(color, gl::describe_scene_texture("draw_media", scene_color, gl::SceneTextureKind::kColor, "scene colour"));
+  }
+  CAUSTIX_ASSIGN_OR_RETURN(depth, gl::describe_scene_texture("draw_media", scene_depth, gl::SceneTextureKind::kDepth, "scene depth"));
+  if (color && (color.width != depth.width || color.height != depth.height)) {
+    return usage("draw_media: scene colour and depth differ in size");
   }
   if (!std::isfinite(scale) || scale < 0.0f) return usage("draw_media: scale must be finite and >= 0");
   for (int c = 0; c < 4; ++c) {
@@ -917,7 +818,7 @@ Status Engine::draw_media(const glm::mat4& view_proj, unsigned scene_color, unsi
   if (std::fabs(glm::determinant(view_proj)) < 1e-30f) return usage("draw_media: the view-projection matrix is singular");
   const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
-  s.volume->draw(s.scene, view_proj, scene_color, scene_depth, scale, s.volume_options);
+  CAUSTIX_RETURN_IF_ERROR(s.volume->draw(s.scene, view_proj, color, depth, s.scene_reader, scale, s.volume_options));
   return gl::check_gl("media");
 }
 
@@ -965,10 +866,8 @@ CausticsStats Engine::stats(bool wait) {
     st.glass_wavelengths = s.glass->wavelengths();
   }
   if (s.water_view) m.views += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
-  if (s.volume) {
-    m.media = s.volume->gpu_bytes();  // radiance and index grids
-    m.views += s.volume->view_bytes();
-  }
+  if (s.volume) m.media = s.volume->gpu_bytes();  // radiance and index grids
+  m.views += s.scene_reader.gpu_bytes();  // copies of the caller's scene, where a view-side draw needs them
   if (s.caustic_maps) m.caustic_maps = s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
   m.other = std::uint64_t{s.stride} * s.lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
   m.receiver_table = s.table.gpu_bytes();

@@ -16,7 +16,7 @@
 
 #include "caustix/common/status.h"
 #include "caustix/runtime/engine.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 namespace caustix::runtime {
 

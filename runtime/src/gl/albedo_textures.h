@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "caustix/formats/scene.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 namespace caustix::runtime {
 

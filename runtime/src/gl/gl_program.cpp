@@ -1,4 +1,4 @@
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 #include "gl_state.h"
 

@@ -102,6 +102,7 @@ StateGuard::StateGuard(const std::vector<GLuint>& units) : outer_(t_innermost) {
     s.unit = u;
     glActiveTexture(GL_TEXTURE0 + u);
     s.tex_2d = get(GL_TEXTURE_BINDING_2D);
+    s.tex_2d_ms = get(GL_TEXTURE_BINDING_2D_MULTISAMPLE);
     s.tex_array = get(GL_TEXTURE_BINDING_2D_ARRAY);
     s.tex_cube = get(GL_TEXTURE_BINDING_CUBE_MAP);
     s.tex_3d = get(GL_TEXTURE_BINDING_3D);
@@ -172,6 +173,7 @@ void StateGuard::restore() const {
   for (const Unit& s : units_) {
     glActiveTexture(GL_TEXTURE0 + s.unit);
     glBindTexture(GL_TEXTURE_2D, alive(s.tex_2d));
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, alive(s.tex_2d_ms));
     glBindTexture(GL_TEXTURE_2D_ARRAY, alive(s.tex_array));
     glBindTexture(GL_TEXTURE_CUBE_MAP, alive(s.tex_cube));
     glBindTexture(GL_TEXTURE_3D, alive(s.tex_3d));

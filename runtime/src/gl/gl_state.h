@@ -15,8 +15,8 @@ namespace caustix::runtime::gl {
 
 class StateGuard {
  public:
-  // `units`: the texture units the call may bind (their 2D, 2D array and
-  // cube-map bindings and sampler objects are saved).
+  // `units`: the texture units the call may bind (their 2D, 2D multisample,
+  // 2D array, cube-map and 3D bindings and sampler objects are saved).
   explicit StateGuard(const std::vector<GLuint>& units);
   ~StateGuard();
   // Puts back every value saved (what the destructor does); the call may
@@ -42,7 +42,7 @@ class StateGuard {
   };
   struct Unit {
     GLuint unit = 0;
-    GLint tex_2d = 0, tex_array = 0, tex_cube = 0, tex_3d = 0, sampler = 0;
+    GLint tex_2d = 0, tex_2d_ms = 0, tex_array = 0, tex_cube = 0, tex_3d = 0, sampler = 0;
   };
   GLint draw_fbo_ = 0, read_fbo_ = 0, program_ = 0, vao_ = 0, active_texture_ = 0;
   std::array<GLint, 4> viewport_{};

@@ -5,7 +5,7 @@
 // see the same 24-byte records either way). Internal to the runtime.
 
 #include "caustix/common/mesh.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 namespace caustix::runtime {
 

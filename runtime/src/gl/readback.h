@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <functional>
 
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 namespace caustix::runtime::gl {
 

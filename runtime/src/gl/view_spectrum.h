@@ -11,7 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "caustix/formats/spectrum.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
 namespace caustix::runtime {
 

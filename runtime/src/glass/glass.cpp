@@ -1,635 +1,235 @@
-#include "glass.h"
-
-#include <algorithm>
-#include <cmath>
-#include <cstring>
-#include <memory>
-#include <optional>
-#include <string>
-
-#include <glm/gtc/type_ptr.hpp>
-
-#include "caustix/formats/frame.h"
-#include "caustix/formats/spectrum.h"
-#include "focus_window.h"
-#include "pass_timer.h"
-#include "shader_text.h"
+#include "glass_impl.h"
 
 namespace caustix::runtime {
-namespace {
 
-constexpr std::uint32_t kMaxGlassPlanes = 16;  // u_glass_plane_v[16] in the shaders
-constexpr std::size_t kPrimitiveBytes = 6 * 16;
-// Per glass vertex and traced wavelength (glass_rays.comp): its exit ray,
-// direction and colour, and those of the other path class in its table's
-// stencil with the distance to their switch: 6 vec4.
-constexpr std::size_t kRayBytes = 6 * 16;
-// The CPU sample of each glass's n_d table (Glass::sample): about 4 MB of
-// rows (655 vertices at the default 20 x 20 directions), never fewer than
-// 64 vertices.
-constexpr std::size_t kSampleBytes = 4u << 20;
-constexpr std::size_t kMinSampleVertices = 64;
-// Focus windows (issue 47): the sampled exit rays are binned over the
-// target's frame in kFocusBins x kFocusBins cells per plane; a cell is
-// concentrated where the flux landing in it is at least
-// kFocusConcentration times the incident irradiance over its area, from at
-// least kFocusMinRays sampled rays (a cell of a flat pane gets T^2, about
-// 0.92; the sampling stride alone can put two or three rays in a cell).
-// The window is the square around the concentrated cells and one cell
-// more, no larger than kFocusMaxHalf of the frame (else the main texture
-// does nearly as well) and no smaller than kFocusMinHalf (at most 32
-// times the main texture's resolution, with kFocusTexels). The caustic
-// maps' windows use the same constants (gl/focus_window.h).
-constexpr int kFocusBins = focus::kBins;
-constexpr double kFocusConcentration = focus::kConcentration;
-constexpr int kFocusMinRays = focus::kMinSamples;
-constexpr float kFocusMaxHalf = focus::kMaxHalf;
-constexpr float kFocusMinHalf = focus::kMinHalf;
-// The window's texels per side, as a fraction of the main texture's: its
-// layers hold it in their lower-left quarter. A full layer cost glass_teapot's
-// illumination pass 3.4 times its time (85 -> 286 ms, llvmpipe, the light
-// moving); half the texels keep glass_ball's focus within 4.5 % of optics
-// at 0.5 cm, against 2.9 % (docs/glass.md).
-constexpr float kFocusTexels = focus::kTexels;
-
-glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
-
-// model = T R s for a similarity transform (validate_scene enforces it).
-void decompose(const Mat4f& t, glm::mat3& rotation, float& scale) {
-  const glm::mat3 m(to_glm(t));
-  scale = glm::length(m[0]);
-  rotation = m / scale;
-}
-
-}  // namespace
-
-struct GlassEngine::Impl {
-  struct Table {
-    LightTransportTable params;  // words and switches dropped after upload
-    gl::Buffer buffer;           // the entries, then the switch bytes (LTTW) if any
-    std::uint32_t switch_base = 0;  // the switches' first word in the buffer; 0: none
-  };
-  // What every object on one table shares (issue 48: objects that use
-  // another's tables, Object::tables_from, draw from the same buffers).
-  struct Tables {
-    // By ascending IOR: the table at n_d (LTTB) and, for dispersive glass,
-    // those at other wavelengths (LTTS).
-    std::vector<Table> tables;
-    std::size_t base = 0;  // the n_d table's place
-    // Each vertex's one-ring of triangles (CSR): offsets (vertices + 1),
-    // triangle indices (glass_corner_intensity.comp).
-    gl::Buffer ring_offsets, ring_triangles;
-    // A CPU copy of the n_d table's rows of every k-th vertex, with their
-    // positions and normals: what the mean transmitted direction is
-    // estimated from without reading the GPU's rays back (mean_travel).
-    LightTransportTable sample;
-    std::vector<std::array<float, 3>> sample_positions, sample_normals;
-    // Each sampled vertex's share of the surface (a third of its one-ring's
-    // area, object space) times the sampling stride: the surface it stands
-    // for.
-    std::vector<float> sample_areas;
-    std::uint64_t gpu_bytes = 0;  // the tables and the one-rings
-  };
-  struct Glass {
-    std::uint32_t object = 0;
-    const GpuMesh* mesh = nullptr;
-    const Tables* shared = nullptr;  // in table_sets
-    std::uint32_t vertices = 0, triangles = 0;
-    gl::Buffer rays, rays_b;  // this object's exit rays; rays_b: the second table's, dispersive glass only
-  };
-  std::vector<std::unique_ptr<Tables>> table_sets;
-  // A sampled vertex's exit ray for one light, in world space: `flux` is
-  // what it carries per unit incident irradiance (its surface share,
-  // projected towards the light, times T).
-  struct SampledRay {
-    glm::vec3 exit, direction;
-    float transmittance, flux;
-    std::uint32_t object;
-  };
-  struct Target {
-    std::uint32_t object = 0, light = 0;
-    int size = 0;
-    std::uint32_t planes = 0;
-    gl::Texture target, depth, illumination;
-    gl::Framebuffer fbo;
-    BoundingFrame frame;
-    std::vector<float> plane_v;
-    // The focus window (issue 47): centre u, v and half-size in the main
-    // texture's coordinates; half-size 0 without one. The illumination
-    // texture holds 2 x planes layers once a window was needed (`layers`).
-    std::array<float, 3> focus{0, 0, 0};
-    std::uint32_t layers = 0;
-    int levels = 1;  // mips with focus layers
-    // The target's plane normal if it is flat (world), for the transform it
-    // was found at: flatness does not change as an object moves rigidly,
-    // so the O(vertices) test runs again only when the transform does.
-    std::optional<Vec3d> flat_normal;
-    std::optional<Mat4f> flat_checked_at;
-    bool valid = false;
-  };
-  std::vector<Glass> glass;
-  // Thin-walled glass (Role::kThin, issue 45): no tables; the caustic maps
-  // carry its light, and the view draws it (glass_thin.frag).
-  struct Thin {
-    std::uint32_t object = 0;
-    const GpuMesh* mesh = nullptr;
-  };
-  std::vector<Thin> thin;
-  std::vector<Target> targets;
-  std::function<void(std::uint32_t)> draw_object;
-  gl::Program rays, rays_blend, geometry, corner_intensity, target_program, illumination, illumination_wide, window_resolve, surface,
-      back_faces, nearby, thin_view;
-  // GlassView::kNearby: the glass's nearest back faces seen from the camera
-  // (world position, outward normal), over the glass's window.
-  gl::Texture back_position, back_normal, back_depth;
-  gl::Framebuffer back_fbo;
-  int back_w = 0, back_h = 0;
-  // The view is drawn into a target over the glass's rectangle of the
-  // frame (its window), sampling the caller's scene directly, then copied
-  // into the caller's framebuffer: memory follows the glass's size on
-  // screen, not the frame's (issue 44).
-  gl::Texture window_color, window_depth;
-  gl::Framebuffer window_fbo;
-  int window_w = 0, window_h = 0;
-  gl::Program composite;
-  gl::Buffer primitives;  // the illumination volumes' intersections, target after target
-  std::uint64_t primitive_capacity = 0;
-  gl::Sampler nearest;  // the caller's textures read texel by texel, whatever their own parameters
-  gl::VertexArray empty_vao;
-  bool spectral = false;  // some glass has tables at other wavelengths
-  // What each light's textures were made from (issue 44).
-  MadeFrom<LightInputs> made;
-  std::uint32_t traced = 1;  // wavelengths of the last update
-
-  // The exit rays of the sampled vertices that face `light` and pass it
-  // (the n_d table looked up as the GPU does: formats' lookup(), which
-  // transport.glsl mirrors), in world space. Computed on the CPU from a
-  // sample, so that no frame waits for the GPU's rays (issue 44); they
-  // orient the planes (mean_travel) and place the focus windows
-  // (focus_window), and change neither image's light.
-  std::vector<SampledRay> sampled_rays(const SceneDesc& scene, const Light& light) const {
-    std::vector<SampledRay> out;
-    for (const Glass& g : glass) {
-      glm::mat3 rotation;
-      float scale = 1;
-      decompose(scene.objects[g.object].transform, rotation, scale);
-      const glm::mat4 model = to_glm(scene.objects[g.object].transform);
-      const glm::mat3 to_object = glm::transpose(rotation);
-      const Tables& t = *g.shared;
-      for (std::uint32_t k = 0; k < t.sample.vertex_count; ++k) {
-        const glm::vec3 p(t.sample_positions[k][0], t.sample_positions[k][1], t.sample_positions[k][2]);
-        const glm::vec3 n = glm::normalize(glm::vec3(t.sample_normals[k][0], t.sample_normals[k][1], t.sample_normals[k][2]));
-        const glm::vec3 pw(model * glm::vec4(p, 1.0f));
-        const glm::vec3 to_light_w = light.type == LightType::kDirectional
-                                         ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
-                                         : glm::normalize(glm::vec3(light.position[0], light.position[1], light.position[2]) - pw);
-        const glm::vec3 to_light = to_object * to_light_w;
-        const float cos_theta = glm::dot(n, to_light);
-        if (cos_theta <= 0.0f) continue;  // light enters only where the surface faces it
-        const TransportEntry e = lookup(t.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
-        if (e.status != TransportStatus::kLeaves) continue;
-        const glm::vec3 exit(model * glm::vec4(glm::vec3(e.exit[0], e.exit[1], e.exit[2]), 1.0f));
-        const glm::vec3 d = rotation * glm::vec3(e.direction[0], e.direction[1], e.direction[2]);
-        const float tr = static_cast<float>(e.transmittance);
-        out.push_back({exit, d, tr, t.sample_areas[k] * scale * scale * cos_theta * tr, g.object});
-      }
-    }
-    return out;
-  }
-  // The average direction of the transmitted light (seed 002 §4.2: "We set
-  // a virtual camera so that the viewing direction is parallel to the
-  // average direction of the transmitted lights"), unnormalised: the
-  // sampled exit directions weighted by their Fresnel transmittance. An
-  // estimate; it only orients the planes.
-  static Vec3d mean_travel(const std::vector<SampledRay>& rays) {
-    Vec3d sum{0, 0, 0};
-    for (const SampledRay& r : rays) {
-      for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += static_cast<double>(r.direction[c]) * r.transmittance;
-    }
-    return sum;
-  }
-  // Issue 47: seed 002 gives every plane one texture over the whole target
-  // (512^2: 7.8 mm texels over glass_ball's 4 m floor), and a ball lens
-  // puts most of its light within a centimetre of its focus, so the focal
-  // spot was a texel wide and its peak an eighth of the optics'. Here the
-  // window is fitted to where the light lands concentrated (constants
-  // above): the sampled rays cut with each plane, binned over the frame.
-  // Returns {centre u, centre v, half-size} in texture coordinates, or a
-  // zero half-size where nothing concentrates (a pane, a prism: no
-  // window, no cost).
-  // A glass in `skip` sends no light here (the caustic maps carry it).
-  static std::array<float, 3> focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip) {
-    const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
-                           static_cast<float>(t.frame.origin[2]));
-    const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
-        W(t.frame.w[0], t.frame.w[1], t.frame.w[2]);
-    const double hu = t.frame.half[0], hw = t.frame.half[2];
-    const double cell_area = (2 * hu / kFocusBins) * (2 * hw / kFocusBins);
-    std::vector<double> flux(kFocusBins * kFocusBins);
-    std::vector<int> count(kFocusBins * kFocusBins);
-    int lo[2] = {kFocusBins, kFocusBins}, hi[2] = {-1, -1};
-    for (const float plane : t.plane_v) {
-      std::fill(flux.begin(), flux.end(), 0.0);
-      std::fill(count.begin(), count.end(), 0);
-      for (const SampledRay& r : rays) {
-        if (skip[r.object]) continue;
-        // As glass_geometry.comp cuts a ray with a plane.
-        const float along = -glm::dot(r.direction, V);
-        const glm::vec3 rel = r.exit - origin;
-        const float s = (glm::dot(rel, V) - plane) / std::max(along, 1e-6f);
-        if (along <= 1e-4f || s < 0.0f) continue;
-        const glm::vec3 x = rel + s * r.direction;
-        const double fu = std::floor((glm::dot(x, U) + hu) / (2 * hu) * kFocusBins);
-        const double fw = std::floor((glm::dot(x, W) + hw) / (2 * hw) * kFocusBins);
-        if (!(fu >= 0 && fw >= 0 && fu < kFocusBins && fw < kFocusBins)) continue;  // outside, or not finite
-        const int i = static_cast<int>(fu), j = static_cast<int>(fw);
-        flux[static_cast<std::size_t>(j * kFocusBins + i)] += r.flux;
-        ++count[static_cast<std::size_t>(j * kFocusBins + i)];
-      }
-      for (int j = 0; j < kFocusBins; ++j) {
-        for (int i = 0; i < kFocusBins; ++i) {
-          const std::size_t c = static_cast<std::size_t>(j * kFocusBins + i);
-          if (count[c] < kFocusMinRays || flux[c] < kFocusConcentration * cell_area) continue;
-          lo[0] = std::min(lo[0], i);
-          lo[1] = std::min(lo[1], j);
-          hi[0] = std::max(hi[0], i);
-          hi[1] = std::max(hi[1], j);
-        }
-      }
-    }
-    if (hi[0] < 0) return {0, 0, 0};
-    // The concentrated cells and one more on every side, in texture
-    // coordinates (cell i spans [i, i + 1] / kFocusBins).
-    const float u0 = static_cast<float>(lo[0] - 1) / kFocusBins, u1 = static_cast<float>(hi[0] + 2) / kFocusBins;
-    const float v0 = static_cast<float>(lo[1] - 1) / kFocusBins, v1 = static_cast<float>(hi[1] + 2) / kFocusBins;
-    const float half = std::max({0.5f * (u1 - u0), 0.5f * (v1 - v0), kFocusMinHalf});
-    if (half > kFocusMaxHalf) return {0, 0, 0};
-    return {0.5f * (u0 + u1), 0.5f * (v0 + v1), half};
-  }
-  // What the surface's tint leaves of light through the glass: in and out, tint^2.
-  static glm::vec3 transmit(const Material& m) {
-    const glm::vec3 t(m.tint[0], m.tint[1], m.tint[2]);
-    return t * t;
-  }
-  static void set_table(const gl::Program& p, const Table& t) {
-    const LightTransportTable& q = t.params;
-    p.set("u_ltt_resolution", static_cast<int>(q.resolution));
-    p.set("u_ltt_exit_min", glm::vec3(q.exit_min[0], q.exit_min[1], q.exit_min[2]));
-    p.set("u_ltt_exit_max", glm::vec3(q.exit_max[0], q.exit_max[1], q.exit_max[2]));
-    p.set("u_ltt_max_path", q.max_path);
-    p.set("u_glass_absorption", glm::vec3(q.absorption[0], q.absorption[1], q.absorption[2]));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, t.buffer.get());
-  }
-  // The outgoing rays of every glass vertex at one traced wavelength into
-  // each Glass::rays (§4.1).
-  // At IOR n a glass between two tables a, b (n_a < n < n_b) traces both
-  // and blends them (glass_rays_blend.comp); at a table's own index, that
-  // table alone. `exact_nd`: every glass at its n_d table (one wavelength
-  // traced, bit-identical to glass without dispersion).
-  // A glass in `skip` sends no light (weight 0; its light is the caustic
-  // maps').
-  void trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd, const std::vector<bool>& skip,
-                  const std::function<void(const gl::Program&)>& set_light_uniforms) {
-    const gl::TimedPass timed("glass: rays", gl::PassKind::kCompute);
-    for (Glass& g : glass) {
-      const Material& m = scene.objects[g.object].material;
-      const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
-      const std::vector<Table>& tables = g.shared->tables;
-      std::size_t a = exact_nd ? g.shared->base : 0;
-      while (!exact_nd && a + 1 < tables.size() && tables[a + 1].params.ior <= n) ++a;
-      // Beyond the tables' range (another writer's tables) the nearest one.
-      const bool blend = n > tables[a].params.ior && a + 1 < tables.size();
-      for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
-        rays.use();
-        set_light_uniforms(rays);
-        // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
-        rays.set("u_weight", skip[g.object] ? glm::vec3(0.0f) : glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
-        set_table(rays, tables[a + static_cast<std::size_t>(pass)]);
-        rays.set("u_ltt_switch_base", tables[a + static_cast<std::size_t>(pass)].switch_base);  // the view's look-up needs none
-        set_pose(rays, scene, g);
-        rays.set("u_vertex_count", g.vertices);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, pass == 0 ? g.rays.get() : g.rays_b.get());
-        glDispatchCompute((g.vertices + 63) / 64, 1, 1);
-      }
-      if (blend) {
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        rays_blend.use();
-        rays_blend.set("u_vertex_count", g.vertices);
-        rays_blend.set("u_t", (n - tables[a].params.ior) / (tables[a + 1].params.ior - tables[a].params.ior));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.rays_b.get());
-        glDispatchCompute((g.vertices + 63) / 64, 1, 1);
-      }
-    }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  }
-  void set_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
+auto GlassEngine::Impl::sampled_rays(const SceneDesc& scene, const Light& light) const -> std::vector<SampledRay> {
+  std::vector<SampledRay> out;
+  for (const Glass& g : glass) {
     glm::mat3 rotation;
     float scale = 1;
     decompose(scene.objects[g.object].transform, rotation, scale);
-    p.set("u_model", to_glm(scene.objects[g.object].transform));
-    p.set("u_rotation", rotation);
-    p.set("u_scale", scale);
-  }
-  // An object's model matrix and the normals' matrix (inverse transpose)
-  // for mesh.vert.
-  static void set_mesh_pose(const gl::Program& p, const Object& o) {
-    const glm::mat4 model = to_glm(o.transform);
-    p.set("u_model", model);
-    p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
-  }
-  // The window's targets (and the back faces' for the nearby view) at
-  // least w x h: grown in steps of 64 texels, re-made smaller when a
-  // quarter of them would do.
-  void ensure_window(int w, int h, bool back) {
-    auto fits = [&](int aw, int ah) { return aw >= w && ah >= h && std::int64_t{aw} * ah <= 4 * std::int64_t{std::max(w, 64)} * std::max(h, 64); };
-    auto round = [](int v) { return (v + 63) / 64 * 64; };
-    if (!fits(window_w, window_h)) {
-      window_w = round(w);
-      window_h = round(h);
-      window_color = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(window_color.get(), 1, GL_RGBA32F, window_w, window_h);
-      window_depth = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT32F, window_w, window_h);
-      window_fbo = gl::make_framebuffer();
-      glNamedFramebufferTexture(window_fbo.get(), GL_COLOR_ATTACHMENT0, window_color.get(), 0);
-      glNamedFramebufferTexture(window_fbo.get(), GL_DEPTH_ATTACHMENT, window_depth.get(), 0);
+    const glm::mat4 model = to_glm(scene.objects[g.object].transform);
+    const glm::mat3 to_object = glm::transpose(rotation);
+    const Tables& t = *g.shared;
+    for (std::uint32_t k = 0; k < t.sample.vertex_count; ++k) {
+      const glm::vec3 p(t.sample_positions[k][0], t.sample_positions[k][1], t.sample_positions[k][2]);
+      const glm::vec3 n = glm::normalize(glm::vec3(t.sample_normals[k][0], t.sample_normals[k][1], t.sample_normals[k][2]));
+      const glm::vec3 pw(model * glm::vec4(p, 1.0f));
+      const glm::vec3 to_light_w = light.type == LightType::kDirectional
+                                       ? -glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
+                                       : glm::normalize(glm::vec3(light.position[0], light.position[1], light.position[2]) - pw);
+      const glm::vec3 to_light = to_object * to_light_w;
+      const float cos_theta = glm::dot(n, to_light);
+      if (cos_theta <= 0.0f) continue;  // light enters only where the surface faces it
+      const TransportEntry e = lookup(t.sample, k, {n.x, n.y, n.z}, {to_light.x, to_light.y, to_light.z});
+      if (e.status != TransportStatus::kLeaves) continue;
+      const glm::vec3 exit(model * glm::vec4(glm::vec3(e.exit[0], e.exit[1], e.exit[2]), 1.0f));
+      const glm::vec3 d = rotation * glm::vec3(e.direction[0], e.direction[1], e.direction[2]);
+      const float tr = static_cast<float>(e.transmittance);
+      out.push_back({exit, d, tr, t.sample_areas[k] * scale * scale * cos_theta * tr, g.object});
     }
-    if (!back || fits(back_w, back_h)) return;
-    back_w = round(w);
-    back_h = round(h);
-    back_position = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(back_position.get(), 1, GL_RGBA32F, back_w, back_h);
-    back_normal = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(back_normal.get(), 1, GL_RGBA16F, back_w, back_h);
-    back_depth = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(back_depth.get(), 1, GL_DEPTH_COMPONENT32F, back_w, back_h);
-    for (GLuint tex : {back_position.get(), back_normal.get()}) gl::set_sampling(tex, GL_NEAREST);
-    back_fbo = gl::make_framebuffer();
-    glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT0, back_position.get(), 0);
-    glNamedFramebufferTexture(back_fbo.get(), GL_COLOR_ATTACHMENT1, back_normal.get(), 0);
-    glNamedFramebufferTexture(back_fbo.get(), GL_DEPTH_ATTACHMENT, back_depth.get(), 0);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(back_fbo.get(), 2, bufs);
   }
-  // The back faces over the window (w x h texels; `ndc_window` maps the
-  // window's NDC rectangle onto them) into back_fbo.
-  void draw_back_faces(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, int w, int h) {
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, back_fbo.get());
-    glViewport(0, 0, w, h);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDisable(GL_BLEND);
-    const float zero[4] = {0, 0, 0, 0}, far = 1.0f;
-    glClearNamedFramebufferfv(back_fbo.get(), GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(back_fbo.get(), GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(back_fbo.get(), GL_DEPTH, 0, &far);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_FRONT);
-    back_faces.use();
-    back_faces.set("u_view_proj", view_proj);
-    back_faces.set("u_ndc_window", ndc_window);
-    back_faces.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
-    for (const Glass& g : glass) {
-      set_mesh_pose(back_faces, scene.objects[g.object]);
-      g.mesh->draw();
-    }
-    glCullFace(GL_BACK);
+  return out;
+}
+
+auto GlassEngine::Impl::mean_travel(const std::vector<SampledRay>& rays) -> Vec3d {
+  Vec3d sum{0, 0, 0};
+  for (const SampledRay& r : rays) {
+    for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += static_cast<double>(r.direction[c]) * r.transmittance;
   }
-  // Thin-walled glass into the window (issue 45), after the solid glass:
-  // every sheet depth-tested, not written, far sides first, each blended
-  // as colour + destination x transmittance (glass_thin.frag), so that a
-  // closed shade scales what is behind it twice.
-  void draw_thin(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, const glm::vec3& eye,
-                 const glm::vec3& sky) const {
-    thin_view.use();
-    thin_view.set("u_view_proj", view_proj);
-    thin_view.set("u_ndc_window", ndc_window);
-    thin_view.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
-    thin_view.set("u_eye", eye);
-    thin_view.set("u_sky", sky);
-    glDepthMask(GL_FALSE);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_SRC1_COLOR);
-    glEnable(GL_CULL_FACE);
-    for (const GLenum cull : {GL_FRONT, GL_BACK}) {
-      glCullFace(cull);
-      for (const Thin& t : thin) {
-        const Material& m = scene.objects[t.object].material;
-        set_mesh_pose(thin_view, scene.objects[t.object]);
-        thin_view.set("u_ior", m.ior);
-        thin_view.set("u_tint", glm::vec3(m.tint[0], m.tint[1], m.tint[2]));
-        t.mesh->draw();
-      }
-    }
-    glCullFace(GL_BACK);
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-  }
-  // The glass's rectangle in the frame's pixels (x0, y0, x1, y1: what its
-  // objects' world boxes project to, a pixel wider), or nothing when none
-  // of it is in view. All of the frame when a box reaches behind the eye.
-  std::optional<glm::ivec4> window_of(const SceneDesc& scene, const glm::mat4& view_proj, int width, int height) const {
-    glm::vec2 lo(1.0f), hi(-1.0f);
-    std::vector<std::uint32_t> drawn;
-    for (const Glass& g : glass) drawn.push_back(g.object);
-    for (const Thin& t : thin) drawn.push_back(t.object);
-    for (const std::uint32_t object : drawn) {
-      const Object& o = scene.objects[object];
-      const MeshInfo& mi = scene.meshes[o.mesh_index];
-      const glm::mat4 mvp = view_proj * to_glm(o.transform);
-      for (int c = 0; c < 8; ++c) {
-        const glm::vec4 corner((c & 1) ? mi.bounds_max[0] : mi.bounds_min[0], (c & 2) ? mi.bounds_max[1] : mi.bounds_min[1],
-                               (c & 4) ? mi.bounds_max[2] : mi.bounds_min[2], 1.0f);
-        const glm::vec4 q = mvp * corner;
-        if (!(q.w > 1e-6f)) return glm::ivec4(0, 0, width, height);
-        lo = glm::min(lo, glm::vec2(q) / q.w);
-        hi = glm::max(hi, glm::vec2(q) / q.w);
-      }
-    }
-    lo = glm::clamp(lo, glm::vec2(-1.0f), glm::vec2(1.0f));
-    hi = glm::clamp(hi, glm::vec2(-1.0f), glm::vec2(1.0f));
-    const glm::vec2 size(static_cast<float>(width), static_cast<float>(height));
-    const glm::ivec2 a = glm::max(glm::ivec2(glm::floor((lo * 0.5f + 0.5f) * size)) - 1, glm::ivec2(0));
-    const glm::ivec2 b = glm::min(glm::ivec2(glm::ceil((hi * 0.5f + 0.5f) * size)) + 1, glm::ivec2(width, height));
-    if (b.x <= a.x || b.y <= a.y) return std::nullopt;
-    return glm::ivec4(a, b);
-  }
-  // Step 4 of update_light for one target and the rays of one wavelength
-  // (blending adds into its illumination textures).
-  void illuminate(const SceneDesc& scene, Target& t, const CausticsOptions& co,
-                  const std::function<void(const gl::Program&)>& set_light_uniforms, bool coarse) {
-    const int size = t.size;
-    const std::uint32_t planes = t.planes;
-    glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
-    glViewport(0, 0, size, size);
-    for (std::size_t gi = 0; gi < glass.size(); ++gi) {
-      Glass& g = glass[gi];
-      const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
-      const std::uint64_t prims = per_plane * planes;
-      // One buffer for every target and glass object, one after the
-      // other: the barrier keeps the last one's draws from seeing this
-      // one's geometry (llvmpipe bins draws until it flushes).
-      if (prims > primitive_capacity) {
-        primitives = gl::make_buffer();
-        glNamedBufferStorage(primitives.get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
-        primitive_capacity = prims;
-      }
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      std::optional<gl::TimedPass> timed;
-      timed.emplace("glass: geometry", gl::PassKind::kCompute);
-      geometry.use();
-      geometry.set("u_origin", glm::vec3(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
-                                         static_cast<float>(t.frame.origin[2])));
-      geometry.set("u_U", glm::vec3(t.frame.u[0], t.frame.u[1], t.frame.u[2]));
-      geometry.set("u_V", glm::vec3(t.frame.v[0], t.frame.v[1], t.frame.v[2]));
-      geometry.set("u_W", glm::vec3(t.frame.w[0], t.frame.w[1], t.frame.w[2]));
-      geometry.set("u_half", glm::vec3(t.frame.half[0], t.frame.half[1], t.frame.half[2]));
-      set_light_uniforms(geometry);
-      geometry.set("u_model", to_glm(scene.objects[g.object].transform));
-      geometry.set("u_triangle_count", g.triangles);
-      geometry.set("u_plane_count", planes);
-      glProgramUniform1fv(geometry.id(), geometry.loc("u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
-      geometry.set("u_map_size", static_cast<float>(size));
-      geometry.set("u_max_magnification", co.max_magnification);
+  return sum;
+}
+
+void GlassEngine::Impl::set_table(const gl::Program& p, const Table& t) {
+  const LightTransportTable& q = t.params;
+  p.set("u_ltt_resolution", static_cast<int>(q.resolution));
+  p.set("u_ltt_exit_min", glm::vec3(q.exit_min[0], q.exit_min[1], q.exit_min[2]));
+  p.set("u_ltt_exit_max", glm::vec3(q.exit_max[0], q.exit_max[1], q.exit_max[2]));
+  p.set("u_ltt_max_path", q.max_path);
+  p.set("u_glass_absorption", glm::vec3(q.absorption[0], q.absorption[1], q.absorption[2]));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, t.buffer.get());
+}
+
+void GlassEngine::Impl::trace_rays(const SceneDesc& scene, const WavelengthSample& w, bool exact_nd, const std::vector<bool>& skip,
+                const std::function<void(const gl::Program&)>& set_light_uniforms) {
+  const gl::TimedPass timed("glass: rays", gl::PassKind::kCompute);
+  for (Glass& g : glass) {
+    const Material& m = scene.objects[g.object].material;
+    const float n = exact_nd ? m.ior : index_at(m.ior, m.dispersion, w.nm);
+    const std::vector<Table>& tables = g.shared->tables;
+    std::size_t a = exact_nd ? g.shared->base : 0;
+    while (!exact_nd && a + 1 < tables.size() && tables[a + 1].params.ior <= n) ++a;
+    // Beyond the tables' range (another writer's tables) the nearest one.
+    const bool blend = n > tables[a].params.ior && a + 1 < tables.size();
+    for (int pass = 0; pass < (blend ? 2 : 1); ++pass) {
+      rays.use();
+      set_light_uniforms(rays);
+      // The tint at the two crossings (Material::tint) weighs the light as the wavelength does.
+      rays.set("u_weight", skip[g.object] ? glm::vec3(0.0f) : glm::vec3(w.rgb[0], w.rgb[1], w.rgb[2]) * transmit(m));
+      set_table(rays, tables[a + static_cast<std::size_t>(pass)]);
+      rays.set("u_ltt_switch_base", tables[a + static_cast<std::size_t>(pass)].switch_base);  // the view's look-up needs none
+      set_pose(rays, scene, g);
+      rays.set("u_vertex_count", g.vertices);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
-      glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, pass == 0 ? g.rays.get() : g.rays_b.get());
+      glDispatchCompute((g.vertices + 63) / 64, 1, 1);
+    }
+    if (blend) {
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      // Smooth caustics: each whole triangle's corner intensities.
-      if (co.glass_smooth) {
-        corner_intensity.use();
-        corner_intensity.set("u_triangle_count", g.triangles);
-        corner_intensity.set("u_plane_count", planes);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.shared->ring_offsets.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.shared->ring_triangles.get());
-        glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      }
-      timed.emplace("glass: illumination", gl::PassKind::kRaster);
-      illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
-      illumination_wide.set("u_smooth", co.glass_smooth ? 1 : 0);
-      glBindTextureUnit(0, t.target.get());
-      glBindVertexArray(empty_vao.get());
-      // The main layers, then the focus window's (issue 47): the same
-      // primitives, their texel coordinates q taken to the window's
-      // (q - offset) * scale, over the layer's lower-left quarter
-      // (kFocusTexels: a quarter of the fragments of a full layer); a
-      // coarse window (update_light) at half that scale into the square
-      // beside it (window_squares), which resolve_window interpolates.
-      const float half = t.focus[2];
-      const WindowSquares sq = window_squares(size);
-      for (int window = 0; window < (half > 0.0f ? 2 : 1); ++window) {
-        const float s = static_cast<float>(size);
-        glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
-                                    : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
-        int side = window == 0 ? size : sq.side;
-        glViewport(0, 0, side, side);
-        if (window == 1 && coarse) {
-          // Half the texels a side, into the square at (sq.side, sq.side):
-          // (q - xy) * z / 2 + sq.side. The whole layer's viewport keeps
-          // gl_FragCoord in that map; the scissor keeps the light in it.
-          // (glass_focus_wide then counts the square's texels.)
-          const float shift = static_cast<float>(sq.side) / (0.5f * map.z);
-          map = glm::vec3(map.x - shift, map.y - shift, 0.5f * map.z);
-          side = size;
-          glViewport(0, 0, size, size);
-          glScissor(sq.side, sq.side, sq.coarse_side, sq.coarse_side);
-          glEnable(GL_SCISSOR_TEST);
-        }
-        // In the window the wide primitives (CausticsOptions::
-        // glass_focus_wide window texels high) are the second program's
-        // (glass_window_split.glsl): on glass_teapot with the light moving
-        // they were most of the window's fragments.
-        const float wide = window == 0 || !std::isfinite(co.glass_focus_wide) ? 0.0f : std::max(co.glass_focus_wide, 0.0f);
-        for (const gl::Program* p : {&illumination, &illumination_wide}) {
-          p->set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
-          p->set("u_texel_map", map);
-          p->set("u_wide_texels", wide);
-        }
-        for (std::uint32_t k = 0; k < planes; ++k) {
-          const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
-          glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
-          // Six vertices a primitive (caustics_intersect.vert, either
-          // program), plane k's from k * per_plane.
-          illumination.use();
-          glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
-          if (window == 0) continue;
-          illumination_wide.use();
-          glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
-        }
-        if (window == 1 && coarse) glDisable(GL_SCISSOR_TEST);
-      }
+      rays_blend.use();
+      rays_blend.set("u_vertex_count", g.vertices);
+      rays_blend.set("u_t", (n - tables[a].params.ior) / (tables[a + 1].params.ior - tables[a].params.ior));
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.rays_b.get());
+      glDispatchCompute((g.vertices + 63) / 64, 1, 1);
     }
   }
-  // Where a focus window's layers hold it: the window over [0, side)^2
-  // (kFocusTexels of the texture's side, where caustix.glsl reads it) and,
-  // where the texture has room (side + coarse_side <= size), the square of
-  // half its texels a side at (side, side) that a coarse window is drawn
-  // into (update_light).
-  struct WindowSquares {
-    int side = 0, coarse_side = 0;
-    bool coarse = false;
-  };
-  static WindowSquares window_squares(int size) {
-    WindowSquares sq;
-    sq.side = static_cast<int>(std::ceil(kFocusTexels * static_cast<float>(size)));
-    sq.coarse_side = (sq.side + 1) / 2;
-    sq.coarse = sq.side + sq.coarse_side <= size;
-    return sq;
-  }
-  // A coarse window into its own (glass_window_resolve.comp), then the
-  // square cleared, so that the mips and the next update see none of it.
-  void resolve_window(const Target& t) {
-    const WindowSquares sq = window_squares(t.size);
-    const gl::TimedPass timed("glass: window resolve", gl::PassKind::kCompute);
-    window_resolve.use();
-    window_resolve.set("u_side", sq.side);
-    window_resolve.set("u_coarse", sq.side);
-    window_resolve.set("u_coarse_side", sq.coarse_side);
-    window_resolve.set("u_first_layer", static_cast<int>(t.planes));
-    glBindImageTexture(0, t.illumination.get(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glDispatchCompute(static_cast<GLuint>((sq.side + 7) / 8), static_cast<GLuint>((sq.side + 7) / 8), t.planes);
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    glClearTexSubImage(t.illumination.get(), 0, sq.side, sq.side, static_cast<GLint>(t.planes), sq.coarse_side, sq.coarse_side,
-                       static_cast<GLsizei>(t.planes), GL_RGBA, GL_FLOAT, nullptr);
-  }
-  // The target's textures at `size` with `planes` planes; the
-  // illumination texture with twice the layers once a focus window is
-  // needed (kept after: a light that moves would otherwise re-make it as
-  // the window comes and goes).
-  void ensure_target(Target& t, int size, std::uint32_t planes, bool focus) {
-    const std::uint32_t layers = focus || (t.layers == 2 * planes && t.size == size) ? 2 * planes : planes;
-    if (t.size == size && t.planes == planes && t.layers == layers && t.fbo.get()) return;
-    t.size = size;
-    t.planes = planes;
-    t.layers = layers;
-    t.target = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.target.get(), 1, GL_RGBA32F, size, size);
-    t.depth = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
-    t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
-    // With a focus window, a mip chain: its texels are finer than the
-    // pixels that usually look at them (0.6 mm on glass_ball's floor), and
-    // a focus sampled at a pixel's centre alone would flicker as the view
-    // moves; the mips average it (and keep the mean irradiance).
-    t.levels = 1;
-    while (layers > planes && (size >> t.levels) > 0) ++t.levels;
-    glTextureStorage3D(t.illumination.get(), t.levels, GL_RGBA32F, size, size, static_cast<GLsizei>(layers));
-    for (GLuint tex : {t.target.get(), t.illumination.get()}) {
-      gl::set_sampling(tex, GL_LINEAR);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void GlassEngine::Impl::set_pose(const gl::Program& p, const SceneDesc& scene, const Glass& g) const {
+  glm::mat3 rotation;
+  float scale = 1;
+  decompose(scene.objects[g.object].transform, rotation, scale);
+  p.set("u_model", to_glm(scene.objects[g.object].transform));
+  p.set("u_rotation", rotation);
+  p.set("u_scale", scale);
+}
+
+void GlassEngine::Impl::illuminate(const SceneDesc& scene, Target& t, const CausticsOptions& co,
+                const std::function<void(const gl::Program&)>& set_light_uniforms, bool coarse) {
+  const int size = t.size;
+  const std::uint32_t planes = t.planes;
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+  glViewport(0, 0, size, size);
+  for (std::size_t gi = 0; gi < glass.size(); ++gi) {
+    Glass& g = glass[gi];
+    const std::uint64_t per_plane = std::uint64_t{g.triangles} * 3;  // the triangle or its corner beams
+    const std::uint64_t prims = per_plane * planes;
+    // One buffer for every target and glass object, one after the
+    // other: the barrier keeps the last one's draws from seeing this
+    // one's geometry (llvmpipe bins draws until it flushes).
+    if (prims > primitive_capacity) {
+      primitives = gl::make_buffer();
+      glNamedBufferStorage(primitives.get(), static_cast<GLsizeiptr>(prims * kPrimitiveBytes), nullptr, 0);
+      primitive_capacity = prims;
     }
-    if (t.levels > 1) glTextureParameteri(t.illumination.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(t.target.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.target.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    t.fbo = gl::make_framebuffer();
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    std::optional<gl::TimedPass> timed;
+    timed.emplace("glass: geometry", gl::PassKind::kCompute);
+    geometry.use();
+    geometry.set("u_origin", glm::vec3(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
+                                       static_cast<float>(t.frame.origin[2])));
+    geometry.set("u_U", glm::vec3(t.frame.u[0], t.frame.u[1], t.frame.u[2]));
+    geometry.set("u_V", glm::vec3(t.frame.v[0], t.frame.v[1], t.frame.v[2]));
+    geometry.set("u_W", glm::vec3(t.frame.w[0], t.frame.w[1], t.frame.w[2]));
+    geometry.set("u_half", glm::vec3(t.frame.half[0], t.frame.half[1], t.frame.half[2]));
+    set_light_uniforms(geometry);
+    geometry.set("u_model", to_glm(scene.objects[g.object].transform));
+    geometry.set("u_triangle_count", g.triangles);
+    geometry.set("u_plane_count", planes);
+    glProgramUniform1fv(geometry.id(), geometry.loc("u_plane_v"), static_cast<GLsizei>(planes), t.plane_v.data());
+    geometry.set("u_map_size", static_cast<float>(size));
+    geometry.set("u_max_magnification", co.max_magnification);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.mesh->vertices.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.rays.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.mesh->indices.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
+    glDispatchCompute(static_cast<GLuint>((prims + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // Smooth caustics: each whole triangle's corner intensities.
+    if (co.glass_smooth) {
+      corner_intensity.use();
+      corner_intensity.set("u_triangle_count", g.triangles);
+      corner_intensity.set("u_plane_count", planes);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.shared->ring_offsets.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.shared->ring_triangles.get());
+      glDispatchCompute(static_cast<GLuint>((std::uint64_t{g.triangles} * planes + 63) / 64), 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    timed.emplace("glass: illumination", gl::PassKind::kRaster);
+    illumination.set("u_smooth", co.glass_smooth ? 1 : 0);
+    illumination_wide.set("u_smooth", co.glass_smooth ? 1 : 0);
+    glBindTextureUnit(0, t.target.get());
+    glBindVertexArray(empty_vao.get());
+    // The main layers, then the focus window's (issue 47): the same
+    // primitives, their texel coordinates q taken to the window's
+    // (q - offset) * scale, over the layer's lower-left quarter
+    // (kFocusTexels: a quarter of the fragments of a full layer); a
+    // coarse window (update_light) at half that scale into the square
+    // beside it (window_squares), which resolve_window interpolates.
+    const float half = t.focus[2];
+    const WindowSquares sq = window_squares(size);
+    for (int window = 0; window < (half > 0.0f ? 2 : 1); ++window) {
+      const float s = static_cast<float>(size);
+      glm::vec3 map = window == 0 ? glm::vec3(0.0f, 0.0f, 1.0f)
+                                  : glm::vec3(s * (t.focus[0] - half), s * (t.focus[1] - half), kFocusTexels / (2.0f * half));
+      int side = window == 0 ? size : sq.side;
+      glViewport(0, 0, side, side);
+      if (window == 1 && coarse) {
+        // Half the texels a side, into the square at (sq.side, sq.side):
+        // (q - xy) * z / 2 + sq.side. The whole layer's viewport keeps
+        // gl_FragCoord in that map; the scissor keeps the light in it.
+        // (glass_focus_wide then counts the square's texels.)
+        const float shift = static_cast<float>(sq.side) / (0.5f * map.z);
+        map = glm::vec3(map.x - shift, map.y - shift, 0.5f * map.z);
+        side = size;
+        glViewport(0, 0, size, size);
+        glScissor(sq.side, sq.side, sq.coarse_side, sq.coarse_side);
+        glEnable(GL_SCISSOR_TEST);
+      }
+      // In the window the wide primitives (CausticsOptions::
+      // glass_focus_wide window texels high) are the second program's
+      // (glass_window_split.glsl): on glass_teapot with the light moving
+      // they were most of the window's fragments.
+      const float wide = window == 0 || !std::isfinite(co.glass_focus_wide) ? 0.0f : std::max(co.glass_focus_wide, 0.0f);
+      for (const gl::Program* p : {&illumination, &illumination_wide}) {
+        p->set("u_map_size", static_cast<float>(side));  // texels to clip space over the viewport
+        p->set("u_texel_map", map);
+        p->set("u_wide_texels", wide);
+      }
+      for (std::uint32_t k = 0; k < planes; ++k) {
+        const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
+        glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
+        // Six vertices a primitive (caustics_intersect.vert, either
+        // program), plane k's from k * per_plane.
+        illumination.use();
+        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
+        if (window == 0) continue;
+        illumination_wide.use();
+        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(k * per_plane * 6), static_cast<GLsizei>(per_plane * 6));
+      }
+      if (window == 1 && coarse) glDisable(GL_SCISSOR_TEST);
+    }
   }
-};
+}
+
+void GlassEngine::Impl::ensure_target(Target& t, int size, std::uint32_t planes, bool focus) {
+  const std::uint32_t layers = focus || (t.layers == 2 * planes && t.size == size) ? 2 * planes : planes;
+  if (t.size == size && t.planes == planes && t.layers == layers && t.fbo.get()) return;
+  t.size = size;
+  t.planes = planes;
+  t.layers = layers;
+  t.target = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.target.get(), 1, GL_RGBA32F, size, size);
+  t.depth = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
+  t.illumination = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+  // With a focus window, a mip chain: its texels are finer than the
+  // pixels that usually look at them (0.6 mm on glass_ball's floor), and
+  // a focus sampled at a pixel's centre alone would flicker as the view
+  // moves; the mips average it (and keep the mean irradiance).
+  t.levels = 1;
+  while (layers > planes && (size >> t.levels) > 0) ++t.levels;
+  glTextureStorage3D(t.illumination.get(), t.levels, GL_RGBA32F, size, size, static_cast<GLsizei>(layers));
+  for (GLuint tex : {t.target.get(), t.illumination.get()}) {
+    gl::set_sampling(tex, GL_LINEAR);
+  }
+  if (t.levels > 1) glTextureParameteri(t.illumination.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(t.target.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.target.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  t.fbo = gl::make_framebuffer();
+}
 
 GlassEngine::~GlassEngine() = default;
 
@@ -956,105 +556,6 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
   return std::nullopt;
 }
 
-void GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                             GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
-                             const ViewSpectrum& spectrum) {
-  Impl& s = *impl_;
-  const gl::TimedPass timed("glass: view", gl::PassKind::kRaster);
-  GLint caller_fbo = 0, vp[4] = {0, 0, 0, 0};
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &caller_fbo);
-  glGetIntegerv(GL_VIEWPORT, vp);
-  const auto rect = s.window_of(scene, view_proj, vp[2], vp[3]);
-  if (!rect) return;  // no glass in view
-  const int x0 = (*rect)[0], y0 = (*rect)[1], w = (*rect)[2] - x0, h = (*rect)[3] - y0;
-  const bool nearby = options.method == GlassView::kNearby;
-  s.ensure_window(w, h, nearby);
-  // NDC of the window's rectangle onto its targets' [-1, 1].
-  const glm::vec2 n0(2.0f * static_cast<float>(x0) / static_cast<float>(vp[2]) - 1.0f, 2.0f * static_cast<float>(y0) / static_cast<float>(vp[3]) - 1.0f);
-  const glm::vec2 n1(2.0f * static_cast<float>(x0 + w) / static_cast<float>(vp[2]) - 1.0f,
-                     2.0f * static_cast<float>(y0 + h) / static_cast<float>(vp[3]) - 1.0f);
-  const glm::vec4 ndc_window(2.0f / (n1 - n0), -(n0 + n1) / (n1 - n0));
-  if (nearby) s.draw_back_faces(scene, view_proj, ndc_window, w, h);
-
-  // 1. The glass into the window, depth-tested against the scene's depth
-  // there (copied in), reading the caller's colour and depth directly.
-  glCopyImageSubData(scene_depth, GL_TEXTURE_2D, 0, x0, y0, 0, s.window_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s.window_fbo.get());
-  glViewport(0, 0, w, h);
-  if (s.thin.empty()) {
-    const float none[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(s.window_fbo.get(), GL_COLOR, 0, none);
-  } else {
-    // Thin-walled sheets scale what lies behind them (blending): the
-    // caller's scene under the window to start from. Where no glass is
-    // drawn the composite writes back what was there (colour and depth).
-    glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, x0, y0, 0, s.window_color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-  }
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
-  glEnable(GL_CULL_FACE);
-  glCullFace(GL_BACK);
-  const gl::Program& p = nearby ? s.nearby : s.surface;
-  p.use();
-  p.set("u_view_proj", view_proj);
-  p.set("u_ndc_window", ndc_window);
-  p.set("u_eye", eye);
-  p.set("u_sky", sky);
-  glBindTextureUnit(0, scene_color);
-  glBindTextureUnit(1, scene_depth);
-  glBindSampler(0, s.nearest.get());
-  glBindSampler(1, s.nearest.get());
-  if (nearby) {
-    p.set("u_inv_view_proj", glm::inverse(view_proj));
-    p.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
-    p.set("u_iterations", static_cast<int>(options.iterations));
-    p.set("u_exit_iterations", static_cast<int>(options.exit_iterations));
-    // Frame uv -> back-face texture coordinate: minus the window's corner,
-    // over the textures' extent in frame uv.
-    p.set("u_back_window", glm::vec4(static_cast<float>(x0) / static_cast<float>(vp[2]), static_cast<float>(y0) / static_cast<float>(vp[3]),
-                                     static_cast<float>(s.back_w) / static_cast<float>(vp[2]),
-                                     static_cast<float>(s.back_h) / static_cast<float>(vp[3])));
-    glBindTextureUnit(2, s.back_position.get());
-    glBindTextureUnit(3, s.back_normal.get());
-  } else {
-    p.set("u_march_length", march_length);
-  }
-  for (const Impl::Glass& g : s.glass) {
-    const Material& m = scene.objects[g.object].material;
-    p.set("u_glass_transmit", Impl::transmit(m));
-    if (nearby) {
-      Impl::set_mesh_pose(p, scene.objects[g.object]);
-      const Vec3f& k = g.shared->tables[g.shared->base].params.absorption;
-      p.set("u_glass_absorption", glm::vec3(k[0], k[1], k[2]));
-      set_view_samples(p, view_samples(spectrum, m.ior, m.dispersion));  // per pixel, per wavelength
-    } else {
-      Impl::set_table(p, g.shared->tables[g.shared->base]);  // the table view refracts at n_d (per vertex; docs/dispersion.md)
-      s.set_pose(p, scene, g);
-      p.set("u_ior", m.ior);
-    }
-    g.mesh->draw();
-  }
-  if (!s.thin.empty()) s.draw_thin(scene, view_proj, ndc_window, eye, sky);
-  glDisable(GL_CULL_FACE);
-  glBindSampler(0, 0);
-  glBindSampler(1, 0);
-
-  // 2. Where glass was drawn, its colour and depth into the caller's framebuffer.
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(caller_fbo));
-  glViewport(vp[0] + x0, vp[1] + y0, w, h);
-  glDepthFunc(GL_ALWAYS);  // tested against the scene's depth in the window already
-  s.composite.use();
-  glProgramUniform2i(s.composite.id(), s.composite.loc("u_origin"), vp[0] + x0, vp[1] + y0);
-  glBindTextureUnit(0, s.window_color.get());
-  glBindTextureUnit(1, s.window_depth.get());
-  glBindVertexArray(s.empty_vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glDepthFunc(GL_LESS);
-  glViewport(vp[0], vp[1], vp[2], vp[3]);
-}
 
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
@@ -1067,11 +568,6 @@ std::uint64_t GlassEngine::gpu_bytes() const {
   return b + impl_->primitive_capacity * kPrimitiveBytes;
 }
 
-std::uint64_t GlassEngine::view_bytes() const {
-  const Impl& s = *impl_;
-  return std::uint64_t(s.back_w) * static_cast<std::uint64_t>(s.back_h) * (16 + 8 + 4) +
-         std::uint64_t(s.window_w) * static_cast<std::uint64_t>(s.window_h) * (16 + 4);
-}
 
 std::uint32_t GlassEngine::wavelengths() const { return impl_->traced; }
 

@@ -19,9 +19,10 @@
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "exit_ray.h"
 #include "made_from.h"
+#include "scene_inputs.h"
 #include "view_spectrum.h"
 #include "gpu_mesh.h"
 
@@ -86,15 +87,17 @@ class GlassEngine {
   // and depth into the bound draw framebuffer: view rays through the table
   // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby), the
   // latter once per wavelength of `spectrum` for dispersive glass.
-  void draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
-                  GLuint scene_color, GLuint scene_depth, float march_length, const GlassViewOptions& options,
-                  const ViewSpectrum& spectrum);
+  // `scene_color` and `scene_depth` in any format gl/scene_inputs.h
+  // accepts; `reader` resolves them where they are multisampled.
+  Status draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
+                    const gl::SceneTexture& scene_color, const gl::SceneTexture& scene_depth, gl::SceneReader& reader,
+                    float march_length, const GlassViewOptions& options, const ViewSpectrum& spectrum);
 
   // The light side's GPU memory: tables, rays, one-rings, targets,
   // illumination textures, primitives.
   std::uint64_t gpu_bytes() const;
-  // The view's: the back faces (nearby view) and the copies of the
-  // caller's scene (draw_glass), at the viewport's size.
+  // The view's: the back faces (nearby view) and the window over the
+  // glass's rectangle of the frame (draw_glass).
   std::uint64_t view_bytes() const;
   // Wavelengths the last update_light() traced (1 without spectral tables).
   std::uint32_t wavelengths() const;

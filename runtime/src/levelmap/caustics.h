@@ -13,7 +13,7 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/level_map.h"
 #include "caustix/runtime/caustics_options.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "made_from.h"
 #include "water_surface.h"
 

@@ -11,7 +11,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix_shaders.h"
-#include "scene_copy.h"
 #include "pass_timer.h"
 #include "readback.h"
 #include "shader_text.h"
@@ -174,7 +173,6 @@ struct VolumeEngine::Impl {
   gl::Program photons, resolve, view;
   gl::Buffer accumulator, tally;
   gl::Texture dummy_3d;
-  gl::SceneCopy copy;  // of the caller's colour and depth, where the bound framebuffer holds them
   gl::Sampler nearest;
   gl::VertexArray empty_vao;
   std::vector<PerLight> lights;
@@ -626,21 +624,27 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   return gl::check_gl("volume photons");
 }
 
-void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLuint scene_color, GLuint scene_depth, float scale,
-                        const VolumeOptions& o) {
+Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, const gl::SceneTexture& scene_color,
+                          const gl::SceneTexture& scene_depth, gl::SceneReader& reader, float scale, const VolumeOptions& o) {
   Impl& s = *impl_;
-  if (!s.ran) return;
+  if (!s.ran) return Status::success();
   const gl::TimedPass timed("media: view", gl::PassKind::kRaster);
-  GLint vp[4] = {0, 0, 0, 0};
+  GLint vp[4] = {0, 0, 0, 0}, target_fbo = 0;
   glGetIntegerv(GL_VIEWPORT, vp);
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_fbo);
   // The caller's textures are read in place unless the bound framebuffer
-  // holds them (issue 44: no full-frame copies where none is needed).
-  // Compositing over the colour the framebuffer draws into is blending
-  // (dual-source: dst x T + L), which needs no read of it at all.
-  const bool blend_over = scene_color != 0 && gl::draws_only_into(scene_color);
-  const bool copy_color = scene_color != 0 && !blend_over && gl::attached_to_draw_framebuffer(scene_color);
-  const bool copy_depth = gl::attached_to_draw_framebuffer(scene_depth);
-  if (copy_color || copy_depth) s.copy.copy(copy_color ? scene_color : 0, copy_depth ? scene_depth : 0);
+  // holds them or they are multisampled (gl/scene_inputs.h; no full-frame
+  // copies where none is needed). Compositing over the colour the
+  // framebuffer draws into is blending (dual-source: dst x T + L), which
+  // needs no read of it at all.
+  const bool blend_over = scene_color && gl::draws_only_into(scene_color.name);
+  const bool copy_color = scene_color && !blend_over && gl::attached_to_draw_framebuffer(scene_color.name);
+  const bool copy_depth = gl::attached_to_draw_framebuffer(scene_depth.name);
+  CAUSTIX_RETURN_IF_ERROR(reader.read(blend_over ? gl::SceneTexture{} : scene_color, scene_depth, copy_color, copy_depth));
+  const GLuint color_read = reader.color(), depth_read = reader.depth();
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
+  glViewport(vp[0], vp[1], vp[2], vp[3]);
+  gl::encode_srgb_if_the_target_is_srgb();
 
   const gl::Program& p = s.view;
   p.use();
@@ -658,8 +662,8 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
   s.bind_index_grids();
-  glBindTextureUnit(kDepthUnit, copy_depth ? s.copy.depth() : scene_depth);
-  glBindTextureUnit(kColorUnit, copy_color ? s.copy.color() : scene_color);
+  glBindTextureUnit(kDepthUnit, depth_read);
+  glBindTextureUnit(kColorUnit, color_read);
   glBindSampler(kDepthUnit, s.nearest.get());
   glBindSampler(kColorUnit, s.nearest.get());
   glDisable(GL_DEPTH_TEST);
@@ -669,7 +673,7 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   bool first = true;
   for (std::size_t li = 0; li < s.lights.size(); ++li) {
     if (!s.lights[li].valid) continue;  // no photons yet
-    const bool composite = scene_color != 0 && first;
+    const bool composite = scene_color && first;
     first = false;
     p.set("u_composite", !composite ? 0 : blend_over ? 2 : 1);
     if (composite && blend_over) {
@@ -694,6 +698,7 @@ void VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, GLui
   glBindVertexArray(0);
   glBindSampler(kDepthUnit, 0);
   glBindSampler(kColorUnit, 0);
+  return Status::success();
 }
 
 void VolumeEngine::end_frame(std::uint64_t frame) {
@@ -758,7 +763,6 @@ VolumeStats VolumeEngine::stats(bool wait) {
   return st;
 }
 
-std::uint64_t VolumeEngine::view_bytes() const { return impl_->copy.gpu_bytes(); }
 
 std::uint64_t VolumeEngine::gpu_bytes() const {
   const Impl& s = *impl_;

@@ -22,7 +22,8 @@
 #include "caustix/formats/index_grid.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
+#include "scene_inputs.h"
 #include "exit_ray.h"
 #include "made_from.h"
 
@@ -65,11 +66,12 @@ class VolumeEngine {
                       const std::function<std::vector<ExitRay>()>& focus_rays, const CausticsOptions& caustics,
                       const SceneVersions& versions, bool due, EffectWork& work);
   // The viewing pass into the bound framebuffer and viewport, through
-  // `view_proj` (any camera). With `scene_color` (a 2D RGBA32F texture of
-  // the viewport's size) each pixel becomes colour x T + L x scale, else
-  // L x scale is added; rays stop behind `scene_depth`.
-  void draw(const SceneDesc& scene, const glm::mat4& view_proj, GLuint scene_color, GLuint scene_depth, float scale,
-            const VolumeOptions& options);
+  // `view_proj` (any camera). With `scene_color` (of the viewport's size,
+  // any format gl/scene_inputs.h accepts) each pixel becomes colour x T +
+  // L x scale, else L x scale is added; rays stop behind `scene_depth`.
+  // `reader` copies what the bound framebuffer holds or is multisampled.
+  Status draw(const SceneDesc& scene, const glm::mat4& view_proj, const gl::SceneTexture& scene_color,
+              const gl::SceneTexture& scene_depth, gl::SceneReader& reader, float scale, const VolumeOptions& options);
 
   // Sends this frame's tallies back (after the lights' update_light).
   void end_frame(std::uint64_t frame);
@@ -77,8 +79,6 @@ class VolumeEngine {
   // waiting), or with `wait` of the last frame (a stall).
   VolumeStats stats(bool wait);
   std::uint64_t gpu_bytes() const;
-  // The copies of the caller's scene the viewing pass reads.
-  std::uint64_t view_bytes() const;
 
  private:
   VolumeEngine() = default;

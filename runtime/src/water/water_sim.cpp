@@ -14,7 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix_shaders.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "gl_state.h"
 
 namespace caustix::runtime {

@@ -76,8 +76,10 @@ Result<WaterView> WaterView::create() {
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&w.surface_, "water_surface", shaders::k_water_vert_glsl, surface_fs.c_str()},
        {&w.highlight_, "glow_highlight", shaders::k_water_vert_glsl, shaders::k_glow_highlight_frag_glsl},
-       {&w.glow_, "glow", shaders::k_fullscreen_vert_glsl, shaders::k_glow_frag_glsl}}));
+       {&w.glow_, "glow", shaders::k_fullscreen_vert_glsl, shaders::k_glow_frag_glsl},
+       {&w.plain_, "water_plain", shaders::k_water_vert_glsl, shaders::k_water_plain_frag_glsl}}));
   w.empty_vao_ = gl::make_vertex_array();
+  w.nearest_ = gl::make_nearest_sampler();
   return w;
 }
 
@@ -155,8 +157,12 @@ void WaterView::draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint 
   highlight_.set("u_glow_size", glm::vec2(static_cast<float>(w), static_cast<float>(h)));
   highlight_.set("u_viewport", glm::vec4(static_cast<float>(viewport[0]), static_cast<float>(viewport[1]),
                                          static_cast<float>(width), static_cast<float>(height)));
-  if (scene_depth != 0) glBindTextureUnit(0, scene_depth);
+  if (scene_depth != 0) {
+    glBindTextureUnit(0, scene_depth);
+    glBindSampler(0, nearest_.get());
+  }
   draw_water();
+  glBindSampler(0, 0);
 
   glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
   glViewport(viewport[0], viewport[1], width, height);
@@ -191,6 +197,110 @@ std::uint64_t WaterView::gpu_bytes() const {
   const std::uint64_t s = static_cast<std::uint64_t>(size_) * static_cast<std::uint64_t>(size_);
   const std::uint64_t g = static_cast<std::uint64_t>(glow_w_) * static_cast<std::uint64_t>(glow_h_);
   return s * (2 * kColorBytes + 4) + g * (8 + 2);  // two colours and a 32-bit depth; the glow's half floats and 16-bit depth
+}
+
+Status WaterView::draw(const Frame& f, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene,
+                       const gl::StateGuard& guard, gl::SceneReader& reader, const gl::SceneTexture& scene_depth,
+                       const std::function<void()>& draw_grid) {
+  const glm::mat4 view_proj = f.main.proj * f.main.view;
+  const bool textured = look.textures && draw_scene;
+  std::optional<WaterCameras> cams;
+  if (textured) {
+    // Seed 001's two textures (§5.1-5.2), drawn by the application.
+    cams = water_cameras(f.main, f.fov_y_deg, f.aspect, f.near_plane, f.far_plane, *f.water, look);
+    int size = look.texture_size;
+    if (size == 0) {  // auto: a texel per pixel across the extended field of view, within the limit
+      const float pixels = look.fov_ext * static_cast<float>(std::max(f.viewport[2], f.viewport[3]));
+      const int limit = look.max_texture_size > 0 ? look.max_texture_size : 4096;
+      size = std::min(std::clamp((static_cast<int>(std::ceil(pixels)) + 63) / 64 * 64, 64, 4096), limit);
+    }
+    ensure_targets(size);
+    const int n = size_;
+    const glm::vec3 refr_clear = cams->under ? look.sky : f.medium.color;
+    // From below, the mirrored texture shows the water's inside, fogged
+    // along the mirrored camera's rays (§7.5).
+    const glm::vec3 refl_clear = cams->under ? f.medium.color : look.sky;
+    struct Pass {
+      GLuint fbo;
+      WaterPass p;
+      glm::vec3 clear;
+    };
+    // The reflection first: the refraction's depth, drawn last into the
+    // buffer both share, is the one the surface reads.
+    const Pass passes[2] = {
+        {reflection_fbo(),
+         WaterPass{reflection_fbo(), n, cams->reflection.proj * cams->reflection.view, cams->reflection_clip, true, cams->under, cams->reflection.eye, f.medium.k, f.medium.color},
+         refl_clear},
+        {refraction_fbo(),
+         WaterPass{refraction_fbo(), n, cams->refraction.proj * cams->refraction.view, cams->refraction_clip, false, false, cams->refraction.eye, f.medium.k, f.medium.color},
+         refr_clear}};
+    const gl::TimedPass timed("water: refraction and reflection textures (the application's passes)", gl::PassKind::kRaster);
+    for (const Pass& p : passes) {
+      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
+      glDepthMask(GL_TRUE);  // clears obey the write masks
+      const float clear[4] = {p.clear.r, p.clear.g, p.clear.b, 0.0f};
+      glClearNamedFramebufferfv(p.fbo, GL_COLOR, 0, clear);
+      const float far_depth = 1.0f;
+      glClearNamedFramebufferfv(p.fbo, GL_DEPTH, 0, &far_depth);
+      // The callback runs with the caller's state (program, VAO, textures,
+      // samplers, active unit, capabilities, ...) but for what WaterPass
+      // lists (engine.h): the pass's framebuffer and viewport, depth test
+      // LESS with writes, no blending or culling, the clip distance, the
+      // winding.
+      guard.restore();
+      glBindFramebuffer(GL_FRAMEBUFFER, p.fbo);
+      glViewport(0, 0, n, n);
+      glDepthMask(GL_TRUE);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDisable(GL_BLEND);
+      glDisable(GL_CULL_FACE);
+      glEnable(GL_CLIP_DISTANCE0);
+      glFrontFace(p.p.mirrored ? GL_CW : GL_CCW);
+      draw_scene(p.p);
+      // The callback may have left anything: back to what the passes below assume.
+      guard.enter();
+      glDisable(GL_CLIP_DISTANCE0);
+      glFrontFace(GL_CCW);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_SCISSOR_TEST);
+      glDisable(GL_STENCIL_TEST);
+      glDisable(GL_CULL_FACE);
+    }
+  }
+
+  // The glow reads the scene's depth as a single-sampled texture.
+  GLuint depth_read = 0;
+  if (scene_depth && textured && look.glow) {
+    CAUSTIX_RETURN_IF_ERROR(reader.read(gl::SceneTexture{}, scene_depth, false, false));
+    depth_read = reader.depth();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, f.target_fbo);
+  glViewport(f.viewport[0], f.viewport[1], f.viewport[2], f.viewport[3]);
+  gl::encode_srgb_if_the_target_is_srgb();
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_LESS);
+  if (textured) {
+    glDisable(GL_BLEND);
+    const SurfaceParams sp{&*cams, view_proj, f.main.eye, f.waves, f.medium.color, f.medium.k, f.sun_direction, f.sun_color};
+    draw_surface(sp, look, draw_grid);
+    if (look.glow && look.debug == WaterDebug::kNone && !cams->under && f.sun_color != glm::vec3(0.0f)) {
+      draw_glow(sp, look, f.target_fbo, f.viewport, depth_read, draw_grid);
+    }
+  } else {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
+    plain_.use();
+    plain_.set("u_view_proj", view_proj);
+    plain_.set("u_eye", f.main.eye);
+    plain_.set("u_sky", look.sky);
+    plain_.set("u_ior", f.water->ior);
+    plain_.set("u_sun_direction", f.sun_direction);
+    plain_.set("u_sun_color", f.sun_color);
+    draw_grid();
+  }
+  return Status::success();
 }
 
 }  // namespace caustix::runtime

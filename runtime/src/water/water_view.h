@@ -12,8 +12,11 @@
 
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
+#include "caustix/runtime/engine.h"
 #include "caustix/runtime/water_look.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
+#include "gl_state.h"
+#include "scene_inputs.h"
 
 namespace caustix::runtime {
 
@@ -69,6 +72,28 @@ class WaterView {
   void draw_glow(const SurfaceParams& p, const WaterLook& look, GLuint target_fbo, const int viewport[4], GLuint scene_depth,
                  const std::function<void()>& draw_water);
 
+  // What draw() needs of the frame: the caller's camera, target and
+  // viewport, the water, what the light makes of it.
+  struct Frame {
+    ViewCamera main;
+    float fov_y_deg = 45.0f, aspect = 1.0f, near_plane = 0.1f, far_plane = 100.0f;
+    GLuint target_fbo = 0;  // bound for drawing when draw() is called
+    int viewport[4] = {0, 0, 0, 0};
+    const Water* water = nullptr;
+    WaterMedium medium;
+    std::vector<glm::vec4> waves;  // view_samples() of the water's index
+    glm::vec3 sun_direction{0.0f}, sun_color{0.0f};  // the first directional light (zero: none)
+  };
+  // Engine::draw_water() after its checks, inside its state guard: the
+  // application's two texture passes through `draw_scene` (run with the
+  // caller's state as engine.h's WaterPass says: guard.restore() before,
+  // enter() after), then the surface and the glow (hidden behind
+  // `scene_depth`, read through `reader`), or without textures the plain
+  // surface. `draw_grid` issues the water grid's draw call.
+  Status draw(const Frame& f, const WaterLook& look, const std::function<void(const WaterPass&)>& draw_scene,
+              const gl::StateGuard& guard, gl::SceneReader& reader, const gl::SceneTexture& scene_depth,
+              const std::function<void()>& draw_grid);
+
   std::uint64_t gpu_bytes() const;
 
  private:
@@ -85,8 +110,9 @@ class WaterView {
   // Colour and a 32-bit depth (its own, or `depth` if given).
   static Target make_target(int w, int h, GLuint depth = 0);
   static Target make_glow_target(int w, int h);  // RGBA16F (the highlight scaled) and a 16-bit depth
-  gl::Program surface_, highlight_, glow_;
+  gl::Program surface_, highlight_, glow_, plain_;
   gl::VertexArray empty_vao_;
+  gl::Sampler nearest_;  // the caller's scene depth read texel by texel, whatever its own parameters
   Target refraction_, reflection_, glow_target_;
   int size_ = 0, glow_w_ = 0, glow_h_ = 0;
 };

@@ -80,3 +80,12 @@ class [[nodiscard]] Status {
     auto&& caustix_status_ = (expr);                  \
     if (!caustix_status_.ok()) return caustix_status_.error(); \
   } while (0)
+
+// Assigns the value of a Result expression to `lhs` (an lvalue declared
+// before), or returns its error: CAUSTIX_ASSIGN_OR_RETURN(mesh, load(path));
+#define CAUSTIX_ASSIGN_OR_RETURN(lhs, expr)            \
+  do {                                                 \
+    auto caustix_result_ = (expr);                     \
+    if (!caustix_result_.ok()) return caustix_result_.error(); \
+    lhs = std::move(*caustix_result_);                 \
+  } while (0)

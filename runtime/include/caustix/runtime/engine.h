@@ -69,32 +69,32 @@ namespace caustix::runtime {
 
 // Where the GLSL include finds its resources: one uniform-buffer binding
 // point (the block CaustixLight), twelve texture units and, for bind_all(),
-// one shader-storage binding point (the table). Change them when
-// they collide with the application's own; glsl_include() then carries the
-// matching #defines (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
+// one shader-storage binding point (the table). The default units are 4..15,
+// within the 16 per shader stage that GL 4.5 guarantees, leaving 0..3 to
+// the application's own textures. Change them when they collide with the
+// application's own; glsl_include() then carries the matching #defines
+// (CAUSTIX_BINDING_BLOCK, CAUSTIX_UNIT_*).
 struct Bindings {
   unsigned block = 7;
-  unsigned shadow_2d = 8;           // sampler2DShadow: the light's shadow map (directional)
-  unsigned shadow_cube = 9;         // samplerCubeShadow: the light's shadow map (point)
-  unsigned caustics = 10;           // sampler2D RGBA32F: the caustics map (irradiance, direction; A: the receiver's presence, divided out; caustix.glsl)
-  unsigned position = 11;           // sampler2D R32F: the receiver's position map
-  unsigned glass_illumination = 12; // sampler2DArray RGBA32F: glass illumination textures
-  unsigned glass_target = 13;       // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
-  unsigned glass_shadow_2d = 14;    // sampler2DShadow: the glass's own shadow map (directional)
-  unsigned glass_shadow_cube = 15;  // samplerCubeShadow: the glass's own shadow map (point)
+  unsigned shadow_2d = 4;           // sampler2DShadow: the light's shadow map (directional)
+  unsigned shadow_cube = 5;         // samplerCubeShadow: the light's shadow map (point)
+  unsigned caustics = 6;            // sampler2D RGBA32F: the caustics map (irradiance, direction; A: the receiver's presence, divided out; caustix.glsl)
+  unsigned position = 7;            // sampler2D R32F: the receiver's position map
+  unsigned glass_illumination = 8;  // sampler2DArray RGBA32F: glass illumination textures
+  unsigned glass_target = 9;        // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
+  unsigned glass_shadow_2d = 10;    // sampler2DShadow: the glass's own shadow map (directional)
+  unsigned glass_shadow_cube = 11;  // samplerCubeShadow: the glass's own shadow map (point)
   // sampler2D RGBA32F: the light's image-space caustic map (mirrors; glass
-  // with GlassMethod::kCausticMap). GL 4.5 guarantees units 0..15 per
-  // stage; every current driver has 32 (move it where yours has fewer).
-  unsigned caustic_map = 16;
+  // with GlassMethod::kCausticMap).
+  unsigned caustic_map = 12;
   // sampler2D RG32F: the filtered depth moments of the light's shadow map
   // and of the glass's (variance shadow maps, ShadowOptions::filter kVsm;
   // directional lights; 1x1 where unused).
-  unsigned shadow_vsm = 17;
-  unsigned glass_shadow_vsm = 18;
+  unsigned shadow_vsm = 13;
+  unsigned glass_shadow_vsm = 14;
   // sampler2D RGBA32F: the caustics map's irradiance per RGB channel when
-  // the water disperses (issue 22; LightBlock::frame_v.w 1; 1x1 where
-  // unused).
-  unsigned caustics_color = 19;
+  // the water disperses (LightBlock::frame_v.w 1; 1x1 where unused).
+  unsigned caustics_color = 15;
   // Shader-storage binding point of the all-receivers table (bind_all();
   // the block CaustixTable of caustix.glsl with CAUSTIX_ALL_RECEIVERS).
   // Uniform-buffer and shader-storage points are separate: 7 here does
@@ -391,6 +391,25 @@ class Engine {
   std::string glsl_include() const;
 
   // ---- view side ----
+  // Scene textures. draw_water(), draw_glass() and draw_media() read the
+  // caller's scene as its framebuffer has it, 2D or 2D multisample (GL 4.5
+  // textures, not renderbuffers):
+  //  - colour in any floating-point or normalised format: GL_RGBA16F,
+  //    GL_R11F_G11F_B10F, GL_RGBA8, GL_SRGB8_ALPHA8, GL_RGB10_A2,
+  //    GL_RGBA32F and the like (not integer formats);
+  //  - depth in any depth or depth-stencil format: GL_DEPTH_COMPONENT16,
+  //    _24, _32, _32F, GL_DEPTH24_STENCIL8, GL_DEPTH32F_STENCIL8, read as
+  //    depth (GL_DEPTH_STENCIL_TEXTURE_MODE left at GL_DEPTH_COMPONENT).
+  // They are sampled texel by texel through the engine's own sampler
+  // objects, whatever the textures' filtering or comparison modes. A
+  // multisampled texture is resolved into a copy the engine holds (colour
+  // averaged over the samples, depth the nearest sample; in
+  // stats().memory.views) before it is read; the engine then draws into
+  // the caller's multisampled framebuffer as into any other. Colour is
+  // written linear; into a framebuffer object whose draw buffer is
+  // sRGB-encoded it is written with GL_FRAMEBUFFER_SRGB on, so that it is
+  // stored encoded as it is decoded when read. Any other texture is kUsage
+  // naming the format it has and those accepted.
   // The water surface (seed 001) into the framebuffer bound to
   // GL_DRAW_FRAMEBUFFER with the current viewport, depth-tested against
   // its depth buffer (without writing it). `draw_scene` renders the
@@ -399,12 +418,12 @@ class Engine {
   // a texel per pixel up to look.max_texture_size); with
   // look.textures false, or no callback, the plain surface (sky
   // reflection, Fresnel) is drawn instead. With look.glow the glow of §9.3
-  // is added to the bound framebuffer's colour; given `scene_depth` (a 2D
-  // GL_DEPTH_COMPONENT32F texture holding the depth the surface is tested
-  // against, in the framebuffer's pixels: typically its depth attachment,
-  // read at the viewport's pixels while the glow's own target is bound) it
-  // comes only from glints the scene does not hide, else also from glints
-  // behind objects. Dispersive water (issue 22) refracts the view once per
+  // is added to the bound framebuffer's colour; given `scene_depth` (a
+  // depth texture, see "Scene textures" above, holding the depth the
+  // surface is tested against, in the framebuffer's pixels: typically its
+  // depth attachment, read at the viewport's pixels while the glow's own
+  // target is bound) it comes only from glints the scene does not hide,
+  // else also from glints behind objects. Dispersive water (issue 22) refracts the view once per
   // wavelength the last update() traced (CausticsOptions::wavelengths, or
   // wavelength_nm's alone), each at the water's index there, adding the
   // results with the bins' RGB weights (the plain surface: n_d). kUsage
@@ -416,11 +435,10 @@ class Engine {
   // seen through them by `options.method` (GlassView: view rays through the
   // light-transport table, seed 002 §3, or nearby-geometry refraction, seed
   // 003), with the Fresnel reflection of the sky. `scene_color` and
-  // `scene_depth` are 2D textures (RGBA float colour, depth) of the opaque
-  // scene as the caller rendered it with `view`, the size of the viewport;
-  // they may be attached to the bound framebuffer (the glass is drawn
-  // into a target over its rectangle of the frame, reading them, and then
-  // copied in).
+  // `scene_depth` (see "Scene textures" above) are the opaque scene as the
+  // caller rendered it with `view`, the size of the viewport; they may be
+  // attached to the bound framebuffer (the glass is drawn into a target
+  // over its rectangle of the frame, reading them, and then copied in).
   // Dispersive glass (issue 22) seen through the nearby view refracts once
   // per wavelength the last update() traced, as draw_water(); the table
   // view refracts at n_d. Thin-walled glass (Role::kThin, issue 45) is
@@ -437,10 +455,10 @@ class Engine {
   // conventions), into the framebuffer bound to GL_DRAW_FRAMEBUFFER over
   // the current viewport. Every pixel's ray is marched through the
   // radiance grid of the last update(), bent inside transparent objects,
-  // and stops where it passes behind `scene_depth` (a 2D
-  // GL_DEPTH_COMPONENT32F texture of the viewport's size: the opaque scene
-  // as the caller rendered it, without the glass). With `scene_color` (2D
-  // GL_RGBA32F, same size) each pixel becomes colour x T + scale x L, T
+  // and stops where it passes behind `scene_depth` (a depth texture of the
+  // viewport's size, see "Scene textures" above: the opaque scene as the
+  // caller rendered it, without the glass). With `scene_color` (a colour
+  // texture, same size) each pixel becomes colour x T + scale x L, T
   // the extinction e^(-sum sigma_t ds) of the fog box and the glass along
   // the ray (the glass's Fresnel is draw_glass()'s; the
   // water's own attenuation is the water surface's, draw_water()); with 0

@@ -1,4 +1,4 @@
-#include "caustix/runtime/image_output.h"
+#include "caustix/sample/image_output.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -8,7 +8,7 @@
 
 #include "caustix/formats/file_io.h"
 
-namespace caustix::runtime {
+namespace caustix::sample {
 namespace {
 
 Status write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const void* data,
@@ -93,4 +93,4 @@ Status write_u8_image(const std::string& path, int w, int h, int channels, const
   return write_image(path, w, h, channels, OIIO::TypeDesc::UINT8, px.data());
 }
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample

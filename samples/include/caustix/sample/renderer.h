@@ -31,7 +31,11 @@
 #include "caustix/runtime/water_look.h"
 #include "caustix/runtime/scene_loader.h"
 
-namespace caustix::runtime {
+namespace caustix::sample {
+
+// The sample is a client of the runtime's public API and uses its names as
+// they are (Engine, View, CausticsOptions, ...).
+using namespace caustix::runtime;
 
 // The display transform of present() and read_display() (docs/display.md):
 // linear radiance times 2^exposure_ev (and, with auto_exposure, times
@@ -218,4 +222,4 @@ class Renderer {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample

@@ -1,4 +1,4 @@
-#include "caustix/runtime/renderer.h"
+#include "caustix/sample/renderer.h"
 
 // The sample renderer behind caustix-render and caustix-view: a client of the
 // public Engine API (include/caustix/runtime/engine.h) like any application.
@@ -15,10 +15,10 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustix/common/mesh_topology.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 #include "caustix_sample_shaders.h"
 
-namespace caustix::runtime {
+namespace caustix::sample {
 namespace {
 
 // The irradiance the display's exposure, the ambient term and the sky are
@@ -288,15 +288,15 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   s.engine = std::move(*engine);
   s.reference = reference_irradiance(scene.desc, 0.5f * (s.engine->bounds_min() + s.engine->bounds_max()));
   const std::string lighting = std::string("#version 450 core\n") + s.engine->glsl_include();
-  const std::string receiver_fs = lighting + sample_shaders::k_receiver_frag_glsl;
-  const std::string irradiance_fs = lighting + sample_shaders::k_irradiance_frag_glsl;
+  const std::string receiver_fs = lighting + shaders::k_receiver_frag_glsl;
+  const std::string irradiance_fs = lighting + shaders::k_irradiance_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(
-      gl::build_programs({{&s.receiver, "receiver", sample_shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
-                          {&s.irradiance, "irradiance", sample_shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
-                          {&s.present, "present", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_present_frag_glsl},
-                          {&s.sky, "sky", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_sky_frag_glsl},
-                          {&s.luminance, "luminance", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_luminance_frag_glsl},
-                          {&s.downsample, "downsample", sample_shaders::k_fullscreen_vert_glsl, sample_shaders::k_downsample_frag_glsl}}));
+      gl::build_programs({{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
+                          {&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
+                          {&s.present, "present", shaders::k_fullscreen_vert_glsl, shaders::k_present_frag_glsl},
+                          {&s.sky, "sky", shaders::k_fullscreen_vert_glsl, shaders::k_sky_frag_glsl},
+                          {&s.luminance, "luminance", shaders::k_fullscreen_vert_glsl, shaders::k_luminance_frag_glsl},
+                          {&s.downsample, "downsample", shaders::k_fullscreen_vert_glsl, shaders::k_downsample_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
@@ -809,4 +809,4 @@ float Renderer::default_exposure_ev() const { return std::clamp(-1.0f - std::log
 glm::vec3 Renderer::bounds_min() const { return impl_->engine->bounds_min(); }
 glm::vec3 Renderer::bounds_max() const { return impl_->engine->bounds_max(); }
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample

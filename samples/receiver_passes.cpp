@@ -1,4 +1,4 @@
-#include "caustix/runtime/receiver_passes.h"
+#include "caustix/sample/receiver_passes.h"
 
 #include <epoxy/gl.h>
 
@@ -6,7 +6,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-namespace caustix::runtime {
+namespace caustix::sample {
 namespace {
 
 const char* kMeshVertex = R"(#version 450 core
@@ -215,4 +215,4 @@ std::vector<int> ReceiverPasses::read_objects() const {
   return objects;
 }
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample

@@ -19,9 +19,13 @@
 
 #include "caustix/common/status.h"
 #include "caustix/runtime/engine.h"
-#include "caustix/runtime/gl_objects.h"
+#include "gl_objects.h"
 
-namespace caustix::runtime {
+namespace caustix::sample {
+
+// The sample is a client of the runtime's public API and uses its names as
+// they are (Engine, View, CausticsOptions, ...).
+using namespace caustix::runtime;
 
 class ReceiverPasses {
  public:
@@ -63,4 +67,4 @@ class ReceiverPasses {
   gl::VertexArray empty_vao_;
 };
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample

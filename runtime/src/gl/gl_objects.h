@@ -1,6 +1,8 @@
 #pragma once
 // Small RAII owners for GL objects and a shader program with checked
-// compilation. Internal to the runtime.
+// compilation: the GL plumbing of the runtime's passes (library caustix_gl,
+// not installed), which the sample renderer (samples/) shares as a GL
+// utility. Not part of the public API.
 
 #include <epoxy/gl.h>
 

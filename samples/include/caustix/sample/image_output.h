@@ -12,7 +12,7 @@
 
 #include "caustix/common/status.h"
 
-namespace caustix::runtime {
+namespace caustix::sample {
 
 // `pixels` is top row first, `channels` interleaved floats per pixel.
 // `attributes` are written as string metadata (e.g. "caustix:region").
@@ -42,4 +42,4 @@ Result<RgbImage> read_rgb_image(const std::string& path);
 // assumed): decides between linear and display output.
 bool is_float_image_path(const std::string& path);
 
-}  // namespace caustix::runtime
+}  // namespace caustix::sample
