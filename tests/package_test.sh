@@ -21,6 +21,10 @@ for f in bin/caustix-bake bin/caustix-render bin/caustix-inspect include/caustix
          lib/cmake/caustix/caustixConfig.cmake lib/pkgconfig/caustix.pc; do
   [[ -f "$tmp/prefix/$f" ]] || { echo "not installed: $f"; exit 1; }
 done
+# The runtime's internals and the sample renderer are not part of the package.
+for f in include/caustix/runtime/gl_objects.h include/caustix/runtime/renderer.h include/caustix/sample; do
+  [[ ! -e "$tmp/prefix/$f" ]] || { echo "installed, but not public: $f"; exit 1; }
+done
 
 mtime() { stat -c %.9Y "$1"; }
 for gen in Ninja "Unix Makefiles"; do

@@ -1,4 +1,5 @@
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 
 #include <initializer_list>
 #include <string>

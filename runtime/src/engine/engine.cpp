@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "caustics.h"
+#include "caustics_effect.h"
 #include "caustix/formats/frame.h"
 #include "gl_objects.h"
 #include "gl_calls.h"
@@ -19,13 +20,18 @@
 #include "pass_timer.h"
 #include "receiver_table.h"
 #include "causticmap.h"
+#include "causticmap_effect.h"
 #include "glass.h"
+#include "glass_effect.h"
 #include "albedo_textures.h"
 #include "gpu_mesh.h"
+#include "light_effect.h"
 #include "shader_text.h"
+#include "shadow_effect.h"
 #include "shadow_maps.h"
 #include "water_surface.h"
 #include "volume.h"
+#include "volume_effect.h"
 #include "view_spectrum.h"
 #include "water_view.h"
 
@@ -84,6 +90,9 @@ struct Engine::Impl {
   std::unique_ptr<CausticMapEngine> caustic_maps;  // created on the first update that needs it
   std::vector<std::array<glm::vec3, 2>> object_boxes;  // world (min, max) per object
   std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
+  // The light-side effects over the objects above, in the order update()
+  // runs them for each light (light_effect.h).
+  std::vector<std::unique_ptr<LightEffect>> effects;
   VolumeOptions volume_options;           // of the last update()
   gl::Texture dummy_array, dummy_2d;  // valid samplers where a receiver has no caustics or glass light
   // The caller's scene colour and depth as the view-side draws read them
@@ -284,6 +293,35 @@ struct Engine::Impl {
     }
   }
 
+  // What the effects borrow from the engine while they update.
+  struct Services final : EngineServices {
+    Impl& s;
+    explicit Services(Impl& impl) : s(impl) {}
+    const std::vector<std::vector<std::array<double, 3>>>& world_vertices() const override { return s.world_vertices; }
+    const std::vector<std::array<glm::vec3, 2>>& object_boxes() const override { return s.object_boxes; }
+    glm::vec3 scene_center() const override { return s.scene_center(); }
+    float scene_radius() const override { return s.scene_radius(); }
+    const WaterSurface* water() const override { return s.water ? &*s.water : nullptr; }
+    const std::vector<bool>& caustic_map_casters(const CausticsOptions& o) override { return s.caustic_map_casters(o.glass_method); }
+    void bind_light(std::uint32_t li, const CausticsOptions& co, const gl::Program* p) override {
+      const ReceiverLighting& light_slot = s.lighting[s.slot(0, li)];
+      ReceiverLighting now = light_slot;
+      s.fill_receiver(now, 0, li, co);
+      s.bind_slot(now);
+      if (!p) return;
+      const LightBlock& b = light_slot.block;
+      p->set("u_light_type", b.mode.y);
+      p->set("u_light_direction", glm::vec3(b.light_direction));
+      p->set("u_light_position", glm::vec3(b.light_position));
+      p->set("u_light_power", b.light_color.w);
+      p->set("u_spot", glm::vec3(b.spot));
+    }
+    std::function<std::vector<ExitRay>()> glass_exit_rays(std::uint32_t li) const override {
+      if (!s.glass) return {};
+      return [&impl = s, li]() { return impl.glass->exit_sample(impl.scene, li); };
+    }
+  };
+
   void bind_slot(const ReceiverLighting& r) const {
     // The multi-bind call binds the indexed point alone: glBindBufferRange
     // would also set the generic GL_UNIFORM_BUFFER binding, which the
@@ -451,6 +489,17 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
     }
   }
 
+  // The light-side effects, in the order update() runs them per light: the
+  // shadow maps first (the others read them), the water's caustics, the
+  // glass's (whose rays read the light's block), the caustic maps (made on
+  // the first frame that needs them), and last the media, whose photons
+  // start from what the others made.
+  s.effects.push_back(std::make_unique<ShadowEffect>(*s.shadows));
+  if (s.caustics) s.effects.push_back(std::make_unique<CausticsEffect>(*s.caustics));
+  if (s.glass) s.effects.push_back(std::make_unique<GlassEffect>(*s.glass));
+  s.effects.push_back(std::make_unique<CausticMapEffect>(s.caustic_maps, s.scene, [impl](std::uint32_t i) { impl->draw_object(i); }));
+  if (s.volume) s.effects.push_back(std::make_unique<VolumeEffect>(*s.volume));
+
   // The blocks, one per (object, light), each at a multiple of the
   // context's uniform-buffer offset alignment.
   GLint align = 256;
@@ -602,18 +651,11 @@ Status Engine::update(const FrameUpdate& f) {
   const CausticsOptions& co = f.caustics;
   ++s.frame;
   s.timer.begin_frame(s.frame);
-  if (s.caustics) s.caustics->begin_frame(s.frame);
-  const bool caustic_maps = co.method != CausticsMethod::kNone && CausticMapEngine::needed(cmap_casters);
-  if (caustic_maps && !s.caustic_maps) {
-    auto cm = CausticMapEngine::create(s.scene, [&s](std::uint32_t i) { s.draw_object(i); });
-    if (!cm) return cm.error();
-    s.caustic_maps = std::move(*cm);
-  }
-  if (s.caustic_maps) s.caustic_maps->begin_frame(s.frame);
   s.work = FrameWork{};
   if (s.water) s.work.water = s.water->update(f.time);
   s.volume_options = co.volume;
-  if (s.volume) CAUSTIX_RETURN_IF_ERROR(s.volume->begin_frame(s.scene, co.volume));
+  Impl::Services services(s);
+  for (const auto& e : s.effects) CAUSTIX_RETURN_IF_ERROR(e->begin_frame(FrameStart{s.scene, s.frame, co, services}));
   FrameWork& work = s.work;
   std::vector<unsigned> changed_lights(s.scene.lights.size(), 0);  // for the all-receivers table
   const bool new_options = s.table_options != co;
@@ -622,63 +664,31 @@ Status Engine::update(const FrameUpdate& f) {
     const FrameWork before = work;
     // Lights take turns when the light side runs every Nth frame.
     const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;
-    const SceneVersions v{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0};
-    s.shadows->render(s.scene, li, s.scene_center(), s.scene_radius(), co.shadows, v, due, work.shadow_maps);
-    if (s.caustics) {
-      CAUSTIX_RETURN_IF_ERROR(s.caustics->update_light(li, s.scene.lights, s.scene.water, s.world_vertices, co, v, due, work.level_maps));
-    }
-    if (s.glass && co.method != CausticsMethod::kNone) {
-      s.upload_light(li, co);  // the rays read the light's block and shadow maps
-      const ReceiverLighting& light_slot = s.lighting[s.slot(0, li)];
-      CAUSTIX_RETURN_IF_ERROR(s.glass->update_light(
-          s.scene, li, co, s.world_vertices, cmap_casters,
-          [&](const gl::Program& p) {
-            // The slot's textures as they are now: this update may have
-            // reallocated the glass's own (new sizes) since upload_light,
-            // and binding a deleted texture's name is an error.
-            ReceiverLighting now = light_slot;
-            s.fill_receiver(now, 0, li, co);
-            s.bind_slot(now);
-            const LightBlock& b = light_slot.block;
-            p.set("u_light_type", b.mode.y);
-            p.set("u_light_direction", glm::vec3(b.light_direction));
-            p.set("u_light_position", glm::vec3(b.light_position));
-            p.set("u_light_power", b.light_color.w);
-            p.set("u_spot", glm::vec3(b.spot));
-          },
-          v, due, work.glass));
-    }
-    if (s.caustic_maps) {
-      if (caustic_maps) {
-        CAUSTIX_RETURN_IF_ERROR(s.caustic_maps->update_light(s.scene, li, co, s.object_boxes, cmap_casters, v, due, work.caustic_maps));
-      } else {
-        s.caustic_maps->clear(li);
+    const LightUpdate u{s.scene, li, co, SceneVersions{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0},
+                        due, services, work};
+    unsigned changed = new_options ? ReceiverTable::kEverything : 0u;
+    // The light's blocks are uploaded before an effect that reads them,
+    // with what the effects before it made, and after the last that
+    // writes them.
+    bool block_stale = true;
+    for (const auto& e : s.effects) {
+      if (!e->active(co)) continue;
+      if (e->reads_light_block() && block_stale) {
+        s.upload_light(li, co);
+        block_stale = false;
       }
+      const std::uint32_t made = e->work(work).updated;
+      CAUSTIX_RETURN_IF_ERROR(e->update_light(u));
+      if (e->work(work).updated != made) changed |= e->table_products();
+      block_stale = block_stale || e->writes_light_block();
     }
-    s.upload_light(li, co);
+    if (block_stale) s.upload_light(li, co);
     const std::pair<std::uint64_t, std::uint64_t> versions{s.light_versions[li], s.transforms_version};
     const bool moved = s.table_versions[li] != versions && work.level_maps.updated != before.level_maps.updated;
     if (moved) s.table_versions[li] = versions;
-    changed_lights[li] = (new_options ? ReceiverTable::kEverything : 0u) | (moved ? ReceiverTable::kPositionMaps : 0u) |
-                         (work.shadow_maps.updated != before.shadow_maps.updated ? ReceiverTable::kShadowMaps : 0u) |
-                         (work.level_maps.updated != before.level_maps.updated ? ReceiverTable::kLevelMaps : 0u) |
-                         (work.glass.updated != before.glass.updated ? ReceiverTable::kGlass : 0u) |
-                         (work.caustic_maps.updated != before.caustic_maps.updated ? ReceiverTable::kCausticMaps : 0u);
-    if (s.volume && !s.lighting.empty()) {
-      // Photons start from the same water state as the caustics (seed 004).
-      const std::vector<WavelengthSample> waves = traced_wavelengths(s.scene, co);
-      const bool spectral = waves.size() > 1 || co.wavelength_nm.has_value();
-      // The glass's sampled exit rays place the light's focus grid.
-      std::function<std::vector<ExitRay>()> focus_rays;
-      if (s.glass) focus_rays = [&s, li]() { return s.glass->exit_sample(s.scene, li); };
-      CAUSTIX_RETURN_IF_ERROR(s.volume->update_light(s.scene, li, co.volume, s.water ? &*s.water : nullptr, waves, spectral,
-                                                     [&]() { s.bind_slot(s.lighting[s.slot(0, li)]); }, focus_rays, co, v, due,
-                                                     work.media));
-    }
+    changed_lights[li] = changed | (moved ? ReceiverTable::kPositionMaps : 0u);
   }
-  if (s.caustics) s.caustics->end_frame();
-  if (s.caustic_maps) s.caustic_maps->end_frame();
-  if (s.volume) s.volume->end_frame(s.frame);
+  for (const auto& e : s.effects) e->end_frame(s.frame);
   s.view_spectrum = ViewSpectrum{traced_wavelengths(s.scene, co), co.wavelength_nm.has_value()};
   s.updated = true;
   if (s.table.built()) CAUSTIX_RETURN_IF_ERROR(s.refresh_table(changed_lights));
@@ -855,20 +865,16 @@ CausticsStats Engine::stats(bool wait) {
   st.frame = s.frame;
   st.work = s.work;
   GpuMemory& m = st.memory;
-  m.level_maps = st.gpu_bytes;  // the caustics engine's own
+  for (const auto& e : s.effects) e->memory(m);  // shadow maps, level maps, glass, caustic maps, media
   for (const GpuMesh& mesh : s.meshes) m.meshes += mesh.gpu_bytes();
   m.meshes += s.albedo.gpu_bytes;
-  m.shadow_maps = s.shadows->gpu_bytes();
   if (s.water) m.water = s.water->gpu_bytes();
   if (s.glass) {
-    m.glass = s.glass->gpu_bytes();  // tables, rays, targets, illumination textures
     m.views += s.glass->view_bytes();
     st.glass_wavelengths = s.glass->wavelengths();
   }
   if (s.water_view) m.views += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
-  if (s.volume) m.media = s.volume->gpu_bytes();  // radiance and index grids
   m.views += s.scene_reader.gpu_bytes();  // copies of the caller's scene, where a view-side draw needs them
-  if (s.caustic_maps) m.caustic_maps = s.caustic_maps->gpu_bytes();  // caster maps, caustic maps, photons
   m.other = std::uint64_t{s.stride} * s.lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
   m.receiver_table = s.table.gpu_bytes();
   st.gpu_bytes = m.total();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 
 namespace caustix::runtime {
 

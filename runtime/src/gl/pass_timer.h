@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 #include "gl_objects.h"
 
 namespace caustix::runtime::gl {

@@ -19,6 +19,7 @@
 #include "caustix/formats/level_map.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 #include "gl_objects.h"
 #include "exit_ray.h"
 #include "made_from.h"

@@ -927,17 +927,23 @@ CausticsStats CausticsEngine::stats(bool wait) {
     s.poll();
   }
   CausticsStats out = s.stats;
-  // Refracted rays and fluxes, the read-back ring, the splats' photons
-  // (one set for every map), and the maps.
-  out.gpu_bytes = std::uint64_t{16} * s.water->vertex_count() + std::uint64_t{8} * s.water->triangle_count() + s.readback.gpu_bytes() +
-                  std::uint64_t{32} * s.photon_size * s.photon_size + 4 * static_cast<std::uint64_t>(s.plan_scratch_words) +
-                  s.allocated * (kListBytes + kPrimitiveBytes);
-  for (const MapGpu& m : s.maps) out.gpu_bytes += m.gpu_bytes;
+  out.gpu_bytes = gpu_bytes();
   out.counters_frame = s.gpu_counts.frame;
   out.volumes_drawn = s.gpu_counts.volumes_drawn;
   out.planes_drawn = s.gpu_counts.planes_drawn;
   out.overflowed = s.gpu_counts.overflowed;
   return out;
+}
+
+std::uint64_t CausticsEngine::gpu_bytes() const {
+  const Impl& s = *impl_;
+  // Refracted rays and fluxes, the read-back ring, the splats' photons
+  // (one set for every map), and the maps.
+  std::uint64_t bytes = std::uint64_t{16} * s.water->vertex_count() + std::uint64_t{8} * s.water->triangle_count() +
+                        s.readback.gpu_bytes() + std::uint64_t{32} * s.photon_size * s.photon_size +
+                        4 * static_cast<std::uint64_t>(s.plan_scratch_words) + s.allocated * (kListBytes + kPrimitiveBytes);
+  for (const MapGpu& m : s.maps) bytes += m.gpu_bytes;
+  return bytes;
 }
 
 }  // namespace caustix::runtime

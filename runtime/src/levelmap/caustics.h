@@ -13,6 +13,7 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/level_map.h"
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 #include "gl_objects.h"
 #include "made_from.h"
 #include "water_surface.h"
@@ -67,6 +68,9 @@ class CausticsEngine {
   // of the latest frame whose read-back has arrived (counters_frame), or of
   // the last frame with `wait` (a stall).
   CausticsStats stats(bool wait);
+  // Its GPU memory: the refracted rays, the read-back ring, the splats'
+  // photons, the intersection lists and the maps (stats().gpu_bytes).
+  std::uint64_t gpu_bytes() const;
 
  private:
   CausticsEngine() = default;

@@ -22,6 +22,7 @@
 #include "caustix/formats/index_grid.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 #include "gl_objects.h"
 #include "scene_inputs.h"
 #include "exit_ray.h"

@@ -27,6 +27,7 @@
 #include "caustix/common/status.h"
 #include "caustix/formats/scene.h"
 #include "caustix/runtime/caustics_options.h"
+#include "caustix/runtime/stats.h"
 #include "caustix/runtime/engine.h"
 #include "caustix/runtime/water_look.h"
 #include "caustix/runtime/scene_loader.h"

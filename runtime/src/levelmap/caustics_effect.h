@@ -1,0 +1,34 @@
+#pragma once
+// The water's caustics (seed 000's level maps, the uniform and volumetric
+// baselines, photon splatting) as a light-side effect
+// (engine/light_effect.h): each (receiver, light)'s caustics map for the
+// water's current shape. Internal to the runtime.
+
+#include "caustics.h"
+#include "light_effect.h"
+#include "receiver_table.h"
+
+namespace caustix::runtime {
+
+class CausticsEffect final : public LightEffect {
+ public:
+  explicit CausticsEffect(CausticsEngine& caustics) : caustics_(caustics) {}
+  bool active(const CausticsOptions&) const override { return true; }
+  Status begin_frame(const FrameStart& start) override {
+    caustics_.begin_frame(start.frame);
+    return Status::success();
+  }
+  Status update_light(const LightUpdate& u) override {
+    return caustics_.update_light(u.light, u.scene.lights, u.scene.water, u.engine.world_vertices(), u.options, u.versions, u.due,
+                                  work(u.work));
+  }
+  void end_frame(std::uint64_t) override { caustics_.end_frame(); }
+  EffectWork& work(FrameWork& w) const override { return w.level_maps; }
+  unsigned table_products() const override { return ReceiverTable::kLevelMaps; }
+  void memory(GpuMemory& m) const override { m.level_maps = caustics_.gpu_bytes(); }
+
+ private:
+  CausticsEngine& caustics_;
+};
+
+}  // namespace caustix::runtime
