@@ -13,6 +13,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -221,8 +224,42 @@ class FramebufferFormats : public test::GlTest {
     return share;
   }
 
+  // The engine of canonical scene `name`, updated once at `time`; baked
+  // and made once for the suite.
+  static Engine* engine_of(const std::string& name, float time) {
+    auto& slot = engines_[name];
+    if (!slot) {
+      auto loaded = test::bake_and_load(test::kScenes + name + ".json");
+      if (!loaded) return nullptr;
+      auto created = Engine::create(*loaded);
+      EXPECT_TRUE(created.ok()) << created.error().message;
+      if (!created.ok()) return nullptr;
+      slot = std::move(*created);
+      EXPECT_TRUE(slot->update(runtime::FrameUpdate{time, slot->default_options()}).ok());
+    }
+    return slot.get();
+  }
+  static void TearDownTestSuite() {
+    engines_.clear();  // before the context goes
+    test::GlTest::TearDownTestSuite();
+  }
+
+  // Every target of `targets` against the oracle's picture.
+  void expect_every_format_agrees(Engine& engine, Draws draws, const char* what, const Target& oracle,
+                                  std::span<const Target> targets) {
+    const std::vector<float> want = draw(engine, oracle, draws);
+    // The oracle shows what the engine drew, not the application's scene alone.
+    EXPECT_LT(compare(want, draw(engine, oracle, Draws::kNone), oracle, "without the engine's draws"), 0.5) << what;
+    for (const Target& t : targets) {
+      SCOPED_TRACE(t.name);
+      EXPECT_GE(compare(want, draw(engine, t, draws), t, what), t.share);
+    }
+  }
+  void expect_every_format_agrees(Engine& engine, Draws draws, const char* what);
+
   gl::Program scene_program_, read_program_;
   gl::VertexArray vao_;
+  inline static std::map<std::string, std::unique_ptr<Engine>> engines_;
 };
 
 // The rounding each format adds, once per write of the frame (the scene's
@@ -242,44 +279,26 @@ const Target kTargets[] = {
 };
 const Target kOracle{GL_RGBA32F, GL_DEPTH_COMPONENT32F, 0, "RGBA32F + D32F", 0, 0, 1, false};
 
+void FramebufferFormats::expect_every_format_agrees(Engine& engine, Draws draws, const char* what) {
+  expect_every_format_agrees(engine, draws, what, kOracle, kTargets);
+}
+
 TEST_F(FramebufferFormats, GlassAndMediaDrawIntoTheFormatsEnginesUse) {
-  auto loaded = test::bake_and_load(test::kScenes + "fog_ball.json");
-  ASSERT_TRUE(loaded);
-  auto created = Engine::create(*loaded);
-  ASSERT_TRUE(created.ok()) << created.error().message;
-  Engine& engine = **created;
-  ASSERT_TRUE(engine.update(runtime::FrameUpdate{0.0f, engine.default_options()}).ok());
-  const std::vector<float> want = draw(engine, kOracle, Draws::kGlassAndMedia);
-  // The oracle shows the glass and the fog, not the application's scene alone.
-  EXPECT_LT(compare(want, draw(engine, kOracle, Draws::kNone), kOracle, "fog_ball: without the engine's draws"), 0.5);
-  for (const Target& t : kTargets) {
-    SCOPED_TRACE(t.name);
-    EXPECT_GE(compare(want, draw(engine, t, Draws::kGlassAndMedia), t, "fog_ball: glass and media"), t.share);
-  }
+  Engine* engine = engine_of("fog_ball", 0.0f);
+  ASSERT_TRUE(engine);
+  expect_every_format_agrees(*engine, Draws::kGlassAndMedia, "fog_ball: glass and media");
 }
 
 TEST_F(FramebufferFormats, WaterDrawsIntoTheFormatsEnginesUse) {
-  auto loaded = test::bake_and_load(test::kScenes + "wavy_pool.json");
-  ASSERT_TRUE(loaded);
-  auto created = Engine::create(*loaded);
-  ASSERT_TRUE(created.ok()) << created.error().message;
-  Engine& engine = **created;
-  ASSERT_TRUE(engine.update(runtime::FrameUpdate{0.25f, engine.default_options()}).ok());
-  const std::vector<float> want = draw(engine, kOracle, Draws::kWater);
-  EXPECT_LT(compare(want, draw(engine, kOracle, Draws::kNone), kOracle, "wavy_pool: without the engine's draws"), 0.5);
-  for (const Target& t : kTargets) {
-    SCOPED_TRACE(t.name);
-    EXPECT_GE(compare(want, draw(engine, t, Draws::kWater), t, "wavy_pool: water"), t.share);
-  }
+  Engine* engine = engine_of("wavy_pool", 0.25f);
+  ASSERT_TRUE(engine);
+  expect_every_format_agrees(*engine, Draws::kWater, "wavy_pool: water");
 }
 
 TEST_F(FramebufferFormats, TexturesTheDrawsCannotReadAreRefusedByName) {
-  auto loaded = test::bake_and_load(test::kScenes + "fog_ball.json");
-  ASSERT_TRUE(loaded);
-  auto created = Engine::create(*loaded);
-  ASSERT_TRUE(created.ok()) << created.error().message;
-  Engine& engine = **created;
-  ASSERT_TRUE(engine.update(runtime::FrameUpdate{0.0f, engine.default_options()}).ok());
+  Engine* found = engine_of("fog_ball", 0.0f);
+  ASSERT_TRUE(found);
+  Engine& engine = *found;
   auto tex = [](GLenum format) {
     gl::Texture t = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(t.get(), 1, format, kW, kH);
