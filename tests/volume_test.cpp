@@ -451,7 +451,7 @@ TEST_F(Volume, Extremes) {
   runtime::gl::Texture depth = runtime::gl::make_texture(GL_TEXTURE_2D);
   glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, 4, 4);
   runtime::gl::Texture color = runtime::gl::make_texture(GL_TEXTURE_2D);
-  glTextureStorage2D(color.get(), 1, GL_RGBA8, 4, 4);
+  glTextureStorage2D(color.get(), 1, GL_RGBA8UI, 4, 4);  // integer colour: no format the draws read
   const auto wrong = e.draw_media(glm::mat4(1.0f), color.get(), depth.get());
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.error().message.find("scene colour"), std::string::npos) << wrong.error().message;
