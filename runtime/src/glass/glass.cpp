@@ -152,7 +152,7 @@ void GlassEngine::Impl::illuminate(const SceneDesc& scene, Target& t, const Caus
     illumination_wide.set("u_smooth", co.glass_smooth ? 1 : 0);
     glBindTextureUnit(0, t.target.get());
     glBindVertexArray(empty_vao.get());
-    // The main layers, then the focus window's (issue 47): the same
+    // The main layers, then the focus window's: the same
     // primitives, their texel coordinates q taken to the window's
     // (q - offset) * scale, over the layer's lower-left quarter
     // (kFocusTexels: a quarter of the fragments of a full layer); a
@@ -275,7 +275,7 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   s.nearest = gl::make_nearest_sampler();
 
   // One set of tables per object that has its own (LTTB); objects that use
-  // another's (Object::tables_from, issue 48) draw from the same buffers.
+  // another's (Object::tables_from) draw from the same buffers.
   std::vector<const Impl::Tables*> set_of(scene.objects.size(), nullptr);
   for (const LightTransportTable& t : tables) {
     auto set = std::make_unique<Impl::Tables>();
@@ -407,7 +407,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
   s.made.made(li, key);
   const Light& light = scene.lights[li];
-  // The traced wavelengths (issue 22): a monochromatic image's, the bins of
+  // The traced wavelengths: a monochromatic image's, the bins of
   // dispersive glass with tables at other wavelengths, else the d line.
   std::vector<WavelengthSample> waves(1);
   if (co.wavelength_nm) {

@@ -36,7 +36,7 @@ constexpr std::size_t kRayBytes = 6 * 16;
 // 64 vertices.
 constexpr std::size_t kSampleBytes = 4u << 20;
 constexpr std::size_t kMinSampleVertices = 64;
-// Focus windows (issue 47): the sampled exit rays are binned over the
+// Focus windows: the sampled exit rays are binned over the
 // target's frame in kFocusBins x kFocusBins cells per plane; a cell is
 // concentrated where the flux landing in it is at least
 // kFocusConcentration times the incident irradiance over its area, from at
@@ -76,7 +76,7 @@ struct GlassEngine::Impl {
     gl::Buffer buffer;           // the entries, then the switch bytes (LTTW) if any
     std::uint32_t switch_base = 0;  // the switches' first word in the buffer; 0: none
   };
-  // What every object on one table shares (issue 48: objects that use
+  // What every object on one table shares (objects that use
   // another's tables, Object::tables_from, draw from the same buffers).
   struct Tables {
     // By ascending IOR: the table at n_d (LTTB) and, for dispersive glass,
@@ -121,7 +121,7 @@ struct GlassEngine::Impl {
     gl::Framebuffer fbo;
     BoundingFrame frame;
     std::vector<float> plane_v;
-    // The focus window (issue 47): centre u, v and half-size in the main
+    // The focus window: centre u, v and half-size in the main
     // texture's coordinates; half-size 0 without one. The illumination
     // texture holds 2 x planes layers once a window was needed (`layers`).
     std::array<float, 3> focus{0, 0, 0};
@@ -135,7 +135,7 @@ struct GlassEngine::Impl {
     bool valid = false;
   };
   std::vector<Glass> glass;
-  // Thin-walled glass (Role::kThin, issue 45): no tables; the caustic maps
+  // Thin-walled glass (Role::kThin): no tables; the caustic maps
   // carry its light, and the view draws it (glass_thin.frag).
   struct Thin {
     std::uint32_t object = 0;
@@ -154,7 +154,7 @@ struct GlassEngine::Impl {
   // The view is drawn into a target over the glass's rectangle of the
   // frame (its window), sampling the caller's scene directly, then copied
   // into the caller's framebuffer: memory follows the glass's size on
-  // screen, not the frame's (issue 44).
+  // screen, not the frame's.
   gl::Texture window_color, window_depth;
   gl::Framebuffer window_fbo;
   int window_w = 0, window_h = 0;
@@ -164,14 +164,14 @@ struct GlassEngine::Impl {
   gl::Sampler nearest;  // the caller's textures read texel by texel, whatever their own parameters
   gl::VertexArray empty_vao;
   bool spectral = false;  // some glass has tables at other wavelengths
-  // What each light's textures were made from (issue 44).
+  // What each light's textures were made from.
   MadeFrom<LightInputs> made;
   std::uint32_t traced = 1;  // wavelengths of the last update
 
   // The exit rays of the sampled vertices that face `light` and pass it
   // (the n_d table looked up as the GPU does: formats' lookup(), which
   // transport.glsl mirrors), in world space. Computed on the CPU from a
-  // sample, so that no frame waits for the GPU's rays (issue 44); they
+  // sample, so that no frame waits for the GPU's rays; they
   // orient the planes (mean_travel) and place the focus windows
   // (focus_window), and change neither image's light.
   std::vector<SampledRay> sampled_rays(const SceneDesc& scene, const Light& light) const;
@@ -181,7 +181,7 @@ struct GlassEngine::Impl {
   // sampled exit directions weighted by their Fresnel transmittance. An
   // estimate; it only orients the planes.
   static Vec3d mean_travel(const std::vector<SampledRay>& rays);
-  // Issue 47: seed 002 gives every plane one texture over the whole target
+  // Seed 002 gives every plane one texture over the whole target
   // (512^2: 7.8 mm texels over glass_ball's 4 m floor), and a ball lens
   // puts most of its light within a centimetre of its focus, so the focal
   // spot was a texel wide and its peak an eighth of the optics'. Here the
@@ -223,7 +223,7 @@ struct GlassEngine::Impl {
   // The back faces over the window (w x h texels; `ndc_window` maps the
   // window's NDC rectangle onto them) into back_fbo.
   void draw_back_faces(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, int w, int h);
-  // Thin-walled glass into the window (issue 45), after the solid glass:
+  // Thin-walled glass into the window, after the solid glass:
   // every sheet depth-tested, not written, far sides first, each blended
   // as colour + destination x transmittance (glass_thin.frag), so that a
   // closed shade scales what is behind it twice.

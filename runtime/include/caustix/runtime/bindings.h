@@ -78,7 +78,7 @@ struct LightBlock {
   // Glass illumination (mode.z = 1): the virtual camera's frame and planes.
   glm::vec4 glass_origin{0};    // w: self-shadow tolerance along V (m)
   glm::vec4 glass_u{0};         // w: number of planes n
-  // The focus window (issue 47; CausticsOptions::glass_focus): layers
+  // The focus window (CausticsOptions::glass_focus): layers
   // n..2n-1 of the illumination texture hold the same planes over the
   // square of half-size glass_half.w (texture-coordinate units, 0: no
   // window) centred at (glass_v.w, glass_w.w), drawn into the layers'
@@ -88,12 +88,12 @@ struct LightBlock {
   glm::vec4 glass_w{0};         // w: the focus window's centre, v
   glm::vec4 glass_half{0};      // w: the focus window's half-size (0: none)
   std::array<glm::vec4, 4> glass_plane_v{};  // 16 plane coordinates along V, decreasing
-  // Image-space caustic map (issue 20; seed 003): an orthographic frame
+  // Image-space caustic map (seed 003): an orthographic frame
   // along the light, V towards it; texture coordinate as for the caustics
   // map. The map holds irradiance on the receivers' first surface seen
   // from the light (rgb, without the light's colour) and that surface's
   // coordinate along V (alpha).
-  // With a focus window (CausticMapOptions::focus, issue 47) the texture
+  // With a focus window (CausticMapOptions::focus) the texture
   // holds the main map in its lowest map_size rows, so its texture
   // coordinate t is the frame's times cmap_w.w, and above them the window:
   // the texels [0, m) x [map_size, map_size + m), m = map_size / 2, over
@@ -110,7 +110,7 @@ struct LightBlock {
   glm::vec4 cmap_v{0};          // w: visibility tolerance along V (m)
   glm::vec4 cmap_w{0};          // w: the main map's share of the texture's height (1 without a focus window)
   glm::vec4 cmap_half{0};
-  // A spot light's cone (issue 45): x cos(outer), y 1 / (cos(inner) -
+  // A spot light's cone: x cos(outer), y 1 / (cos(inner) -
   // cos(outer)), z 1 for a spot, 0 for a light without a cone; the axis is
   // light_direction.xyz. caustix_spot_factor() in caustix.glsl.
   glm::vec4 spot{0};
@@ -159,7 +159,7 @@ struct ReceiverLighting {
   std::size_t offset = 0;
 };
 
-// A receiver's base-colour texture (Engine::albedo_map; issue 45).
+// A receiver's base-colour texture (Engine::albedo_map).
 struct AlbedoMap {
   // GL_TEXTURE_2D, GL_SRGB8_ALPHA8 with a full mip chain (sampling returns
   // linear colour); wrap and trilinear filtering are set on the texture, so

@@ -25,7 +25,7 @@
 // clustered-forward pass, which cannot bind per pair, calls bind_all()
 // instead and, in a shader compiled with CAUSTIX_ALL_RECEIVERS,
 // caustix_irradiance_all(world_position, world_normal, object): every
-// light at any receiver (issue 46).
+// light at any receiver.
 //
 // The view side, into the caller's framebuffer with the caller's camera:
 // draw_water() (seed 001), draw_glass() (seed 002 §3) and draw_media()
@@ -167,7 +167,7 @@ class Engine {
 
   // Every (receiver, light) at once, for passes that light many receivers
   // from many lights in one draw (deferred lighting of a G-buffer that
-  // carries an object index, clustered forward; issue 46): binds the
+  // carries an object index, clustered forward): binds the
   // all-receivers table at bindings().table and, at the twelve texture
   // units, texture arrays holding every pair's and light's textures. A
   // shader compiled with `#define CAUSTIX_ALL_RECEIVERS` before the
@@ -220,7 +220,7 @@ class Engine {
   // surface is tested against, in the framebuffer's pixels: typically its
   // depth attachment, read at the viewport's pixels while the glow's own
   // target is bound) it comes only from glints the scene does not hide,
-  // else also from glints behind objects. Dispersive water (issue 22) refracts the view once per
+  // else also from glints behind objects. Dispersive water refracts the view once per
   // wavelength the last update() traced (CausticsOptions::wavelengths, or
   // wavelength_nm's alone), each at the water's index there, adding the
   // results with the bins' RGB weights (the plain surface: n_d). kUsage
@@ -236,9 +236,9 @@ class Engine {
   // caller rendered it with `view`, the size of the viewport; they may be
   // attached to the bound framebuffer (the glass is drawn into a target
   // over its rectangle of the frame, reading them, and then copied in).
-  // Dispersive glass (issue 22) seen through the nearby view refracts once
+  // Dispersive glass seen through the nearby view refracts once
   // per wavelength the last update() traced, as draw_water(); the table
-  // view refracts at n_d. Thin-walled glass (Role::kThin, issue 45) is
+  // view refracts at n_d. Thin-walled glass (Role::kThin) is
   // drawn in either view as sheets seen straight through (what is behind
   // them times each sheet's transmittance and tint, plus the sky it
   // reflects), after the solid glass, without writing depth. Writes colour

@@ -12,7 +12,7 @@
 
 namespace caustix::runtime {
 
-// The OpenGL calls the engine made in one frame (issue 44): those of the
+// The OpenGL calls the engine made in one frame: those of the
 // set_* calls before an update(), of update() itself and of every call
 // after it (bind, draw_*, stats, ...) up to the next update(). Counted by
 // the runtime's own layer around its GL calls (docs/runtime-speed.md);
@@ -87,7 +87,7 @@ struct GpuMemory {
 struct CausticsStats {
   std::uint64_t frame = 0;            // update() calls so far
   std::uint64_t water_triangles = 0;  // per light
-  // Counted on the GPU and read back without stalling (issue 44): these
+  // Counted on the GPU and read back without stalling: these
   // three are of frame `counters_frame` (the update() count; 0 before any
   // has arrived), a few frames before the current one, or of the current
   // one when Engine::stats() is asked to wait.
@@ -106,8 +106,8 @@ struct CausticsStats {
   std::uint32_t glass_wavelengths = 1;
   // The GL calls of the current frame so far (see GlCalls).
   GlCalls gl;
-  // What the current frame's update() recomputed and what it reused
-  // (issue 44): each light-side product is remade only when what it was
+  // What the current frame's update() recomputed and what it reused:
+  // each light-side product is remade only when what it was
   // made from changed (its light, the objects' transforms, the water's
   // surface, the options), or kept by FrameUpdate::light_side_interval.
   FrameWork work;
@@ -115,7 +115,7 @@ struct CausticsStats {
   GpuMemory memory;
 };
 
-// What the last update()'s caustic maps did (issue 20), summed over lights.
+// What the last update()'s caustic maps did, summed over lights.
 struct CausticMapStats {
   bool active = false;                // some light had casters
   // The counters below are of frame `counters_frame` (update() calls),
@@ -163,7 +163,7 @@ struct VolumeStats {
   // Engine::volume_stats() waits.
   std::uint64_t tallies_frame = 0;
   std::uint64_t photons = 0;           // emitted
-  std::uint64_t glass_photons = 0;     // of which over the glass's own window (focus grids, issue 47)
+  std::uint64_t glass_photons = 0;     // of which over the glass's own window (focus grids)
   std::uint64_t steps = 0;             // marching steps (curved steps in index grids + straight runs)
   std::uint64_t grid_steps = 0;        // of which inside index grids
   double power_in = 0;                 // entered a medium
@@ -174,7 +174,7 @@ struct VolumeStats {
   double truncated = 0;                // still carried when the step limit ended the march
   double deposited = 0;                // the radiance grid's sum of scattered power (read back), = scattered
   std::array<std::uint32_t, 3> grid_size{0, 0, 0};
-  // The focus grids (issue 47), per light: the world box (x0, y0, z0, x1,
+  // The focus grids, per light: the world box (x0, y0, z0, x1,
   // y1, z1) each light's concentrated light got, empty where it has none.
   std::vector<std::array<float, 6>> focus_boxes;
   std::uint64_t grid_bytes = 0;        // radiance grids (accumulator and textures) and index grids on the GPU

@@ -25,7 +25,7 @@ struct View {
 // testing (GL_LESS, depth writes on), disabled blending and face culling,
 // enabled GL_CLIP_DISTANCE0 and set the front face (GL_CW when
 // `mirrored`, else GL_CCW). Everything else is the caller's state as it
-// was when it called draw_water() (issue 46): its program, VAO, buffer
+// was when it called draw_water(): its program, VAO, buffer
 // bindings, textures and sampler objects on every unit, active texture
 // unit, blend function, colour mask, scissor, stencil, multisampling and
 // other capabilities. The callback draws its opaque scene with
