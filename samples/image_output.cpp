@@ -11,15 +11,17 @@
 namespace caustix::sample {
 namespace {
 
+Status no_writer(const std::string& path) {
+  return make_error(ErrorCode::kOutput, path + ": no image writer for this extension (" + OIIO::geterror() + ")");
+}
+
 Status write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const void* data,
                    const std::vector<std::pair<std::string, std::string>>& attributes = {}) {
   if (w <= 0 || h <= 0 || channels <= 0) return make_error(ErrorCode::kInternal, path + ": empty image");
   auto temp = TempFile::create_beside(path);
   if (!temp) return temp.error();
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) {
-    return make_error(ErrorCode::kOutput, path + ": no image writer for this extension (" + OIIO::geterror() + ")");
-  }
+  if (!out) return no_writer(path);
   OIIO::ImageSpec spec(w, h, channels, type);
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
@@ -30,6 +32,10 @@ Status write_image(const std::string& path, int w, int h, int channels, OIIO::Ty
 }
 
 }  // namespace
+
+Status check_image_writer(const std::string& path) {
+  return OIIO::ImageOutput::create(path) ? Status{} : no_writer(path);
+}
 
 bool is_float_image_path(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

@@ -248,6 +248,8 @@ int main(int argc, char** argv) {
   int width = 0, height = 0;
   cli::parse_size(size, width, height);
   auto fail = [](const Error& e) { return cli::fail("caustix-render", e); };
+  // A file type no writer knows is refused before the render that would fill it.
+  if (Status s = check_image_writer(out_path); !s.ok()) return fail(s.error());
 
   auto scene = load_scene_file(in_path);
   if (!scene) return fail(scene.error());

@@ -22,6 +22,10 @@ Status write_float_image(const std::string& path, int width, int height, int cha
 Status write_u8_image(const std::string& path, int width, int height, int channels,
                       const std::vector<std::uint8_t>& pixels);
 
+// kOutput if OpenImageIO has no writer for the path's extension: lets a
+// program refuse its output before the work that would fill it.
+Status check_image_writer(const std::string& path);
+
 // An image read back as linear RGB floats (grey images give equal RGB,
 // extra channels such as alpha are dropped), with its string metadata.
 struct RgbImage {
