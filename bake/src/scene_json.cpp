@@ -417,11 +417,11 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
         const std::string file_path = (base / mesh_src.substr(0, hash)).lexically_normal().string();
         const GltfFile* file = files.get(w, ptr + "/mesh", file_path, doc);
         if (!file) return false;
-        auto mesh = file->node_mesh(mesh_src.substr(hash + 1), weld);
-        if (!mesh) return w.fail(ptr + "/mesh", mesh.error().message);
-        for (const auto& s : mesh->warnings) doc.warnings.push_back(resolved.string() + ": " + s);
-        mesh->warnings.clear();
-        doc.imported.emplace_back(std::move(*mesh));
+        auto node_mesh = file->node_mesh(mesh_src.substr(hash + 1), weld);
+        if (!node_mesh) return w.fail(ptr + "/mesh", node_mesh.error().message);
+        for (const auto& s : node_mesh->warnings) doc.warnings.push_back(resolved.string() + ": " + s);
+        node_mesh->warnings.clear();
+        doc.imported.emplace_back(std::move(*node_mesh));
       } else {
         doc.imported.emplace_back();
       }
