@@ -4,35 +4,65 @@
 #      golden file, headless render, CLI end to end, viewer under Xvfb;
 #   2. what reads untrusted input -- formats/ and its corruption tests, the
 #      baker's scene.json and mesh import tests, the mesh corpus imported and
-#      baked -- under AddressSanitizer + UBSan (CAUSTIX_PARTS=bake);
-#   3. a short libFuzzer run of each fuzz target (clang-14): the .cxb reader,
-#      the runtime's loading path, the mesh importer and the glTF importer,
-#      seeded with their committed corpora (tests/fuzz/corpus,
+#      baked -- under AddressSanitizer + UBSan (clang-14, CAUSTIX_PARTS=bake),
+#      and in the same build a short libFuzzer run of each fuzz target: the
+#      .cxb reader, the runtime's loading path, the mesh importer and the
+#      glTF importer, seeded with their committed corpora (tests/fuzz/corpus,
 #      tests/fuzz/corpus_mesh, tests/fuzz/corpus_gltf) and the regression
 #      inputs.
-# CAUSTIX_FUZZ_SECONDS (default 30) sets the length of each run in step 3.
+# Time on two cores: ctest runs CAUSTIX_TEST_JOBS tests side by side (default:
+# the number of cores; each test process has a temporary directory of its
+# own), and the sanitizer build compiles at the lowest priority while the
+# Release build's tests run, on what CPU they leave idle. Each stage ends
+# with its 15 slowest tests (scripts/test_times.py).
+# CAUSTIX_FUZZ_SECONDS (default 30) sets the length of each fuzz run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export MESA_SHADER_CACHE_DISABLE=true
+jobs=${CAUSTIX_TEST_JOBS:-$(nproc)}
+start=$SECONDS
 
 bash scripts/setup-deps.sh
 
-echo "== 1/3 full build and tests"
+stage_time() { echo "-- $1: $(( (SECONDS - start) / 60 )) min $(( (SECONDS - start) % 60 )) s since the start"; }
+
+echo "== 1/2 full build and tests"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
-(cd build && ctest --output-on-failure)
+stage_time "Release build"
 
-echo "== 2/3 formats, scene.json and mesh import under AddressSanitizer + UBSan"
-# Debug keeps every assertion; -O1 because CGAL's box optimiser (Eigen) runs
-# some 100 times slower at -O0 (the mesh corpus: 10 min instead of 1).
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
-  -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE -DCAUSTIX_PARTS=bake -DCAUSTIX_SANITIZE=ON >/dev/null
-cmake --build build-asan
-(cd build-asan && ctest --output-on-failure)
-
-echo "== 3/3 libFuzzer, ${CAUSTIX_FUZZ_SECONDS:-30} s per target"
-CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCAUSTIX_PARTS=bake -DCAUSTIX_FUZZ=ON -DCAUSTIX_SANITIZE=ON \
+# The sanitizer build, niced: it takes only the CPU the GL tests leave idle
+# (shader compiles and single-threaded set-up). Debug keeps every assertion;
+# -O1 because CGAL's box optimiser (Eigen) runs some 100 times slower at -O0.
+# -fsanitize=fuzzer-no-link (CAUSTIX_FUZZ) instruments the libraries for the
+# fuzz targets; the unit tests link the same libraries without libFuzzer.
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
+  -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE -DCAUSTIX_PARTS=bake -DCAUSTIX_SANITIZE=ON -DCAUSTIX_FUZZ=ON \
   -DCAUSTIX_FUZZ_SECONDS="${CAUSTIX_FUZZ_SECONDS:-30}" >/dev/null
-cmake --build build-fuzz --target fuzz_cxb_reader fuzz_load_scene fuzz_mesh_import fuzz_gltf_import
-(cd build-fuzz && ctest --output-on-failure)
+nice -n 19 cmake --build build-san >build/build-san.log 2>&1 &
+san_build=$!
+
+rc=0
+# ctest starts the longest tests first when it knows their times; a fresh
+# build does not yet, so it starts from the committed ones.
+mkdir -p build/Testing/Temporary
+cp -n tests/ctest_cost.txt build/Testing/Temporary/CTestCostData.txt
+(cd build && ctest -j"$jobs" --output-on-failure --output-junit ctest-junit.xml) || rc=$?
+python3 scripts/test_times.py build/ctest-junit.xml 15
+stage_time "Release tests"
+if [ "$rc" -ne 0 ]; then
+  kill "$san_build" 2>/dev/null || true
+  wait "$san_build" 2>/dev/null || true
+  exit "$rc"
+fi
+
+echo "== 2/2 untrusted input under AddressSanitizer + UBSan; libFuzzer, ${CAUSTIX_FUZZ_SECONDS:-30} s per target"
+if ! wait "$san_build"; then
+  cat build/build-san.log
+  exit 1
+fi
+stage_time "sanitizer build"
+(cd build-san && ctest -j"$jobs" --output-on-failure --output-junit ctest-junit.xml) || rc=$?
+python3 scripts/test_times.py build-san/ctest-junit.xml 15
+stage_time "sanitizer tests and fuzzing"
+exit "$rc"

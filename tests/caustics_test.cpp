@@ -358,7 +358,11 @@ TEST_F(Caustics, SmoothCausticsRemoveTheWaterGridsMosaic) {
 // the vertices 0.0049 / 0.0087, 0.0048 / 0.0059, 0.0030 / 0.0034 (what is
 // left lies on the fold lines, whose beams cross inside the windows, and
 // is no mesh). Each preset's bound lies below both of its rigid values.
-TEST_F(Caustics, EveryPresetsCausticsUnderWavesHaveNoSeams) {
+// One test per preset (fast, balanced, accurate), so that the three run side
+// by side: each bakes three scenes and draws six 192^2 images.
+class CausticsPerPreset : public Caustics, public ::testing::WithParamInterface<std::size_t> {};
+
+TEST_P(CausticsPerPreset, EveryPresetsCausticsUnderWavesHaveNoSeams) {
   struct Patch {
     const char* scene;
     float x0, z0, x1, z1;
@@ -366,25 +370,30 @@ TEST_F(Caustics, EveryPresetsCausticsUnderWavesHaveNoSeams) {
   const Patch patches[] = {{"wavy_pool", -1.0f, -1.0f, 0.0f, 0.0f}, {"thesis_teapot", -1.6f, 0.6f, -0.6f, 1.6f},
                            {"thesis_sphere", 0.7f, -1.7f, 1.7f, -0.7f}};
   const std::map<std::string, double> bound{{"fast", 0.011}, {"balanced", 0.0066}, {"accurate", 0.0039}};
-  for (const bake::Preset& preset : bake::presets()) {
-    for (const Patch& patch : patches) {
-      SCOPED_TRACE(std::string(preset.name) + " " + patch.scene);
-      auto r = renderer(scene(patch.scene), preset.options);
-      ASSERT_TRUE(r);
-      IrradianceRequest q{"floor", patch.x0, patch.z0, patch.x1, patch.z1, 192, 192, 1.0f, {}};
-      q.pixel_samples = 2;
-      q.caustics = runtime::default_caustics_options(r->scene());
-      const auto img = irradiance(*r, q);
-      const std::uint32_t planes = q.caustics.planes.value_or(0);
-      q.caustics.planes = 64;
-      const auto thin = irradiance(*r, q);
-      const double hf = high_frequency(img, thin);
-      std::printf("%s, %s (%s planes): high frequency of the difference from 64 planes %.4f, L1 %.4f\n", patch.scene, preset.name,
-                  planes ? std::to_string(planes).c_str() : "the baked", hf, metrics::relative_l1(img, thin));
-      EXPECT_LT(hf, bound.at(preset.name));
-    }
+  ASSERT_LT(GetParam(), bake::presets().size());
+  const bake::Preset& preset = bake::presets()[GetParam()];
+  for (const Patch& patch : patches) {
+    SCOPED_TRACE(std::string(preset.name) + " " + patch.scene);
+    auto r = renderer(scene(patch.scene), preset.options);
+    ASSERT_TRUE(r);
+    IrradianceRequest q{"floor", patch.x0, patch.z0, patch.x1, patch.z1, 192, 192, 1.0f, {}};
+    q.pixel_samples = 2;
+    q.caustics = runtime::default_caustics_options(r->scene());
+    const auto img = irradiance(*r, q);
+    const std::uint32_t planes = q.caustics.planes.value_or(0);
+    q.caustics.planes = 64;
+    const auto thin = irradiance(*r, q);
+    const double hf = high_frequency(img, thin);
+    std::printf("%s, %s (%s planes): high frequency of the difference from 64 planes %.4f, L1 %.4f\n", patch.scene, preset.name,
+                planes ? std::to_string(planes).c_str() : "the baked", hf, metrics::relative_l1(img, thin));
+    EXPECT_LT(hf, bound.at(preset.name));
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Presets, CausticsPerPreset, ::testing::Range<std::size_t>(0, 3),
+                         [](const ::testing::TestParamInfo<std::size_t>& info) {
+                           return std::string(bake::presets()[info.param].name);
+                         });
 
 TEST_F(Caustics, SeveralLightsAddUp) {
   auto both = scene("flat_pool");

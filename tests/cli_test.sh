@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
 # End-to-end checks of the real binaries: exit codes, error messages, atomic
 # output, inspect, headless render and the viewer under Xvfb.
-# Usage: cli_test.sh BUILD_DIR SOURCE_DIR
+# Usage: cli_test.sh BUILD_DIR SOURCE_DIR [PART]
+# PART is bake (the baker's options, errors, budgets, sharing), render
+# (inspect, caustix-render, caustix-compare) or view (the viewer); all three
+# when absent. ctest runs the parts as three tests side by side.
 set -u
 build=$1
 src=$2
+part=${3:-all}
+case "$part" in all|bake|render|view) ;; *) echo "cli_test: unknown part '$part'"; exit 2;; esac
+want() { [ "$part" = all ] || [ "$part" = "$1" ]; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 bake=$build/bake/caustix-bake
@@ -22,6 +28,7 @@ contains() {  # contains NAME FILE TEXT
   if grep -qF -- "$3" "$2"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $1: '$3' not in:"; cat "$2"; fi
 }
 
+if want bake; then
 # --help and --version
 "$bake" --help >"$tmp/help" 2>&1; check "bake --help" 0 $?
 contains "help lists defaults" "$tmp/help" "--position-bits"
@@ -160,6 +167,16 @@ contains "the report names the caster" "$tmp/twins_report.json" '"rays": "embree
 contains "the choices are named" "$tmp/err" "optix not in {embree,cgal}"
 "$bake" "$scene" -o "$tmp/no/such/dir/x.cxb" 2>"$tmp/err"; check "unwritable output" 5 $?
 [ -z "$(ls -A "$tmp" | grep '\.tmp\.')" ]; check "no temporary files left" 0 $?
+fi
+
+# What the render and view parts read: the default scene, and its fast preset
+# (the bake part made them already when it ran).
+if ! want bake; then
+  "$bake" "$scene" -o "$tmp/a.cxb" -q; check "bake" 0 $?
+  "$bake" "$scene" -o "$tmp/fast.cxb" --preset fast --planes 5 -q; check "bake --preset fast" 0 $?
+fi
+
+if want render; then
 
 # inspect
 "$inspect" "$tmp/a.cxb" >"$tmp/out"; check "inspect" 0 $?
@@ -221,6 +238,9 @@ check "in-scatter grid out of range" 2 $?
 contains "explicit --volume-photons wins" "$tmp/rout" "5120 photons (1024 over the glass)"
 "$render" "$tmp/fog.cxb" --inscatter --region 1,1,0,0 --size 8 -o "$tmp/ins.exr" 2>/dev/null; check "in-scatter bad region" 2 $?
 
+fi
+
+if want view; then
 # viewer: opens a window under Xvfb and saves a screenshot
 if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s "-screen 0 640x480x24" "$view" "$tmp/a.cxb" --size 320x240 --frames 3 --screenshot "$tmp/shot.png" >"$tmp/vout" 2>&1
@@ -242,6 +262,7 @@ else
   failed=$((failed + 1)); echo "FAIL: xvfb-run missing (scripts/setup-deps.sh installs it)"
 fi
 env -u DISPLAY -u WAYLAND_DISPLAY "$view" "$tmp/a.cxb" --frames 1 --screenshot "$tmp/s.png" 2>"$tmp/err"; check "viewer without display" 6 $?
+fi
 
-echo "cli_test: $passed passed, $failed failed"
+echo "cli_test ($part): $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -277,45 +277,52 @@ TEST_F(Glass, RefinedBallLensHoldsItsFocalSpot) {
 // the side faces beyond the critical angle (n = 1.5: 62 against 41.8
 // degrees) and is totally reflected down to the bottom face: finite, and
 // the floor receives no more than the cube intercepts.
-TEST_F(Glass, CubeAtExtremeIorsAndTotalInternalReflection) {
+// One test per index (n = 1.5, 2.5, 4), so that the three run side by side.
+class GlassCube : public Glass, public ::testing::WithParamInterface<double> {};
+
+TEST_P(GlassCube, CubeAtExtremeIorsAndTotalInternalReflection) {
   const int n = 256;
   const double pix = 4.0 / n;
   const auto mesh = std::filesystem::temp_directory_path() / "caustix_subdivided_cube.obj";
   std::ofstream(mesh) << test::to_obj(test::subdivided_cube(16));
-  for (double ior : {1.5, 2.5, 4.0}) {
-    nlohmann::json j = scene("glass_ball");
-    j["objects"][1]["mesh"] = mesh.string();
-    j["objects"][1]["material"]["ior"] = ior;
-    const auto e = floor_irradiance(j, n);
-    const double r = (ior - 1) / (ior + 1), t2 = (1 - r * r) * (1 - r * r);
-    double under = 0;
-    int count = 0;
-    for (int i = 0; i < n; ++i) {
-      for (int k = 0; k < n; ++k) {
-        const double x = -2 + (k + 0.5) * pix, z = -2 + (i + 0.5) * pix;
-        if (std::max(std::fabs(x), std::fabs(z)) > 0.2) continue;  // 5 cm inside the cube's 0.25 m half side
-        under += e[static_cast<std::size_t>(i) * n + k];
-        ++count;
-      }
+  const double ior = GetParam();
+  nlohmann::json j = scene("glass_ball");
+  j["objects"][1]["mesh"] = mesh.string();
+  j["objects"][1]["material"]["ior"] = ior;
+  const auto e = floor_irradiance(j, n);
+  const double r = (ior - 1) / (ior + 1), t2 = (1 - r * r) * (1 - r * r);
+  double under = 0;
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < n; ++k) {
+      const double x = -2 + (k + 0.5) * pix, z = -2 + (i + 0.5) * pix;
+      if (std::max(std::fabs(x), std::fabs(z)) > 0.2) continue;  // 5 cm inside the cube's 0.25 m half side
+      under += e[static_cast<std::size_t>(i) * n + k];
+      ++count;
     }
-    std::printf("[cube, n = %.1f, straight down] E/E0 under it %.4f, T^2 = %.4f\n", ior, under / count, t2);
-    EXPECT_NEAR(under / count, t2, 0.01 * t2) << "ior " << ior;
-
-    const double c = std::sqrt(0.5);
-    j["lights"][0]["direction"] = {c, -c, 0.0};
-    const auto tilted = floor_irradiance(j, n);
-    // Floor flux: direct light (E0 cos 45 outside the shadow) plus what came
-    // through the glass (at most what the cube intercepts: its top and one
-    // side face, 2 x 0.25 m^2 x cos 45).
-    double total = 0;
-    for (float v : tilted) total += v * pix * pix;
-    const double intercepted = 2 * 0.25 * c;
-    const double direct_all = 16 * c;
-    std::printf("[cube, n = %.1f, 45 degrees] floor flux %.4f, direct without the cube %.4f\n", ior, total, direct_all);
-    EXPECT_LE(total, direct_all + 1e-3) << "no light created";
-    EXPECT_GE(total, direct_all - intercepted) << "no more lost than the cube intercepts";
   }
+  std::printf("[cube, n = %.1f, straight down] E/E0 under it %.4f, T^2 = %.4f\n", ior, under / count, t2);
+  EXPECT_NEAR(under / count, t2, 0.01 * t2) << "ior " << ior;
+
+  const double c = std::sqrt(0.5);
+  j["lights"][0]["direction"] = {c, -c, 0.0};
+  const auto tilted = floor_irradiance(j, n);
+  // Floor flux: direct light (E0 cos 45 outside the shadow) plus what came
+  // through the glass (at most what the cube intercepts: its top and one
+  // side face, 2 x 0.25 m^2 x cos 45).
+  double total = 0;
+  for (float v : tilted) total += v * pix * pix;
+  const double intercepted = 2 * 0.25 * c;
+  const double direct_all = 16 * c;
+  std::printf("[cube, n = %.1f, 45 degrees] floor flux %.4f, direct without the cube %.4f\n", ior, total, direct_all);
+  EXPECT_LE(total, direct_all + 1e-3) << "no light created";
+  EXPECT_GE(total, direct_all - intercepted) << "no more lost than the cube intercepts";
 }
+
+INSTANTIATE_TEST_SUITE_P(Ior, GlassCube, ::testing::Values(1.5, 2.5, 4.0),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return "n" + std::to_string(static_cast<int>(info.param * 10));
+                         });
 
 TEST_F(Glass, IorOneIsTransparent) {
   nlohmann::json j = scene("glass_ball");
