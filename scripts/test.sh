@@ -46,7 +46,7 @@ rc=0
 # ctest starts the longest tests first when it knows their times; a fresh
 # build does not yet, so it starts from the committed ones.
 mkdir -p build/Testing/Temporary
-cp -n tests/ctest_cost.txt build/Testing/Temporary/CTestCostData.txt
+[ -e build/Testing/Temporary/CTestCostData.txt ] || cp tests/ctest_cost.txt build/Testing/Temporary/CTestCostData.txt
 (cd build && ctest -j"$jobs" --output-on-failure --output-junit ctest-junit.xml) || rc=$?
 python3 scripts/test_times.py build/ctest-junit.xml 15
 stage_time "Release tests"
