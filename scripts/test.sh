@@ -39,7 +39,9 @@ stage_time "Release build"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
   -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE -DCAUSTIX_PARTS=bake -DCAUSTIX_SANITIZE=ON -DCAUSTIX_FUZZ=ON \
   -DCAUSTIX_FUZZ_SECONDS="${CAUSTIX_FUZZ_SECONDS:-30}" >/dev/null
-nice -n 19 cmake --build build-san >build/build-san.log 2>&1 &
+# In a process group of its own, so that a failed stage 1 stops ninja and
+# its compilers with it.
+setsid nice -n 19 cmake --build build-san >build/build-san.log 2>&1 &
 san_build=$!
 
 rc=0
@@ -51,7 +53,7 @@ mkdir -p build/Testing/Temporary
 python3 scripts/test_times.py build/ctest-junit.xml 15
 stage_time "Release tests"
 if [ "$rc" -ne 0 ]; then
-  kill "$san_build" 2>/dev/null || true
+  kill -- -"$san_build" 2>/dev/null || true
   wait "$san_build" 2>/dev/null || true
   exit "$rc"
 fi
