@@ -60,6 +60,7 @@ Result<Image> trace(const Request& q) {
   double scene_size = 1;
   for (const auto& p : world.pos) scene_size = std::max({scene_size, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
   const double eps = 1e-7 * scene_size;
+  const double y_clear = y_objects + 1e-9 * scene_size;  // see surface_above
 
   // Emission plane y_top: above the highest wave, or the highest object
   // when there is no water.
@@ -183,10 +184,12 @@ Result<Image> trace(const Request& q) {
         bool in_water = false;
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
-          const auto h = caster.first_hit_triangle(add(origin, dir, eps), dir);
           // Above the water, the surface may come first: refract into it.
-          if (water && !in_water && inside.empty() && dir[1] < 0) {
-            const auto s = surface.intersect(origin, dir);
+          const bool above_water = water && !in_water && inside.empty() && dir[1] < 0;
+          const auto s = above_water ? surface.intersect(origin, dir) : std::nullopt;
+          const auto h = s && surface_above(origin, dir, *s, y_clear) ? std::nullopt
+                                                                      : caster.first_hit_triangle(add(origin, dir, eps), dir);
+          if (above_water) {
             if (s && (!h || *s < h->distance + eps)) {
               origin = add(origin, dir, *s);
               const auto entry = surface.enter(origin, dir, n_water);

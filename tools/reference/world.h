@@ -36,6 +36,41 @@ inline Vec3d normalize(const Vec3d& v) {
 
 using Box = std::pair<Vec3d, Vec3d>;  // lo, hi
 
+// The root of f in [a, b], where f(a) and f(b) differ in sign: Illinois
+// regula falsi, falling back to the midpoint whenever the secant leaves the
+// bracket; stops when the bracket is within 1e-14 of its position, or
+// cannot shrink in doubles.
+template <class F>
+double refine(const F& f, double a, double fa, double b, double fb) {
+  int kept = 0;  // which end stayed last time: -1 a, +1 b
+  for (int it = 0; it < 100 && b - a > 1e-14 * (1 + std::fabs(a)); ++it) {
+    double m = (a * fb - b * fa) / (fb - fa);
+    if (!(m > a && m < b)) m = 0.5 * (a + b);
+    if (!(m > a && m < b)) break;
+    const double fm = f(m);
+    if (fm == 0) return m;
+    if ((fm > 0) == (fb > 0)) {
+      b = m;
+      fb = fm;
+      if (kept == -1) fa *= 0.5;
+      kept = -1;
+    } else {
+      a = m;
+      fa = fm;
+      if (kept == +1) fb *= 0.5;
+      kept = +1;
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+// Whether the point at distance s along the ray o + s d, going down, lies
+// above y_clear (the top of every object's box, with a margin against
+// rounding): then no triangle can be met before it, and a photon reaching
+// the water surface there needs no ray cast -- the tracer's costliest
+// step -- to know that the surface comes first.
+inline bool surface_above(const Vec3d& o, const Vec3d& d, double s, double y_clear) { return o[1] + s * d[1] > y_clear; }
+
 // The water surface, evaluated exactly (formats/scene.h's wave sum).
 struct Surface {
   const Water& w;
@@ -83,7 +118,11 @@ struct Surface {
     return Entry{normalize(*t), fresnel_transmittance(cos_i, 1.0 / ior)};
   }
   // First crossing of the ray o + s d (going down) with the surface:
-  // bracketed by steps short against the shortest wavelength, then bisected.
+  // bracketed by steps short against the shortest wavelength, then refined
+  // by regula falsi with the Illinois modification (the end that stays has
+  // its value halved, so both ends close in, superlinearly): some ten
+  // evaluations of the wave sum to the root within 1e-14 of s, where
+  // bisection took sixty.
   std::optional<double> intersect(const Vec3d& o, const Vec3d& d) const {
     const double amp = amplitude_sum();
     if (amp == 0) return (o[1] - w.level) / -d[1];  // flat water: the plane
@@ -95,14 +134,7 @@ struct Surface {
     double a = 0, fa = f(0);
     for (double b = std::min(step, s_max);; b = std::min(b + step, s_max)) {
       const double fb = f(b);
-      if ((fa > 0) != (fb > 0)) {
-        for (int it = 0; it < 60; ++it) {
-          const double m = 0.5 * (a + b), fm = f(m);
-          ((fa > 0) == (fm > 0) ? a : b) = m;
-          if ((fa > 0) == (fm > 0)) fa = fm;
-        }
-        return 0.5 * (a + b);
-      }
+      if ((fa > 0) != (fb > 0)) return refine(f, a, fa, b, fb);
       if (b >= s_max) return std::nullopt;
       a = b;
       fa = fb;
