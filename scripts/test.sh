@@ -12,9 +12,10 @@
 #      inputs.
 # Time on two cores: ctest runs CAUSTIX_TEST_JOBS tests side by side (default:
 # the number of cores; each test process has a temporary directory of its
-# own), and the sanitizer build compiles at the lowest priority while the
-# Release build's tests run, on what CPU they leave idle. Each stage ends
-# with its 15 slowest tests (scripts/test_times.py).
+# own), and the sanitizer build compiles and runs its unit tests at the
+# lowest priority while the Release build's tests run, on what CPU they
+# leave idle; the fuzz runs come last. Each stage ends with its 15 slowest
+# tests (scripts/test_times.py).
 # CAUSTIX_FUZZ_SECONDS (default 30) sets the length of each fuzz run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,18 +32,24 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
 stage_time "Release build"
 
-# The sanitizer build, niced: it takes only the CPU the GL tests leave idle
-# (shader compiles and single-threaded set-up). Debug keeps every assertion;
-# -O1 because CGAL's box optimiser (Eigen) runs some 100 times slower at -O0.
-# -fsanitize=fuzzer-no-link (CAUSTIX_FUZZ) instruments the libraries for the
-# fuzz targets; the unit tests link the same libraries without libFuzzer.
+# The sanitizer build and its unit tests, niced: they take only the CPU the
+# Release tests leave idle (shader compiles, single-threaded set-up, the
+# last long test running alone). No test measures time, so sharing the
+# machine changes no result. Debug keeps every assertion; -O1 because CGAL
+# runs some 100 times slower at -O0. -fsanitize=fuzzer-no-link
+# (CAUSTIX_FUZZ) instruments the libraries for the fuzz targets; the unit
+# tests link the same libraries without libFuzzer.
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
   -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE -DCAUSTIX_PARTS=bake -DCAUSTIX_SANITIZE=ON -DCAUSTIX_FUZZ=ON \
   -DCAUSTIX_FUZZ_SECONDS="${CAUSTIX_FUZZ_SECONDS:-30}" >/dev/null
-# In a process group of its own, so that a failed stage 1 stops ninja and
-# its compilers with it.
-setsid nice -n 19 cmake --build build-san >build/build-san.log 2>&1 &
-san_build=$!
+# In a process group of its own, so that a failed stage 1 stops ninja,
+# the compilers and the tests with it. Exit status 90: the build failed.
+setsid nice -n 19 bash -c '
+  cmake --build build-san >build/build-san.log 2>&1 || exit 90
+  echo "-- sanitizer build done after $SECONDS s in the background"
+  cd build-san && ctest -j"$1" -E "_short\$" --output-on-failure --output-junit ctest-junit.xml' \
+  san-stage "$jobs" >build/san-tests.log 2>&1 &
+san=$!
 
 rc=0
 # ctest starts the longest tests first when it knows their times; a fresh
@@ -53,18 +60,24 @@ mkdir -p build/Testing/Temporary
 python3 scripts/test_times.py build/ctest-junit.xml 15
 stage_time "Release tests"
 if [ "$rc" -ne 0 ]; then
-  kill -- -"$san_build" 2>/dev/null || true
-  wait "$san_build" 2>/dev/null || true
+  kill -- -"$san" 2>/dev/null || true
+  wait "$san" 2>/dev/null || true
   exit "$rc"
 fi
 
 echo "== 2/2 untrusted input under AddressSanitizer + UBSan; libFuzzer, ${CAUSTIX_FUZZ_SECONDS:-30} s per target"
-if ! wait "$san_build"; then
+san_rc=0
+wait "$san" || san_rc=$?
+if [ "$san_rc" -eq 90 ]; then
   cat build/build-san.log
   exit 1
 fi
-stage_time "sanitizer build"
-(cd build-san && ctest -j"$jobs" --output-on-failure --output-junit ctest-junit.xml) || rc=$?
+cat build/san-tests.log
 python3 scripts/test_times.py build-san/ctest-junit.xml 15
-stage_time "sanitizer tests and fuzzing"
+stage_time "sanitizer tests"
+[ "$san_rc" -eq 0 ] || rc=$san_rc
+# The fuzz runs last a fixed wall-clock time each, so they run in the
+# foreground, on a machine no longer shared, and find what they would alone.
+(cd build-san && ctest -j"$jobs" -R "_short\$" --output-on-failure --output-junit fuzz-junit.xml) || rc=$?
+stage_time "fuzzing"
 exit "$rc"
