@@ -67,6 +67,8 @@ struct Case {
 // forward path minifies the water's mipmapped caustics map it reads a
 // coarser level than the table's level 0; that difference is printed (the
 // aliasing a deferred pass accepts; docs/embedding.md).
+// Cost: three scenes, four states each, every receiver drawn both ways
+// from both lights.
 TEST_F(AllReceivers, ADeferredPassLightsEveryReceiverFromEveryLightAsBindDoes) {
   const Case cases[] = {
       {"wavy_pool", {{"type", "point"}, {"position", {1.0, 4.0, 0.5}}, {"intensity", 6.0}, {"color", {1.0, 0.6, 0.3}}}},

@@ -437,6 +437,8 @@ TEST_F(CausticMap, FlatMirrorSendsADisplacedCopyOfTheDirectLight) {
   EXPECT_LT(f.at(0.55, 0.0), 0.05);
 }
 
+// Cost: five bakes and renders, one of them with the largest photon grid
+// the options allow (4096^2 photons traced on llvmpipe).
 TEST_F(CausticMap, Extremes) {
   // IOR 1 is no object: the caustic map gives back the light the glass's
   // shadow takes.

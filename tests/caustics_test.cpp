@@ -245,6 +245,8 @@ TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
 //   and each channel's mean is the bins' Fresnel transmittances so
 //   weighted (energy per channel, 2 % as above);
 // - one wavelength traced is bit-identical to water without dispersion.
+// Cost: the pool rendered once per wavelength bin, once in RGB and once
+// without dispersion, each with 512^2 caustics maps.
 TEST_F(Caustics, DispersiveWaterFoldsPerWavelengthAndAddsUpInRgb) {
   constexpr float kDispersion = 3.0f;
   constexpr std::uint32_t kBins = 4;
@@ -362,6 +364,9 @@ TEST_F(Caustics, SmoothCausticsRemoveTheWaterGridsMosaic) {
 // by side: each bakes three scenes and draws six 192^2 images.
 class CausticsPerPreset : public Caustics, public ::testing::WithParamInterface<std::size_t> {};
 
+// Cost: per preset, three scenes at 192^2 with two samples a pixel, each
+// rendered twice (the preset's planes and 64); the bounds were measured at
+// this size, so the images stay as they are.
 TEST_P(CausticsPerPreset, EveryPresetsCausticsUnderWavesHaveNoSeams) {
   struct Patch {
     const char* scene;

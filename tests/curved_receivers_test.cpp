@@ -162,6 +162,8 @@ Judged against_reference(const nlohmann::json& j, const std::string& tag, const 
 // light direction and the depth-following beams the sphere scored 7.6 %
 // (covered), 12.6 % on its steep part (|n_y| 0.2-0.5) and 23 % at fold
 // pixels with 8 planes (docs/caustics.md).
+// Cost (the slowest test): the 24 M-photon reference trace, what keeps its
+// noise (1.8 % per pixel) well under the 4 % and 6 % bounds.
 TEST_F(CurvedReceivers, SphereUnderASineWaveAgreesWithTheTracedReference) {
   const Judged e = against_reference(sphere_scene(), "curved_sine", "sphere", -0.6f, -0.6f, 0.6f, 0.6f, 64, 64, 24'000'000);
   EXPECT_LT(e.covered_l1, 0.04);
@@ -173,6 +175,7 @@ TEST_F(CurvedReceivers, SphereUnderASineWaveAgreesWithTheTracedReference) {
   EXPECT_LT(e.cls("silhouette").rel_l1(), 0.05);
 }
 
+// Cost: a 16 M-photon reference trace, as for the sphere.
 TEST_F(CurvedReceivers, CylinderAcrossTheWavesAgreesWithTheTracedReference) {
   nlohmann::json j = sphere_scene();
   j["objects"][1]["name"] = "cylinder";

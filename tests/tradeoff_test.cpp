@@ -92,6 +92,8 @@ double tell(const reference::Image& ref) { return 0.25 * ref.relative_noise; }
 
 // On the teapot, whose error the water grid dominates (docs/tradeoff.md:
 // 0.098 at half the grid, 0.0315 at the scene's, 0.0192 at twice).
+// Cost: the teapot's reference trace and the three presets baked and
+// rendered, the accurate one with its finest maps.
 TEST_F(Tradeoff, PresetsAreOrderedInWorkAndError) {
   const reference::Image& ref = teapot_reference();
   ASSERT_FALSE(ref.rgb.empty());
@@ -113,6 +115,10 @@ TEST_F(Tradeoff, PresetsAreOrderedInWorkAndError) {
   EXPECT_LE(accurate.rel_l1, balanced.rel_l1 + tell(ref));
 }
 
+// Cost (one of the slowest tests): both reference traces (ctest runs each
+// test in a process of its own, so they are traced per test) and seven
+// bakes and renders, the ends of each knob's sweep and the position map's
+// knee; the full sweeps are caustix-bench tradeoff's.
 TEST_F(Tradeoff, LevelMapErrorFallsAsPlanesAndMapSizesGrow) {
   // Planes and the position map: the teapot, whose depth range the planes
   // must span (wavy_pool's flat floor needs one plane).
