@@ -3,7 +3,7 @@
 // (shared/DESIGN.md), used to measure the runtime's approximations. It reads
 // scene.json and the meshes (not the .cxb), evaluates the water surface of
 // the wave sum exactly (ray / height-field intersection by bracketing and
-// bisection), refracts with Snell's law and the exact unpolarised Fresnel
+// Illinois regula falsi), refracts with Snell's law and the exact unpolarised Fresnel
 // transmittance at the true normal, attenuates by e^(-K d) along the true
 // path, and finds receivers by exact ray-mesh intersection (CGAL AABB tree).
 //
