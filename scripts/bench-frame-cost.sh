@@ -10,7 +10,9 @@
 #
 #   scripts/bench-frame-cost.sh [OUT_DIR]      (default docs/results)
 #
-# Needs the full build (build/). With OLD=DIR holding caustix-bake,
+# Needs the full build (build/) configured with -DCAUSTIX_COUNT_GL_CALLS=ON
+# (as scripts/test.sh configures it): without the counter there are no
+# GL calls to report. With OLD=DIR holding caustix-bake,
 # caustix-bench and caustix-render built from an earlier commit, every
 # timed row runs with those too, side by side in the same run (same
 # machine, alternating), labelled "before"; their .cxb files are baked by
@@ -27,6 +29,11 @@ SCENES=${SCENES:-"thesis_teapot glass_ball mirror_ring fog_ball dispersive_pool 
 # Memory of every canonical scene (and the dispersive pool).
 MEMORY_SCENES=${MEMORY_SCENES:-"$(ls assets/scenes | sed 's/\.json$//' | tr '\n' ' ') dispersive_pool"}
 B=build
+if ! grep -q '^CAUSTIX_COUNT_GL_CALLS:BOOL=ON' "$B/CMakeCache.txt" 2>/dev/null; then
+  echo "bench-frame-cost.sh: $B/ is not configured with -DCAUSTIX_COUNT_GL_CALLS=ON; run" \
+    "cmake -S . -B $B -DCAUSTIX_COUNT_GL_CALLS=ON && cmake --build $B" >&2
+  exit 2
+fi
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 mkdir -p "$out"

@@ -28,7 +28,7 @@ bash scripts/setup-deps.sh
 stage_time() { echo "-- $1: $(( (SECONDS - start) / 60 )) min $(( (SECONDS - start) % 60 )) s since the start"; }
 
 echo "== 1/2 full build and tests"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCAUSTIX_COUNT_GL_CALLS=ON >/dev/null
 cmake --build build
 stage_time "Release build"
 

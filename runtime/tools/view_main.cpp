@@ -214,8 +214,12 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
     auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
     ImGui::Text("water triangles %llu, volumes %llu of %llu, planes %llu%s", u(cs.water_triangles), u(cs.volumes_drawn),
                 u(cs.volumes_total), u(cs.planes_drawn), cs.overflowed ? ", OVERFLOW (the list grows)" : "");
-    ImGui::Text("engine GL calls %llu: %llu draws, %llu dispatches, %llu syncs, %llu B uploaded", u(cs.gl.calls), u(cs.gl.draws),
-                u(cs.gl.dispatches), u(cs.gl.syncs), u(cs.gl.upload_bytes));
+    if (cs.gl.counted) {
+      ImGui::Text("engine GL calls %llu: %llu draws, %llu dispatches, %llu syncs, %llu B uploaded", u(cs.gl.calls), u(cs.gl.draws),
+                  u(cs.gl.dispatches), u(cs.gl.syncs), u(cs.gl.upload_bytes));
+    } else {
+      ImGui::TextUnformatted("engine GL calls: not counted (build with -DCAUSTIX_COUNT_GL_CALLS=ON)");
+    }
     const FrameWork& w = cs.work;
     auto work = [](const EffectWork& e) { return std::to_string(e.updated) + "/" + std::to_string(e.reused) + "/" + std::to_string(e.deferred); };
     ImGui::TextWrapped("remade/reused/deferred: shadows %s, level maps %s, glass %s, caustic maps %s, media %s%s",

@@ -100,10 +100,15 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
   const runtime::GlCalls calls = r->caustics_stats().gl;
   const runtime::CausticsStats cs = r->caustics_stats(true);
   auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
-  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%llu,%llu,%llu,%llu,%llu,\"%s\"\n", label.c_str(), cxb.c_str(),
-              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms,
-              times->min_ms, u(cs.planes_drawn), u(cs.volumes_drawn), u(cs.volumes_total), static_cast<double>(cs.gpu_bytes) / 1e6,
-              u(calls.calls), u(calls.syncs), u(calls.draws), u(calls.dispatches), u(calls.upload_bytes),
+  // Empty GL-call columns from a build without CAUSTIX_COUNT_GL_CALLS.
+  std::string counts = ",,,,";
+  if (calls.counted) {
+    counts = std::to_string(calls.calls) + "," + std::to_string(calls.syncs) + "," + std::to_string(calls.draws) + "," +
+             std::to_string(calls.dispatches) + "," + std::to_string(calls.upload_bytes);
+  }
+  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%s,\"%s\"\n", label.c_str(), cxb.c_str(), runtime::to_string(co.method),
+              co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms, times->min_ms, u(cs.planes_drawn),
+              u(cs.volumes_drawn), u(cs.volumes_total), static_cast<double>(cs.gpu_bytes) / 1e6, counts.c_str(),
               session->context->description().c_str());
   return kExitOk;
 }

@@ -879,7 +879,7 @@ CausticsStats Engine::stats(bool wait) {
   m.receiver_table = s.table.gpu_bytes();
   st.gpu_bytes = m.total();
   const gl::CallTally& c = s.frame_calls;
-  st.gl = GlCalls{c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};
+  st.gl = GlCalls{gl::kCountingBuilt, c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};
   return st;
 }
 

@@ -1,10 +1,11 @@
 #pragma once
-// The runtime's GL call counter (issue 44): every OpenGL call the runtime's
-// own sources make goes through a counting wrapper, so Engine::stats() can
-// say what a frame costs the application in calls, draws, dispatches and,
-// above all, GPU -> CPU synchronisations (a read-back of a buffer, texture
-// or query result, glFinish, a fence wait): the calls that stall the
-// pipeline.
+// The runtime's GL call counter, built with CAUSTIX_COUNT_GL_CALLS (a CMake
+// option, off by default; scripts/test.sh and the frame-cost benchmarks
+// turn it on): every OpenGL call the runtime's own sources make then goes
+// through a counting wrapper, so Engine::stats() can say what a frame
+// costs the application in calls, draws, dispatches and, above all,
+// GPU -> CPU synchronisations (a read-back of a buffer, texture or query
+// result, glFinish, a fence wait): the calls that stall the pipeline.
 //
 // How: the build force-includes the generated gl_counted.h into every
 // runtime source (runtime/CMakeLists.txt, cmake/CountGlCalls.cmake). It
@@ -14,11 +15,19 @@
 // only while a Counting scope is alive on the calling thread (the Engine
 // opens one in each of its public calls), so the application's own GL
 // calls, and the runtime's outside an engine call, cost one branch.
-// Nothing here changes what GL does.
+// Nothing here changes what GL does. Without the option only the tally
+// and its scopes exist, the tally stays zero and the sources call
+// libepoxy directly.
 
 #include <epoxy/gl.h>
 
 #include <cstdint>
+
+#if defined(CAUSTIX_COUNT_GL_CALLS) && CAUSTIX_COUNT_GL_CALLS
+#define CAUSTIX_GL_COUNTING_BUILT 1
+#else
+#define CAUSTIX_GL_COUNTING_BUILT 0
+#endif
 
 namespace caustix::runtime::gl {
 
@@ -62,6 +71,9 @@ class Counting {
   CallTally* previous_;
 };
 
+inline constexpr bool kCountingBuilt = CAUSTIX_GL_COUNTING_BUILT;
+
+#if CAUSTIX_GL_COUNTING_BUILT
 // The counting wrapper of libepoxy's pointer *Slot (gl_counted.h).
 template <auto* Slot, CallKind K, typename F>
 struct Counted;
@@ -155,8 +167,11 @@ inline void counted_glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr s
   epoxy_glBufferSubData(target, offset, size, data);
 }
 
+#endif  // CAUSTIX_GL_COUNTING_BUILT
+
 }  // namespace caustix::runtime::gl
 
+#if CAUSTIX_GL_COUNTING_BUILT
 // The generator (cmake/CountGlCalls.cmake) skips the names defined here.
 #undef glReadPixels
 #define glReadPixels ::caustix::runtime::gl::counted_glReadPixels
@@ -186,3 +201,4 @@ inline void counted_glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr s
 #define glNamedBufferSubData ::caustix::runtime::gl::counted_glNamedBufferSubData
 #undef glBufferSubData
 #define glBufferSubData ::caustix::runtime::gl::counted_glBufferSubData
+#endif  // CAUSTIX_GL_COUNTING_BUILT

@@ -15,9 +15,11 @@ namespace caustix::runtime {
 // The OpenGL calls the engine made in one frame: those of the
 // set_* calls before an update(), of update() itself and of every call
 // after it (bind, draw_*, stats, ...) up to the next update(). Counted by
-// the runtime's own layer around its GL calls (docs/runtime-speed.md);
+// the runtime's own layer around its GL calls (docs/runtime-speed.md),
+// which a build has only with the CMake option CAUSTIX_COUNT_GL_CALLS;
 // the application's own calls are not in them.
 struct GlCalls {
+  bool counted = false;          // false: built without the counter, every count 0
   std::uint64_t calls = 0;       // every GL call
   std::uint64_t draws = 0;       // glDraw* / glMultiDraw* (clears are not draws)
   std::uint64_t dispatches = 0;  // glDispatchCompute*
