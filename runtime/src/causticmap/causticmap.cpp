@@ -860,6 +860,8 @@ CausticMapStats CausticMapEngine::stats(bool wait) {
   return st;
 }
 
+std::uint64_t CausticMapEngine::times_made(std::uint32_t li) const { return impl_->made.times_made(li); }
+
 std::uint64_t CausticMapEngine::gpu_bytes() const {
   std::uint64_t b = impl_->readback.gpu_bytes() + kCounters * 4 + impl_->material_data.size() * 4;
   for (const auto& pl : impl_->lights) b += pl.bytes;

@@ -78,6 +78,9 @@ class CausticMapEngine {
   // power and adaptive levels (read back: a stall).
   CausticMapStats stats(bool wait);
   std::uint64_t gpu_bytes() const;
+  // How many times light li's caustic map was made (the receiver table's
+  // version).
+  std::uint64_t times_made(std::uint32_t li) const;
 
  private:
   CausticMapEngine() = default;

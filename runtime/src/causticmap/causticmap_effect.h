@@ -44,7 +44,9 @@ class CausticMapEffect final : public LightEffect {
     if (owner_) owner_->end_frame();
   }
   EffectWork& work(FrameWork& w) const override { return w.caustic_maps; }
-  unsigned table_products() const override { return ReceiverTable::kCausticMaps; }
+  void product_versions(std::uint32_t light, ReceiverTable::Versions& v) const override {
+    if (owner_) v[ReceiverTable::kCausticMaps] = owner_->times_made(light);
+  }
   void memory(GpuMemory& m) const override {
     if (owner_) m.caustic_maps = owner_->gpu_bytes();  // caster maps, caustic maps, photons
   }

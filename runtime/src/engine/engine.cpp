@@ -100,22 +100,23 @@ struct Engine::Impl {
   gl::SceneReader scene_reader;
 
   // Engine::bind_all()'s table, built at its first call, then kept current
-  // by update(): the lights whose products an update remade are copied.
+  // by update(): it copies the products whose versions moved.
   ReceiverTable table;
-  // Per light, the (light, transforms) versions its position maps were last
-  // made for: the table copies them again only when these moved.
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> table_versions;
   // The options of the last update(): new ones may reallocate any product
   // (and GL may hand a freed texture's name to its successor), so the
   // table copies everything again after an update with other options.
   std::optional<CausticsOptions> table_options;
-  Status refresh_table(const std::vector<unsigned>& changed_lights) {
+  Status refresh_table(bool everything) {
     std::vector<ReceiverTable::Pair> pairs(lighting.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       pairs[i].lighting = &lighting[i];
       pairs[i].receiver = !transmits(scene.objects[i / std::max<std::size_t>(scene.lights.size(), 1)].role);
     }
-    CAUSTIX_RETURN_IF_ERROR(table.refresh(pairs, static_cast<std::uint32_t>(scene.lights.size()), changed_lights));
+    std::vector<ReceiverTable::Versions> versions(scene.lights.size(), ReceiverTable::Versions{});
+    for (std::uint32_t li = 0; li < versions.size(); ++li) {
+      for (const auto& e : effects) e->product_versions(li, versions[li]);
+    }
+    CAUSTIX_RETURN_IF_ERROR(table.refresh(pairs, versions, everything));
     work.table_copies += table.copies;
     work.table_copied_bytes += table.copied_bytes;
     return gl::check_gl("the all-receivers table");
@@ -510,7 +511,6 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   s.uploaded.resize(s.lighting.size());
   s.uploaded_valid.assign(s.lighting.size(), false);
   s.light_versions.assign(s.scene.lights.size(), 0);
-  s.table_versions.assign(s.scene.lights.size(), {0, 0});
   for (std::size_t i = 0; i < s.lighting.size(); ++i) s.lighting[i].offset = i * s.stride;
   if (!s.lighting.empty()) {
     s.blocks = gl::make_buffer();
@@ -657,16 +657,13 @@ Status Engine::update(const FrameUpdate& f) {
   Impl::Services services(s);
   for (const auto& e : s.effects) CAUSTIX_RETURN_IF_ERROR(e->begin_frame(FrameStart{s.scene, s.frame, co, services}));
   FrameWork& work = s.work;
-  std::vector<unsigned> changed_lights(s.scene.lights.size(), 0);  // for the all-receivers table
   const bool new_options = s.table_options != co;
   s.table_options = co;
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
-    const FrameWork before = work;
     // Lights take turns when the light side runs every Nth frame.
     const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;
     const LightUpdate u{s.scene, li, co, SceneVersions{s.light_versions[li], s.transforms_version, s.water ? s.water->version() : 0},
                         due, services, work};
-    unsigned changed = new_options ? ReceiverTable::kEverything : 0u;
     // The light's blocks are uploaded before an effect that reads them,
     // with what the effects before it made, and after the last that
     // writes them.
@@ -677,21 +674,15 @@ Status Engine::update(const FrameUpdate& f) {
         s.upload_light(li, co);
         block_stale = false;
       }
-      const std::uint32_t made = e->work(work).updated;
       CAUSTIX_RETURN_IF_ERROR(e->update_light(u));
-      if (e->work(work).updated != made) changed |= e->table_products();
       block_stale = block_stale || e->writes_light_block();
     }
     if (block_stale) s.upload_light(li, co);
-    const std::pair<std::uint64_t, std::uint64_t> versions{s.light_versions[li], s.transforms_version};
-    const bool moved = s.table_versions[li] != versions && work.level_maps.updated != before.level_maps.updated;
-    if (moved) s.table_versions[li] = versions;
-    changed_lights[li] = changed | (moved ? ReceiverTable::kPositionMaps : 0u);
   }
   for (const auto& e : s.effects) e->end_frame(s.frame);
   s.view_spectrum = ViewSpectrum{traced_wavelengths(s.scene, co), co.wavelength_nm.has_value()};
   s.updated = true;
-  if (s.table.built()) CAUSTIX_RETURN_IF_ERROR(s.refresh_table(changed_lights));
+  if (s.table.built()) CAUSTIX_RETURN_IF_ERROR(s.refresh_table(new_options));
   return gl::check_gl("engine update");
 }
 
@@ -720,7 +711,7 @@ Status Engine::bind_all() {
   const auto scope = s.count_frame();
   if (!s.table.built()) {
     const gl::StateGuard guard = s.guard();
-    CAUSTIX_RETURN_IF_ERROR(s.refresh_table(std::vector<unsigned>(s.scene.lights.size(), ReceiverTable::kEverything)));
+    CAUSTIX_RETURN_IF_ERROR(s.refresh_table(true));
   }
   s.table.bind(s.bindings);
   return Status::success();

@@ -11,9 +11,9 @@
 // the water; the effect keeps, per light, what its products were made from
 // and remakes them only when that moved (or never made), counting the
 // remade, reused and deferred ones into its EffectWork. The receiver table
-// (bind_all) copies the textures of the products an update remade, which
-// it learns from those counts and table_products().
-// Internal to the runtime.
+// (bind_all) copies again the textures of the products whose versions
+// (product_versions(): how many times each was made) moved since it last
+// copied them. Internal to the runtime.
 
 #include <array>
 #include <cstdint>
@@ -28,6 +28,7 @@
 #include "caustix/runtime/stats.h"
 #include "exit_ray.h"
 #include "made_from.h"
+#include "receiver_table.h"
 
 namespace caustix::runtime {
 
@@ -98,10 +99,13 @@ class LightEffect {
   virtual Status begin_frame(const FrameStart& start) = 0;
   virtual Status update_light(const LightUpdate& u) = 0;
   virtual void end_frame(std::uint64_t frame) = 0;
-  // Its slot of the frame's work counts, and the receiver table's bits
-  // (ReceiverTable::k*) of the textures a remade product replaces.
+  // Its slot of the frame's work counts.
   virtual EffectWork& work(FrameWork& w) const = 0;
-  virtual unsigned table_products() const = 0;
+  // The versions of light `light`'s products whose textures the receiver
+  // table holds, into their slots of `v` (ReceiverTable::Product): each
+  // changes exactly when the effect replaces that product's texels. An
+  // effect whose products are not in the table leaves `v` alone.
+  virtual void product_versions(std::uint32_t light, ReceiverTable::Versions& v) const = 0;
   // Its GPU memory, into its field of `m`.
   virtual void memory(GpuMemory& m) const = 0;
 };

@@ -57,8 +57,8 @@ bool reads(int k, const LightBlock& b) {
   }
 }
 
-// The effect that makes texture k (ReceiverTable::Changed).
-unsigned made_by(int k) {
+// The product texture k belongs to.
+ReceiverTable::Product made_by(int k) {
   switch (k) {
     case kCaustics:
     case kCausticsColor: return ReceiverTable::kLevelMaps;
@@ -116,9 +116,13 @@ ReceiverTable::Source ReceiverTable::describe(int kind, GLuint texture) const {
   return s;
 }
 
-Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<unsigned>& changed) {
+Status ReceiverTable::refresh(std::span<const Pair> pairs, std::span<const Versions> versions, bool everything) {
   copies = 0;
   copied_bytes = 0;
+  const auto lights = static_cast<std::uint32_t>(versions.size());
+  // Per light, whether each product moved since the last refresh.
+  everything = everything || !built_ || copied_.size() != versions.size();
+  auto moved = [&](std::uint32_t li, Product p) { return everything || versions[li][p] != copied_[li][p]; };
   // Which sources each kind holds, in layer order, and where each pair's lie.
   std::unordered_set<GLuint> fresh;  // described now: their texels are copied
   std::array<std::vector<GLuint>, kKinds> order;
@@ -136,7 +140,7 @@ Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights,
       if (!reads(k, r.block)) continue;
       const GLuint tex = texture_of(k, r);
       const bool known = sources_.count(tex) != 0;
-      if ((!known || (changed[li] & made_by(k)) != 0) && fresh.insert(tex).second) sources_[tex] = describe(k, tex);
+      if ((!known || moved(li, made_by(k))) && fresh.insert(tex).second) sources_[tex] = describe(k, tex);
       const Source& src = sources_[tex];
       const auto at = std::find(order[k].begin(), order[k].end(), tex);
       GLint layer = 0;
@@ -234,6 +238,7 @@ Status ReceiverTable::refresh(std::span<const Pair> pairs, std::uint32_t lights,
     uploaded_[i] = entries[i];
   }
   built_ = true;
+  copied_.assign(versions.begin(), versions.end());
   return Status::success();
 }
 

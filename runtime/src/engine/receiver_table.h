@@ -1,5 +1,5 @@
 #pragma once
-// The all-receivers table behind Engine::bind_all() (issue 46): every
+// The all-receivers table behind Engine::bind_all(): every
 // (receiver, light) pair's LightBlock in one shader-storage buffer, and the
 // pairs' textures copied on the GPU into one texture array per kind (the
 // twelve of Bindings), each pair's or light's texture a layer with its
@@ -31,22 +31,29 @@ class ReceiverTable {
     bool receiver = false;
   };
 
-  // Which of a light's textures an update remade, by effect.
-  enum Changed : unsigned {
-    kShadowMaps = 1,     // shadow_2d, shadow_cube, the glass's, the moments
-    kLevelMaps = 2,      // caustics, caustics_color
-    kGlass = 4,          // glass_illumination, glass_target
-    kCausticMaps = 8,    // caustic_map
-    kPositionMaps = 16,  // position: re-derived when the light or a transform moved (not with the water)
-    kEverything = 31,
+  // A light's products whose textures the table holds, by the effect that
+  // makes them.
+  enum Product : int {
+    kShadowMaps,    // shadow_2d, shadow_cube, the glass's, the moments
+    kLevelMaps,     // caustics, caustics_color
+    kGlass,         // glass_illumination, glass_target
+    kCausticMaps,   // caustic_map
+    kPositionMaps,  // position: re-derived when the light or a transform moved (not with the water)
+    kProducts,
   };
+  // Per product, a version that changes exactly when the effect making it
+  // replaces its texels (LightEffect::product_versions): the table copies
+  // again what moved since it last copied.
+  using Versions = std::array<std::uint64_t, kProducts>;
   // Brings the table up to date with `pairs` (objects x lights, object
-  // major). `changed[li]`: which of light li's products were remade since
-  // the last refresh (Changed bits; their texels are copied again). Lays the arrays out
+  // major) and `versions` (one per light). Copies the textures of the
+  // products whose versions moved since the last refresh, or every one
+  // with `everything` (new options may reallocate any product, and GL may
+  // hand a freed texture's name to its successor). Lays the arrays out
   // anew when a texture appears, goes or changes size (then copies every
-  // layer); otherwise copies only the changed lights' textures and uploads
-  // only the entries that differ. No GPU -> CPU synchronisation.
-  Status refresh(std::span<const Pair> pairs, std::uint32_t lights, const std::vector<unsigned>& changed);
+  // layer); otherwise copies only what moved and uploads only the entries
+  // that differ. No GPU -> CPU synchronisation.
+  Status refresh(std::span<const Pair> pairs, std::span<const Versions> versions, bool everything);
   // Binds the buffer at `b.table` and the arrays at the units (multi-bind:
   // the generic GL_SHADER_STORAGE_BUFFER binding stays).
   void bind(const Bindings& b) const;
@@ -73,6 +80,7 @@ class ReceiverTable {
   bool built_ = false;
   std::array<Kind, kKinds> kinds_{};
   std::unordered_map<GLuint, Source> sources_;  // what each source texture was when last described
+  std::vector<Versions> copied_;                // per light, the versions of the last refresh
   gl::Buffer buffer_;
   std::vector<ReceiverTableEntry> uploaded_;
 };

@@ -1,11 +1,12 @@
 #pragma once
-// What each light's light-side product was made from (issue 44;
-// shared/DESIGN.md, "the frame contract"): every effect keeps one record
-// per light and remakes a product only when what it depends on changed --
-// its light, the objects' transforms, the water's surface, the options it
-// reads -- or never made it. The Engine numbers the changes (versions);
-// each effect says which it depends on through its own Key. Internal to
-// the runtime.
+// What each light's light-side product was made from (docs/embedding.md,
+// "What a frame costs"): every effect keeps one record per light and
+// remakes a product only when what it depends on changed -- its light, the
+// objects' transforms, the water's surface, the options it reads -- or
+// never made it. The Engine numbers the changes (versions); each effect
+// says which it depends on through its own Key. Each record also counts
+// how many times its product was made: the version the receiver table
+// reads to know which textures to copy again. Internal to the runtime.
 
 #include <cstdint>
 #include <optional>
@@ -42,7 +43,10 @@ enum class Refresh {
 template <typename Key>
 class MadeFrom {
  public:
-  void resize(std::size_t lights) { keys_.resize(lights); }
+  void resize(std::size_t lights) {
+    keys_.resize(lights);
+    times_made_.resize(lights);
+  }
   // Decides light li's refresh and counts it into `work`; kRemake expects
   // the caller to remake it and then call made(li, key).
   Refresh decide(std::uint32_t li, const Key& key, bool due, EffectWork& work) const {
@@ -57,7 +61,13 @@ class MadeFrom {
     ++work.updated;
     return Refresh::kRemake;
   }
-  void made(std::uint32_t li, const Key& key) { keys_[li] = key; }
+  void made(std::uint32_t li, const Key& key) {
+    keys_[li] = key;
+    ++times_made_[li];
+  }
+  // How many times light li's product was made: it changes exactly when
+  // the product's texels were replaced.
+  std::uint64_t times_made(std::uint32_t li) const { return li < times_made_.size() ? times_made_[li] : 0; }
   void forget(std::uint32_t li) { keys_[li].reset(); }
   void forget_all() {
     for (auto& k : keys_) k.reset();
@@ -65,6 +75,7 @@ class MadeFrom {
 
  private:
   std::vector<std::optional<Key>> keys_;
+  std::vector<std::uint64_t> times_made_;
 };
 
 }  // namespace caustix::runtime

@@ -557,6 +557,8 @@ std::optional<GlassEngine::Binding> GlassEngine::binding(std::uint32_t object, s
 }
 
 
+std::uint64_t GlassEngine::times_made(std::uint32_t li) const { return impl_->made.times_made(li); }
+
 std::uint64_t GlassEngine::gpu_bytes() const {
   std::uint64_t b = 0;
   for (const auto& set : impl_->table_sets) b += set->gpu_bytes;  // once however many objects share them

@@ -97,6 +97,9 @@ class GlassEngine {
   // The light side's GPU memory: tables, rays, one-rings, targets,
   // illumination textures, primitives.
   std::uint64_t gpu_bytes() const;
+  // How many times light li's illumination textures were made (the
+  // receiver table's version).
+  std::uint64_t times_made(std::uint32_t li) const;
   // The view's: the back faces (nearby view) and the window over the
   // glass's rectangle of the frame (draw_glass).
   std::uint64_t view_bytes() const;

@@ -26,7 +26,9 @@ class GlassEffect final : public LightEffect {
   }
   void end_frame(std::uint64_t) override {}
   EffectWork& work(FrameWork& w) const override { return w.glass; }
-  unsigned table_products() const override { return ReceiverTable::kGlass; }
+  void product_versions(std::uint32_t light, ReceiverTable::Versions& v) const override {
+    v[ReceiverTable::kGlass] = glass_.times_made(light);
+  }
   void memory(GpuMemory& m) const override { m.glass = glass_.gpu_bytes(); }
 
  private:

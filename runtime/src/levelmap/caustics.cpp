@@ -157,8 +157,10 @@ struct CausticsEngine::Impl {
   std::uint64_t profiles = 0;             // depth profiles made on the GPU so far
   gl::Buffer plan_scratch;                // caustics_plan.comp's sub-box lengths
   GLsizeiptr plan_scratch_words = 0;
-  // What each light's maps were made from (issue 44).
+  // What each light's maps were made from, and per light how many times
+  // its position maps were re-derived.
   MadeFrom<LightInputs> made;
+  std::vector<std::uint64_t> positions_made;
   bool slot_open = false;  // this frame's read-back slot
   struct GpuCounts {
     std::uint64_t frame = 0;  // 0: none yet
@@ -742,6 +744,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   std::uint32_t lights = 0;
   for (const LevelMap& lm : maps) lights = std::max(lights, lm.light + 1);
   s.made.resize(lights);
+  s.positions_made.assign(lights, 0);
   s.readback.reserve(kCounterBytes * s.maps.size());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("caustics set-up"));
   return e;
@@ -758,6 +761,7 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
                                         const std::vector<std::vector<std::array<double, 3>>>& world) {
   Impl& s = *this;
   m.rederive = false;
+  ++s.positions_made[m.lm->light];
   {
     LevelMap& lm = *m.lm;
     const Light& desc = lights[lm.light];
@@ -933,6 +937,12 @@ CausticsStats CausticsEngine::stats(bool wait) {
   out.planes_drawn = s.gpu_counts.planes_drawn;
   out.overflowed = s.gpu_counts.overflowed;
   return out;
+}
+
+std::uint64_t CausticsEngine::times_made(std::uint32_t light) const { return impl_->made.times_made(light); }
+
+std::uint64_t CausticsEngine::position_maps_made(std::uint32_t light) const {
+  return light < impl_->positions_made.size() ? impl_->positions_made[light] : 0;
 }
 
 std::uint64_t CausticsEngine::gpu_bytes() const {

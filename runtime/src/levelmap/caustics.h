@@ -71,6 +71,10 @@ class CausticsEngine {
   // Its GPU memory: the refracted rays, the read-back ring, the splats'
   // photons, the intersection lists and the maps (stats().gpu_bytes).
   std::uint64_t gpu_bytes() const;
+  // How many times light `light`'s caustics maps, and its position maps,
+  // were made (the receiver table's versions).
+  std::uint64_t times_made(std::uint32_t light) const;
+  std::uint64_t position_maps_made(std::uint32_t light) const;
 
  private:
   CausticsEngine() = default;

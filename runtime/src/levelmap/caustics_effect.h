@@ -24,7 +24,10 @@ class CausticsEffect final : public LightEffect {
   }
   void end_frame(std::uint64_t) override { caustics_.end_frame(); }
   EffectWork& work(FrameWork& w) const override { return w.level_maps; }
-  unsigned table_products() const override { return ReceiverTable::kLevelMaps; }
+  void product_versions(std::uint32_t light, ReceiverTable::Versions& v) const override {
+    v[ReceiverTable::kLevelMaps] = caustics_.times_made(light);
+    v[ReceiverTable::kPositionMaps] = caustics_.position_maps_made(light);
+  }
   void memory(GpuMemory& m) const override { m.level_maps = caustics_.gpu_bytes(); }
 
  private:

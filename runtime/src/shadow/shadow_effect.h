@@ -21,7 +21,9 @@ class ShadowEffect final : public LightEffect {
   }
   void end_frame(std::uint64_t) override {}
   EffectWork& work(FrameWork& w) const override { return w.shadow_maps; }
-  unsigned table_products() const override { return ReceiverTable::kShadowMaps; }
+  void product_versions(std::uint32_t light, ReceiverTable::Versions& v) const override {
+    v[ReceiverTable::kShadowMaps] = maps_.times_made(light);
+  }
   void memory(GpuMemory& m) const override { m.shadow_maps = maps_.gpu_bytes(); }
 
  private:

@@ -54,6 +54,8 @@ class ShadowMaps {
   static glm::vec3 travel_direction(const SceneDesc& scene, const Light& l);
 
   std::uint64_t gpu_bytes() const;
+  // How many times light li's maps were made (the receiver table's version).
+  std::uint64_t times_made(std::uint32_t li) const { return made_.times_made(li); }
 
  private:
   struct PerLight {

@@ -29,7 +29,7 @@ class VolumeEffect final : public LightEffect {
   }
   void end_frame(std::uint64_t frame) override { volume_.end_frame(frame); }
   EffectWork& work(FrameWork& w) const override { return w.media; }
-  unsigned table_products() const override { return 0; }  // none of the receivers' textures
+  void product_versions(std::uint32_t, ReceiverTable::Versions&) const override {}  // none of the receivers' textures
   void memory(GpuMemory& m) const override { m.media = volume_.gpu_bytes(); }  // radiance and index grids
 
  private:
