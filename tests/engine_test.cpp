@@ -628,6 +628,15 @@ TEST_F(Engine_, BadArgumentsAreRefusedByName) {
   EXPECT_EQ(code_of(engine.bind(9, 0)), ErrorCode::kUsage);
   EXPECT_EQ(code_of(engine.draw_object(3)), ErrorCode::kUsage);
   EXPECT_EQ(code_of(engine.update(runtime::FrameUpdate{NAN, {}})), ErrorCode::kUsage);
+  // Options are checked when they change: bad ones after good ones are
+  // refused every time they come, and the good ones still work after.
+  runtime::FrameUpdate changed{0.1f, engine.default_options()};
+  changed.caustics.shadows.vsm_filter = 4;
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(code_of(engine.update(changed)), ErrorCode::kUsage) << k;
+  changed.caustics.shadows.vsm_filter = engine.default_options().shadows.vsm_filter;
+  EXPECT_TRUE(engine.update(changed).ok());
+  changed.caustics.wavelengths = 0;
+  EXPECT_EQ(code_of(engine.update(changed)), ErrorCode::kUsage);
   std::vector<float> h(10, 0.0f);
   const Status short_heights = engine.set_water_heights(h);
   EXPECT_EQ(code_of(short_heights), ErrorCode::kUsage);

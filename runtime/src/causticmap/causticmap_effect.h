@@ -20,6 +20,12 @@ class CausticMapEffect final : public LightEffect {
   // statistics there); `draw_object` draws an object's mesh for it.
   CausticMapEffect(std::unique_ptr<CausticMapEngine>& owner, const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object)
       : owner_(owner), scene_(scene), draw_object_(std::move(draw_object)) {}
+  // Its options are checked whenever some object's light goes through
+  // the caustic maps with these options.
+  Status check(const CausticsOptions& o, EngineServices& engine) override {
+    if (!CausticMapEngine::needed(engine.caustic_map_casters(o))) return Status::success();
+    return CausticMapEngine::check(o.caustic_map);
+  }
   bool active(const CausticsOptions&) const override { return owner_ != nullptr; }
   Status begin_frame(const FrameStart& start) override {
     needed_ = start.options.method != CausticsMethod::kNone &&

@@ -102,10 +102,11 @@ struct Engine::Impl {
   // Engine::bind_all()'s table, built at its first call, then kept current
   // by update(): it copies the products whose versions moved.
   ReceiverTable table;
-  // The options of the last update(): new ones may reallocate any product
-  // (and GL may hand a freed texture's name to its successor), so the
-  // table copies everything again after an update with other options.
-  std::optional<CausticsOptions> table_options;
+  // The options of the last update(), checked: new ones may reallocate
+  // any product (and GL may hand a freed texture's name to its
+  // successor), so the table copies everything again after an update
+  // with other options.
+  std::optional<CausticsOptions> options;
   Status refresh_table(bool everything) {
     std::vector<ReceiverTable::Pair> pairs(lighting.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
@@ -634,16 +635,17 @@ void Engine::use_scene_waves() {
 Status Engine::update(const FrameUpdate& f) {
   Impl& s = *impl_;
   if (!std::isfinite(f.time)) return usage("update: time is not finite");
-  const std::vector<bool>& cmap_casters = s.caustic_map_casters(f.caustics.glass_method);
-  if (CausticMapEngine::needed(cmap_casters)) CAUSTIX_RETURN_IF_ERROR(CausticMapEngine::check(f.caustics.caustic_map));
-  const ShadowOptions& so = f.caustics.shadows;
-  if (so.vsm_filter < 1 || so.vsm_filter > 63 || so.vsm_filter % 2 == 0) {
-    return usage("shadow options: vsm_filter must be odd, 1..63 texels, got " + std::to_string(so.vsm_filter));
-  }
-  if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) return usage("shadow options: vsm_bleeding must be in [0, 0.95]");
-  CAUSTIX_RETURN_IF_ERROR(check_wavelengths(s.scene, f.caustics));
   if (f.light_side_interval < 1 || f.light_side_interval > 64) {
     return usage("update: light_side_interval must be 1..64, got " + std::to_string(f.light_side_interval));
+  }
+  // The options are checked where they change: once, by the effects
+  // that read them, not every frame.
+  const bool new_options = s.options != f.caustics;
+  if (new_options) {
+    Impl::Services checking(s);
+    CAUSTIX_RETURN_IF_ERROR(check_wavelengths(s.scene, f.caustics));
+    for (const auto& e : s.effects) CAUSTIX_RETURN_IF_ERROR(e->check(f.caustics, checking));
+    s.options = f.caustics;
   }
   s.begin_frame_calls();
   const auto scope = s.count_frame();
@@ -657,8 +659,6 @@ Status Engine::update(const FrameUpdate& f) {
   Impl::Services services(s);
   for (const auto& e : s.effects) CAUSTIX_RETURN_IF_ERROR(e->begin_frame(FrameStart{s.scene, s.frame, co, services}));
   FrameWork& work = s.work;
-  const bool new_options = s.table_options != co;
-  s.table_options = co;
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     // Lights take turns when the light side runs every Nth frame.
     const bool due = f.light_side_interval <= 1 || (s.frame + li) % f.light_side_interval == 0;

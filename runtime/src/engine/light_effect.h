@@ -86,6 +86,10 @@ struct LightUpdate {
 class LightEffect {
  public:
   virtual ~LightEffect() = default;
+  // Checks the options it reads (a usage error names the field). The
+  // Engine calls it when the options differ from the last accepted ones,
+  // not every frame.
+  virtual Status check(const CausticsOptions&, EngineServices&) { return Status::success(); }
   // Whether update_light() runs this frame with these options.
   virtual bool active(const CausticsOptions& options) const = 0;
   // Whether its passes read the light's block (the Engine uploads it with

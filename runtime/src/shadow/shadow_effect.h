@@ -12,6 +12,7 @@ namespace caustix::runtime {
 class ShadowEffect final : public LightEffect {
  public:
   explicit ShadowEffect(ShadowMaps& maps) : maps_(maps) {}
+  Status check(const CausticsOptions& o, EngineServices&) override { return ShadowMaps::check(o.shadows); }
   bool active(const CausticsOptions&) const override { return true; }
   Status begin_frame(const FrameStart&) override { return Status::success(); }
   Status update_light(const LightUpdate& u) override {

@@ -211,6 +211,16 @@ ShadowMaps::Maps ShadowMaps::maps(std::uint32_t li) const {
   return m;
 }
 
+Status ShadowMaps::check(const ShadowOptions& so) {
+  if (so.vsm_filter < 1 || so.vsm_filter > 63 || so.vsm_filter % 2 == 0) {
+    return make_error(ErrorCode::kUsage, "shadow options: vsm_filter must be odd, 1..63 texels, got " + std::to_string(so.vsm_filter));
+  }
+  if (!(so.vsm_bleeding >= 0.0f && so.vsm_bleeding <= 0.95f)) {
+    return make_error(ErrorCode::kUsage, "shadow options: vsm_bleeding must be in [0, 0.95]");
+  }
+  return Status::success();
+}
+
 std::uint64_t ShadowMaps::gpu_bytes() const { return bytes_; }
 
 }  // namespace caustix::runtime

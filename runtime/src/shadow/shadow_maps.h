@@ -32,6 +32,8 @@ class ShadowMaps {
 
   // draw_object(i) issues object i's draw call with u_model set by the caller of draw_casters.
   static Result<ShadowMaps> create(const SceneDesc& scene, std::function<void(std::uint32_t)> draw_object);
+  // The options' ranges (a usage error naming the field).
+  static Status check(const ShadowOptions& options);
 
   // Renders light `li`'s maps; `center`, `radius` bound the scene. Only
   // when the light, the transforms (`versions`) or the options changed

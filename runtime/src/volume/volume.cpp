@@ -391,16 +391,21 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
   return e;
 }
 
-Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o) {
-  Impl& s = *impl_;
-  s.poll();
-  s.ran = false;
+Status VolumeEngine::check(const VolumeOptions& o) {
   if (!o.enabled) return Status::success();
   if (o.photons < 1 || o.photons > 8192 || o.grid < 2 || o.grid > 1024 || !(o.step >= 0.05f && o.step <= 16.0f) ||
       !(o.view_step >= 0.05f && o.view_step <= 16.0f) || o.focus_grid == 1 || o.focus_grid > 128) {
     return make_error(ErrorCode::kUsage,
                       "volume options: photons 1..8192 per axis, grid 2..1024, focus grid 0 (off) or 2..128, step and view step 0.05..16 voxels");
   }
+  return Status::success();
+}
+
+Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o) {
+  Impl& s = *impl_;
+  s.poll();
+  s.ran = false;
+  if (!o.enabled) return Status::success();
   const Box box = s.scattering_box(scene);
   if (box.empty()) return Status::success();
   const glm::vec3 ext = box.hi - box.lo;

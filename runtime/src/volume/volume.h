@@ -49,6 +49,8 @@ class VolumeEngine {
 
   // Clears last frame's statistics; re-allocates the grids if the options
   // changed their size (kUsage beyond kMaxRadianceVoxels).
+  // The options' ranges, when enabled (a usage error).
+  static Status check(const VolumeOptions& options);
   Status begin_frame(const SceneDesc& scene, const VolumeOptions& options);
   // Photons of light `li` into its radiance grid. `bind_light` binds the
   // light's block and shadow maps (caustix.glsl). `water` is the animated

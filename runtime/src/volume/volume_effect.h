@@ -16,6 +16,7 @@ namespace caustix::runtime {
 class VolumeEffect final : public LightEffect {
  public:
   explicit VolumeEffect(VolumeEngine& volume) : volume_(volume) {}
+  Status check(const CausticsOptions& o, EngineServices&) override { return VolumeEngine::check(o.volume); }
   bool active(const CausticsOptions&) const override { return true; }
   bool reads_light_block() const override { return true; }
   bool writes_light_block() const override { return false; }

@@ -155,6 +155,9 @@ class Engine {
   // the options) or FrameUpdate::light_side_interval says it is due; a
   // still scene costs no GPU work here (stats().work). Once warmed up it
   // never waits for the GPU (stats().gl.syncs; docs/embedding.md).
+  // frame.caustics is checked when it differs from the last options
+  // accepted (kUsage naming the field, the engine left as it was); the
+  // same options again are not checked again.
   Status update(const FrameUpdate& frame);
 
   // The resources of (receiver object, light) from the last update(). An
