@@ -66,6 +66,7 @@ struct LightFrame {
   glm::vec2 map_half, caster_half;
   glm::vec3 caster_origin;
   float v_lo = 0, v_hi = 0;  // range along V of everything
+  float diagonal = 0;        // of the box around every object
 };
 
 // Corners' extents of boxes along U, W, V.
@@ -80,6 +81,59 @@ void extents(const LightFrame& f, const std::vector<std::array<glm::vec3, 2>>& b
       hi = glm::max(hi, q);
     }
   }
+}
+
+// The frame along light `light` over every object's box, with the map's
+// rectangle over all of them and the photons' over the casters' (a texel
+// of margin on each side, at most 1 %, so that nothing touches the
+// border). V towards the light (directional), or from the scene's centre
+// towards it (point: an orthographic approximation of its view).
+LightFrame light_frame(const Light& light, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
+                       const std::vector<std::array<glm::vec3, 2>>& caster_boxes, int size, int side) {
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& b : world_boxes) {
+    lo = glm::min(lo, b[0]);
+    hi = glm::max(hi, b[1]);
+  }
+  LightFrame f;
+  f.diagonal = glm::length(hi - lo);
+  const bool directional = light.type == LightType::kDirectional;
+  f.v = directional ? -glm::normalize(to_glm(light.direction)) : glm::normalize(to_glm(light.position) - 0.5f * (lo + hi));
+  const glm::vec3 up = std::fabs(f.v.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  f.u = glm::normalize(glm::cross(up, f.v));
+  f.w = glm::cross(f.v, f.u);
+  glm::vec3 all_lo, all_hi, c_lo, c_hi;
+  extents(f, world_boxes, all_lo, all_hi);
+  extents(f, caster_boxes, c_lo, c_hi);
+  auto rect = [&](const glm::vec3& a, const glm::vec3& b, int n, glm::vec3& origin, glm::vec2& half) {
+    half = glm::max(0.5f * glm::vec2(b.x - a.x, b.y - a.y), glm::vec2(1e-4f));
+    half *= 1.0f + std::min(2.0f / static_cast<float>(n), 0.01f);
+    const glm::vec2 mid = 0.5f * glm::vec2(a.x + b.x, a.y + b.y);
+    origin = mid.x * f.u + mid.y * f.w + 0.5f * (all_lo.z + all_hi.z) * f.v;
+  };
+  rect(all_lo, all_hi, size, f.origin, f.map_half);
+  rect(c_lo, c_hi, side, f.caster_origin, f.caster_half);
+  const float v0 = glm::dot(f.origin, f.v);
+  f.v_lo = all_lo.z - v0;
+  f.v_hi = all_hi.z - v0;
+  return f;
+}
+
+// Orthographic projection of a rectangle of the frame: clip x, y over it,
+// depth from the nearest to the light (largest V) to the farthest.
+glm::mat4 ortho(const LightFrame& f, const glm::vec3& origin, const glm::vec2& half) {
+  const float v0 = glm::dot(f.origin, f.v);
+  const float v_pad = 0.01f * (f.v_hi - f.v_lo) + 1e-4f;
+  const float vh = 0.5f * (f.v_hi - f.v_lo) + v_pad, vc = v0 + 0.5f * (f.v_hi + f.v_lo);
+  glm::mat4 m(0.0f);
+  const glm::vec3 rows[3] = {f.u / half.x, f.w / half.y, -f.v / vh};
+  const float offs[3] = {-glm::dot(f.u, origin) / half.x, -glm::dot(f.w, origin) / half.y, vc / vh};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[c][r] = rows[r][c];
+    m[3][r] = offs[r];
+  }
+  m[3][3] = 1.0f;
+  return m;
 }
 
 }  // namespace
@@ -124,8 +178,31 @@ struct CausticMapEngine::Impl {
   std::array<std::uint32_t, kCounters> counted{};
   std::uint64_t counted_frame = 0, frame = 0;
   bool counting = false;
-  // What each light's map was made from (issue 44).
+  // What each light's map was made from.
   MadeFrom<LightInputs> made;
+
+  // One light's update, pass by pass (update_light): what its passes
+  // share -- the frame, the map's and the photon grid's sides, the switches
+  // the options set.
+  struct LightPass {
+    LightFrame frame;
+    int size = 0, side = 0, fside = 0;  // caustic map, photon grid, focus window (texels a side)
+    bool adaptive = false, focus = false, two_pass = false;
+    bool variable = false;  // adaptive one-pass splats sized by the photons' density
+    float sigma = 0, texel = 0;
+  };
+  bool fill_materials(const SceneDesc& scene, const std::vector<bool>& casters, const std::vector<std::array<glm::vec3, 2>>& world_boxes,
+                      std::vector<std::array<glm::vec3, 2>>& caster_boxes);
+  void capture_surfaces(const SceneDesc& scene, PerLight& pl, const LightPass& lp, const std::vector<bool>& casters);
+  Status build_photons_inside();
+  void set_uniforms(const SceneDesc& scene, const Light& light, const CausticMapOptions& o, const PerLight& pl, const LightPass& lp,
+                    const gl::Program& p);
+  void dispatch_photons(const PerLight& pl, const LightPass& lp);
+  void draw_photons(const PerLight& pl, const LightPass& lp);
+  void trace_photons(PerLight& pl, const LightPass& lp, const gl::Program& p, const glm::vec3& weight, bool place_focus);
+  void count_photons(PerLight& pl, const LightPass& lp, GLuint texture, int side_texels, int window);
+  void splat_photons(PerLight& pl, const LightPass& lp, GLuint target);
+  void blur_map(PerLight& pl, const LightPass& lp);
   void poll() {
     readback.poll([&](std::uint64_t tag, const std::uint8_t* data) {
       std::memcpy(counted.data(), data, sizeof counted);
@@ -356,26 +433,20 @@ Result<std::unique_ptr<CausticMapEngine>> CausticMapEngine::create(const SceneDe
   return e;
 }
 
-Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& options,
-                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const std::vector<bool>& casters,
-                                      const SceneVersions& versions, bool due, EffectWork& work) {
-  Impl& s = *impl_;
-  const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
-  if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
-  s.made.made(li, key);
-  Impl::PerLight& pl = s.lights[li];
-  const CausticMapOptions& o = options.caustic_map;
-  pl.valid = false;
-  std::vector<std::array<glm::vec3, 2>> caster_boxes;
+// Fills the photon pass's material of every object (0 where it casts
+// nothing) and gives the casters' boxes; true where a receiver's box meets
+// a casting glass's, so that the photons look for a receiver inside it
+// before the exit (only scenes with one pay).
+bool CausticMapEngine::Impl::fill_materials(const SceneDesc& scene, const std::vector<bool>& casters,
+                                            const std::vector<std::array<glm::vec3, 2>>& world_boxes,
+                                            std::vector<std::array<glm::vec3, 2>>& caster_boxes) {
   bool any_inside = false;
   for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
     const Object& obj = scene.objects[i];
     const bool active = casters[i];
-    float* md = &s.material_data[kMaterialFloats * i];
+    float* md = &material_data[kMaterialFloats * i];
     md[0] = !active ? 0.0f : is_mirror(obj.role) ? 2.0f : is_thin(obj.role) ? 3.0f : 1.0f;
     md[1] = obj.material.ior;
-    // 1: a receiver's box meets this glass's, so the photons look for a
-    // receiver inside it before the exit (only scenes with one pay).
     md[2] = 0.0f;
     for (std::uint32_t j = 0; active && is_transparent(obj.role) && j < scene.objects.size(); ++j) {
       const auto &a = world_boxes[i], &b = world_boxes[j];
@@ -392,95 +463,33 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     }
     if (active) caster_boxes.push_back(world_boxes[i]);
   }
-  if (caster_boxes.empty()) return Status::success();
-  glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
+  return any_inside;
+}
 
-  // The frame: V towards the light (directional), or from the scene's
-  // centre towards it (point: an orthographic approximation of its view).
-  const Light& light = scene.lights[li];
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  for (const auto& b : world_boxes) {
-    lo = glm::min(lo, b[0]);
-    hi = glm::max(hi, b[1]);
-  }
-  LightFrame f;
-  const bool directional = light.type == LightType::kDirectional;
-  f.v = directional ? -glm::normalize(to_glm(light.direction)) : glm::normalize(to_glm(light.position) - 0.5f * (lo + hi));
-  const glm::vec3 up = std::fabs(f.v.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-  f.u = glm::normalize(glm::cross(up, f.v));
-  f.w = glm::cross(f.v, f.u);
-  glm::vec3 all_lo, all_hi, c_lo, c_hi;
-  extents(f, world_boxes, all_lo, all_hi);
-  extents(f, caster_boxes, c_lo, c_hi);
-  const int size = static_cast<int>(o.map_size);
-  const std::uint32_t cell = 1u << o.adaptive_levels;
-  const int side = static_cast<int>((o.photons + cell - 1) / cell * cell);
-  s.ensure(pl, side, size, o.adaptive_levels, o.photon_budget, o.focus);
-  const int fside = focus_side(size);
-  const bool adaptive = o.adaptive_levels > 0;
-  // A texel of margin on each side (at most 1 %) so that nothing touches
-  // the border.
-  auto rect = [&](const glm::vec3& a, const glm::vec3& b, int n, glm::vec3& origin, glm::vec2& half) {
-    half = glm::max(0.5f * glm::vec2(b.x - a.x, b.y - a.y), glm::vec2(1e-4f));
-    half *= 1.0f + std::min(2.0f / static_cast<float>(n), 0.01f);
-    const glm::vec2 mid = 0.5f * glm::vec2(a.x + b.x, a.y + b.y);
-    origin = mid.x * f.u + mid.y * f.w + 0.5f * (all_lo.z + all_hi.z) * f.v;
-  };
-  rect(all_lo, all_hi, size, f.origin, f.map_half);
-  rect(c_lo, c_hi, side, f.caster_origin, f.caster_half);
-  const float v0 = glm::dot(f.origin, f.v);
-  f.v_lo = all_lo.z - v0;
-  f.v_hi = all_hi.z - v0;
-  const float v_pad = 0.01f * (f.v_hi - f.v_lo) + 1e-4f;
-  // Orthographic projection of a rectangle: clip x, y over it, depth from
-  // the nearest to the light (largest V) to the farthest.
-  auto ortho = [&](const glm::vec3& origin, const glm::vec2& half) {
-    const float vh = 0.5f * (f.v_hi - f.v_lo) + v_pad, vc = v0 + 0.5f * (f.v_hi + f.v_lo);
-    glm::mat4 m(0.0f);
-    const glm::vec3 rows[3] = {f.u / half.x, f.w / half.y, -f.v / vh};
-    const float offs[3] = {-glm::dot(f.u, origin) / half.x, -glm::dot(f.w, origin) / half.y, vc / vh};
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) m[c][r] = rows[r][c];
-      m[3][r] = offs[r];
-    }
-    m[3][3] = 1.0f;
-    return m;
-  };
-
-  // Dispersion (issue 22): the photons and their splats once per traced
-  // wavelength, every glass index at n(lambda) and each photon's power
-  // times its bin's RGB weights; the splats add up in the one map.
-  const std::vector<WavelengthSample> waves = traced_wavelengths(scene, options);
-  if (!pl.capture_q.get()) pl.capture_q = gl::make_query(GL_TIME_ELAPSED);
-  while (pl.photon_q.size() < waves.size()) {
-    pl.photon_q.push_back(gl::make_query(GL_TIME_ELAPSED));
-    pl.splat_q.push_back(gl::make_query(GL_TIME_ELAPSED));
-  }
-  pl.wavelengths = static_cast<std::uint32_t>(waves.size());
-  glBeginQuery(GL_TIME_ELAPSED, pl.capture_q.get());
-  std::optional<gl::TimedPass> timed;
-  timed.emplace("caustic maps: capture", gl::PassKind::kRaster);
+// The receivers into the caustic map's alpha (their V) and the receiver
+// map, then the casters' nearest and farthest surfaces (positions and
+// normals) over the photons' grid.
+void CausticMapEngine::Impl::capture_surfaces(const SceneDesc& scene, PerLight& pl, const LightPass& lp, const std::vector<bool>& casters) {
+  const LightFrame& f = lp.frame;
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDepthMask(GL_TRUE);
   glEnable(GL_DEPTH_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  s.capture.set("u_origin", f.origin);
-  s.capture.set("u_v", f.v);
-  // Receivers: caustic map alpha and the receiver map.
+  capture.set("u_origin", f.origin);
+  capture.set("u_v", f.v);
   const float zero[4] = {0, 0, 0, -1e30f};
   const float none[4] = {0, 0, 0, -1e30f};
   glBindFramebuffer(GL_FRAMEBUFFER, pl.receiver_fbo.get());
-  glViewport(0, 0, size, size);
+  glViewport(0, 0, lp.size, lp.size);
   glClearTexImage(pl.map.get(), 0, GL_RGBA, GL_FLOAT, zero);  // the window's rows too (outside the framebuffer's size x size)
   glClearNamedFramebufferfv(pl.receiver_fbo.get(), GL_COLOR, 1, none);
   glClearNamedFramebufferfi(pl.receiver_fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glDepthFunc(GL_LESS);
-  s.draw(scene, ortho(f.origin, f.map_half), false, casters);
-  // Casters: nearest (front) and farthest (back) surfaces.
+  draw(scene, ortho(f, f.origin, f.map_half), false, casters);
   glBindFramebuffer(GL_FRAMEBUFFER, pl.caster_fbo.get());
-  glViewport(0, 0, side, side);
+  glViewport(0, 0, lp.side, lp.side);
   const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   const float empty[4] = {0, 0, 0, 0};
   for (int layer = 0; layer < 2; ++layer) {
@@ -492,42 +501,31 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
     glClearNamedFramebufferfv(pl.caster_fbo.get(), GL_COLOR, 1, empty);
     glClearNamedFramebufferfi(pl.caster_fbo.get(), GL_DEPTH_STENCIL, 0, layer ? 0.0f : 1.0f, 0);
     glDepthFunc(layer ? GL_GREATER : GL_LESS);
-    s.draw(scene, ortho(f.caster_origin, f.caster_half), true, casters);
+    draw(scene, ortho(f, f.caster_origin, f.caster_half), true, casters);
   }
   glDepthFunc(GL_LESS);
-  glEndQuery(GL_TIME_ELAPSED);
+}
 
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-  s.counting = true;
-  timed.reset();
-  if (adaptive) {
-    const gl::TimedPass traversal("caustic maps: adaptive traversal", gl::PassKind::kCompute);
-    s.traverse(pl);  // over the casters' coverage, the same at every wavelength
-  }
-  const float sigma = o.splat_sigma;
-  const bool two_pass = o.two_pass && sigma > 0;
-  GLuint target = pl.map.get();
-  if (two_pass) {
-    target = pl.scratch.get();
-    const float clear[4] = {0, 0, 0, 0};
-    glClearTexImage(target, 0, GL_RGBA, GL_FLOAT, clear);
-  }
-  const float diagonal = glm::length(hi - lo);
-  // A landing point must lie on the receiver texel it projects into: within
-  // two texels' run along V on a surface tilted up to 75 degrees.
-  const float texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(size);
-  // What every wavelength shares: the programs' uniforms but the weight.
-  const bool variable = adaptive && !two_pass;
-  if (any_inside && !s.photons_inside) {
-    const std::string src = with_optics(shaders::k_causticmap_photons_comp_glsl);
-    auto built = gl::Program::build_compute("causticmap_photons (receivers inside glass)",
-                                            insert_after_version(src.c_str(), "#define CAUSTIX_RECEIVERS_INSIDE\n").c_str());
-    if (!built) return built.error();
-    s.photons_inside = std::move(*built);
-  }
-  const gl::Program& p = any_inside ? *s.photons_inside : s.photons;
-  p.set("u_photons", side);
-  p.set("u_adaptive", adaptive ? 1 : 0);
+// The photon pass that also looks for receivers inside glass, built the
+// first time a scene needs it.
+Status CausticMapEngine::Impl::build_photons_inside() {
+  if (photons_inside) return Status::success();
+  const std::string src = with_optics(shaders::k_causticmap_photons_comp_glsl);
+  auto built = gl::Program::build_compute("causticmap_photons (receivers inside glass)",
+                                          insert_after_version(src.c_str(), "#define CAUSTIX_RECEIVERS_INSIDE\n").c_str());
+  if (!built) return built.error();
+  photons_inside = std::move(*built);
+  return Status::success();
+}
+
+// What every wavelength shares: the photon, splat and focus programs'
+// uniforms but the photons' weight.
+void CausticMapEngine::Impl::set_uniforms(const SceneDesc& scene, const Light& light, const CausticMapOptions& o, const PerLight& pl,
+                                          const LightPass& lp, const gl::Program& p) {
+  const LightFrame& f = lp.frame;
+  const bool directional = light.type == LightType::kDirectional;
+  p.set("u_photons", lp.side);
+  p.set("u_adaptive", lp.adaptive ? 1 : 0);
   glProgramUniform1iv(p.id(), p.loc("u_offset"), 9, pl.offsets.data());
   p.set("u_budget", static_cast<unsigned>(pl.budget));
   p.set("u_u", f.u);
@@ -550,40 +548,236 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   p.set("u_tir_one_sided", o.tir_one_sided ? 1 : 0);
   p.set("u_edge_cos", o.edge_cos);
   p.set("u_max_deviation_cos", std::cos(glm::radians(o.max_deviation_deg)));
-  p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : diagonal);
-  p.set("u_tolerance", 2.0f * texel * 3.73f + 1e-4f * diagonal);
-  s.splat.set("u_max_radius", s.max_splat_radius);
-  s.splat.set("u_variable", variable ? 1 : 0);
-  s.splat.set("u_block", static_cast<float>(kDensityBlock));
-  s.splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(size * size));
-  s.splat.set("u_v", f.v);
-  s.splat.set("u_main_size", static_cast<float>(size));
-  s.splat.set("u_window_size", static_cast<float>(fside));
-  s.splat.set("u_window_sigma", sigma);
-  s.splat.set("u_grid", adaptive ? 0 : side);
-  if (o.focus) {
+  p.set("u_max_travel", o.max_travel > 0 ? o.max_travel : f.diagonal);
+  p.set("u_tolerance", 2.0f * lp.texel * 3.73f + 1e-4f * f.diagonal);
+  splat.set("u_max_radius", max_splat_radius);
+  splat.set("u_variable", lp.variable ? 1 : 0);
+  splat.set("u_block", static_cast<float>(kDensityBlock));
+  splat.set("u_texel_area", 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(lp.size * lp.size));
+  splat.set("u_v", f.v);
+  splat.set("u_main_size", static_cast<float>(lp.size));
+  splat.set("u_window_size", static_cast<float>(lp.fside));
+  splat.set("u_window_sigma", lp.sigma);
+  splat.set("u_grid", lp.adaptive ? 0 : lp.side);
+  if (lp.focus) {
     // The focus cells' threshold: the photons (finest-grid units) a cell
     // catches straight from the light, times kFocusConcentration.
-    const float photon_area = 4.0f * f.caster_half.x * f.caster_half.y / static_cast<float>(side * side);
+    const float photon_area = 4.0f * f.caster_half.x * f.caster_half.y / static_cast<float>(lp.side * lp.side);
     const float cell_area = 4.0f * f.map_half.x * f.map_half.y / static_cast<float>(kFocusBins * kFocusBins);
-    s.focus.set("u_photons", side);
-    s.focus.set("u_adaptive", adaptive ? 1 : 0);
+    focus.set("u_photons", lp.side);
+    focus.set("u_adaptive", lp.adaptive ? 1 : 0);
     const float min_count = std::max(kFocusMinPhotons, kFocusConcentration * cell_area / photon_area);
-    s.focus.set("u_min_count", min_count);
-    s.splat.set("u_min_count", min_count);
-    s.focus.set("u_min_half", kFocusMinHalf);
-    s.focus.set("u_max_half", kFocusMaxHalf);
-    glProgramUniform2i(s.focus.id(), s.focus.loc("u_params"), size - 1, size + fside - 1);
+    focus.set("u_min_count", min_count);
+    splat.set("u_min_count", min_count);
+    focus.set("u_min_half", kFocusMinHalf);
+    focus.set("u_max_half", kFocusMaxHalf);
+    glProgramUniform2i(focus.id(), focus.loc("u_params"), lp.size - 1, lp.size + lp.fside - 1);
   }
-  const auto draw_photons = [&] {
-    if (adaptive) {
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
-      glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    } else {
-      glDrawArrays(GL_POINTS, 0, side * side);
-    }
-  };
+}
+
+// One dispatch over the photons: the adaptive traversal's leaves, or the
+// whole grid.
+void CausticMapEngine::Impl::dispatch_photons(const PerLight& pl, const LightPass& lp) {
+  if (lp.adaptive) {
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
+    glDispatchComputeIndirect(kPhotonDispatchOffset);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  } else {
+    const GLuint groups = static_cast<GLuint>((lp.side + 7) / 8);
+    glDispatchCompute(groups, groups, 1);
+  }
+}
+
+// One point per photon: the adaptive traversal's leaves, or the grid.
+void CausticMapEngine::Impl::draw_photons(const PerLight& pl, const LightPass& lp) {
+  if (lp.adaptive) {
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, pl.state.get());
+    glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kDrawOffset));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  } else {
+    glDrawArrays(GL_POINTS, 0, lp.side * lp.side);
+  }
+}
+
+// Traces one wavelength's photons (weighted by its bin's RGB) and, with
+// `place_focus`, places the focus window from where they landed.
+void CausticMapEngine::Impl::trace_photons(PerLight& pl, const LightPass& lp, const gl::Program& p, const glm::vec3& weight,
+                                           bool place_focus) {
+  p.use();
+  p.set("u_weight", weight);
+  glBindTextureUnit(0, pl.front_pos.get());
+  glBindTextureUnit(1, pl.front_nrm.get());
+  glBindTextureUnit(2, pl.back_pos.get());
+  glBindTextureUnit(3, pl.back_nrm.get());
+  glBindTextureUnit(4, pl.receivers.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, materials.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, counters.get());
+  if (!lp.adaptive) {
+    // The adaptive blocks are not read; any buffer keeps them bound.
+    for (GLuint b : {3u, 4u, 5u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, counters.get());
+  }
+  dispatch_photons(pl, lp);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  if (!place_focus) return;
+  focus.use();
+  glClearNamedBufferData(pl.focus_buffer.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, pl.focus_buffer.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, lp.adaptive ? pl.state.get() : counters.get());
+  glBindImageTexture(0, pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  focus.set("u_stage", 0);
+  dispatch_photons(pl, lp);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  focus.set("u_stage", 1);
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                  GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+// Photons counted into a density texture of `side_texels` texels (over the
+// main map, or over the focus window: causticmap_density.vert).
+void CausticMapEngine::Impl::count_photons(PerLight& pl, const LightPass& lp, GLuint texture, int side_texels, int window) {
+  const float no_photons[4] = {0, 0, 0, 0};
+  glClearTexImage(texture, 0, GL_RGBA, GL_FLOAT, no_photons);
+  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, texture, 0);
+  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+  glViewport(0, 0, side_texels, side_texels);
+  glBlendFunc(GL_ONE, GL_ONE);
+  density.use();
+  density.set("u_window", window);
+  draw_photons(pl, lp);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+// Splats the photons into `target` (the caustic map in one pass, or the
+// two-pass blur's scratch at one texel each), and the focus window's share
+// into its texels above the main map.
+void CausticMapEngine::Impl::splat_photons(PerLight& pl, const LightPass& lp, GLuint target) {
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glBindVertexArray(empty_vao.get());
+  // Adaptive one-pass splats size themselves by the landed photons'
+  // density: count them first.
+  if (lp.variable) count_photons(pl, lp, pl.density.get(), std::max(1, lp.size / kDensityBlock), 0);
+  // The focus window's share of each photon (causticmap_splat.vert): for
+  // adaptive leaves from the photons counted over the window.
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, lp.focus ? pl.focus_buffer.get() : counters.get());
+  if (lp.focus && lp.adaptive) count_photons(pl, lp, pl.focus_density.get(), std::max(1, lp.fside / kDensityBlock), 1);
+  glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
+  glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
+  glViewport(0, 0, lp.size, lp.size);
+  glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
+  splat.use();
+  glBindTextureUnit(0, pl.receivers.get());
+  glBindTextureUnit(1, pl.density.get());
+  glBindTextureUnit(2, pl.focus_density.get() ? pl.focus_density.get() : pl.density.get());
+  splat.set("u_focus", lp.focus ? 1 : 0);
+  splat.set("u_window", 0);
+  splat.set("u_size", static_cast<float>(lp.size));
+  splat.set("u_sigma", lp.two_pass ? 0.0f : lp.sigma);
+  splat.set("u_origin", glm::vec2(0.0f));
+  draw_photons(pl, lp);
+  if (lp.focus) {
+    // One-pass Gaussians in the window (also with the two-pass blur, which
+    // covers the main map only).
+    glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.map.get(), 0);
+    glViewport(0, lp.size, lp.fside, lp.fside);
+    splat.set("u_window", 1);
+    splat.set("u_size", static_cast<float>(lp.fside));
+    splat.set("u_sigma", lp.sigma);
+    splat.set("u_origin", glm::vec2(0.0f, static_cast<float>(lp.size)));
+    draw_photons(pl, lp);
+  }
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glDisable(GL_BLEND);
+}
+
+// The two-pass splats' separable Gaussian, scratch -> scratch2 -> map.
+void CausticMapEngine::Impl::blur_map(PerLight& pl, const LightPass& lp) {
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  blur.use();
+  blur.set("u_sigma", lp.sigma);
+  const GLuint g = static_cast<GLuint>((lp.size + 7) / 8);
+  for (int axis = 0; axis < 2; ++axis) {
+    blur.set("u_axis", axis);
+    glBindTextureUnit(0, axis == 0 ? pl.scratch.get() : pl.scratch2.get());
+    glBindTextureUnit(1, pl.map.get());
+    glBindImageTexture(0, axis == 0 ? pl.scratch2.get() : pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(g, g, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+}
+
+Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, const CausticsOptions& options,
+                                      const std::vector<std::array<glm::vec3, 2>>& world_boxes, const std::vector<bool>& casters,
+                                      const SceneVersions& versions, bool due, EffectWork& work) {
+  Impl& s = *impl_;
+  const LightInputs key{SceneVersions{versions.light, versions.transforms, 0}, options};  // not the water's
+  if (s.made.decide(li, key, due, work) != Refresh::kRemake) return Status::success();
+  s.made.made(li, key);
+  Impl::PerLight& pl = s.lights[li];
+  const CausticMapOptions& o = options.caustic_map;
+  pl.valid = false;
+  std::vector<std::array<glm::vec3, 2>> caster_boxes;
+  const bool any_inside = s.fill_materials(scene, casters, world_boxes, caster_boxes);
+  if (caster_boxes.empty()) return Status::success();
+  glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
+
+  const Light& light = scene.lights[li];
+  Impl::LightPass lp;
+  lp.size = static_cast<int>(o.map_size);
+  const std::uint32_t cell = 1u << o.adaptive_levels;
+  lp.side = static_cast<int>((o.photons + cell - 1) / cell * cell);
+  lp.fside = focus_side(lp.size);
+  lp.adaptive = o.adaptive_levels > 0;
+  lp.focus = o.focus;
+  lp.sigma = o.splat_sigma;
+  lp.two_pass = o.two_pass && lp.sigma > 0;
+  lp.variable = lp.adaptive && !lp.two_pass;
+  lp.frame = light_frame(light, world_boxes, caster_boxes, lp.size, lp.side);
+  const LightFrame& f = lp.frame;
+  // A landing point must lie on the receiver texel it projects into: within
+  // two texels' run along V on a surface tilted up to 75 degrees.
+  lp.texel = 2.0f * std::max(f.map_half.x, f.map_half.y) / static_cast<float>(lp.size);
+  s.ensure(pl, lp.side, lp.size, o.adaptive_levels, o.photon_budget, o.focus);
+
+  // Dispersion: the photons and their splats once per traced wavelength,
+  // every glass index at n(lambda) and each photon's power times its bin's
+  // RGB weights; the splats add up in the one map.
+  const std::vector<WavelengthSample> waves = traced_wavelengths(scene, options);
+  if (!pl.capture_q.get()) pl.capture_q = gl::make_query(GL_TIME_ELAPSED);
+  while (pl.photon_q.size() < waves.size()) {
+    pl.photon_q.push_back(gl::make_query(GL_TIME_ELAPSED));
+    pl.splat_q.push_back(gl::make_query(GL_TIME_ELAPSED));
+  }
+  pl.wavelengths = static_cast<std::uint32_t>(waves.size());
+  glBeginQuery(GL_TIME_ELAPSED, pl.capture_q.get());
+  std::optional<gl::TimedPass> timed;
+  timed.emplace("caustic maps: capture", gl::PassKind::kRaster);
+  s.capture_surfaces(scene, pl, lp, casters);
+  glEndQuery(GL_TIME_ELAPSED);
+
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  s.counting = true;
+  timed.reset();
+  if (lp.adaptive) {
+    const gl::TimedPass traversal("caustic maps: adaptive traversal", gl::PassKind::kCompute);
+    s.traverse(pl);  // over the casters' coverage, the same at every wavelength
+  }
+  GLuint target = pl.map.get();
+  if (lp.two_pass) {
+    target = pl.scratch.get();
+    const float clear[4] = {0, 0, 0, 0};
+    glClearTexImage(target, 0, GL_RGBA, GL_FLOAT, clear);
+  }
+  if (any_inside) CAUSTIX_RETURN_IF_ERROR(s.build_photons_inside());
+  const gl::Program& p = any_inside ? *s.photons_inside : s.photons;
+  s.set_uniforms(scene, light, o, pl, lp, p);
   for (std::size_t k = 0; k < waves.size(); ++k) {
     if (waves.size() > 1 || options.wavelength_nm) {
       for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
@@ -592,138 +786,27 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
       }
       glNamedBufferSubData(s.materials.get(), 0, static_cast<GLsizeiptr>(s.material_data.size() * 4), s.material_data.data());
     }
-    // Photons: the adaptive traversal's leaves, or the whole grid.
     glBeginQuery(GL_TIME_ELAPSED, pl.photon_q[k].get());
     timed.emplace("caustic maps: photons", gl::PassKind::kCompute);
-    p.use();
-    p.set("u_weight", glm::vec3(waves[k].rgb[0], waves[k].rgb[1], waves[k].rgb[2]));
-    glBindTextureUnit(0, pl.front_pos.get());
-    glBindTextureUnit(1, pl.front_nrm.get());
-    glBindTextureUnit(2, pl.back_pos.get());
-    glBindTextureUnit(3, pl.back_nrm.get());
-    glBindTextureUnit(4, pl.receivers.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, pl.photon_buffer.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s.materials.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s.counters.get());
-    if (adaptive) {
-      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
-      glDispatchComputeIndirect(kPhotonDispatchOffset);
-      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    } else {
-      // The adaptive blocks are not read; any buffer keeps them bound.
-      for (GLuint b : {3u, 4u, 5u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, s.counters.get());
-      const GLuint groups = static_cast<GLuint>((side + 7) / 8);
-      glDispatchCompute(groups, groups, 1);
-    }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    // The focus window, from where the first wavelength's photons landed
+    // The focus window from where the first wavelength's photons landed
     // (the others' focus lies within its margin).
-    if (o.focus && k == 0) {
-      s.focus.use();
-      glClearNamedBufferData(pl.focus_buffer.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, pl.focus_buffer.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, adaptive ? pl.state.get() : s.counters.get());
-      glBindImageTexture(0, pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      s.focus.set("u_stage", 0);
-      if (adaptive) {
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pl.state.get());
-        glDispatchComputeIndirect(kPhotonDispatchOffset);
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-      } else {
-        const GLuint groups = static_cast<GLuint>((side + 7) / 8);
-        glDispatchCompute(groups, groups, 1);
-      }
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      s.focus.set("u_stage", 1);
-      glDispatchCompute(1, 1, 1);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                      GL_FRAMEBUFFER_BARRIER_BIT);
-    }
+    s.trace_photons(pl, lp, p, glm::vec3(waves[k].rgb[0], waves[k].rgb[1], waves[k].rgb[2]), lp.focus && k == 0);
     glEndQuery(GL_TIME_ELAPSED);
 
-    // Splats into the caustic map (one pass), or into one texel each and a
-    // separable blur (two passes).
     glBeginQuery(GL_TIME_ELAPSED, pl.splat_q[k].get());
     timed.emplace("caustic maps: splats", gl::PassKind::kRaster);
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_FUNC_ADD);
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    glBindVertexArray(s.empty_vao.get());
-    // Photons counted into a density texture of `side` texels (over the
-    // main map, or over the focus window: causticmap_density.vert).
-    const auto count_photons = [&](GLuint texture, int side_texels, int window) {
-      const float no_photons[4] = {0, 0, 0, 0};
-      glClearTexImage(texture, 0, GL_RGBA, GL_FLOAT, no_photons);
-      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, texture, 0);
-      glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
-      glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-      glViewport(0, 0, side_texels, side_texels);
-      glBlendFunc(GL_ONE, GL_ONE);
-      s.density.use();
-      s.density.set("u_window", window);
-      draw_photons();
-      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    };
-    // Adaptive one-pass splats size themselves by the landed photons'
-    // density: count them first.
-    if (variable) count_photons(pl.density.get(), std::max(1, size / kDensityBlock), 0);
-    // The focus window's share of each photon (causticmap_splat.vert): for
-    // adaptive leaves from the photons counted over the window.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, o.focus ? pl.focus_buffer.get() : s.counters.get());
-    if (o.focus && adaptive) count_photons(pl.focus_density.get(), std::max(1, fside / kDensityBlock), 1);
-    glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, target, 0);
-    glNamedFramebufferDrawBuffer(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0);
-    glBindFramebuffer(GL_FRAMEBUFFER, pl.splat_fbo.get());
-    glViewport(0, 0, size, size);
-    glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);  // alpha keeps the receivers' V
-    s.splat.use();
-    glBindTextureUnit(0, pl.receivers.get());
-    glBindTextureUnit(1, pl.density.get());
-    glBindTextureUnit(2, pl.focus_density.get() ? pl.focus_density.get() : pl.density.get());
-    s.splat.set("u_focus", o.focus ? 1 : 0);
-    s.splat.set("u_window", 0);
-    s.splat.set("u_size", static_cast<float>(size));
-    s.splat.set("u_sigma", two_pass ? 0.0f : sigma);
-    s.splat.set("u_origin", glm::vec2(0.0f));
-    draw_photons();
-    if (o.focus) {
-      // The window's share into its texels above the main map, one-pass
-      // Gaussians (also with the two-pass blur, which covers the main map
-      // only).
-      glNamedFramebufferTexture(pl.splat_fbo.get(), GL_COLOR_ATTACHMENT0, pl.map.get(), 0);
-      glViewport(0, size, fside, fside);
-      s.splat.set("u_window", 1);
-      s.splat.set("u_size", static_cast<float>(fside));
-      s.splat.set("u_sigma", sigma);
-      s.splat.set("u_origin", glm::vec2(0.0f, static_cast<float>(size)));
-      draw_photons();
-    }
-    glDisable(GL_PROGRAM_POINT_SIZE);
-    glDisable(GL_BLEND);
+    s.splat_photons(pl, lp, target);
     if (k + 1 < waves.size()) {
       glEndQuery(GL_TIME_ELAPSED);
       // The next wavelength's photons overwrite the buffer these splats read.
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
   }
-  if (two_pass) {
+  if (lp.two_pass) {
     timed.emplace("caustic maps: blur", gl::PassKind::kCompute);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    s.blur.use();
-    s.blur.set("u_sigma", sigma);
-    const GLuint g = static_cast<GLuint>((size + 7) / 8);
-    for (int axis = 0; axis < 2; ++axis) {
-      s.blur.set("u_axis", axis);
-      glBindTextureUnit(0, axis == 0 ? pl.scratch.get() : pl.scratch2.get());
-      glBindTextureUnit(1, pl.map.get());
-      glBindImageTexture(0, axis == 0 ? pl.scratch2.get() : pl.map.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glDispatchCompute(g, g, 1);
-      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    }
+    s.blur_map(pl, lp);
   }
-  if (o.focus) {
+  if (lp.focus) {
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glGenerateTextureMipmap(pl.map.get());
   }
@@ -738,10 +821,10 @@ Status CausticMapEngine::update_light(const SceneDesc& scene, std::uint32_t li, 
   b.frame.w = to_vec3f(f.w);
   b.frame.half = {f.map_half.x, 0.5f * (f.v_hi - f.v_lo), f.map_half.y};
   b.map = pl.map.get();
-  const float n = static_cast<float>(size);
+  const float n = static_cast<float>(lp.size);
   b.texel_diagonal = 0.5f * std::hypot(2.0f * f.map_half.x / n, 2.0f * f.map_half.y / n);
-  b.tolerance = texel + 1e-4f * diagonal;
-  b.main_share = o.focus ? static_cast<float>(size) / static_cast<float>(size + fside) : 1.0f;
+  b.tolerance = lp.texel + 1e-4f * f.diagonal;
+  b.main_share = lp.focus ? static_cast<float>(lp.size) / static_cast<float>(lp.size + lp.fside) : 1.0f;
   pl.valid = true;
   return gl::check_gl("caustic map");
 }
