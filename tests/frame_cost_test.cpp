@@ -204,6 +204,46 @@ TEST_F(FrameCost, AnOverflowingListDrawsWhatFitsSaysSoAndGrows) {
   EXPECT_LT(worst, 0.01) << "after growing, flat water lights the floor evenly";
 }
 
+// The pipeline's counts per pass (ARB_pipeline_statistics_query, which
+// llvmpipe has): glass_ball's caustic map with a 96^2 photon grid, no
+// focus window and no adaptive levels dispatches ceil(96 / 8)^2 groups of
+// causticmap_photons.comp's 8 x 8 and splats 96^2 points, one per photon.
+TEST_F(FrameCost, PassStatisticsCountWhatEachPassRuns) {
+  auto r = renderer_of(test::canonical_scene("glass_ball"), "frame_cost_statistics");
+  ASSERT_TRUE(r);
+  if (!epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query")) GTEST_SKIP() << "the driver has no pipeline statistics";
+  r->engine().set_gpu_timing(true, true);
+  FrameParams f = small_frame(*r, 0.0f);
+  f.caustics.glass_method = runtime::GlassMethod::kCausticMap;
+  f.caustics.caustic_map.photons = 96;
+  f.caustics.caustic_map.adaptive_levels = 0;
+  f.caustics.caustic_map.focus = false;
+  // gpu_times() gives the latest frame before the current one whose
+  // queries completed: the first, once a second has begun.
+  for (int i = 0; i < 2; ++i) {
+    const Status frame = r->render(f);
+    ASSERT_TRUE(frame.ok()) << frame.error().message;
+    glFinish();
+  }
+  const runtime::GpuTimes t = r->engine().gpu_times();
+  ASSERT_TRUE(t.statistics);
+  ASSERT_EQ(t.frame, 1u);
+  const runtime::GpuPassTime* photons = nullptr;
+  const runtime::GpuPassTime* splats = nullptr;
+  for (const runtime::GpuPassTime& p : t.passes) {
+    if (p.name == "caustic maps: photons") photons = &p;
+    if (p.name == "caustic maps: splats") splats = &p;
+    // Each pass counts its own kind of work only.
+    if (p.compute) EXPECT_EQ(p.fragment_invocations, 0u) << p.name;
+    if (!p.compute) EXPECT_EQ(p.compute_invocations, 0u) << p.name;
+  }
+  ASSERT_TRUE(photons && splats);
+  EXPECT_EQ(photons->count, 1u);
+  EXPECT_EQ(photons->compute_invocations, 12u * 12u * 64u);
+  EXPECT_EQ(splats->primitives, 96u * 96u);
+  EXPECT_GT(splats->fragment_invocations, 0u);
+}
+
 TEST_F(FrameCost, PlanesPlannedOnTheGpuEqualTheCpus) {
   auto program = runtime::gl::Program::build_compute("caustics_plan", shaders::k_caustics_plan_comp_glsl);
   ASSERT_TRUE(program.ok()) << program.error().message;

@@ -232,11 +232,19 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
                        mb(m.caustic_maps), mb(m.media), mb(m.water), mb(m.views), mb(m.meshes));
   }
   if (ImGui::CollapsingHeader("GPU time per engine pass")) {
-    r.engine().set_gpu_timing(true);
+    r.engine().set_gpu_timing(true, true);
     const GpuTimes t = r.engine().gpu_times();
     ImGui::Text("frame %llu: compute %.2f ms, raster %.2f ms", static_cast<unsigned long long>(t.frame), t.compute_ms, t.raster_ms);
+    auto k = [](std::uint64_t v) { return static_cast<double>(v) / 1e3; };
     for (const GpuPassTime& p : t.passes) {
-      ImGui::Text("%7.2f ms  %s  %s (x%u)", p.ms, p.compute ? "compute" : "raster ", p.name.c_str(), p.count);
+      if (!t.statistics) {
+        ImGui::Text("%7.2f ms  %s  %s (x%u)", p.ms, p.compute ? "compute" : "raster ", p.name.c_str(), p.count);
+      } else if (p.compute) {
+        ImGui::Text("%7.2f ms  compute  %s (x%u): %.0fk invocations", p.ms, p.name.c_str(), p.count, k(p.compute_invocations));
+      } else {
+        ImGui::Text("%7.2f ms  raster   %s (x%u): %.0fk primitives, %.0fk vertex, %.0fk fragment invocations", p.ms, p.name.c_str(), p.count,
+                    k(p.primitives), k(p.vertex_invocations), k(p.fragment_invocations));
+      }
     }
   } else {
     r.engine().set_gpu_timing(false);

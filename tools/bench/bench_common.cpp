@@ -37,7 +37,7 @@ Result<FrameTimes> time_frames(sample::Renderer& r, const runtime::CausticsOptio
                                const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view,
                                int supersample, std::vector<runtime::GpuTimes>* gpu, bool still) {
   sample::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
-  r.engine().set_gpu_timing(gpu != nullptr);
+  r.engine().set_gpu_timing(gpu != nullptr, gpu != nullptr);  // with the pipeline's counts per pass
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {
     f.time = still ? 0.0f : static_cast<float>(i) / 30.0f;

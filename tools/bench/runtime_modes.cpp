@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <algorithm>
 #include <glm/gtc/matrix_transform.hpp>
 #include <cstdio>
@@ -34,37 +35,50 @@
 namespace caustix::bench {
 namespace {
 
-// The median GPU time of each engine pass over the measured frames, one
-// CSV row per pass (appended to `path`, with a header when it is new).
+// The median GPU time of each engine pass over the measured frames, and
+// the medians of its pipeline counts (empty where the driver has none),
+// one CSV row per pass (appended to `path`, with a header when it is new).
 void write_passes(const std::string& path, const std::string& label, const std::string& cxb, const runtime::CausticsOptions& co,
                   int width, int height, const std::vector<runtime::GpuTimes>& gpu, const std::string& renderer) {
   const bool fresh = !std::ifstream(path).good();
   std::ofstream out(path, std::ios::app);
-  if (fresh) out << "label,scene,method,size,pass,kind,count,median_ms,renderer\n";
+  if (fresh) out << "label,scene,method,size,pass,kind,count,median_ms,vs_invocations,primitives,fs_invocations,cs_invocations,renderer\n";
+  const bool statistics = !gpu.empty() && gpu.front().statistics;
   std::vector<std::pair<std::string, bool>> order;
   for (const runtime::GpuTimes& t : gpu) {
     for (const runtime::GpuPassTime& p : t.passes) {
       if (std::find(order.begin(), order.end(), std::pair{p.name, p.compute}) == order.end()) order.emplace_back(p.name, p.compute);
     }
   }
-  auto row = [&](const std::string& name, const char* kind, std::uint32_t n, double ms) {
+  // counts: the medians of the four pipeline counts, or nothing.
+  auto row = [&](const std::string& name, const char* kind, std::uint32_t n, double ms, const std::string& counts) {
     out << label << "," << std::filesystem::path(cxb).filename().string() << "," << runtime::to_string(co.method) << "," << width << "x" << height << ",\"" << name << "\","
-        << kind << "," << n << "," << ms << ",\"" << renderer << "\"\n";
+        << kind << "," << n << "," << ms << "," << (counts.empty() ? std::string(",,,") : counts) << ",\"" << renderer << "\"\n";
   };
   for (const auto& [name, compute] : order) {
     std::vector<double> ms;
+    std::array<std::vector<double>, 4> stats;
     std::uint32_t n = 0;
     for (const runtime::GpuTimes& t : gpu) {
       double sum = 0;
+      std::array<double, 4> counted{};
       for (const runtime::GpuPassTime& p : t.passes) {
         if (p.name == name && p.compute == compute) {
           sum += p.ms;
           n = p.count;
+          counted = {static_cast<double>(p.vertex_invocations), static_cast<double>(p.primitives), static_cast<double>(p.fragment_invocations),
+                     static_cast<double>(p.compute_invocations)};
         }
       }
       ms.push_back(sum);
+      for (std::size_t k = 0; k < 4; ++k) stats[k].push_back(counted[k]);
     }
-    row(name, compute ? "compute" : "raster", n, median(ms));
+    std::string counts;
+    for (std::size_t k = 0; statistics && k < 4; ++k) {
+      if (k > 0) counts += ',';
+      counts += std::to_string(static_cast<std::uint64_t>(median(stats[k])));
+    }
+    row(name, compute ? "compute" : "raster", n, median(ms), counts);
   }
   std::vector<double> compute_ms, raster_ms;
   for (const runtime::GpuTimes& t : gpu) {
@@ -72,8 +86,8 @@ void write_passes(const std::string& path, const std::string& label, const std::
     raster_ms.push_back(t.raster_ms);
   }
   if (!gpu.empty()) {
-    row("all compute passes", "compute", 0, median(compute_ms));
-    row("all raster passes", "raster", 0, median(raster_ms));
+    row("all compute passes", "compute", 0, median(compute_ms), "");
+    row("all raster passes", "raster", 0, median(raster_ms), "");
   }
 }
 

@@ -874,7 +874,7 @@ CausticsStats Engine::stats(bool wait) {
   return st;
 }
 
-void Engine::set_gpu_timing(bool enabled) { impl_->timer.set_enabled(enabled); }
+void Engine::set_gpu_timing(bool enabled, bool statistics) { impl_->timer.set_enabled(enabled, statistics); }
 
 GpuTimes Engine::gpu_times() {
   const auto scope = impl_->count_frame();

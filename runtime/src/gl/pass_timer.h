@@ -1,13 +1,20 @@
 #pragma once
-// GPU time per pass (issue 44): each pass of the engine's (a shadow map, a
-// level-map cull, the glass's illumination draws...) is bracketed by two
-// GL_TIMESTAMP queries, labelled compute or raster. Queries of the last
-// few frames stay in flight; a frame's times are read once every query of
-// it is available (GL_QUERY_RESULT_AVAILABLE, then _NO_WAIT): never a
-// stall, and the times are a frame or more old. Off until enabled: then a
-// pass costs two glQueryCounter calls. The engine makes its timer current
-// on the calling thread (Timing) for the length of each public call, and
-// the effects mark their passes with TimedPass. Internal to the runtime.
+// GPU time per pass: each pass of the engine's (a shadow map, a level-map
+// cull, the glass's illumination draws...) is bracketed by two
+// GL_TIMESTAMP queries, labelled compute or raster. With statistics on
+// (and ARB_pipeline_statistics_query in the driver) the pass is also
+// counted by four pipeline-statistics queries: vertex-shader invocations,
+// primitives submitted, fragment-shader and compute-shader invocations --
+// the work itself, which a machine without a GPU measures as well as one
+// with. Queries of the last few frames stay in flight; a frame's results
+// are read once every query of it is available (GL_QUERY_RESULT_AVAILABLE,
+// then _NO_WAIT): never a stall, and the results are a frame or more old.
+// Off until enabled: then a pass costs two glQueryCounter calls (and,
+// with statistics, four glBeginQuery / glEndQuery pairs). Passes follow
+// one another; a pass begun inside another ends the outer one's
+// statistics there. The engine makes its timer current on the calling
+// thread (Timing) for the length of each public call, and the effects
+// mark their passes with TimedPass. Internal to the runtime.
 
 #include <epoxy/gl.h>
 
@@ -27,7 +34,9 @@ class PassTimer {
  public:
   static constexpr int kFrames = 4;  // frames whose queries may be in flight
 
-  void set_enabled(bool on) { enabled_ = on; }
+  // `statistics` takes effect where the driver has the extension (the
+  // context must be current).
+  void set_enabled(bool on, bool statistics = false);
   bool enabled() const { return enabled_; }
   // Opens frame `frame` for passes after collecting the frames whose
   // queries have all completed (never waiting). A frame whose slot is
@@ -39,10 +48,12 @@ class PassTimer {
   const GpuTimes& latest();
 
  private:
+  static constexpr int kStatistics = 4;  // vertex, primitive, fragment, compute counts
   struct Pass {
     const char* name;
     PassKind kind;
     std::size_t query;  // its pair: queries[query], queries[query + 1]
+    std::size_t stats;  // with statistics, its four: stats[stats ...]
   };
   struct Frame {
     std::uint64_t frame = 0;
@@ -50,9 +61,14 @@ class PassTimer {
     std::vector<Pass> passes;
     std::vector<Query> queries;  // pooled; grows to the most passes a frame had
     std::size_t used = 0;
+    bool statistics = false;  // its passes were counted
+    std::vector<std::array<Query, kStatistics>> stats;  // pooled as `queries`
+    std::size_t stats_used = 0;
   };
   void collect();
-  bool enabled_ = false;
+  void end_statistics();
+  bool enabled_ = false, statistics_ = false;
+  bool counting_ = false;  // a pass's statistics queries are active
   std::array<Frame, kFrames> frames_{};
   int current_ = -1;
   GpuTimes latest_;

@@ -228,8 +228,11 @@ class Engine {
   CausticsStats stats(bool wait = false);
   // GPU time per pass (GpuTimes): off until enabled (then each pass costs
   // two timestamp queries); the times are of the latest frame whose
-  // queries have completed, read without waiting.
-  void set_gpu_timing(bool enabled);
+  // queries have completed, read without waiting. With `statistics`, each
+  // pass is also counted by pipeline-statistics queries (vertex, fragment
+  // and compute shader invocations, primitives; GpuPassTime) where the
+  // driver has ARB_pipeline_statistics_query (GpuTimes::statistics).
+  void set_gpu_timing(bool enabled, bool statistics = false);
   GpuTimes gpu_times();
   // What the image-space caustic maps did, summed over lights; counters as
   // stats(). With `wait` also the photons' landed power and adaptive levels

@@ -54,17 +54,24 @@ struct FrameWork {
 // waiting: a frame or more old), each named ("level maps: cull", "glass:
 // illumination", "water: surface"...) and labelled compute or raster;
 // passes of one name (per light, per map) are summed. docs/runtime-speed.md
-// lists them.
+// lists them. With statistics (Engine::set_gpu_timing) each pass also has
+// the pipeline's counts (ARB_pipeline_statistics_query): the work itself,
+// the same on llvmpipe as on a GPU.
 struct GpuPassTime {
   std::string name;
   bool compute = false;    // a compute pass (else rasterisation)
   double ms = 0;
   std::uint32_t count = 0;  // how many passes of this name the frame ran
+  std::uint64_t vertex_invocations = 0;    // vertex-shader invocations
+  std::uint64_t primitives = 0;            // primitives submitted (points, lines, triangles)
+  std::uint64_t fragment_invocations = 0;  // fragment-shader invocations
+  std::uint64_t compute_invocations = 0;   // compute-shader invocations
 };
 struct GpuTimes {
   std::uint64_t frame = 0;  // the update() count of the frame measured; 0: none yet
   std::vector<GpuPassTime> passes;
   double compute_ms = 0, raster_ms = 0;
+  bool statistics = false;  // the passes' pipeline counts were measured
 };
 
 // Bytes the engine holds on the GPU, by effect (textures at their mip
