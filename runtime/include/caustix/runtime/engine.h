@@ -231,7 +231,9 @@ class Engine {
   // queries have completed, read without waiting. With `statistics`, each
   // pass is also counted by pipeline-statistics queries (vertex, fragment
   // and compute shader invocations, primitives; GpuPassTime) where the
-  // driver has ARB_pipeline_statistics_query (GpuTimes::statistics).
+  // driver has ARB_pipeline_statistics_query (GpuTimes::statistics);
+  // GL allows one active query per target, so with statistics on the
+  // application keeps none of its own active across engine calls.
   void set_gpu_timing(bool enabled, bool statistics = false);
   GpuTimes gpu_times();
   // What the image-space caustic maps did, summed over lights; counters as
