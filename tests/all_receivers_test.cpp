@@ -67,107 +67,110 @@ struct Case {
 // forward path minifies the water's mipmapped caustics map it reads a
 // coarser level than the table's level 0; that difference is printed (the
 // aliasing a deferred pass accepts; docs/embedding.md).
-// Cost: three scenes, four states each, every receiver drawn both ways
+// One scene per test: four states each, every receiver drawn both ways
 // from both lights.
-TEST_F(AllReceivers, ADeferredPassLightsEveryReceiverFromEveryLightAsBindDoes) {
-  const Case cases[] = {
-      {"wavy_pool", {{"type", "point"}, {"position", {1.0, 4.0, 0.5}}, {"intensity", 6.0}, {"color", {1.0, 0.6, 0.3}}}},
-      {"glass_ball", {{"type", "spot"}, {"position", {-1.0, 2.5, 0.5}}, {"direction", {0.3, -1.0, -0.2}}, {"intensity", 3.0},
-                      {"inner_cone_deg", 20.0}, {"outer_cone_deg", 35.0}}},
-      {"mirror_ring", {{"type", "directional"}, {"direction", {-0.3, -1.0, 0.2}}, {"irradiance", 0.5}, {"color", {0.4, 0.7, 1.0}}},
-       runtime::ShadowFilter::kVsm},  // the moments' arrays too
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.scene);
-    nlohmann::json j = test::canonical_scene(c.scene);
-    j["lights"].push_back(c.extra_light);
-    auto loaded = test::bake_and_load(test::write_scene(j, std::string("all_receivers_") + c.scene));
-    ASSERT_TRUE(loaded);
-    auto created = Engine::create(*loaded);
-    ASSERT_TRUE(created.ok()) << created.error().message;
-    Engine& engine = **created;
-    ASSERT_EQ(engine.scene().lights.size(), 2u);
-    runtime::FrameUpdate frame;
-    frame.time = 0.7f;
-    frame.caustics = engine.default_options();
-    frame.caustics.shadows.filter = c.shadows;
-    // A small photon grid for the mirror's caustic map: both paths read the
-    // same maps, whatever traced them, and the default grid takes seconds
-    // an update on llvmpipe.
-    frame.caustics.caustic_map.photons = 64;
-    ASSERT_TRUE(engine.update(frame).ok());
-    const auto& cam = j["camera"];
-    const glm::vec3 eye(cam["position"][0], cam["position"][1], cam["position"][2]);
-    const glm::vec3 at(cam["target"][0], cam["target"][1], cam["target"][2]);
-    const glm::mat4 view_proj = glm::perspective(glm::radians(cam.value("fov_y_deg", 45.0f)), 1.0f, 0.05f, 100.0f) *
-                                glm::lookAt(eye, at, glm::vec3(0, 1, 0));
-    // Both paths, texel for texel; `when` names the state.
-    auto expect_same = [&](const char* when) {
-      const Images im = render_both(engine, view_proj, true);
-      double worst = 0, sum_f = 0, sum_d = 0;
-      std::size_t lit = 0;
-      for (std::size_t i = 0; i < im.object.size(); ++i) {
-        if (im.object[i] < 0) continue;
-        const glm::dvec3 f(im.forward[4 * i], im.forward[4 * i + 1], im.forward[4 * i + 2]);
-        const glm::dvec3 d(im.deferred[4 * i], im.deferred[4 * i + 1], im.deferred[4 * i + 2]);
-        sum_f += f.r + f.g + f.b;
-        sum_d += d.r + d.g + d.b;
-        worst = std::max(worst, glm::length(f - d) / std::max(glm::length(f), 0.05));
-        ++lit;
-      }
-      std::printf("%s, %s: %zu receiver pixels, both lights: forward total %.6g, deferred %.6g, worst pixel off by %.2e\n", c.scene,
-                  when, lit, sum_f, sum_d, worst);
-      EXPECT_GT(lit, 1000u) << when;
-      EXPECT_GT(sum_f, 100.0) << when;
-      EXPECT_NEAR(sum_d / sum_f, 1.0, 1e-5) << when;
-      EXPECT_LT(worst, 1e-4) << when;
-    };
-    expect_same("first frame");  // bind_all() builds the table
-    // A still frame copies nothing into the table; moving water copies its
-    // caustics maps (those of the lights whose products were remade), a
-    // turned light its shadow and position maps too: the table kept
-    // current by update() still gives the per-pair image.
-    ASSERT_TRUE(engine.update(frame).ok());
-    runtime::CausticsStats st = engine.stats();
-    EXPECT_EQ(st.work.table_copies, 0u);
-    EXPECT_EQ(st.gl.counted, static_cast<bool>(CAUSTIX_TEST_GL_COUNTED));
-    EXPECT_EQ(st.gl.syncs, 0u);  // 0 too in a build without the counter
-    EXPECT_GT(st.memory.receiver_table, 0u);
-    engine.set_wave_scale(0.9f);  // wavy_pool's sine stands still in time
-    ASSERT_TRUE(engine.update(frame).ok());
-    st = engine.stats();
-    std::printf("%s: table %.2f MB; moving water: %u textures, %.2f MB copied per frame\n", c.scene, st.memory.receiver_table / 1048576.0,
-                st.work.table_copies, st.work.table_copied_bytes / 1048576.0);
-    EXPECT_EQ(st.work.table_copies > 0, engine.scene().water.has_value());
-    expect_same("water moved");
-    Light sun = engine.scene().lights[0];
-    sun.direction = {sun.direction[0] + 0.1f, sun.direction[1], sun.direction[2] - 0.05f};
-    ASSERT_TRUE(engine.set_light(0, sun).ok());
-    ASSERT_TRUE(engine.update(frame).ok());
-    EXPECT_GT(engine.stats().work.table_copies, 0u);
-    expect_same("light turned");
-    if (engine.scene().water) {
-      const Images mip = render_both(engine, view_proj, false);
-      double l1 = 0, total = 0;
-      for (std::size_t i = 0; i < mip.forward.size(); ++i) {
-        if (i % 4 == 3) continue;
-        l1 += std::fabs(mip.forward[i] - mip.deferred[i]);
-        total += mip.forward[i];
-      }
-      std::printf("%s, forward with the maps' mip levels: total %.6g, relative L1 %.2f %%\n", c.scene, total, 100 * l1 / total);
+class AllReceiversDeferred : public test::GlTest, public ::testing::WithParamInterface<Case> {};
+
+TEST_P(AllReceiversDeferred, ADeferredPassLightsEveryReceiverFromEveryLightAsBindDoes) {
+  const Case& c = GetParam();
+  nlohmann::json j = test::canonical_scene(c.scene);
+  j["lights"].push_back(c.extra_light);
+  auto loaded = test::bake_and_load(test::write_scene(j, std::string("all_receivers_") + c.scene));
+  ASSERT_TRUE(loaded);
+  auto created = Engine::create(*loaded);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Engine& engine = **created;
+  ASSERT_EQ(engine.scene().lights.size(), 2u);
+  runtime::FrameUpdate frame;
+  frame.time = 0.7f;
+  frame.caustics = engine.default_options();
+  frame.caustics.shadows.filter = c.shadows;
+  // A small photon grid for the mirror's caustic map: both paths read the
+  // same maps, whatever traced them, and the default grid takes seconds
+  // an update on llvmpipe.
+  frame.caustics.caustic_map.photons = 64;
+  ASSERT_TRUE(engine.update(frame).ok());
+  const auto& cam = j["camera"];
+  const glm::vec3 eye(cam["position"][0], cam["position"][1], cam["position"][2]);
+  const glm::vec3 at(cam["target"][0], cam["target"][1], cam["target"][2]);
+  const glm::mat4 view_proj = glm::perspective(glm::radians(cam.value("fov_y_deg", 45.0f)), 1.0f, 0.05f, 100.0f) *
+                              glm::lookAt(eye, at, glm::vec3(0, 1, 0));
+  // Both paths, texel for texel; `when` names the state.
+  auto expect_same = [&](const char* when) {
+    const Images im = render_both(engine, view_proj, true);
+    double worst = 0, sum_f = 0, sum_d = 0;
+    std::size_t lit = 0;
+    for (std::size_t i = 0; i < im.object.size(); ++i) {
+      if (im.object[i] < 0) continue;
+      const glm::dvec3 f(im.forward[4 * i], im.forward[4 * i + 1], im.forward[4 * i + 2]);
+      const glm::dvec3 d(im.deferred[4 * i], im.deferred[4 * i + 1], im.deferred[4 * i + 2]);
+      sum_f += f.r + f.g + f.b;
+      sum_d += d.r + d.g + d.b;
+      worst = std::max(worst, glm::length(f - d) / std::max(glm::length(f), 0.05));
+      ++lit;
     }
-    // Other options may reallocate any product (a freed texture's name can
-    // come back for its successor): the table is copied anew.
-    frame.caustics.map_size = 256;
-    frame.caustics.glass_map_size = 256;
-    const Status updated = engine.update(frame);
-    ASSERT_TRUE(updated.ok()) << updated.error().message;
-    // The arrays bound by the last bind_all() were laid out anew and the
-    // old ones deleted: the engine's guard does not bind their names back.
-    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
-    expect_same("other map sizes");
+    std::printf("%s, %s: %zu receiver pixels, both lights: forward total %.6g, deferred %.6g, worst pixel off by %.2e\n", c.scene,
+                when, lit, sum_f, sum_d, worst);
+    EXPECT_GT(lit, 1000u) << when;
+    EXPECT_GT(sum_f, 100.0) << when;
+    EXPECT_NEAR(sum_d / sum_f, 1.0, 1e-5) << when;
+    EXPECT_LT(worst, 1e-4) << when;
+  };
+  expect_same("first frame");  // bind_all() builds the table
+  // A still frame copies nothing into the table; moving water copies its
+  // caustics maps (those of the lights whose products were remade), a
+  // turned light its shadow and position maps too: the table kept
+  // current by update() still gives the per-pair image.
+  ASSERT_TRUE(engine.update(frame).ok());
+  runtime::CausticsStats st = engine.stats();
+  EXPECT_EQ(st.work.table_copies, 0u);
+  EXPECT_EQ(st.gl.counted, static_cast<bool>(CAUSTIX_TEST_GL_COUNTED));
+  EXPECT_EQ(st.gl.syncs, 0u);  // 0 too in a build without the counter
+  EXPECT_GT(st.memory.receiver_table, 0u);
+  engine.set_wave_scale(0.9f);  // wavy_pool's sine stands still in time
+  ASSERT_TRUE(engine.update(frame).ok());
+  st = engine.stats();
+  std::printf("%s: table %.2f MB; moving water: %u textures, %.2f MB copied per frame\n", c.scene, st.memory.receiver_table / 1048576.0,
+              st.work.table_copies, st.work.table_copied_bytes / 1048576.0);
+  EXPECT_EQ(st.work.table_copies > 0, engine.scene().water.has_value());
+  expect_same("water moved");
+  Light sun = engine.scene().lights[0];
+  sun.direction = {sun.direction[0] + 0.1f, sun.direction[1], sun.direction[2] - 0.05f};
+  ASSERT_TRUE(engine.set_light(0, sun).ok());
+  ASSERT_TRUE(engine.update(frame).ok());
+  EXPECT_GT(engine.stats().work.table_copies, 0u);
+  expect_same("light turned");
+  if (engine.scene().water) {
+    const Images mip = render_both(engine, view_proj, false);
+    double l1 = 0, total = 0;
+    for (std::size_t i = 0; i < mip.forward.size(); ++i) {
+      if (i % 4 == 3) continue;
+      l1 += std::fabs(mip.forward[i] - mip.deferred[i]);
+      total += mip.forward[i];
+    }
+    std::printf("%s, forward with the maps' mip levels: total %.6g, relative L1 %.2f %%\n", c.scene, total, 100 * l1 / total);
   }
+  // Other options may reallocate any product (a freed texture's name can
+  // come back for its successor): the table is copied anew.
+  frame.caustics.map_size = 256;
+  frame.caustics.glass_map_size = 256;
+  const Status updated = engine.update(frame);
+  ASSERT_TRUE(updated.ok()) << updated.error().message;
+  // The arrays bound by the last bind_all() were laid out anew and the
+  // old ones deleted: the engine's guard does not bind their names back.
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  expect_same("other map sizes");
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, AllReceiversDeferred,
+    ::testing::Values(
+        Case{"wavy_pool", {{"type", "point"}, {"position", {1.0, 4.0, 0.5}}, {"intensity", 6.0}, {"color", {1.0, 0.6, 0.3}}}},
+        Case{"glass_ball", {{"type", "spot"}, {"position", {-1.0, 2.5, 0.5}}, {"direction", {0.3, -1.0, -0.2}}, {"intensity", 3.0},
+                            {"inner_cone_deg", 20.0}, {"outer_cone_deg", 35.0}}},
+        Case{"mirror_ring", {{"type", "directional"}, {"direction", {-0.3, -1.0, 0.2}}, {"irradiance", 0.5}, {"color", {0.4, 0.7, 1.0}}},
+             runtime::ShadowFilter::kVsm}),  // the moments' arrays too
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.scene); });
 
 // An object that is not in the .cxb (the application's own, moving under
 // the water) is lit by a host receiver's resources: bind(host, light) and
