@@ -29,11 +29,7 @@ SCENES=${SCENES:-"thesis_teapot glass_ball mirror_ring fog_ball dispersive_pool 
 # Memory of every canonical scene (and the dispersive pool).
 MEMORY_SCENES=${MEMORY_SCENES:-"$(ls assets/scenes | sed 's/\.json$//' | tr '\n' ' ') dispersive_pool"}
 B=build
-if ! grep -q '^CAUSTIX_COUNT_GL_CALLS:BOOL=ON' "$B/CMakeCache.txt" 2>/dev/null; then
-  echo "bench-frame-cost.sh: $B/ is not configured with -DCAUSTIX_COUNT_GL_CALLS=ON; run" \
-    "cmake -S . -B $B -DCAUSTIX_COUNT_GL_CALLS=ON && cmake --build $B" >&2
-  exit 2
-fi
+source scripts/require-gl-counts.sh
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 mkdir -p "$out"

@@ -32,11 +32,7 @@ RECEIVERS=${RECEIVERS:-"1 4 16 64"}
 LIGHTS=${LIGHTS:-"1 2 4"}
 RENDERER=${RENDERER:-llvmpipe}
 B=build
-if ! grep -q '^CAUSTIX_COUNT_GL_CALLS:BOOL=ON' "$B/CMakeCache.txt" 2>/dev/null; then
-  echo "bench-scale.sh: $B/ is not configured with -DCAUSTIX_COUNT_GL_CALLS=ON; run" \
-    "cmake -S . -B $B -DCAUSTIX_COUNT_GL_CALLS=ON && cmake --build $B" >&2
-  exit 2
-fi
+source scripts/require-gl-counts.sh
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 mkdir -p "$out"
