@@ -116,8 +116,7 @@ TEST_P(Extremes, FlatPoolStaysFiniteAndPhysical) {
 // surface is empty, so their maps get no planes. Found by the trade-off
 // tests: the runtime asked GL for an empty plane buffer (GL_INVALID_VALUE,
 // exit 6). Now such a map simply casts no caustics.
-// Cost: three bakes, each drawn by level maps and by the volumetric
-// method, which takes some 15 s a draw on llvmpipe at any map size.
+// Cost: three bakes, each drawn by level maps and by the volumetric method.
 TEST_F(Extremes, MapsWithoutPlanesRender) {
   for (std::uint32_t size : {1u, 2u, 4u}) {
     bake::BakeOptions opt;
@@ -131,6 +130,10 @@ TEST_F(Extremes, MapsWithoutPlanesRender) {
       // 64^2 instead of the default 512^2 (the volumetric method's draws at
       // 512^2 made this test 74 s at two tests side by side).
       q.caustics.map_size = 64;
+      // The volumetric method slices every map uniformly, by the count the
+      // bake asked for (33 a map here: 99 slices, 9 s a draw on llvmpipe),
+      // whatever its position map holds; 4 slices take the same path.
+      if (method == runtime::CausticsMethod::kVolumetric) q.caustics.planes = 4;
       auto img = r->render_irradiance(q);
       ASSERT_TRUE(img.ok()) << size << "^2: " << img.error().message;
       for (float v : img->rgb) ASSERT_TRUE(std::isfinite(v));
