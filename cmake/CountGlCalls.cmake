@@ -4,7 +4,7 @@
 # through caustix::runtime::gl::Counted<> (runtime/src/gl/gl_calls.h), with
 # its kind (draw, dispatch, synchronisation, other) from its name; the
 # functions <special_header> defines itself (their kind depends on their
-# arguments) are left to it. Issue 44: Engine::stats()'s call counts.
+# arguments) are left to it. For Engine::stats()'s call counts.
 function(caustix_count_gl_calls header special epoxy_generated)
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${special} ${epoxy_generated})
   file(STRINGS ${special} _special_lines REGEX "^#define gl[A-Za-z0-9_]+ ")

@@ -134,7 +134,7 @@ Status ReceiverPasses::shade_per_pair(const glm::mat4& view_proj, bool level0) {
   glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);  // lights add up (seed 000 eq. 4-20)
+  glBlendFunc(GL_ONE, GL_ONE);  // lights add up (Tipprasert 2006 eq. 4-20)
   forward_.use();
   forward_.set("u_view_proj", view_proj);
   for (std::uint32_t li = 0; li < engine_.scene().lights.size(); ++li) {

@@ -70,14 +70,14 @@ struct Target {
 };
 
 // One camera's receiver passes: where they go and how they are cut (the
-// main view, or seed 001's refraction and reflection textures).
+// main view, or Mihalik 2008's refraction and reflection textures).
 struct PassView {
   GLuint fbo = 0;
   int width = 0, height = 0;
   glm::mat4 view_proj{1.0f};
   std::optional<glm::vec4> clip;  // world plane, a.x + b >= 0 kept
   bool mirrored = false;          // reflection camera: winding flips
-  bool fog = false;               // seed 001 eq. 10, distance from fog_eye
+  bool fog = false;               // Mihalik 2008 eq. 10, distance from fog_eye
   glm::vec3 fog_eye{0.0f};
   glm::vec3 clear{0.0f};
   bool cleared = false;           // the engine cleared it (water textures)
@@ -764,7 +764,7 @@ Camera Renderer::default_camera() const {
   // horizontal one (wider frames have room to spare; a square one crops
   // the far corners a little), with 5 % to spare: a wide, flat scene (a
   // floor and small objects) fills the frame, where the bounding sphere's
-  // distance left it small (issue 45).
+  // distance left it small.
   const glm::vec3 back = glm::normalize(glm::vec3(0.6f, 0.7f, 1.0f));
   const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0, 1, 0), back)), up = glm::cross(back, right);
   const float slope_y = std::tan(0.5f * glm::radians(c.fov_y_deg)), slope_x = slope_y * 4.0f / 3.0f;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The light-transport tables' ray casting (issue 48), side by side in one
+# The light-transport tables' ray casting, side by side in one
 # run: the same baker with --ltt-rays cgal (CGAL's AABB tree, exact
-# predicates: the tables of bakes before issue 48) and --ltt-rays embree
+# predicates: the tables of bakes before Embree) and --ltt-rays embree
 # (the default), per kind of glass mesh: a sphere (glass_ball), a prism
 # (prism), the teapot (glass_teapot), a closed 82 k-triangle scan-like blob
 # (scripts/scan_blob.py), and two whole scenes, 25 dispersive prisms and

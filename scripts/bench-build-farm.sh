@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A build farm in miniature (issue 48): 200 scenes, generated from eight
+# A build farm in miniature: 200 scenes, generated from eight
 # canonical scenes with their first light turned 25 ways, baked through the
 # installed package's caustix_bake() under Ninja. Measures the whole build
 # with 1 and 2 jobs (the parallel speed-up), the no-op rebuild, and that a

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The focus windows (issue 47) side by side in one run: caustix-bench
+# The focus windows side by side in one run: caustix-bench
 # frames with the window ("window") and without it ("none"), and OLD's
 # binary ("old", an earlier build, when given), alternating in rounds, with
 # the light still and turning every frame; per-pass GPU times too.

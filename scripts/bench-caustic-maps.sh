@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates docs/results/caustic_maps.csv and caustic_maps.png
-# (docs/caustic-maps.md): image-space caustic maps (seed 003) against the
+# (docs/caustic-maps.md): image-space caustic maps (timofy 2009) against the
 # light-transport tables and caustix-reference on glass_ball, glass_teapot
 # and mirror_ring -- the error of each (caustix-compare: relative L1, flux
 # ratio, peak distance) and the GPU time of the caustic maps' passes, over

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Seed 000 chapter 5 on our code (tables 5-1, 5-3, 5-5 and §5.1 memory):
+# Tipprasert 2006 chapter 5 on our code (tables 5-1, 5-3, 5-5 and §5.1 memory):
 # ms per frame against plane count for the level map (smart slicing),
 # uniform slicing and the volumetric baseline, with our culling and in the
 # thesis's plain mode (every volume through every plane); eq. 2-9

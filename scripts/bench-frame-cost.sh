@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What a frame of the runtime costs the application (issue 44;
+# What a frame of the runtime costs the application (
 # docs/runtime-speed.md, "What a frame costs"): per canonical scene at the
 # balanced preset, 640 x 480, the engine's GL calls, draws, dispatches and
 # GPU -> CPU synchronisations per steady frame and the ms per frame, with

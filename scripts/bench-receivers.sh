@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every receiver lit from every light (issue 46; docs/embedding.md,
+# Every receiver lit from every light (docs/embedding.md,
 # "Deferred and multi-light renderers"): the per-pair forward path
 # (Engine::bind() and a draw per (receiver, light)) against the deferred
 # pass over Engine::bind_all() (one full-screen draw), same G-buffer, same

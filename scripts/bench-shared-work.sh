@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Shared work (issue 48): twelve copies of one glass ball over a backdrop,
+# Shared work: twelve copies of one glass ball over a backdrop,
 # exported as a DCC tool writes duplicated objects (scripts/twelve_balls.py:
 # each ball its own glTF mesh, three colours of one glass, each turned),
-# baked side by side in one run three ways: as before issue 48 (--no-share
+# baked side by side in one run three ways: unshared (--no-share
 # --ltt-rays cgal: every object its own mesh and tables, cast through CGAL,
 # the old baker's bytes; BEFORE=/path/to/an/older/caustix-bake runs this
 # row with that baker), with Embree alone (--no-share), and with sharing

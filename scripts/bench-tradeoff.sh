@@ -31,7 +31,7 @@ run() {
 run wavy_pool floor 0,-0.03125,4,0.03125 256x4 256000000
 run thesis_teapot teapot -1.25,-0.8,1.35,0.8 104x64 128000000
 run glass_ball floor -1,-1,1,1 128x128 32000000
-# The focus (issue 47): 1 mm pixels over +-5 cm, the focal columns
+# The focus: 1 mm pixels over +-5 cm, the focal columns
 # (focus_1cm, focus_2cm, peak_ratio) judge what the eye goes to first.
 run glass_ball floor -0.05,-0.05,0.05,0.05 100x100 24000000 focus --knobs glass-size glass-turn ltt-resolution glass-method cmap-size cmap-focus presets
 # Media (docs/volume.md): in-scatter references, the media's knobs.
@@ -48,7 +48,7 @@ run_media() {
     --csv "docs/results/tradeoff_$scene$tag.csv" "${@:6}"
 }
 run_media fog_ball -1.5,0,1.5,2.5 120x100 4000000
-# The focal line (issue 47): 1 cm pixels over the ball's focus; peak_ratio
+# The focal line: 1 cm pixels over the ball's focus; peak_ratio
 # is the brightest pixel's in-scatter against the reference's, peak_m how
 # far apart the two lie.
 run_media fog_ball -0.1,0.3,0.1,0.75 20x45 16000000 focus --knobs focus-grid volume-grid volume-photons volume-res view-step presets

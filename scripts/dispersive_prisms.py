@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """dispersive_prisms.py FOLDER: writes scene.json and its two meshes into
-FOLDER: issue 48's dispersion test scene, built like the public glTF
+FOLDER: the dispersion test scene of the bake benchmarks, built like the public glTF
 dispersion test (25 transmissive prisms and blocks about 2 cm across, index
 1.0-1.5, dispersion 0-5) for scripts/bench-bake-rays.sh: prisms and blocks
 alternating on a 5 x 5 grid over a floor, object k of index 1 + 0.5 k / 24

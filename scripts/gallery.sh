@@ -15,7 +15,7 @@ for json in assets/scenes/*.json; do
   s=$(basename "$json" .json)
   $B/bake/caustix-bake "$json" -o "$T/$s.cxb" -q
   if [ "$s" = default ]; then
-    # The README's picture (default_before.png is the scene before issue 45, kept as it was).
+    # The README's picture (default_before.png is the scene before it had textures and a sky, kept as it was).
     $B/runtime/caustix-render "$T/$s.cxb" -o docs/gallery/default_after.png --size 960x540 --time 2.0 -q
     continue
   fi

@@ -1,4 +1,4 @@
-"""docs/results/bake_rays.png from bake_rays.csv (issue 48, scripts/bench-bake-rays.sh).
+"""docs/results/bake_rays.png from bake_rays.csv (scripts/bench-bake-rays.sh).
 
 Per scene, side by side from one run on the same machine: the tables' rays
 per second and the whole bake's seconds with CGAL's tree (--ltt-rays cgal),

@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-# Seed 000 tables 5-1 and 5-3 (seconds per frame, GeForce 6800), teapot.
+# Tipprasert 2006 tables 5-1 and 5-3 (seconds per frame, GeForce 6800), teapot.
 THESIS_N = [3, 8, 16, 32, 64, 100]
 THESIS = {
     "thesis level map (normal)": [0.068, 0.144, 0.265, 0.513, 1.007, 1.562],

@@ -1,4 +1,4 @@
-"""docs/results/fog_focus_axis.png from fog_focus_axis.csv (issue 47).
+"""docs/results/fog_focus_axis.png from fog_focus_axis.csv.
 
 The CSV holds fog_ball's in-scatter (scale 1/E0) in the 1 cm column on the
 axis, 1 cm rows from the ball's bottom (y 0.75 m) to the floor: exact

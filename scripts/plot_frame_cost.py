@@ -2,7 +2,7 @@
 """Plots of scripts/bench-frame-cost.sh's CSVs (docs/runtime-speed.md):
 frame_cost_memory.png, the engine's GPU memory per effect and scene at
 1280 x 800; frame_cost_frames.png, ms per frame per scene and case, before
-and after issue 44 where both were measured."""
+and after where both builds were measured (the CSV's build column)."""
 import csv
 import os
 import sys

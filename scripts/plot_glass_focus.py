@@ -1,4 +1,4 @@
-"""docs/results/glass_focus_encircled.png from glass_focus_encircled.csv (issue 47).
+"""docs/results/glass_focus_encircled.png from glass_focus_encircled.csv.
 
 The CSV holds glass_ball's power within r of the axis (m^2 E0), every
 column over the same 0.5 mm pixels (+-5.1 cm, 204^2): the exact sphere

@@ -8,7 +8,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-# Seed 000, table 5-4 (teapot, dolphin, sphere), specified 3..28 planes.
+# Tipprasert 2006, table 5-4 (teapot, dolphin, sphere), specified 3..28 planes.
 THESIS = {
     "teapot": [2, 3, 3, 4, 5, 5, 5, 6, 7, 7, 8, 8, 9, 9, 10, 11, 11, 11, 12, 13, 13, 14, 15, 16, 16, 17],
     "dolphin": [2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27],
@@ -27,7 +27,7 @@ def main(folder):
         ax.plot(n, THESIS[model], ":", color=colour, label=f"thesis table 5-4: {model}")
     ax.set_xlabel("specified planes n")
     ax.set_ylabel("planes drawn")
-    ax.set_title("Smart slicing: planes actually needed (seed 000 table 5-4)")
+    ax.set_title("Smart slicing: planes actually needed (Tipprasert 2006 table 5-4)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()

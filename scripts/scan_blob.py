@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """scan_blob.py OUT.obj [LEVELS] [--scene SCENE.json]: a closed, scan-like glass
-mesh for issue 48's bake benchmarks (scripts/bench-bake-rays.sh,
+mesh for the bake benchmarks (scripts/bench-bake-rays.sh,
 bench-ltt-zstd.sh): an icosahedron split LEVELS
 times (default 6: 40 962 vertices, 81 920 triangles, what a decimated
 photogrammetry scan of a small object has), each vertex pushed along its

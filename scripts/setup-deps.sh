@@ -20,7 +20,7 @@ PACKAGES=(
   libtinygltf-dev
   # Dear ImGui: caustix-view's panel (the GLFW and OpenGL 3 back ends are compiled from its sources)
   libimgui-dev
-  # Embree: the light-transport tables' rays (bake/src/ray_cast_embree.cpp, issue 48)
+  # Embree: the light-transport tables' rays (bake/src/ray_cast_embree.cpp)
   libembree-dev
   # tests: GoogleTest, libFuzzer (clang-14 + its runtime), Python for plots
   libgtest-dev clang-14 libclang-rt-14-dev python3

@@ -2,7 +2,7 @@
 """twelve_balls.py [FOLDER [MESH]]: writes twelve_balls.gltf into FOLDER
 (default: the current one), its balls assets/meshes/MESH (default
 sphere.obj; sphere_fine.obj for a scan-like 8 k-vertex ball):
-a TransmissionTest-like scene for issue 48's shared-work benchmark
+a TransmissionTest-like scene for the shared-work benchmark
 (scripts/bench-shared-work.sh) -- twelve copies of one glass ball over a
 floor and a back wall, exported the way a DCC tool writes duplicated (not
 instanced) objects: each ball its own glTF mesh with its own copy of the

@@ -1,4 +1,4 @@
-// Image-space caustic maps and mirrors (issue 20; seed 003) with physics as
+// Image-space caustic maps and mirrors (timofy 2009) with physics as
 // the oracle: the glass ball's flux and focal spot against the exact trace
 // of a sphere; a mirror ring's nephroid cusp against a 2-D trace of the
 // circle's reflections (the catacaustic of a circle), and its reflected
@@ -6,7 +6,7 @@
 // linearly and no more than the reflectance of the intercepted flux comes
 // back; a flat mirror sends a displaced copy of the direct light; extremes;
 // a tinted pane colours the light it passes by tint squared, and a receiver
-// inside glass is lit through it (issue 45).
+// inside glass is lit through it.
 
 #include <gtest/gtest.h>
 
@@ -179,7 +179,7 @@ double nephroid_cusp_x(double R, double H, double a, double x0, double pix, int 
   return x0 + (static_cast<double>(peak) + 0.5) * pix;
 }
 
-// The ball-lens checks of issue 20's targets on one image: flux, focal
+// The ball-lens checks of the caustic maps on one image: flux, focal
 // spot, R50 and encircled power within 10 % at r >= 2 cm.
 void expect_ball_lens(const Floor& f, int n, double half, const char* label, double ior = 1.5) {
   const double pix = 2 * half / n;
@@ -233,7 +233,7 @@ TEST_F(CausticMap, BallLensFluxAndFocalSpot) {
   expect_ball_lens(f, n, half, "caustic map");
 }
 
-// The focal spot with caustic maps (issue 47): power within 0.5, 1, 2 and
+// The focal spot with caustic maps: power within 0.5, 1, 2 and
 // 5 cm of glass_ball's axis and the brightest 2 mm pixel, in 0.5 mm pixels,
 // against the exact sphere (optics_oracle.h; caustix-reference agrees with
 // it, glass_test). The 512^2 map's 7.8 mm texels and its splats spread the
@@ -313,7 +313,7 @@ TEST_F(CausticMap, AdaptiveRefinesOverTheCastersWithinTheBudget) {
 // a 4x4 cell's photon, which carries 16 photons' flux from one point, does
 // not print the cells' lattice into the caustic as ring bands (moire):
 // the bands in the shadow annulus stay within twice those of the uniform
-// grid. (Within 1.25 times until issue 47: the uniform grid's own bands,
+// grid. (Within 1.25 times before the focus windows: the uniform grid's own bands,
 // 0.0290, came mostly from the glass's back normals read per texel, and
 // interpolated they fell to 0.0138, while the leaves' stayed at 0.023.
 // Splats of the leaves' own width, 0.5 or 1 times the spacing, read 0.086
@@ -515,7 +515,7 @@ TEST_F(CausticMap, PhotonGridsOfOneAndTheLargest) {
 }
 
 
-// Dispersion (issue 22): monochromatic images of the dispersive ball lens
+// Dispersion: monochromatic images of the dispersive ball lens
 // at the F, d and C lines against the exact trace of a sphere of that
 // wavelength's index (flux, focal spot, R50, encircled power within 10 %);
 // the focus moves by f(n_F) - f(n_C) = -2.45 cm around the floor, which
@@ -623,7 +623,7 @@ TEST_F(CausticMap, PrismDeviationPerWavelength) {
   }
 }
 
-// A tinted pane (issue 45: glTF's base colour on a transmissive material):
+// A tinted pane (glTF's base colour on a transmissive material):
 // each crossing of the surface scales the transmitted light by the tint,
 // so under a 30-degree sun the footprint of a 2 cm pane [0.5, 0.8, 1]
 // receives cos T^2 tint^2 per channel (T Fresnel's transmittance at each
@@ -672,7 +672,7 @@ TEST_F(CausticMap, TintedPaneColoursTheLightByTintSquared) {
   EXPECT_NEAR(ref[2], clear, 0.05 * clear);  // 200k photons over 64 pixels
 }
 
-// Thin-walled glass (issue 45; glTF's transmission without a volume): an
+// Thin-walled glass (glTF's transmission without a volume): an
 // open 1 m pane (one quad, role transparent: baked thin-walled with a
 // warning) and a closed 10 cm box marked "thin", each tinted [0.5, 0.8, 1]
 // at 20 cm under a 30 degree sun. Light crosses each sheet without bending:
@@ -750,7 +750,7 @@ nlohmann::json box_in_a_glass_block(const std::string& tag, const std::string& r
   return j;
 }
 
-// A receiver inside glass (issue 45: MosquitoInAmber's amber looked like
+// A receiver inside glass (MosquitoInAmber's amber looked like
 // black rock): a 10 cm box in the middle of a 60 cm glass block with
 // absorption 0.5/m, under a vertical sun. Light reaches the box's top
 // through the block's top face only: E/E0 = T(0) e^(-0.5 x 0.25 m) (T(0)
@@ -791,7 +791,7 @@ TEST_F(CausticMap, AReceiverInsideGlassIsLitThroughTheGlass) {
   EXPECT_NEAR(reference, want, std::max(0.01, 3 * ref->relative_noise / 4) * want);  // 3 sigma of the 16 pixels' mean
 }
 
-// A receiver under a thin-walled cloche (issue 45): a 10 cm box inside a
+// A receiver under a thin-walled cloche: a 10 cm box inside a
 // closed 60 cm thin box ("thin": true) under a vertical sun. The box's top
 // gets the light through the cloche's top sheet only: T_sheet(0) =
 // (1 - r0) / (1 + r0), r0 = ((n - 1) / (n + 1))^2 = 0.04, so 0.9231; the

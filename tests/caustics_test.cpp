@@ -1,4 +1,4 @@
-// Water caustics at run time (seed 000 §4.3-4.7, §5.2.1), with physics as
+// Water caustics at run time (Tipprasert 2006 §4.3-4.7, §5.2.1), with physics as
 // the oracle: flat water transmits T(theta) cos(theta) e^(-K d); a sine
 // wave conserves energy and puts its fold lines where a 1-D ray trace does;
 // smart slicing, uniform slicing and the volumetric baseline agree (eq. 2-9);
@@ -37,7 +37,7 @@ using test::kPi;
 using test::kScenes;
 nlohmann::json scene(const std::string& name) { return test::canonical_scene(name); }
 
-// High-frequency content of img - base (issue 21): mean |d - box3(d)| over
+// High-frequency content of img - base: mean |d - box3(d)| over
 // mean base, on the green channel.
 double high_frequency(const metrics::Image& img, const metrics::Image& base) {
   const int w = img.width, h = img.height;
@@ -101,7 +101,7 @@ TEST_F(Caustics, FlatPoolTransmitsFresnelTimesCosine) {
   }
 }
 
-// Photon splatting (seed 001 ch. 8): each photon carries E0 cos T of its
+// Photon splatting (Mihalik 2008 ch. 8): each photon carries E0 cos T of its
 // water patch, so the mean is the flat-water value; the spread per pixel is
 // the photon grid against the caustics texels (tent-filtered splats), and
 // shrinks with more photons.
@@ -232,7 +232,7 @@ TEST_F(Caustics, WavyPoolConservesEnergyAndFoldsWhereRaysCross) {
   }
 }
 
-// Dispersion in the level-map water family (issue 22). wavy_pool's water
+// Dispersion in the level-map water family. wavy_pool's water
 // with dispersion 3 (V_d 6.7), RGB from 4 bins (430, 530, 630, 730 nm;
 // n 1.3951 .. 1.3036):
 // - each bin's monochromatic image puts its fold lines where the 1-D trace
@@ -301,7 +301,7 @@ TEST_F(Caustics, DispersiveWaterFoldsPerWavelengthAndAddsUpInRgb) {
   EXPECT_EQ(irradiance(*r, one).rgb, irradiance(*plain, one).rgb) << "one wavelength against water without dispersion";
 }
 
-// Issue 21's moire in caustic lines: eq. 4-18 gives each water triangle
+// Moire in caustic lines: eq. 4-18 gives each water triangle
 // one irradiance, so the caustics are a mosaic of the water grid (3 cm
 // cells in thesis_sphere) that beats against the pixels. A patch of
 // thesis_sphere's floor (1 m^2, no shadow), 256^2 pixels, caustics map
@@ -346,12 +346,12 @@ TEST_F(Caustics, SmoothCausticsRemoveTheWaterGridsMosaic) {
 }
 
 // Every preset's caustics under waves without the water grid's seams
-// (issue 46): with few planes (fast: 4, and a water grid half as fine)
+//: with few planes (fast: 4, and a water grid half as fine)
 // each beam travels up to a window's half-width from its plane to the
 // floor. Moved rigidly along its mean direction, neighbouring beams opened
 // gaps and overlaps one texel wide along the water triangles' edges (a
 // dark mesh). Following each vertex's own ray they tile at every depth. The
-// statistic is issue 21's: the high-frequency content of the difference
+// statistic is the moire test's above: the high-frequency content of the difference
 // from the same bake drawn with 64 planes (windows so thin that nothing
 // travels), on a lit patch of the floor of wavy_pool and thesis_teapot.
 // wavy_pool's flat floor lies on a plane (nothing travels: 0 either way).

@@ -42,7 +42,7 @@ contains "unknown option named" "$tmp/err" "--bogus"
 "$bake" "$scene" -o "$tmp/a.cxb" --depfile "$tmp/a.d" --report "$tmp/a.json" -q; check "bake" 0 $?
 "$bake" "$scene" -o "$tmp/b.cxb" -q; check "bake again" 0 $?
 cmp -s "$tmp/a.cxb" "$tmp/b.cxb"; check "bakes are byte-identical" 0 $?
-# Hermetic (issue 48): the bytes do not depend on the directory the bake
+# Hermetic: the bytes do not depend on the directory the bake
 # runs in or on how the scene's path is spelled (TEXR once recorded the
 # textures' paths as resolved from there).
 (cd "$src/assets" && "$bake" scenes/default.json -o "$tmp/cwd.cxb" -q); check "bake from another directory" 0 $?
@@ -105,7 +105,7 @@ cmp -s "$tmp/a.cxb" "$tmp/keep.cxb"; check "old output untouched" 0 $?
 printf '{"objects": [{"name": "a", "mesh": "gone.obj"}]}' >"$tmp/nomesh.json"
 "$bake" "$tmp/nomesh.json" -o "$tmp/m.cxb" 2>"$tmp/err"; check "missing mesh" 3 $?
 contains "missing mesh named" "$tmp/err" "gone.obj: mesh file not found"
-# Issue 48: warnings are said as they are found, so a bake that fails later
+# Warnings are said as they are found, so a bake that fails later
 # has said them; its --report says what it had done and where it failed.
 printf '{"objects": [{"name": "a", "mesh": "%s"}, {"name": "b", "mesh": "gone.obj"}]}' \
   "$src/tests/data/meshes/obj_faces_under_three_vertices.obj" >"$tmp/warnfail.json"
@@ -119,7 +119,7 @@ assert r['failed_in'] == {'stage': 'meshes', 'item': r['failed_in']['item']} and
 assert any('skipped 2 face(s)' in w for w in r['warnings']), r" "$tmp/fail.json"
 check "a failed bake's report" 0 $?
 [ ! -e "$tmp/m.cxb" ]; check "no output after the warning and the failure" 0 $?
-# Budgets (issue 48): past --max-seconds or --max-memory the bake stops with
+# Budgets: past --max-seconds or --max-memory the bake stops with
 # exit code 7, names the stage and the option to lower, and writes nothing.
 "$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/m.cxb" --max-seconds 0.001 --report "$tmp/fail.json" 2>"$tmp/err"
 check "--max-seconds stops the bake" 7 $?
@@ -131,14 +131,14 @@ contains "the memory budget is named" "$tmp/err" "past --max-memory 1 MiB; lower
 "$bake" "$scene" -o "$tmp/m.cxb" --max-memory 1TB --max-seconds 3600 -q; check "generous budgets change nothing" 0 $?
 cmp -s "$tmp/a.cxb" "$tmp/m.cxb"; check "the same bytes under a budget" 0 $?
 "$bake" "$scene" -o "$tmp/m.cxb" --max-memory lots 2>/dev/null; check "a malformed --max-memory" 2 $?
-# Progress (issue 48): in a log, a plain line per stage and item; nothing with -q.
+# Progress: in a log, a plain line per stage and item; nothing with -q.
 "$bake" "$src/assets/scenes/glass_ball.json" -o "$tmp/g.cxb" 2>"$tmp/prog"; check "bake glass_ball" 0 $?
 contains "progress names the stage and the object" "$tmp/prog" "caustix-bake: light-transport tables: ball 0 %"
 contains "progress names the meshes" "$tmp/prog" "caustix-bake: meshes: "
 ! grep -q $'\r' "$tmp/prog"; check "no carriage returns in a log" 0 $?
 "$bake" "$scene" -o "$tmp/q.cxb" -q 2>"$tmp/prog"; check "bake -q" 0 $?
 [ ! -s "$tmp/prog" ]; check "nothing on stderr with -q" 0 $?
-# Shared work (issue 48): a turned copy of the ball uses the ball's table
+# Shared work: a turned copy of the ball uses the ball's table
 # (LTTR), which inspect and the report name; --no-share gives it its own;
 # --ltt-rays picks the tables' caster.
 python3 - "$src/assets/scenes/glass_ball.json" "$tmp/twins.json" <<'PY'
@@ -222,14 +222,14 @@ check "caustics differ from none" 0 $?
 "$compare" "$tmp/irr.exr" "$tmp/img.exr" 2>/dev/null; check "compare size mismatch" 4 $?
 "$compare" "$tmp/irr.exr" "$tmp/nope.exr" 2>/dev/null; check "compare missing file" 3 $?
 
-# in-scatter images (media, seed 004): a scene without media is refused by
+# in-scatter images (media, Pfeuti): a scene without media is refused by
 # name; fog_ball's image is written with its energy balance; the fast
 # preset's media defaults travel in the file and explicit options win
 "$render" "$tmp/a.cxb" --inscatter --region -1,0,1,2 --size 16 -o "$tmp/ins.exr" 2>"$tmp/err"; check "in-scatter without media" 2 $?
 contains "in-scatter refusal names the reason" "$tmp/err" "nothing in the scene scatters"
 "$bake" "$src/assets/scenes/fog_ball.json" -o "$tmp/fog.cxb" --preset fast -q; check "bake fog_ball (fast)" 0 $?
 "$render" "$tmp/fog.cxb" --inscatter --region -1.5,0,1.5,2.5 --size 24x20 -o "$tmp/ins.exr" -v >"$tmp/rout"; check "render in-scatter" 0 $?
-# 128^2 over the light's window and (128/2)^2 over the glass's (focus grid, issue 47)
+# 128^2 over the light's window and (128/2)^2 over the glass's (focus grid)
 contains "in-scatter uses the preset's photons" "$tmp/rout" "20480 photons (4096 over the glass)"
 contains "in-scatter prints the energy balance" "$tmp/rout" "energy / E0"
 "$render" "$tmp/fog.cxb" --inscatter --region -1.5,0,1.5,2.5 --size 24x20 --volume-grid 2000 -o "$tmp/ins.exr" 2>/dev/null

@@ -1,4 +1,4 @@
-// Curved receivers under water (issue 18), with physics and the reference
+// Curved receivers under water, with physics and the reference
 // tracer as oracles, judged per class of pixel by metrics::split_error (the
 // code behind caustix-compare --split):
 // - a sphere under flat water, sun 30 deg: every point gets the refracted
@@ -120,7 +120,7 @@ TEST_F(CurvedReceivers, SphereUnderFlatWaterGetsFresnelTimesCosineUpToTheTermina
   // what remains is the mesh (facets: interpolated normals) and the
   // caustics map's texel (2 mm) against 12.5 mm pixels.
   EXPECT_LT(e.covered_l1, 0.005);
-  // The terminator and the silhouette: the issue's targets are |bias| and
+  // The terminator and the silhouette: the targets are |bias| and
   // L1 within 0.5 % and 5 %. Measured -6.5 % and 5.4 % while the caustics
   // map was filtered (bilinear, mip-mapped) across the receiver's outline
   // as the light sees it, where texels without surface hold 0; with the
@@ -171,7 +171,7 @@ TEST_F(CurvedReceivers, SphereUnderASineWaveAgreesWithTheTracedReference) {
   EXPECT_LT(e.cls("n_y 0.2-0.5").rel_l1(), 0.06);
   EXPECT_LT(e.cls("fold").rel_l1(), 0.08);
   // Silhouette pixels: 6.6 % before the presence-normalised filtering, 3.9 %
-  // after (the issue's target 5 %).
+  // after (the target 5 %).
   EXPECT_LT(e.cls("silhouette").rel_l1(), 0.05);
 }
 
@@ -184,7 +184,7 @@ TEST_F(CurvedReceivers, CylinderAcrossTheWavesAgreesWithTheTracedReference) {
   const Judged e = against_reference(j, "curved_cylinder", "cylinder", -0.8f, -0.32f, 0.8f, 0.32f, 80, 32, 16'000'000);
   // Measured 6.5 % (fold pixels 10.9 %, bias -5.4 %; the flat top +2.4 %):
   // light taken from the folds and spread beside them, not yet separated
-  // (docs/caustics.md "Known limits"); the issue's 4 % is not met here.
+  // (docs/caustics.md "Known limits"); the 4 % target is not met here.
   EXPECT_LT(e.covered_l1, 0.08);
   EXPECT_LT(std::fabs(e.covered_bias), 0.01);
   EXPECT_LT(e.cls("n_y 0.2-0.5").rel_l1(), 0.06);

@@ -1,4 +1,4 @@
-// The display transform (issue 21; docs/display.md): what read_display()
+// The display transform (docs/display.md): what read_display()
 // and the viewer show is the linear frame through exposure, the optional
 // auto exposure and the tone curve, then sRGB -- checked pixel by pixel
 // against those formulas evaluated here -- and, as an image statistic, a
@@ -103,7 +103,7 @@ TEST_F(Display, PixelsFollowExposureAutoExposureAndToneCurve) {
   }
 }
 
-// The image statistic behind issue 21's "lit floors sit near white": in
+// The image statistic behind the complaint "lit floors sit near white": in
 // glass_ball's own view, the floor in full sun (linear luminance ~1.07, E0
 // = 1, albedo 1) against the caustic ring around the focus (3 to 6 times as
 // bright). The old 1 - e^-x at 0 EV put the floor at 0.83 and the ring
@@ -142,7 +142,7 @@ TEST_F(Display, LitFloorLeavesHeadroomForCaustics) {
             << old.ring << "\n";
 }
 
-// Stair steps (issue 21): the floor's far edge against the sky in
+// Stair steps: the floor's far edge against the sky in
 // glass_ball's view is a straight line on screen. Per column, the edge's
 // height is the number of sky rows above the floor counted fractionally (each
 // pixel's floor coverage from its luminance between sky and floor); the RMS
@@ -189,7 +189,7 @@ TEST_F(Display, SupersamplingSmoothsStairSteps) {
   EXPECT_LT(r3, 1 / std::sqrt(12.0) / 3);
 }
 
-// A glTF lamp's room (issue 45): 10 cd is 0.0146 W/sr, whose floor at 2 m
+// A glTF lamp's room: 10 cd is 0.0146 W/sr, whose floor at 2 m
 // is 0.0037 W/m^2 -- black at the sun scenes' -1 EV. The default exposure
 // is -1 EV relative to the brightest point light's irradiance at the
 // scene's centre, so the floor under the lamp shows as a sunlit floor does

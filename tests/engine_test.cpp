@@ -86,7 +86,7 @@ Snapshot snapshot() {
   geti("ubo_generic", GL_UNIFORM_BUFFER_BINDING);
   geti("copy_read_buffer", GL_COPY_READ_BUFFER_BINDING);
   geti("copy_write_buffer", GL_COPY_WRITE_BUFFER_BINDING);
-  // Every other buffer target's generic binding (issue 46: an application
+  // Every other buffer target's generic binding (an application
   // that updates its own buffer through a generic binding must find its
   // buffer there), and the other objects a context binds.
   geti("atomic_counter_generic", GL_ATOMIC_COUNTER_BUFFER_BINDING);
@@ -262,7 +262,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
     SCOPED_TRACE(name);
     nlohmann::json j = test::canonical_scene(name);
     const bool pool = std::string(name) == "wavy_pool";
-    if (pool) j["water"]["dispersion"] = 1.0;  // the water passes' spectral sums (issue 22) too
+    if (pool) j["water"]["dispersion"] = 1.0;  // the water passes' spectral sums too
     auto loaded = test::bake_and_load(test::write_scene(j, "engine_state"));
     ASSERT_TRUE(loaded);
     std::unique_ptr<Engine> engine;
@@ -311,7 +311,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       look.texture_size = 32;
       int calls = 0;
       // The callback finds the caller's state but for what WaterPass lists
-      // (engine.h; issue 46: the active unit, a sampler object, multisampling).
+      // (engine.h: the active unit, a sampler object, multisampling).
       const Snapshot caller = snapshot();
       expect_state_kept("draw_water", [&] {
         ASSERT_TRUE(engine
@@ -373,7 +373,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
       expect_state_kept("WaterSimulation::stats", [&] { EXPECT_TRUE(sim->stats().finite); });
     }
     // bind() changes exactly the block's binding point and its units; not
-    // the generic uniform-buffer binding (issue 46: an application that
+    // the generic uniform-buffer binding (an application that
     // then updates its own uniform buffer through GL_UNIFORM_BUFFER would
     // write into caustix's light block).
     const Snapshot before = snapshot();
@@ -432,7 +432,7 @@ TEST_F(Engine_, EveryCallLeavesTheGlStateItFound) {
   }
 }
 
-// docs/embedding.md's table of bindings is the header's (issue 46: the docs
+// docs/embedding.md's table of bindings is the header's (the docs
 // and engine.h disagreed on the block's point and the units' count): every
 // field of runtime::Bindings, by name and default, and nothing else.
 TEST(EngineDocs, TheDocsBindingsTableIsTheHeaders) {
@@ -482,7 +482,7 @@ TEST(EngineDocs, TheDocsBindingsTableIsTheHeaders) {
   EXPECT_NE(glsl.find("#define CAUSTIX_UNIT_SHADOW_2D " + std::to_string(b.shadow_2d) + "\n"), std::string::npos);
 }
 
-// The include twice in one shader compiles (its guards; issue 46).
+// The include twice in one shader compiles (its guards).
 TEST_F(Engine_, TheIncludeTwiceInOneShaderCompiles) {
   auto loaded = test::bake_and_load(scene("glass_ball"));
   ASSERT_TRUE(loaded);

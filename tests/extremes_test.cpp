@@ -1,4 +1,4 @@
-// Numerical stability at the edges of the parameter space (issue 8).
+// Numerical stability at the edges of the parameter space.
 // Mostly on flat_pool, where physics gives every pixel: the floor under
 // flat water receives E0 T(theta) cos(theta) (no absorption), T the
 // unpolarised Fresnel transmittance. Each case bakes an edited scene,

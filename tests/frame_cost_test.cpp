@@ -1,4 +1,4 @@
-// What a frame costs an application (issue 44), counted on llvmpipe:
+// What a frame costs an application, counted on llvmpipe:
 // no GPU -> CPU synchronisation once a scene has warmed up, nothing remade
 // whose inputs did not change, lists that overflow say so and grow, the
 // light side at a lower rate when asked, and the planes planned on the GPU

@@ -1,5 +1,5 @@
 // Geometric predicates where a structure or a decision depends on them
-// (issue 16): each place that builds a combinatorial structure or decides
+//: each place that builds a combinatorial structure or decides
 // hit/miss on floating-point input, with an input on which inexact
 // predicates fail. Which kernel each place uses, and why, is stated in
 // its source (object_box_cgal.cpp, ray_cast_cgal.cpp,
@@ -100,7 +100,7 @@ TEST(GeometryKernel, RaysThroughSharedEdgesAndVerticesHit) {
   EXPECT_EQ(rays, 154600u);
 }
 
-// The same through Embree in robust mode (issue 48: the light-transport
+// The same through Embree in robust mode (the light-transport
 // tables' caster), also with the sphere 10^4 of its size from the origin,
 // where float coordinates would lose 2^-10 of it without the caster moving
 // the mesh to its centre. Robust mode is watertight across edges (no ray

@@ -1,4 +1,4 @@
-// Dispersive glass through light-transport tables (issue 22;
+// Dispersive glass through light-transport tables (
 // docs/dispersion.md), physics as the oracle: the monochromatic images of a
 // dispersive ball lens at the F, d and C lines against the exact trace of
 // a sphere of that index; the interpolation between tables against a
@@ -80,7 +80,7 @@ double relative_l1(const std::vector<float>& a, const std::vector<float>& b) {
 // 780 nm besides n_d), illumination textures of 1024^2 (3.9 mm texels over
 // the floor): at each line the transmitted flux within 5 % of the exact
 // sphere's at n(lambda), its R50 within 10 % and the encircled power within
-// 10 % (the issue's target) at 2-20 cm. Before issue 47's focus windows
+// 10 % (the target) at 2-20 cm. Before the focus windows
 // the default 512^2 texels (the 2 cm circle 2.5 texels wide) put the C
 // line's sharper focus at -10.7 % there; the focus itself is judged in
 // finer pixels below. The F line's image misses the C line's exact pattern
@@ -113,7 +113,7 @@ TEST_F(GlassDispersion, BallLensPerWavelengthFromTables) {
   EXPECT_TRUE(test::lines_apart(got, "[dispersive_ball, tables]"));
 }
 
-// The rainbow at the focus (issue 47): at the default preset (512^2
+// The rainbow at the focus: at the default preset (512^2
 // textures, the focus window), each line's power within 1 cm of the axis
 // against the exact sphere at n(lambda), rasterised into the same 0.5 mm
 // pixels (optics_oracle.h), within 10 %, and the F/C ratio of those powers

@@ -1,4 +1,4 @@
-// Glass caustics (seed 002) with physics as the oracle: the glass ball's
+// Glass caustics (Iwasaki et al.) with physics as the oracle: the glass ball's
 // transmitted flux and focal spot against an exact 2-D trace of a sphere;
 // table look-ups against direct traces; an IOR-1 object leaves the light
 // unchanged; rotating glass and light together rotates the image; glass
@@ -91,7 +91,7 @@ TEST_F(Glass, BallLensFluxAndFocalSpot) {
               b.transmitted, b.expected, b.m50, b.r50, b.peak_e);
   EXPECT_NEAR(b.m50, b.r50, std::max(2 * pix, 0.1 * b.r50));
 
-  // Encircled power at the defaults (issue 18 measured 8 % low at 2 cm
+  // Encircled power at the defaults (once measured 8 % low at 2 cm
   // against caustix-reference in 4 mm pixels; these are 7.8 mm).
   for (double r : {0.02, 0.03, 0.05, 0.1, 0.2}) {
     const double got = encircled(b.measured, r), want = encircled(b.exact, r);
@@ -100,12 +100,12 @@ TEST_F(Glass, BallLensFluxAndFocalSpot) {
   }
 }
 
-// The focal spot at the defaults (issue 47) against the exact trace of a
+// The focal spot at the defaults against the exact trace of a
 // true sphere (optics_oracle.h, Fresnel at both surfaces), rasterised into
 // the same pixels: 0.5 mm pixels over +-5.1 cm, 4 x 4 samples each; the
 // power within 0.5, 1, 2 and 5 cm of the axis and the brightest 2 mm pixel
 // (4 x 4 of them, aligned so that one is centred on the axis: optics puts
-// 7151 E0 there). Bounds: the issue's targets, 10 % at 0.5 cm, 5 % beyond,
+// 7151 E0 there). Bounds: the targets, 10 % at 0.5 cm, 5 % beyond,
 // 25 % at the peak; measured -4.5, -3.1, -1.5, -1.0 % and -19.8 %. Without
 // the focus window the 7.8 mm texels of the floor's texture spread the
 // spot: -60 % at 0.5 cm, -22 % at 1 cm, the peak -95 % (asserted worse
@@ -185,7 +185,7 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
   }
 }
 
-// Smooth glass caustics (issue 21: "the glass ball's shadow ring has radial
+// Smooth glass caustics ("the glass ball's shadow ring has radial
 // spokes"). Under the vertical sun the exact floor is radially symmetric;
 // per one-pixel ring (4 mm) the spread of the pixels around it over their
 // mean, averaged over the rings of 0.12-0.30 m, measures spokes and steps
@@ -235,7 +235,7 @@ TEST_F(Glass, SmoothCausticsLeaveNoFacetSpokes) {
 // The focal spot with curved glass refined (--glass-turn 5, the accurate
 // preset's) and 1024^2 illumination textures: the power within r of the
 // axis against the exact trace of a true sphere, in 3.75 mm pixels. Bound
-// at r >= 2 cm: issue 18's 5 % plus 1 % for what the 48 x 24 UV sphere
+// at r >= 2 cm: the glass target's 5 % plus 1 % for what the 48 x 24 UV sphere
 // itself gives up against a true sphere (caustix-reference tracing the
 // mesh, 32 M photons: -0.6 % at 2 cm, -2.4 % at 3 cm). Measured -4.9,
 // -3.5, -3.0, -2.0, -1.6 %; unrefined, the same textures give -7.7 % at
@@ -267,7 +267,7 @@ TEST_F(Glass, RefinedBallLensHoldsItsFocalSpot) {
   }
 }
 
-// Extremes of the IOR and total internal reflection (issue 8), on a glass
+// Extremes of the IOR and total internal reflection, on a glass
 // cube (0.5 m, its centre 0.75 m above the floor; faces of 16 x 16 cells:
 // the table is per vertex, and box.obj's 8 corners have none inside a face,
 // so all its light is traced from edges and corners and lost). Straight down,
@@ -560,7 +560,7 @@ TEST_F(Glass, HalfShadedPaneSendsTheLightOfItsLitHalf) {
     for (std::size_t i = 0; i < img->rgb.size(); i += 3) sum += img->rgb[i] * pix * pix;
     transmitted += method == runtime::CausticsMethod::kNone ? -sum : sum;
     if (method == runtime::CausticsMethod::kLevelMap) {
-      // A pane concentrates nothing: no focus window, no cost (issue 47).
+      // A pane concentrates nothing: no focus window, no cost.
       const auto lit = (*r)->engine().lighting(0, 0);
       ASSERT_TRUE(lit.ok());
       EXPECT_EQ(lit->block.glass_half.w, 0.0f);
@@ -712,7 +712,7 @@ TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {
   EXPECT_LT(diff / sa, 0.03);
 }
 
-// Copies of one glass ball (issue 48): baked once, one LTTB for the three
+// Copies of one glass ball: baked once, one LTTB for the three
 // (LTTR names the copies), drawn from one set of GPU tables, and the
 // floor's light the same, texel for texel, as from three tables of their
 // own (--no-share). Each copy, turned and scaled, still focuses as optics
@@ -721,7 +721,7 @@ TEST_F(Glass, RotatingGlassAndLightRotatesTheImage) {
 // WithOptics's bound beyond 1 cm; measured -4.7, -3.0, -3.4 %), and the
 // turned copy within 3 % of the unturned one at 2 and 5 cm (measured +1.4,
 // +1.8 %). At 2 cm the copies read -6.5 to -8.1 % against optics, printed
-// and not asserted: the floor's one focus window (issue 47) has to span
+// and not asserted: the floor's one focus window has to span
 // all three spots, 2.4 m apart, so it does not sharpen them.
 TEST_F(Glass, CopiesShareOneTableAndFocusAsOptics) {
   nlohmann::json j = scene("glass_ball");
@@ -919,7 +919,7 @@ TEST(LightTransport, AnOpenMeshBakesThinWalledNamingEdges) {
 // Light transport runs inside the object: a closed mesh that is wound
 // inconsistently, inside out, or has edges of three triangles is refused,
 // saying which, before any tracing (a solid was meant); one with a hole
-// too bounds no solid and bakes thin-walled, saying so (issue 45).
+// too bounds no solid and bakes thin-walled, saying so.
 TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
   using test::CubeFlaw;
   const std::vector<std::pair<CubeFlaw, std::string>> cases{

@@ -1,5 +1,5 @@
-// The view through glass (issue 20; seed 003's nearby-geometry refraction,
-// Shah, Konttinen & Pattanaik 2007, against seed 002 §3's table-traced view
+// The view through glass (timofy 2009's nearby-geometry refraction,
+// Shah, Konttinen & Pattanaik 2007, against Iwasaki et al. §3's table-traced view
 // rays), with Snell's law as the oracle: a dark strip on the floor seen
 // through a flat glass slab from an oblique camera appears where the exact
 // trace of the camera's rays through the slab's two faces puts it, not
@@ -7,10 +7,10 @@
 // exit and landing iterations converge onto the slab's back face and the
 // floor), so the strip's edge lands within a pixel of the trace's. Extremes:
 // one and 64 iterations stay finite; iterations out of 1..64 are refused by
-// name. Dispersion (issue 22): through a dispersive slab the nearby view
+// name. Dispersion: through a dispersive slab the nearby view
 // puts the edge where Snell puts it at each wavelength's index, and the
 // RGB image is the wavelengths' images times their weights. A tinted slab
-// (issue 45) darkens the floor seen through it by tint^2; a thin-walled pane
+// darkens the floor seen through it by tint^2; a thin-walled pane
 // shows it straight through, scaled by its sheet's transmittance and tint.
 
 #include <gtest/gtest.h>
@@ -253,7 +253,7 @@ TEST_F(GlassView, NearbyViewRefractsEachWavelengthAtItsIndex) {
   EXPECT_TRUE(image(*dispersive, f) == image(*renderer_, f)) << "one wavelength must be the slab without dispersion";
 }
 
-// An object inside the glass (issue 45: MosquitoInAmber's insect turned
+// An object inside the glass (MosquitoInAmber's insect turned
 // the whole amber black in the table view). The table view maps the
 // glass's front straight to its exit; its exit ray starts behind anything
 // inside, so a surface nearer than the exit point is not what it meets.
@@ -305,7 +305,7 @@ TEST_F(GlassView, AnObjectInsideTheGlassDoesNotBlackenTheTableView) {
   EXPECT_GT(inside / clear, 0.9);
 }
 
-// The floor seen through a tinted slab (issue 45). A low sun (10 degrees,
+// The floor seen through a tinted slab. A low sun (10 degrees,
 // travelling along -x) reaches the floor under the slab at x = 0.4 beneath
 // the slab (the light through the slab lands at -0.35 < x < 0), so the
 // floor there is lit as brightly whatever the tint, and the view ray
@@ -358,7 +358,7 @@ TEST_F(GlassView, ATintedSlabDarkensTheFloorSeenThroughItByTintSquared) {
   }
 }
 
-// A thin-walled pane in the view (issue 45): an open vertical quad at
+// A thin-walled pane in the view: an open vertical quad at
 // z = 1 between the camera and the floor (baked thin-walled), the sun
 // behind it (its shadow falls towards the camera, off the floor seen
 // through it). Through a sheet the floor is seen where it is, scaled by

@@ -1,4 +1,4 @@
-// A corpus of glTF files shaped like what artists export (issue 45), each
+// A corpus of glTF files shaped like what artists export, each
 // baked through bake_scene() as `caustix-bake file.glb` does: what must
 // bake, with which warnings, and what must be refused, naming the glTF node
 // or the extension. The files are written here (tests/gltf_fixture.h) the

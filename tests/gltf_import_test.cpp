@@ -1,4 +1,4 @@
-// glTF 2.0 input (issue 21; docs/scene-format.md "glTF scenes"): files the
+// glTF 2.0 input (docs/scene-format.md "glTF scenes"): files the
 // test writes as an exporter would (tests/gltf_fixture.h) -- embedded
 // buffers, .glb, external buffers, node hierarchies, every material and
 // light extension caustix reads, Draco and quantised attributes -- and the
@@ -195,7 +195,7 @@ TEST_F(Gltf, GlbWithExternalBufferAndHierarchy) {
             baked->warnings.end());
 }
 
-// Duplicated objects as exporters write them (issue 48): each copy of the
+// Duplicated objects as exporters write them: each copy of the
 // glass cube its own glTF mesh with its own copy of the data, one turned
 // and scaled, one in a glass that differs only in colour (a tint, drawn at
 // run time), one of another index. The bake stores the mesh once and

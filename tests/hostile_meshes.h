@@ -1,5 +1,5 @@
 #pragma once
-// Small hostile meshes for the import, topology and bake tests (issue 8):
+// Small hostile meshes for the import, topology and bake tests:
 // a unit cube [0, 1]^3 with shared vertices, wound counter-clockwise seen
 // from outside, and ways to break it; and a UV sphere.
 

@@ -1,4 +1,4 @@
-// Index grids for media (seed 004 "Voxelization", "Octree Construction"):
+// Index grids for media (Pfeuti "Voxelization", "Octree Construction"):
 // the voxelised volume is the mesh's, the filter keeps it, the octree's
 // nodes hold the index within epsilon, the bake is deterministic, and the
 // chunk refuses what it must.
@@ -137,7 +137,7 @@ TEST(IndexGrid, SameBytesWhateverTheThreadCount) {
   EXPECT_EQ(one, encode_index_grid(voxelize_index(3, m, 1.5f, 1.33f, IndexGridOptions{})));
 }
 
-// One object's grid reports its progress as it goes (issue 48: a fine
+// One object's grid reports its progress as it goes (a fine
 // grid of one object takes seconds; the bar must move and the budgets
 // must be able to stop it), and reporting changes nothing in it.
 TEST(IndexGrid, ProgressWithinOneObjectAndAStop) {

@@ -1,4 +1,4 @@
-// Level-map baking (seed 000 §4.2, §4.7.2): frames, position maps, depth
+// Level-map baking (Tipprasert 2006 §4.2, §4.7.2): frames, position maps, depth
 // profiles, plane sets, what is skipped, extremes and determinism.
 
 #include <gtest/gtest.h>
@@ -167,7 +167,7 @@ TEST_F(LevelMapTest, UnreachableAndShadowedReceiversAreSkipped) {
   EXPECT_TRUE(r->level_maps.pairs[1].baked) << r->level_maps.pairs[1].reason;
 }
 
-// The water grid's coverage (issue 46: a floor as wide as the grid had a
+// The water grid's coverage (a floor as wide as the grid had a
 // dark strip along its sunward edge, unsaid). A 12 m floor 2 m under water
 // whose grid is exactly as wide, a sun 30 degrees from vertical travelling
 // +x: the floor within 2 tan(asin(sin 30 / 1.33)) = 0.811 m of the grid's

@@ -1,4 +1,4 @@
-// The mesh-import corpus (issue 16): tests/data/meshes holds files shaped
+// The mesh-import corpus: tests/data/meshes holds files shaped
 // like the ones users bring from other tools, and broken ones, with
 // expectations.json saying what must happen to each (generate.py writes
 // both). Every file is imported, then baked as a receiver in a small pool
@@ -148,7 +148,7 @@ TEST(MeshCorpus, BakesAsReceiverOrIsRefused) {
 
 // Transparent objects are stricter: closed, consistently wound meshes bake
 // as solid glass (light-transport table and all); open ones bound no solid
-// and bake thin-walled (issue 45), with a warning giving the edge census
+// and bake thin-walled, with a warning giving the edge census
 // (what is wrong, how many edges, the first ones); a closed one that is not
 // a solid is refused with it.
 TEST(MeshCorpus, ClosedOnesBakeAsGlassOthersThinWalled) {

@@ -119,7 +119,7 @@ TEST(Reference, SlantedSunOnABareFloorIsUniform) {
   EXPECT_LT(worst, 5 * img->relative_noise);  // 144 pixels: 5 sigma is a 1-in-10^4 event for each
 }
 
-// A spot light over a bare floor (issue 45): each pixel is the pixel's mean
+// A spot light over a bare floor: each pixel is the pixel's mean
 // of I f(a) cos(theta) / r^2, f KHR_lights_punctual's falloff written here
 // from the angles (tests/spot_light_test.cpp has the runtime's).
 TEST(Reference, SpotLightOnABareFloorIsTheFalloffTimesTheInverseSquare) {
@@ -210,7 +210,7 @@ TEST(Reference, GlassBallFocusesWhereTheBallLensFormulaDoes) {
   EXPECT_LT(std::hypot(px, pz), 1.5 * pix);
 }
 
-// Issue 47: the reference on a fine sphere (sphere_fine.obj, 8 066
+// The reference on a fine sphere (sphere_fine.obj, 8 066
 // vertices, as glass_ball's ball) agrees with the exact sphere where the
 // light concentrates, so that it can judge what the oracle cannot reach:
 // the power within 1, 2 and 5 cm of the focus in 1 mm pixels, both sides
@@ -243,7 +243,7 @@ TEST(Reference, FineSphereFocusAgreesWithOptics) {
   }
 }
 
-// --- media (issue 19) ---------------------------------------------------------
+// --- media ---------------------------------------------------------
 
 using test::fog_box;
 using test::fog_pixel;
@@ -373,7 +373,7 @@ TEST(ReferenceMedia, FlatScatteringWaterIsUniformAndAnalytic) {
   EXPECT_NEAR(stats.scattered, 16 * t0 * (1 - std::exp(-2 * st)) * ss / st, 1e-6);
 }
 
-// The in-scatter reference with dispersion (issue 22): the flat scattering
+// The in-scatter reference with dispersion: the flat scattering
 // pool's water at dispersion 20 (V_d 1, the extreme), sun straight down,
 // so only the Fresnel transmittance at the top depends on the wavelength.
 // A monochromatic run takes exactly 16 m^2 x T(0, n(lambda)) of E0 in (no

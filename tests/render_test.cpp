@@ -71,8 +71,8 @@ TEST(Render, LitReceiverBackgroundAndShadow) {
   EXPECT_LT(shadow[0], 0.15f * lit[0]);
 }
 
-// The automatic camera (a scene without one; issue 45: it was loose on
-// wide, flat scenes): the bounds' eight corners all inside a 4:3 frame,
+// The automatic camera (a scene without one; it was once loose
+// on wide, flat scenes): the bounds' eight corners all inside a 4:3 frame,
 // and the frame filled to within 10 % along one axis. glass_ball's 4 m
 // floor and its ball, once framed by the bounding sphere at 2.8 radii
 // (the corners reached 0.77 of the frame; now 0.95).
@@ -121,7 +121,7 @@ TEST(Render, WavesMoveWithTime) {
 }
 
 
-// Albedo textures (issue 45): a 3 m floor under a sun straight down, seen
+// Albedo textures: a 3 m floor under a sun straight down, seen
 // from above (image right = +x, image up = -z), textured with a 64 x 64
 // image whose red is sRGB 60 on its left half and 200 on its right, green
 // 200 on its top rows and 60 on its bottom ones, blue 128. Ambient and sun

@@ -277,9 +277,9 @@ TEST(SceneCodec, RenderDefaultsAreValidated) {
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("/render/glass_spectral_coarse"), std::string::npos) << d.error().message;
 
-  // A chunk written before issue 19 ends after the glass planes (before
-  // issue 20, after the media's pair; before issue 44, after the caustic
-  // maps' four; before issue 47's field, after the water textures' limit):
+  // A chunk written by an older baker ends after the glass planes (or
+  // after the media's pair, the caustic maps' four or the water textures'
+  // limit, as the fields were added):
   // what follows keeps its defaults. Any other length is refused.
   for (const std::size_t cut : {32u, 24u, 8u, 4u, 12u, 2u}) {
     const auto full = encode_scene(full_scene(), {{0}});
@@ -339,7 +339,7 @@ TEST(SceneCodec, MediaAreValidated) {
   EXPECT_NE(d.error().message.find("scattering object index 1"), std::string::npos) << d.error().message;
 }
 
-// Mirrors (issue 20): role 4 and the MIRR chunk survive; a reflectance out
+// Mirrors: role 4 and the MIRR chunk survive; a reflectance out
 // of [0, 1] is refused by name; a mirror whose record is missing (the
 // count says none) is refused with the chunk named; a scene without
 // mirrors has no MIRR chunk.
@@ -380,7 +380,7 @@ TEST(SceneCodec, MirrorsAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagMirrors).empty());
 }
 
-// Spot lights (issue 45): the cone survives in the SPOT chunk (required: a
+// Spot lights: the cone survives in the SPOT chunk (required: a
 // reader that ignored it would light the whole scene); bad angles are
 // refused by name; a record for a directional light is refused with the
 // chunk named; a scene without spots has no SPOT chunk, so its bytes are
@@ -423,7 +423,7 @@ TEST(SceneCodec, SpotConesAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagSpots).empty());
 }
 
-// Albedo textures (issue 45): the image and the receiver's mapping survive
+// Albedo textures: the image and the receiver's mapping survive
 // in the optional TEXR chunk; a scene without textures has none; a
 // texture on a non-receiver, an image index out of range, a wrong texel
 // count in the frame and a bad projection are refused by name.
@@ -496,7 +496,7 @@ TEST(SceneCodec, AlbedoTexturesAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagTextures).empty());
 }
 
-// Dispersion (issue 22): the water's and a transparent object's survive in
+// Dispersion: the water's and a transparent object's survive in
 // the DISP chunk (required: a reader that ignored it would render no
 // colour fringes); out-of-range values are refused by name; a record for
 // an object that is not transparent is refused with the chunk named; a
@@ -570,11 +570,11 @@ TEST(SceneCodec, DispersionIsStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagDispersion).empty());
 }
 
-// A dispersive lens's tables at other wavelengths (LTTS, issue 22): stored
+// A dispersive lens's tables at other wavelengths (LTTS): stored
 // after its LTTB, required, each at the lens's index at its wavelength;
 // refused out of order, at another index, for an object that does not
 // disperse, outside 380..780 nm, or unlike the object's LTTB.
-// Tints of transparent objects (issue 45): stored in the required TINT
+// Tints of transparent objects: stored in the required TINT
 // chunk (a reader that skipped it would render tinted glass clear); a tint
 // on an object that is not transparent and a component outside [0, 1] are
 // refused by name; a scene without tints has no TINT chunk.
@@ -609,7 +609,7 @@ TEST(SceneCodec, TintsAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagTint).empty());
 }
 
-// Thin-walled glass (issue 45): role 5 in OBJS, no light-transport table,
+// Thin-walled glass: role 5 in OBJS, no light-transport table,
 // tinted through TINT; a bad tint, or a table for it, is refused.
 TEST(SceneCodec, ThinWalledObjectsAreStoredAndValidated) {
   LightTransportTable table;
@@ -693,7 +693,7 @@ TEST(SceneCodec, SpectralTablesAreStoredAndValidated) {
   }
 }
 
-// Where a table's path class switches (LTTW, issue 47): optional, one per
+// Where a table's path class switches (LTTW): optional, one per
 // table, naming it by object and wavelength; the bytes survive. Refused: a
 // second for one table, one for no table, another size; truncated
 // anywhere. A file without it loads with no switches (what a reader that
@@ -769,7 +769,7 @@ TEST(SceneCodec, TableSwitchesAreStoredAndValidated) {
   EXPECT_TRUE(d->transport_tables.at(0).switches.empty());
 }
 
-// Objects sharing one set of tables (issue 48): the required LTTR chunk
+// Objects sharing one set of tables: the required LTTR chunk
 // names, per object in order, the earlier object whose LTTB and LTTS it
 // uses; the sharer gets that object's absorption and spectral tables. Refused:
 // a sharer with a table of its own (LTTB or LTTS), one naming a later

@@ -140,7 +140,7 @@ TEST(SceneJson, HugeNumbersAndLightTypes) {
             std::string::npos);
 }
 
-// Spot lights (issue 45): a point light with KHR_lights_punctual's cone,
+// Spot lights: a point light with KHR_lights_punctual's cone,
 // half-angles in degrees (inner 0 and outer 45 unless given), pointing
 // down unless given; bad cones are located.
 TEST(SceneJson, SpotLights) {
@@ -167,7 +167,7 @@ TEST(SceneJson, SpotLights) {
   EXPECT_NE(msg.find("/lights/0/direction"), std::string::npos) << msg;
 }
 
-// Albedo textures (issue 45): a file name (mesh UVs), or the object form
+// Albedo textures: a file name (mesh UVs), or the object form
 // with box projection and KHR_texture_transform's parts; one image per
 // distinct file; the albedo defaults to 1 under a texture and tints it
 // when given; bad values are located; a texture on glass is refused.
@@ -283,7 +283,7 @@ TEST(TextureImport, FilesBytesFittingAndRefusals) {
   EXPECT_NE(c.error().message.find("glTF allows image/png and image/jpeg"), std::string::npos) << c.error().message;
 }
 
-// A glass's tint (issue 45): a number or [r, g, b]; on an opaque
+// A glass's tint: a number or [r, g, b]; on an opaque
 // material a warning and no effect; out of range, located.
 TEST(SceneJson, GlassTint) {
   auto r = parse_scene_json(R"({"objects": [
@@ -300,7 +300,7 @@ TEST(SceneJson, GlassTint) {
   EXPECT_NE(msg.find("/objects/0/material/tint"), std::string::npos) << msg;
 }
 
-// Thin-walled glass (issue 45): "thin": true on a transparent material
+// Thin-walled glass: "thin": true on a transparent material
 // makes the object a thin wall; on an opaque one it warns; on a receiver it
 // is refused, as are absorption and dispersion, which need an inside.
 TEST(SceneJson, ThinWalledGlass) {
@@ -323,7 +323,7 @@ TEST(SceneJson, ThinWalledGlass) {
   EXPECT_NE(msg.find("/objects/0/material/absorption: a thin-walled object has no inside to absorb in; use tint"), std::string::npos) << msg;
 }
 
-// Media (issue 19): the medium box, scattering water and milky glass, with
+// Media: the medium box, scattering water and milky glass, with
 // their phase functions; bad values are located.
 TEST(SceneJson, MediaAndScattering) {
   auto r = parse_scene_json(R"({"objects": [{"name": "g", "mesh": "m.obj", "role": "transparent",

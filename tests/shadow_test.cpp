@@ -1,4 +1,4 @@
-// Variance shadow maps (issue 20; seed 003, Donnelly & Lauritzen 2006)
+// Variance shadow maps (timofy 2009, Donnelly & Lauritzen 2006)
 // against PCF and geometry: a unit box on a floor under a sun at 45 degrees
 // takes E0 cos 45 from its footprint and the 1 m^2 its shadow covers, and
 // no more whichever filter draws it (a box filter of a step keeps its area,

@@ -1,4 +1,4 @@
-// Dispersion's index model and wavelength sampling (issue 22; spectrum.h):
+// Dispersion's index model and wavelength sampling (spectrum.h):
 // KHR_materials_dispersion's index at the d, F and C lines, its clamp at 1
 // and its extremes; the bin weights sum to 1 per channel for every count,
 // the density integrates to 1, and the white of a flat spectrum is neutral.

@@ -1,4 +1,4 @@
-// Spot lights (issue 45; KHR_lights_punctual's cone): a spot light is a
+// Spot lights (KHR_lights_punctual's cone): a spot light is a
 // point light whose intensity towards a direction is its own times the
 // specification's falloff, t^2 with t = clamp((cos a - cos outer) / (cos
 // inner - cos outer), 0, 1), a the angle from the axis. The oracle is that

@@ -1,4 +1,4 @@
-// The speed/accuracy trade against the independent reference (issue 6):
+// The speed/accuracy trade against the independent reference:
 // the level map's error falls, within the reference's noise, as planes and
 // map sizes grow; the presets are ordered, fast doing the least work and
 // accurate having the smallest error.

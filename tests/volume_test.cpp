@@ -1,4 +1,4 @@
-// The runtime's volume caustics and single scattering (seed 004; issue 19)
+// The runtime's volume caustics and single scattering (Pfeuti)
 // against physics and the reference: the analytic fog integral, energy
 // (power in = scattered + absorbed + leaving + reflected + truncated, and
 // the radiance grid holds what was scattered), the Schlick phase, flat
@@ -90,7 +90,7 @@ TEST_F(Volume, FogWithoutObjectsIsTheAnalyticIntegral) {
   EXPECT_EQ(v.grid_size[0], 64u);
 }
 
-// A spot light over the fog box (issue 45): the power entering the fog is
+// A spot light over the fog box: the power entering the fog is
 // the integral over the box's top of I f(a) cos(theta) / r^2, f
 // KHR_lights_punctual's falloff written here from the angles; against the
 // same light without its cone (which takes the integral without f).
@@ -190,7 +190,7 @@ TEST_F(Volume, FlatScatteringWaterIsUniformAndAnalytic) {
   EXPECT_NEAR(img.stats.scattered, 16 * t0 * (1 - std::exp(-2 * st)) * ss / st, 1e-2);
 }
 
-// Dispersion in the media (issue 22): the flat scattering pool with the
+// Dispersion in the media: the flat scattering pool with the
 // water's dispersion at its largest, 20 (V_d 1: n 1.9096 at 400 nm, 1.1823
 // at 700 nm). The light comes straight down, so only the Fresnel
 // transmittance at the top depends on the wavelength:
@@ -299,11 +299,11 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
   EXPECT_LT(diff / sum, 0.02);
 }
 
-// The focal line under fog_ball's glass ball (issue 47) against exact
+// The focal line under fog_ball's glass ball against exact
 // optics (media_oracle.h: the sphere traced in the test, Fresnel in and
 // out): the in-scatter of the 1 cm column on the axis, 1 cm rows from the
 // ball's bottom to the floor. The runtime's peak within 15 % of optics and
-// at its height within 2 cm (the issue's targets); every row from 5 cm
+// at its height within 2 cm (the targets); every row from 5 cm
 // below the ball where optics holds a quarter of its peak within 20 %
 // (measured: at most 15.0 %, 6.5 cm below the ball). Nearer the ball the
 // rows are off by up to 73 %: the index grid's surface, blurred over 1.6 cm
@@ -353,7 +353,7 @@ TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   EXPECT_LE(std::abs(pr - pe) * dy, 0.02 + 1e-9);
   EXPECT_LT(worst, 0.20);
 
-  // Without the focus grid the line is what the issue found: the test
+  // Without the focus grid the line is what was first found: the test
   // tells the two apart (measured: -59 %, 13 cm high; with it -5.8 %, the
   // same row).
   InscatterRequest coarse = q;
@@ -474,7 +474,7 @@ TEST_F(Volume, Extremes) {
   EXPECT_EQ(refused.error().code, ErrorCode::kUsage);
   EXPECT_NE(refused.error().message.find("lower the volume grid"), std::string::npos) << refused.error().message;
 
-  // The focus grid (issue 47): none without glass, and its size checked.
+  // The focus grid: none without glass, and its size checked.
   q.caustics.volume.grid = 64;
   q.caustics.volume.photons = 16;
   const InscatterImage plain = inscatter(*r, q);

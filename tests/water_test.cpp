@@ -1,4 +1,4 @@
-// The water surface's appearance (seed 001): apparent depth under flat water
+// The water surface's appearance (Mihalik 2008): apparent depth under flat water
 // (Snell's law, per wavelength under dispersive water), the W/A iteration
 // against an exact march of the same depth texture, Fresnel at normal and
 // grazing views, the view from under the surface beyond the critical angle,
@@ -160,7 +160,7 @@ TEST_F(Water, FlatWaterApparentDepthWithinAPixel) {
 }
 
 // The same edge under water of dispersion 10 (V_d 2: n 1.620 at 400 nm,
-// 1.256 at 700 nm; issue 22). Each monochromatic image puts it where
+// 1.256 at 700 nm). Each monochromatic image puts it where
 // Snell's law does at that wavelength's index, within a pixel as at n_d,
 // and the two lie over 10 pixels apart. In the RGB image of 8 wavelengths
 // every channel's edge lies between those two, blue's nearer 400 nm's than
@@ -256,7 +256,7 @@ LookupError lookup_error(sample::Renderer& r, const Camera& cam, int w, int h, W
   return e;
 }
 
-// Issue 21's seam: wavy_pool's floor seen through the waves jumped along a
+// The seam: wavy_pool's floor seen through the waves jumped along a
 // line where the paper's three W/A steps stopped converging (grazing rays
 // far from the camera). With the iteration going on until its miss is
 // under half a texel (WaterLook::max_steps), then a coarse march where it
@@ -281,7 +281,7 @@ TEST_F(Water, ConvergedIterationRemovesTheGrazingSeam) {
   EXPECT_LT(converged.over_2_texels, 0.08);
 }
 
-// Issue 21's stair steps: the straight near edge of the dark plate of
+// Stair steps: the straight near edge of the dark plate of
 // FlatWaterApparentDepthWithinAPixel, turned 15 degrees about the vertical
 // and seen through flat water at 1280 x 960,
 // is a smooth curve; where the refraction texture's texels are wider than
@@ -350,7 +350,7 @@ TEST_F(Water, TexelPerPixelRefractionHasNoStairSteps) {
   EXPECT_LT(fine, 0.5 * coarse);
 }
 
-// Issue 21's faint X on thesis_teapot's pool wall: §9.3 spreads a glint's
+// The faint X on thesis_teapot's pool wall: §9.3 spreads a glint's
 // glow over the two diagonals of a 7 x 7 grid, so an isolated glint glows
 // as an X. The sun's glint on flat water, centred in the view; the glow
 // alone (glow on minus off), its four-fold anisotropy

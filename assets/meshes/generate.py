@@ -9,7 +9,7 @@ regenerate). Units: metres, +y up, counter-clockwise front faces.
   cylinder.obj  closed cylinder, radius 1, axis along x from -1 to 1,
               96 segments, smooth side, flat caps
   ring.obj    open cylinder (a ring: no caps), radius 1, axis y from 0 to 1,
-              256 segments, smooth outward normals (a mirror ring, issue 20)
+              256 segments, smooth outward normals (a mirror ring)
   box.obj     unit cube centred on the origin (flat-shaded faces)
   walls.obj   the four walls of a 1 x 1 x 1 pool (no floor), inward normals
   deck.obj    the paving around such a pool: a square frame in y = 0 between

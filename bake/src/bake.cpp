@@ -30,7 +30,7 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Light transport runs inside transparent objects (seed 002 §3): they must
+// Light transport runs inside transparent objects (Iwasaki et al. §3): they must
 // bound a solid, wound outward. Returns what is wrong, naming up to five
 // edges (0-based vertex indices and the first vertex's position);
 // `closed` says whether the surface is closed (no boundary edge).
@@ -126,7 +126,7 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
 
 namespace {
 
-// Shared work (issue 48): a mesh whose imported content (after refinement)
+// Shared work: a mesh whose imported content (after refinement)
 // and Draco stream equal an earlier mesh's is dropped and its objects draw
 // the earlier one, as exporters duplicate a mesh for every copy of an
 // object (glTF meshes that are not instanced, one OBJ per object). Returns
@@ -272,7 +272,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     for (std::uint32_t& c : scene.water->cells) {
       c = static_cast<std::uint32_t>(std::clamp(std::lround(c * options.water_grid_scale), 1L, long{kMaxWaterCells}));
     }
-    // Said (issue 46): a coarser grid shows its triangles' seams in the caustics.
+    // Said: a coarser grid shows its triangles' seams in the caustics.
     char note[200];
     std::snprintf(note, sizeof note, "the water grid is %u x %u cells, scene.json's %u x %u times %g (--water-grid-scale%s%s)",
                   scene.water->cells[0], scene.water->cells[1], before[0], before[1], options.water_grid_scale,
@@ -323,10 +323,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
       return make_error(ErrorCode::kInput, path + ": " + std::to_string(mesh.positions.size()) +
                                                " vertices exceeds the limit of " + std::to_string(kMaxMeshVertices));
     }
-    // Light transport runs inside transparent objects (seed 002 §3): their
+    // Light transport runs inside transparent objects (Iwasaki et al. §3): their
     // meshes must bound a solid, and are refined to what the table needs.
     // One that bounds none (a pane, a shade: an open surface) is baked
-    // thin-walled (issue 45), as glTF would draw it, and said so.
+    // thin-walled, as glTF would draw it, and said so.
     std::optional<GlassRefineReport> refined;
     auto thin = make_open_glass_thin(scene, static_cast<std::uint32_t>(i), mesh, path);
     if (!thin) return thin.error();
@@ -414,7 +414,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   out.seconds_level_maps = seconds_since(t0);
   if (!voice.progress("level maps", "", 1.0)) return voice.error();
 
-  // Light-transport tables (seed 002 §3), one per transparent object, over
+  // Light-transport tables (Iwasaki et al. §3), one per transparent object, over
   // the decoded mesh: the runtime indexes the table by the vertices it
   // draws, which Draco's edgebreaker has reordered.
   t0 = Clock::now();
@@ -475,7 +475,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     if (!table) return voice.error();
     tables.push_back(std::move(*table));
     out.transport.push_back(rep);
-    // Dispersive glass (issue 22): the same table at more wavelengths.
+    // Dispersive glass: the same table at more wavelengths.
     if (o.material.dispersion > 0 && options.transport.wavelengths == 0) {
       voice.warn("transparent object '" + o.name + "' disperses, but --ltt-wavelengths 0 bakes its light-transport "
                  "table at n_d only: its caustics from the tables have no colour fringes");
@@ -496,7 +496,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   out.seconds_transport = seconds_since(t0);
   if (table_count > 0 && !voice.progress("light-transport tables", "", 1.0)) return voice.error();
 
-  // Index grids for media (seed 004), one per transparent object, only when
+  // Index grids for media (Pfeuti), one per transparent object, only when
   // something scatters: a scene without media pays nothing for them.
   t0 = Clock::now();
   std::vector<IndexGrid> grids;

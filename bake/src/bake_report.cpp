@@ -111,7 +111,7 @@ std::string report_json(const BakeResult& r, const BakeOptions& opt) {
          {"raw_bytes", t.raw_bytes}, {"stored_bytes", t.stored_bytes},
          {"max_exit_position_error_m", t.position_error_m}, {"max_exit_direction_error_deg", t.direction_error_rad * 180.0 / 3.14159265358979}});
   }
-  // Objects drawing another's tables (issue 48), by name: {"copy": "source"}.
+  // Objects drawing another's tables, by name: {"copy": "source"}.
   j["transport"]["shared"] = nlohmann::ordered_json::object();
   for (const Object& o : r.scene.objects) {
     if (o.tables_from) j["transport"]["shared"][o.name] = r.scene.objects[*o.tables_from].name;

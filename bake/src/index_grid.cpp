@@ -1,4 +1,4 @@
-// Seed 004, "Voxelization": inside/outside coverage per voxel, Gaussian
+// Pfeuti, "Voxelization": inside/outside coverage per voxel, Gaussian
 // filtering, conversion to n; "Octree Construction": regions whose index
 // varies by at most epsilon, so photons can take larger steps there.
 // The slides voxelise on the GPU by sweeping the near plane; the baker does

@@ -87,7 +87,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
   // Oriented boxes for culling (CGAL), one per object. Objects that draw
   // one mesh through a rotation, translation and uniform scale (copies of a
   // ball) share the orientation of the mesh's own box: the optimiser, 0.35 s
-  // for an 8 k-vertex ball, runs once per mesh in object space (issue 48),
+  // for an 8 k-vertex ball, runs once per mesh in object space,
   // and each object's box is fitted to its own points along those axes.
   auto t0 = Clock::now();
   out.boxes.resize(n_obj);
@@ -197,7 +197,7 @@ Result<LevelMapStage> bake_level_maps(const SceneDesc& scene, const std::vector<
       if (!on_grid) skip_reason[j] = "no refracted ray from the water grid reaches it";
       else if (!lit) skip_reason[j] = "fully shadowed by other objects";
       if (!on_grid || !lit || v[1] <= 0) return;
-      // The grid's coverage (issue 46): a receiver's vertex under the water,
+      // The grid's coverage: a receiver's vertex under the water,
       // facing the light, whose refracted ray back toward the light (flat
       // water) leaves the water grid before reaching the surface, and
       // meets nothing on the way (so it is no shadow anyway), lies in a

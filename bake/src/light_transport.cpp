@@ -205,7 +205,7 @@ TransportEntry TransportTracer::trace(std::uint32_t v, const Dir3& omega, std::u
     return e;
   }
   const double cos_i = std::max(dot(omega, n), 0.0);
-  // Entry: refraction at the vertex normal (seed 000 eq. 2-8), Fresnel.
+  // Entry: refraction at the vertex normal (Tipprasert 2006 eq. 2-8), Fresnel.
   Vec3d d = *refract(mul(omega, -1.0), n, m.eta_in);  // air -> glass never reflects totally
   double transmittance = fresnel_transmittance(cos_i, m.eta_in);
   double path = 0;

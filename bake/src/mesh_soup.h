@@ -3,7 +3,7 @@
 // (points, polygons as index lists, optional per-point normals) exactly as
 // the file states it -- no welding, no halfedge structure that could reject
 // or split faces -- and mesh_import.cpp validates, triangulates and compacts
-// it. Which library reads which format, and why (issue 16, measured on the
+// it. Which library reads which format, and why (measured on the
 // corpus in tests/data/meshes):
 //
 //   OFF  CGAL's File_scanner_OFF (mesh_read_cgal.cpp): comments anywhere,

@@ -5,8 +5,8 @@
 // a combinatorial structure built from orientation and in-circle tests; with
 // inexact predicates (Simple_cartesian<double>) nearly collinear corners --
 // T-junctions, scanned outlines -- get contradictory answers, and the
-// structure is corrupted or the insertion does not terminate (the failure
-// of CGAL's convex hull in issue 16). Nothing here constructs new points.
+// structure is corrupted or the insertion does not terminate (how CGAL's
+// convex hull failed on such meshes). Nothing here constructs new points.
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_face_base_2.h>

@@ -6,7 +6,7 @@
 // built from orientation tests; with Simple_cartesian<double> those tests
 // contradict each other on ordinary meshes (points on a cylinder's rulings,
 // a scan's nearly coplanar patches), the hull's data structure is corrupted
-// and the process aborts in free() (issue 16: a turbine-blade scan and a
+// and the process aborts in free() (a turbine-blade scan and a
 // cylinder). Exact predicates make the hull correct on any input; the
 // optimiser's own arithmetic (rotations, extents) stays in doubles.
 

@@ -50,7 +50,7 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 // grid within 2^19 photons and fast halves both. Dispersive glass's focus
 // windows (docs/glass.md, "A window per wavelength"): at half their texels
 // a side the dispersive ball's frame with the light turning costs +22.6 %
-// instead of +26.2 % on llvmpipe (the bound is 25 %), its lines
+// instead of +26.2 % on llvmpipe (the bound is 25 %), its lines
 // within 1 cm move by 0.6-1.6 points and its d line's brightest 2 mm by 20
 // points, so accurate draws them at their own texels.
 const std::array<Preset, 3> kPresets{{

@@ -1,4 +1,4 @@
-// Embree 3 behind the plain interface of ray_cast.h (issue 48).
+// Embree 3 behind the plain interface of ray_cast.h.
 
 #include <embree3/rtcore.h>
 #include <tbb/task_arena.h>

@@ -186,7 +186,7 @@ bool parse_transform(Walker& w, const json& v, const std::string& ptr, Mat4f& ou
 }
 
 // "scattering", "phase" and "anisotropy" of a material, the water or the
-// medium (seed 004's phase functions; docs/scene-format.md).
+// medium (Pfeuti's phase functions; docs/scene-format.md).
 bool parse_scattering(Walker& w, const json& v, const std::string& ptr, Scattering& out) {
   if (const json* j = Walker::optional_member(v, "scattering"); j && !w.scalar_or_vec3(*j, ptr + "/scattering", out.coefficient)) {
     return false;
@@ -382,7 +382,7 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
     if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, texture_file, thin)) {
       return false;
     }
-    // A thin-walled surface (issue 45): its own kind of object, not a solid.
+    // A thin-walled surface: its own kind of object, not a solid.
     if (thin && obj.role == Role::kTransparent) obj.role = Role::kThin;
     else if (thin) return w.fail(ptr + "/material/thin", "a thin-walled material needs \"role\": \"transparent\" (a thin wall is not a receiver)");
     if (!texture_file.empty()) {
@@ -478,7 +478,7 @@ bool parse_lights(Walker& w, const json& root, SceneDesc& scene) {
         light.outer_cone = outer * 0.017453292f;
       }
     } else if (type == "linear") {
-      // Seed 002 fig. 6d: a linear light approximated by N point lights at
+      // Iwasaki et al. fig. 6d: a linear light approximated by N point lights at
       // the centres of N equal pieces of the segment, each with 1/N of the
       // intensity. Checked here, since the expanded lights have no place
       // in the file for validate_scene() to point at.

@@ -1,4 +1,4 @@
-// caustix-bake: scene.json + meshes (or a glTF 2.0 scene) -> one .cxb file. See --help and README.md
+// caustix-bake: scene.json + meshes (or a glTF 2.0 scene) -> one .cxb file. See --help and docs/tools.md
 // for the exit codes.
 
 #include <tbb/global_control.h>
@@ -34,7 +34,7 @@ caustix::Status write_text(const std::string& path, const std::string& text) {
   return caustix::write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
 }
 
-// What the bake says while it runs (issue 48), on stderr: warnings as they
+// What the bake says while it runs, on stderr: warnings as they
 // are found; on a terminal one progress line rewritten in place (stage,
 // item, percentage, estimated time left), elsewhere (a build log) a plain
 // line as each item starts and at each further tenth of a stage that has
@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
   app.add_option("--map-size", lm.map_size, "position and diffuse map size S (S x S texels)")
       ->check(CLI::Range(1, 8192))->capture_default_str();
   app.add_option("--ltt-resolution", opt.transport.resolution,
-                 "light-transport table: R x R incident directions per vertex of transparent objects (seed 002)")
+                 "light-transport table: R x R incident directions per vertex of transparent objects (Iwasaki et al.)")
       ->check(CLI::Range(caustix::kMinTransportResolution, caustix::kMaxTransportResolution))->capture_default_str();
   app.add_option("--ltt-bounces", opt.transport.max_bounces,
                  "light-transport table: internal reflections followed inside glass (0 = the paper's refraction only)")
@@ -185,10 +185,10 @@ int main(int argc, char** argv) {
   std::string ltt_rays = "embree";
   app.add_option("--ltt-rays", ltt_rays,
                  "light-transport tables: what casts their rays: embree (fast, single precision) or cgal (exact "
-                 "predicates, doubles: the tables of bakes before issue 48)")
+                 "predicates, doubles: the tables of bakes before Embree)")
       ->check(CLI::IsMember({"embree", "cgal"}))->capture_default_str();
   app.add_option("--volume-res", opt.index_grid.resolution,
-                 "scenes that scatter: index-grid voxels along each transparent mesh's longest side (seed 004)")
+                 "scenes that scatter: index-grid voxels along each transparent mesh's longest side (Pfeuti)")
       ->check(CLI::Range(4u, 1024u))->capture_default_str();
   app.add_option("--volume-blur", opt.index_grid.blur, "scenes that scatter: Gaussian filter of the index grid, sigma in voxels")
       ->check(CLI::Range(0.0f, 8.0f))->capture_default_str();
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
   bool no_share = false;
   app.add_flag("--no-share", no_share,
                "give every object its own mesh and light-transport tables even where they are identical (shared by "
-               "default: the LTTR chunk, which readers before issue 48 refuse)");
+               "default: the LTTR chunk, which older readers refuse)");
   app.add_option("--threads", threads, "worker threads, 0 = all cores (the output does not depend on it)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--depfile", depfile, "write a Make-style dependency file listing every input");

@@ -1,5 +1,5 @@
 // A deferred renderer with several lights, caustics on every surface
-// (docs/embedding.md, "Deferred and multi-light renderers"; issue 46):
+// (docs/embedding.md, "Deferred and multi-light renderers"):
 //   1. a G-buffer pass of its own: world position with the object's index
 //      in alpha, world normal, albedo;
 //   2. the light side: engine->update(), then engine->bind_all() once;

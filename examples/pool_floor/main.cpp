@@ -6,7 +6,7 @@
 //      its own floor shader, which includes caustix.glsl and calls
 //      caustix_irradiance(world position, normal).
 // The test: the floor under flat water lit at 30 degrees reads
-// E/E0 = T(30 deg) cos(30 deg) (shared/DESIGN.md, flat_pool) to 1 %.
+// E/E0 = T(30 deg) cos(30 deg) (docs/architecture.md, flat_pool) to 1 %.
 // Exit status 0 when it does, 1 when it does not, 2 on any error.
 
 #include <epoxy/egl.h>
@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
   glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);  // lights add up (seed 000 eq. 4-20)
+  glBlendFunc(GL_ONE, GL_ONE);  // lights add up (Tipprasert 2006 eq. 4-20)
   glUseProgram(program);
   // Orthographic, straight down: clip x = x / half, clip y = z / half.
   const float view_proj[16] = {1 / half, 0, 0, 0, 0, 0, -0.1f, 0, 0, 1 / half, 0, 0, 0, 0, 0, 1};

@@ -165,7 +165,7 @@ std::vector<std::uint8_t> encode_mirrors(const SceneDesc& s) {
   return w.take();
 }
 
-// SPOT (issue 45): u32 count; per spot light, in light order: u32 light
+// SPOT: u32 count; per spot light, in light order: u32 light
 // index, f32 inner and f32 outer half-angle (radians).
 bool has_spots(const SceneDesc& s) {
   return std::any_of(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.spot; });
@@ -182,7 +182,7 @@ std::vector<std::uint8_t> encode_spots(const SceneDesc& s) {
   return w.take();
 }
 
-// TINT (issue 45): u32 count; per transparent object whose tint is not
+// TINT: u32 count; per transparent object whose tint is not
 // (1, 1, 1), in object order: u32 object index, vec3 tint.
 bool has_tints(const SceneDesc& s) {
   return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return is_tinted(o.material); });
@@ -198,7 +198,7 @@ std::vector<std::uint8_t> encode_tints(const SceneDesc& s) {
   return w.take();
 }
 
-// TEXR (issue 45): u32 image count; per image: string source, u32 width,
+// TEXR: u32 image count; per image: string source, u32 width,
 // u32 height, u32 data size, one zstd frame of width * height * 3 bytes
 // (sRGB RGB, top row first); u32 texture count; per textured receiver, in
 // object order: u32 object index, u32 image index, u8 projection, u8 wrap
@@ -231,7 +231,7 @@ std::vector<std::uint8_t> encode_textures(const SceneDesc& s) {
   return w.take();
 }
 
-// DISP (issue 22): f32 water dispersion (0 without water); u32 count; per
+// DISP: f32 water dispersion (0 without water); u32 count; per
 // transparent object with dispersion > 0, in object order: u32 object
 // index, f32 dispersion.
 std::vector<std::uint8_t> encode_dispersion(const SceneDesc& s) {
@@ -352,16 +352,16 @@ bool decode_render(ChunkDecoder& d, RenderDefaults& r) {
       !d.u32(r.glass_map_size, "render defaults") || !d.u32(r.glass_planes, "render defaults")) {
     return false;
   }
-  // The media's pair came later (issue 19): files without it keep the defaults.
+  // The media's pair came later: files without it keep the defaults.
   if (d.remaining() > 0 && (!d.u32(r.volume_photons, "render defaults") || !d.u32(r.volume_grid, "render defaults"))) return false;
-  // So did the caustic maps' four (issue 20).
+  // So did the caustic maps' four.
   if (d.remaining() > 0 && (!d.u32(r.cmap_photons, "render defaults") || !d.u32(r.cmap_map_size, "render defaults") ||
                             !d.u32(r.cmap_adaptive_levels, "render defaults") || !d.u32(r.cmap_photon_budget, "render defaults"))) {
     return false;
   }
-  // And the water textures' limit (issue 44).
+  // And the water textures' limit.
   if (d.remaining() > 0 && !d.u32(r.water_texture, "render defaults")) return false;
-  // And the dispersive glass's coarse focus windows (issue 47).
+  // And the dispersive glass's coarse focus windows.
   if (d.remaining() > 0 && !d.u32(r.glass_spectral_coarse, "render defaults")) return false;
   return d.finish();
 }
@@ -476,7 +476,7 @@ bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
          d.finish();
 }
 
-// LTTR (issue 48): u32 count; per solid transparent object that uses an
+// LTTR: u32 count; per solid transparent object that uses an
 // earlier object's light-transport tables, in object order: u32 object
 // index, u32 the index of the object whose tables it uses
 // (Object::tables_from; validate_scene checks that it may).
@@ -747,7 +747,7 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
     }
     if (const auto from = s.objects[i].tables_from) s.objects[i].material.absorption = s.objects[*from].material.absorption;
   }
-  // Tables at other wavelengths (issue 22): dispersive objects only, by
+  // Tables at other wavelengths: dispersive objects only, by
   // object, then by strictly ascending wavelength; each as its object's
   // LTTB in everything but the index.
   for (std::size_t i : c.find(cxb::kTagSpectralTransport)) {
@@ -774,7 +774,7 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   for (Object& o : s.objects) {
     if (o.tables_from) o.material.spectral_tables = s.objects[*o.tables_from].material.spectral_tables;
   }
-  // Where the tables' path classes switch (issue 47): at most one LTTW per
+  // Where the tables' path classes switch: at most one LTTW per
   // table, naming it by object and wavelength.
   for (std::size_t i : c.find(cxb::kTagTransportSwitches)) {
     std::vector<LightTransportTable*> tables;

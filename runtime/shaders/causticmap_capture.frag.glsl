@@ -1,6 +1,6 @@
 #version 450 core
 // causticmap_capture.frag (after mesh.vert): the scene seen from the light
-// for the image-space caustic maps (seed 003; Shah et al. 2007, §3.1).
+// for the image-space caustic maps (timofy 2009; Shah et al. 2007, §3.1).
 // Casters (u_caster = 1): world position and object index + 1 (0: empty),
 // and the world normal. Receivers (u_caster = 0): into the caustic map its
 // alpha, the coordinate along V of the first receiver surface (the

@@ -1,5 +1,5 @@
 // causticmap_photons.comp (after #version and caustix.glsl's optics):
-// image-space caustic maps (seed 003; Shah, Konttinen & Pattanaik 2007,
+// image-space caustic maps (timofy 2009; Shah, Konttinen & Pattanaik 2007,
 // "Caustics mapping: an image-space technique for real-time caustics",
 // §3), one invocation per photon of one light. Each texel of the casters'
 // maps seen from the light (positions and normals of their nearest and
@@ -11,7 +11,7 @@
 //    e^(-sigma t)), or landed on a receiver inside the glass before the
 //    exit; total internal reflection at the exit leaves the ray
 //    unrefracted (the blog's one-sided refraction) or drops it;
-//  - thin-walled glass (issue 45): through its near sheet and, for a
+//  - thin-walled glass: through its near sheet and, for a
 //    closed surface, its far sheet, without bending, keeping each sheet's
 //    transmittance;
 //  - mirror: reflected (two-sided, per-channel reflectance); up to
@@ -61,7 +61,7 @@ uniform vec3 u_light_dir;
 uniform vec3 u_light_pos;
 uniform float u_light_power;   // E0 or I
 uniform vec3 u_spot;           // a spot's cone about u_light_dir (caustix_spot_factor)
-uniform vec3 u_weight;         // the traced wavelength's RGB weights (dispersion, issue 22); (1, 1, 1) without
+uniform vec3 u_weight;         // the traced wavelength's RGB weights (dispersion); (1, 1, 1) without
 uniform int u_iterations;
 uniform int u_exit_iterations;
 uniform int u_bounces;
@@ -188,7 +188,7 @@ float far_side(vec3 x, vec3 d, ivec2 ij, out vec3 ne) {
   return t;
 }
 
-// A thin-walled sheet (Role::kThin, issue 45) met at cosine cos_i with
+// A thin-walled sheet (Role::kThin) met at cosine cos_i with
 // the given index and tint: what it transmits, tint (1 - r) / (1 + r)
 // (its inner reflections summed; formats/scene.h Role::kThin), the light
 // going on without bending.
@@ -272,7 +272,7 @@ void main() {
       // The exit point: iterate against the back faces.
       vec3 ne;
       float t = far_side(x, t1, ij, ne);
-      // A receiver inside the glass (an insect in amber; issue 45) meets
+      // A receiver inside the glass (an insect in amber) meets
       // the light before its exit: it lands there, having crossed one
       // surface. The receivers seen from the light are the nearest, so the
       // one under the path is found as for landing; 1e-3 of the path keeps
@@ -301,7 +301,7 @@ void main() {
       d = normalize(t2);
       if (dot(d, d0) < u_max_deviation_cos) { atomicAdd(counter[4], 1u); return; }
     } else if (m0.x == 3.0) {
-      // Thin-walled (issue 45): through the near sheet without bending,
+      // Thin-walled: through the near sheet without bending,
       // then through the same surface's far sheet if the casters' farthest
       // layer there is its own and lies ahead (a closed shade or bulb; an
       // open pane is its own farthest layer), unless a receiver inside

@@ -25,7 +25,7 @@
 // (the implementation's point size); the normalisation keeps the flux
 // whole there too.
 //
-// The focus window (u_focus = 1; issue 47): where the photons land
+// The focus window (u_focus = 1): where the photons land
 // concentrated, their light goes into the window's finer texels (u_window
 // = 1: u_window_size a side over the square of Focus.window, placed by
 // causticmap_focus.comp, drawn in the framebuffer's region from u_origin)

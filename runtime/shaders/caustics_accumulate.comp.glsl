@@ -1,5 +1,5 @@
 #version 450 core
-// Dispersion in the water-caustics passes (issue 22; docs/dispersion.md).
+// Dispersion in the water-caustics passes (docs/dispersion.md).
 // After one wavelength's pass has drawn the caustics map's level 0 (E, E
 // d.U/d.V, E d.W/d.V), add it into the sums over the traced wavelengths:
 // the mean of the bin's three CIE-to-linear-sRGB weights times all three

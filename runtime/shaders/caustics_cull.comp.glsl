@@ -1,5 +1,5 @@
 #version 450 core
-// Beyond the thesis (seed 000 §6.1): decide, before drawing, which
+// Beyond the thesis (Tipprasert 2006 §6.1): decide, before drawing, which
 // illumination volumes can light the receiver and through which planes.
 //
 // A volume's footprint between two planes lies in the convex hull of its

@@ -1,6 +1,6 @@
 #version 450 core
 // The intersection triangle of each listed (illumination volume, reference
-// plane) pair (seed 000 §4.4-4.5), in caustics-map texels, and its
+// plane) pair (Tipprasert 2006 §4.4-4.5), in caustics-map texels, and its
 // irradiance on the plane by eq. 4-18,
 //   I_c = E_in T (A_w cos theta_i) / A_d,
 // with A_d its area on the plane (perpendicular to V); cos theta_t and
@@ -50,7 +50,7 @@ vec3 on_plane(uint j, float plane_v) {
   return vec3(dot(pt, u_U), dot(pt, u_W), dir.w > 0.0 && s >= 0.0 ? 1.0 : -1.0);
 }
 
-// Smooth caustics (issue 21: moire in caustic lines). Eq. 4-18 gives each
+// Smooth caustics (moire in caustic lines). Eq. 4-18 gives each
 // water triangle one irradiance, so the caustics map is a mosaic of the
 // water grid's triangles, and the mosaic beats against the pixels. A
 // corner's irradiance is estimated from the grid around its vertex instead:

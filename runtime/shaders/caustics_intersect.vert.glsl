@@ -16,7 +16,7 @@ layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
 uniform float u_map_size;
 #ifdef TEXEL_MAP
-// Glass focus windows (issue 47): the primitives are in the main
+// Glass focus windows: the primitives are in the main
 // texture's texels; this texture's are (q - xy) * z. The window's wide
 // ones are GLASS_WIDE's (glass_window_split.glsl, prefixed).
 uniform vec3 u_texel_map;

@@ -1,4 +1,4 @@
-// Acceptance test of the level map (seed 000 eq. 4-15, §4.5; prefixed with
+// Acceptance test of the level map (Tipprasert 2006 eq. 4-15, §4.5; prefixed with
 // #version and caustics_coverage.glsl): keep a fragment of plane D only
 // where the receiver's first surface (the position map) lies within the
 // plane's window. Windows are half-open, D - eps < v <= D + eps, like the
@@ -30,7 +30,7 @@
 // irradiance the flux over that area (the beam's spread over v - D kept).
 // Neighbouring beams share their vertices' rays, so their cross-sections
 // tile at every depth. (Moving each triangle rigidly by its mean direction,
-// as before issue 46, opened gaps and overlaps one texel wide along the
+// as this shader once did, opened gaps and overlaps one texel wide along the
 // water triangles' edges wherever neighbours' directions differed: a dark
 // mesh in the caustics under waves at 4 planes and a coarse water grid.)
 // The plane stays what buckets the beams and culls them.

@@ -1,7 +1,7 @@
 #version 450 core
-// Smart reference planes on the GPU (seed 000 §4.7.2, eq. 4-21 and 4-22)
+// Smart reference planes on the GPU (Tipprasert 2006 §4.7.2, eq. 4-21 and 4-22)
 // from the depth histogram profile.comp wrote after a light or receiver
-// moved, so that re-profiling needs no read-back (issue 44). It is
+// moved, so that re-profiling needs no read-back. It is
 // formats/src/slicing.cpp's find_sub_boxes and smart_planes in double
 // precision, to the bit (tests/frame_cost_test.cpp compares the two), and
 // writes the planes with the header the cull pass reads. One invocation:

@@ -1,4 +1,4 @@
-// Per light, per frame (seed 000 §4.3; prefixed with #version and caustix.glsl's optics): mode 0 refracts the light at every
+// Per light, per frame (Tipprasert 2006 §4.3; prefixed with #version and caustix.glsl's optics): mode 0 refracts the light at every
 // water vertex with its normal (eq. 2-8, GLSL refract); mode 1 computes the
 // flux each water triangle transmits, E_in T(theta_i) A_w cos(theta_i)
 // (the numerator of eq. 4-18), with the exact unpolarised Fresnel

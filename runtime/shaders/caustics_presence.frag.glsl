@@ -1,5 +1,5 @@
 #version 450 core
-// The caustics map's alpha (issue 18): 1 where the receiver has a first
+// The caustics map's alpha: 1 where the receiver has a first
 // surface seen from the light (its position map holds a depth), 0 where the
 // frame is empty. Written after the irradiance (colour mask: alpha only)
 // and before the mip chain, whose levels then hold the covered fraction;

@@ -1,4 +1,4 @@
-// Volumetric baseline (seed 000 §5.2.1; prefixed with #version and
+// Volumetric baseline (Tipprasert 2006 §5.2.1; prefixed with #version and
 // caustics_coverage.glsl): the intersection triangles of sample plane i are
 // drawn into slice i of the illumination volume and multiplied by that
 // slice's image of the receiver (the surface within the slab around the

@@ -1,6 +1,6 @@
 #version 450 core
-// Smooth glass caustics (issue 21: the glass ball's shadow ring had radial
-// spokes and concentric steps; CausticsOptions::glass_smooth). Seed 002's
+// Smooth glass caustics (the glass ball's shadow ring had radial
+// spokes and concentric steps; CausticsOptions::glass_smooth). Iwasaki et al.'s
 // eq. 3 gives each intersection triangle one intensity I_t = flux / area on
 // the plane, so a caustic made of a faceted mesh's triangles is piecewise
 // constant: every facet of the ball prints a wedge. Here each whole

@@ -1,5 +1,5 @@
 #version 450 core
-// Seed 002 §4.1-4.2: the intersection triangle of each (transparent
+// Iwasaki et al. §4.1-4.2: the intersection triangle of each (transparent
 // triangle's illumination volume, virtual plane) pair, in illumination-
 // texture texels, with the incident intensity of eq. 3 except cos(gamma):
 //   E_in cos(theta) F_t S / (S_0 cos(delta)),
@@ -223,7 +223,7 @@ void main() {
   // third vertex moved away from that edge, so that it keeps its flux at
   // the capped intensity. Capping the intensity alone lost what it did not
   // draw over the smaller area: 0.9 % of the light through glass_ball, all
-  // of it from the focal millimetres (issue 47).
+  // of it from the focal millimetres.
   float s_min = flux / u_max_magnification;
   if (s0 < 1e-4 * s_min) {
     // A point or so thin that widening it would lose the float precision

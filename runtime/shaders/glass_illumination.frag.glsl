@@ -1,4 +1,4 @@
-// Illumination textures (seed 002 §4.2, eq. 3; prefixed with #version,
+// Illumination textures (Iwasaki et al. §4.2, eq. 3; prefixed with #version,
 // PRIM_STRIDE 6 and caustics_coverage.glsl): each texel gets the
 // intersection triangle's intensity -- with glass_smooth, for a whole
 // triangle its corners' intensities interpolated at the texel centre
@@ -14,7 +14,7 @@ out vec4 o_intensity;
 void main() {
   load_primitive();
   // The target's texel under this one: the same in the main textures; in
-  // a focus window's (u_texel_map, issue 47) the main texel it lies in.
+  // a focus window's (u_texel_map) the main texel it lies in.
   ivec2 under = ivec2(floor(gl_FragCoord.xy / u_texel_map.z + u_texel_map.xy));
   if (any(lessThan(under, ivec2(0))) || any(greaterThanEqual(under, textureSize(u_target, 0)))) discard;
   vec4 target = texelFetch(u_target, under, 0);

@@ -1,4 +1,4 @@
-// Glass focus windows (issue 47; prefixed with #version, PRIM_STRIDE 6,
+// Glass focus windows (prefixed with #version, PRIM_STRIDE 6,
 // TEXEL_MAP and caustics_coverage.glsl): a wide primitive's light in this
 // texel (glass_window_split.glsl), as glass_illumination.frag computes it
 // but for how the covered fraction is found. Most of a wide triangle's

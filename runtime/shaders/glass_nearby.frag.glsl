@@ -1,5 +1,5 @@
 // Nearby-geometry refraction for the view through glass (prefixed with
-// #version and caustix.glsl's optics; GlassView::kNearby). Seed 003's
+// #version and caustix.glsl's optics; GlassView::kNearby). timofy 2009's
 // image-space method for the camera's rays (Shah, Konttinen & Pattanaik
 // 2007, "Caustics mapping: an image-space technique for real-time
 // caustics", §3: the refracted ray's intersection with nearby geometry is
@@ -20,7 +20,7 @@
 //     u_iterations times from the scene point behind the exit; rays that
 //     leave the screen or meet only sky see the sky.
 // Absorption along the path inside, exp(-sigma_a l).
-// Dispersion (issue 22): steps 1-4 run once per wavelength sample at the
+// Dispersion: steps 1-4 run once per wavelength sample at the
 // glass's index there, and the pixel is the sum of each sample's colour
 // times its bin's RGB weight (one sample (1, 1, 1) at n_d without).
 in vec3 v_world;

@@ -1,4 +1,4 @@
-// Outgoing rays of a transparent object for one light (seed 002 §4.1; prefixed
+// Outgoing rays of a transparent object for one light (Iwasaki et al. §4.1; prefixed
 // with #version, caustix.glsl (the light's block and shadow maps) and transport.glsl): per vertex,
 // the light's direction in object space, the table look-up, and the exit
 // ray in world space with its colour, T * e^(-K path). (The mean exit
@@ -18,7 +18,7 @@ uniform mat4 u_model;
 uniform mat3 u_rotation;  // the model's rotation (model = T R s)
 uniform float u_scale;
 uniform vec3 u_glass_absorption;
-uniform vec3 u_weight;  // the traced wavelength's RGB weight (issue 22); (1, 1, 1) for one
+uniform vec3 u_weight;  // the traced wavelength's RGB weight; (1, 1, 1) for one
 
 void main() {
   uint v = gl_GlobalInvocationID.x;

@@ -1,5 +1,5 @@
 #version 450 core
-// Dispersive glass between two light-transport tables (issue 22;
+// Dispersive glass between two light-transport tables (
 // docs/dispersion.md): the outgoing rays of one traced wavelength from the
 // rays of the two tables whose indices n_a, n_b bracket its index n,
 // t = (n - n_a) / (n_b - n_a) -- per vertex, the linear term of the rays'

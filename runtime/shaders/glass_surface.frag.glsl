@@ -25,7 +25,7 @@ vec3 scene_along(vec3 o, vec3 d) {
   // A surface nearer the camera than the exit point is not what the exit
   // ray meets (it starts behind it): an object inside the glass, or in
   // front of its far side, would otherwise be "hit" at the first sample
-  // wherever it covers the exit point's pixel (issue 45: an insect in
+  // wherever it covers the exit point's pixel (an insect in
   // amber turned the whole block black). The table view maps the glass's
   // front straight to its exit, so what is inside it is not seen here
   // (GlassView::kNearby sees it).

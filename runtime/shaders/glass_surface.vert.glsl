@@ -1,5 +1,5 @@
 // The glass seen by the camera (prefixed with #version and transport.glsl).
-// Seed 002 §3 computes the transmitted viewing rays with the light-transport
+// Iwasaki et al. §3 computes the transmitted viewing rays with the light-transport
 // table: per vertex, the direction to the eye is the "incident" direction,
 // and the table gives where and in which direction the view ray leaves the
 // object, with its transmittance and path length (for absorption).

@@ -1,5 +1,5 @@
 #version 450 core
-// The target as the virtual camera sees it (seed 002 §4.2, §4.3): world
+// The target as the virtual camera sees it (Iwasaki et al. §4.2, §4.3): world
 // normal of the first surface, facing the light, and its frame-V coordinate
 // (depth from the virtual camera), for cos(gamma) and for shadows.
 in vec3 v_world;

@@ -1,4 +1,4 @@
-// A thin-walled sheet in the glass view (Role::kThin, issue 45; prefixed
+// A thin-walled sheet in the glass view (Role::kThin; prefixed
 // with #version and caustix.glsl's optics): what is behind it is seen
 // straight through, scaled by what the sheet transmits, plus the sky it
 // reflects. Blended with dual-source blending (GlassEngine::draw_glass):

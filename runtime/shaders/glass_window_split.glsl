@@ -1,4 +1,4 @@
-// Glass focus windows (issue 47; prefixed to caustics_intersect.vert for
+// Glass focus windows (prefixed to caustics_intersect.vert for
 // the glass). A window's texels are finer than the main layers' by a
 // dozen or more a side, so a primitive's fragments there are that squared.
 // Where light concentrates primitives are small; the wide ones cross the

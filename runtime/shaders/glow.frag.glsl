@@ -1,8 +1,8 @@
 #version 450 core
-// Seed 001 §9.3: the glow texture is the highlight image filtered over 13
+// Mihalik 2008 §9.3: the glow texture is the highlight image filtered over 13
 // texels, each weighted 1/13, and added to the frame (additive blending).
 // The paper's 13 lie on the two diagonals of a 7x7 grid (u_star): every
-// isolated glint prints an X, as on thesis_teapot's pool wall (issue 21).
+// isolated glint prints an X, as on thesis_teapot's pool wall.
 // By default they lie on a disc instead: the centre, six at 1.5 texels and
 // six at 3 texels turned by 30 degrees, so a glint glows round.
 in vec2 v_uv;

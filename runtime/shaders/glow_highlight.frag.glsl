@@ -1,5 +1,5 @@
 #version 450 core
-// Seed 001 §9.3: only the water's specular highlight, pow(R.E, 200) times
+// Mihalik 2008 §9.3: only the water's specular highlight, pow(R.E, 200) times
 // the sun's colour, into a low-resolution target that glow.frag spreads.
 in vec3 v_world;
 in vec3 v_normal;
@@ -8,7 +8,7 @@ uniform vec3 u_eye;
 uniform vec3 u_sun_direction;  // direction of travel
 uniform vec3 u_sun_color;  // divided by the glow's scale (glow.frag): the target holds half floats
 // The scene's depth in the frame's pixels (Engine::draw_water's scene_depth): a glint
-// the scene hides does not glow (issue 21: thesis_teapot's pool wall).
+// the scene hides does not glow (thesis_teapot's pool wall).
 layout(binding = 0) uniform sampler2D u_scene_depth;
 uniform bool u_scene_depth_bound;
 uniform vec2 u_glow_size;  // the quarter-size target's pixels

@@ -2,7 +2,7 @@
 // Object-space mesh -> world and clip space. Used by the receiver passes and
 // the shadow-map passes (with the light's view-projection). u_clip_plane
 // (world, a.x + b >= 0 kept) splits the scene at the water for the
-// refraction and reflection textures (seed 001 §5.1-5.2); it acts only
+// refraction and reflection textures (Mihalik 2008 §5.1-5.2); it acts only
 // where the renderer enables GL_CLIP_DISTANCE0.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;

@@ -1,5 +1,5 @@
 #version 450 core
-// Run-time depth profile (seed 000 §4.7.2; the thesis re-profiled every
+// Run-time depth profile (Tipprasert 2006 §4.7.2; the thesis re-profiled every
 // frame): mode 0 bins the position map's texels into the L depth levels
 // (fig. 4-19); mode 1 writes the min/max depth of each tile for culling.
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,6 +1,6 @@
 #version 450 core
 // shadow_vsm.comp: variance shadow maps (Donnelly & Lauritzen 2006,
-// "Variance shadow maps", §3; seed 003's blog: "you must filter the depth
+// "Variance shadow maps", §3; timofy 2009's blog: "you must filter the depth
 // map ... a filter width of 5"). The moments (d, d^2) of a directional
 // light's shadow depth, box-filtered over u_radius texels each way in two
 // separable passes: 0 reads the depth map, filters along x; 1 filters the

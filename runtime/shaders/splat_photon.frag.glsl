@@ -1,4 +1,4 @@
-// Seed 001 ch. 8 (GPU variant) / §9.2: the water surface rasterised along
+// Mihalik 2008 ch. 8 (GPU variant) / §9.2: the water surface rasterised along
 // the frame's V (prefixed with #version and caustix.glsl's optics); each fragment is a
 // photon. It stores where the refracted photon meets the receiver's first
 // surface (the caustics map's uv, R and G) and the irradiance it adds to that

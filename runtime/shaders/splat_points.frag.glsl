@@ -1,5 +1,5 @@
 #version 450 core
-// Additive blending sums the photons that land in a texel (seed 001 ch. 8),
+// Additive blending sums the photons that land in a texel (Mihalik 2008 ch. 8),
 // each weighted by the tent filter of splat_points.vert.
 in float v_irradiance;
 in vec2 v_slopes;

@@ -1,5 +1,5 @@
 #version 450 core
-// Seed 001 ch. 8, GPU variant: the photon texture, copied into a vertex
+// Mihalik 2008 ch. 8, GPU variant: the photon texture, copied into a vertex
 // buffer, drawn as points at their uv (orthographic 0..1), carrying their
 // irradiance; photons that missed go outside the view. Each point covers
 // the 2 x 2 texels around its photon, which splat_points.frag weights

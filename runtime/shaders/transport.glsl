@@ -1,4 +1,4 @@
-// Light-transport-table look-up (seed 002 §4.1; prefixed after #version by
+// Light-transport-table look-up (Iwasaki et al. §4.1; prefixed after #version by
 // the renderer). Mirrors caustix::lookup() in formats/src/light_transport.cpp
 // with Interpolation::kBicubic: the hemi-octahedral grid around the vertex
 // normal, Catmull-Rom over the 4 x 4 neighbouring grid directions where the

@@ -1,9 +1,9 @@
 // volume_common.glsl: the scene's media as photon marching and the viewing
-// pass see them (seed 004, Sun et al. 2008; docs/volume.md). Follows the
+// pass see them (Pfeuti, Sun et al. 2008; docs/volume.md). Follows the
 // engine's lighting prefix (caustix.glsl: Fresnel, the light's block and
 // shadow maps); volume.cpp sets every uniform.
 
-// ---- transparent objects: index grids (seed 004 "Voxelization") ----
+// ---- transparent objects: index grids (Pfeuti "Voxelization") ----
 const int kMaxGlass = 4;
 uniform int u_glass_count;
 uniform mat4 u_world_to_voxel[kMaxGlass];  // world -> continuous voxel coordinates (voxel i spans [i, i + 1))
@@ -26,7 +26,7 @@ uniform vec4 u_water_ss, u_water_st;
 // ---- the radiance grid ----
 uniform vec3 u_grid_lo, u_grid_hi;
 uniform ivec3 u_grid_n;
-// The focus grid (issue 47): a second grid of u_focus_n voxels over the
+// The focus grid: a second grid of u_focus_n voxels over the
 // box of this light where light through glass concentrates, stored in the
 // same 3D textures after the radiance grid's slices (z from u_grid_n.z
 // on); u_focus_on 0 where the light has none.
@@ -77,7 +77,7 @@ vec3 index_gradient(int g, vec3 u) {
   return (u_glass_ior[g].y - u_glass_ior[g].x) * (transpose(mat3(u_world_to_voxel[g])) * gc);
 }
 
-// The octree node around voxel coordinate u (seed 004 "Octree
+// The octree node around voxel coordinate u (Pfeuti "Octree
 // Construction"): its level, stored per voxel.
 int octree_level(int g, vec3 u) {
   return int(texelFetch(u_index[g], ivec3(floor(u)), 0).g * 15.0 + 0.5);
@@ -96,7 +96,7 @@ Medium medium_at(vec3 x, bool wet) {
   return Medium(vec3(0.0), vec3(0.0), 0.0, 1.0);
 }
 
-// Seed 004, "Viewing Pass": isotropic 1/(4 pi); Schlick
+// Pfeuti, "Viewing Pass": isotropic 1/(4 pi); Schlick
 // (1/(4 pi)) (1 - k^2) / (1 - k cos a)^2, a between the light's direction
 // of travel and the scattered direction.
 float phase_value(Medium m, float cos_a) {
@@ -118,7 +118,7 @@ vec3 power_length(vec3 p, vec3 st, float a, float b) {
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // One step of a ray through object g's index grid from x along unit d
-// (seed 004 "Photon Marching": x += (ds / n) v, v += ds grad n, |v| = n).
+// (Pfeuti "Photon Marching": x += (ds / n) v, v += ds grad n, |v| = n).
 // The step crosses the octree node around x when it is uniform and
 // `octree` is set, else it is `step` voxels. Returns the length; x and d
 // are advanced, `c0`/`c1` are the coverage before and after (a crossing

@@ -1,5 +1,5 @@
 // volume_photons.comp.glsl (after the lighting prefix and volume_common.glsl):
-// photon generation and marching (seed 004, "Photon Generation", "Photon
+// photon generation and marching (Pfeuti, "Photon Generation", "Photon
 // Marching"), one invocation per photon of one light. Each photon's power
 // decays by e^(-sigma_t s) in every medium; what it loses to scattering is
 // deposited into the radiance grid by exact voxel traversal (a
@@ -189,7 +189,7 @@ void main() {
     float e = point ? abs(d.y) / dot(x - lp, x - lp) * caustix_spot_factor(d, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : abs(d.y);
     p = u_light_color * (e * area);
   } else {
-    // On the water surface as the caustics see it this frame (seed 004:
+    // On the water surface as the caustics see it this frame (Pfeuti:
     // photons start at the surface, refracted, with Fresnel).
     vec2 c = f * vec2(u_water_cells);
     uvec2 c0 = uvec2(min(floor(c), vec2(u_water_cells) - 1.0));

@@ -1,5 +1,5 @@
 // volume_view.frag.glsl (after the lighting prefix and volume_common.glsl):
-// the viewing pass (seed 004, "Viewing Pass"). Each pixel's camera ray is
+// the viewing pass (Pfeuti, "Viewing Pass"). Each pixel's camera ray is
 // marched through the radiance grid, curved inside index grids as photons
 // are, adding sigma_s-weighted radiance L = sum p(cos a) S T ds with the
 // medium's phase function against the photons' mean direction, and the

@@ -1,4 +1,4 @@
-// The water surface seen by the camera (seed 001, Mihálik, ch. 6-7 and §9.1;
+// The water surface seen by the camera (Mihalik 2008, ch. 6-7 and §9.1;
 // prefixed with #version and caustix.glsl's optics). Drawn opaque over the scene.
 //
 // From above (§7.1-7.4): the refracted view ray is followed into the
@@ -13,7 +13,7 @@
 // reflection at U + m R2 (eq. 14-15) in the mirrored texture of the part
 // below, which was fogged when it was drawn (eq. 10); attenuation over
 // |U - C1| (eq. 5).
-// Dispersion (issue 22): the refraction and Fresnel run once per
+// Dispersion: the refraction and Fresnel run once per
 // wavelength sample at the water's index there, and the pixel is the sum
 // of each sample's colour times its bin's RGB weight (one sample (1, 1, 1)
 // at n_d without). The sun's highlight is a reflection: once.
@@ -98,7 +98,7 @@ vec3 exact_lookup(vec3 u, vec3 r) { return march_lookup(u, r, 256, 8192, 24); }
 // max_steps > steps they go on while the best miss |A - W| is over half a
 // texel's footprint at W: at grazing angles (the far floor through waves)
 // three iterations stop short, and where the last one switches between
-// converged and not the floor jumps at a seam (issue 21).
+// converged and not the floor jumps at a seam.
 vec4 wa_iteration(vec3 u, vec3 r, int steps, int max_steps, out vec3 a_out) {
   vec3 w_best = u, a_best = u;
   float best = 1e30;

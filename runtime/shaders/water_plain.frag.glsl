@@ -1,7 +1,7 @@
 #version 450 core
 // The plain water surface (WaterLook::textures off): over the already-drawn scene (premultiplied
 // alpha): Schlick-Fresnel reflection of the sky, a faint body colour, and the
-// sun's specular highlight; no refraction or reflection textures (seed 001
+// sun's specular highlight; no refraction or reflection textures (Mihalik 2008
 // surface: water.frag).
 in vec3 v_world;
 in vec3 v_normal;

@@ -1,5 +1,5 @@
 #version 450 core
-// Animates the water grid (seed 000 §4.3): positions and analytic normals of
+// Animates the water grid (Tipprasert 2006 §4.3): positions and analytic normals of
 // y = level + sum A sin(k (d . xz) - k c t + phi) (formats/scene.h), one
 // invocation per grid vertex, into SSBOs read by every later pass.
 layout(local_size_x = 64) in;

@@ -36,11 +36,11 @@ int main(int argc, char** argv) {
   app.add_option("--time", time, "animation time in seconds (waves)")->capture_default_str()
       ->check(CLI::Range(-1e6f, 1e6f));
   auto* irradiance_option = app.add_option("--irradiance", receiver,
-                 "write the irradiance image of this receiver (shared/DESIGN.md: top-down, linear, divided by E0, "
+                 "write the irradiance image of this receiver (docs/architecture.md: top-down, linear, divided by E0, "
                  "no albedo or ambient) instead of the beauty image");
   bool inscatter = false;
   app.add_flag("--inscatter", inscatter,
-               "write the in-scatter image (shared/DESIGN.md, seed 004: orthographic along -z, row 0 at y1, single "
+               "write the in-scatter image (docs/architecture.md, Pfeuti: orthographic along -z, row 0 at y1, single "
                "scattering / E0; surfaces not drawn) instead of the beauty image (.exr)")
       ->excludes(irradiance_option);
   app.add_option("--region", region, "world rectangle x0,z0,x1,z1 of the irradiance image; x0,y0,x1,y1 of the in-scatter image")
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
                  "irradiance: also write the per-pixel receiver coverage, mean |n_y| and mean cosine towards the "
                  "first light (R, G, B; .exr) for caustix-compare --split")
       ->needs(irradiance_option);
-  app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric, splat (photon splatting, seed 001 ch. 8) for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
+  app.add_option("--method", method, "caustics: levelmap (smart slicing), uniform, volumetric, splat (photon splatting, Mihalik 2008 ch. 8) for water; any but none also draws glass caustics (illumination textures); none: flat water, glass casts a plain shadow")
       ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "splat", "none"}))->capture_default_str();
   std::uint32_t photons = 0;
   app.add_option("--photons", photons, "splat: photon texture P (P x P photons per map); default " + std::to_string(CausticsOptions{}.photons))
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 8192));
   std::uint32_t glass_planes = 0, glass_size = 0;
   app.add_option("--glass-planes", glass_planes,
-                 "glass: virtual planes per target (seed 002 §4.2); default: the bake preset's, else " +
+                 "glass: virtual planes per target (Iwasaki et al. §4.2); default: the bake preset's, else " +
                      std::to_string(built_in.glass_planes))
       ->check(CLI::Range(1, 16));
   app.add_option("--glass-size", glass_size,
@@ -80,10 +80,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 8192));
   bool glass_flat = false;
   app.add_flag("--glass-flat", glass_flat,
-               "glass (table): one intensity per intersection triangle, as seed 002's eq. 3 (default: interpolated from the corners; docs/glass.md)");
+               "glass (table): one intensity per intersection triangle, as Iwasaki et al.'s eq. 3 (default: interpolated from the corners; docs/glass.md)");
   bool glass_no_focus = false;
   app.add_flag("--glass-no-focus", glass_no_focus,
-               "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as seed 002 (docs/glass.md)");
+               "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as Iwasaki et al. (docs/glass.md)");
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
   app.add_option("--glass-focus-wide", glass_focus_wide,
                  "glass (table): in a focus window, triangles at least this many of its texels high are drawn by a second program that "
@@ -96,9 +96,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"coarse", "full"}));
   bool caustics_flat = false;
   app.add_flag("--caustics-flat", caustics_flat,
-               "water caustics: one irradiance per water triangle, as seed 000's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
+               "water caustics: one irradiance per water triangle, as Tipprasert 2006's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
-  // Dispersion (issue 22; docs/dispersion.md).
+  // Dispersion (docs/dispersion.md).
   std::uint32_t wavelengths = built_in.wavelengths;
   app.add_option("--wavelengths", wavelengths,
                  "dispersion: wavelengths traced wherever something disperses: caustic maps, glass tables, the water's caustics, "
@@ -108,17 +108,17 @@ int main(int argc, char** argv) {
   app.add_option("--wavelength", wavelength,
                  "dispersion: a monochromatic image, every index at this wavelength in nm (the light's own colour, weight 1)")
       ->check(CLI::Range(kMinWavelength, kMaxWavelength));
-  // Image-space caustic maps (seed 003; docs/caustic-maps.md).
+  // Image-space caustic maps (timofy 2009; docs/caustic-maps.md).
   std::string glass_method = to_string(built_in.glass_method);
   CausticMapOptions cmap;
   bool cmap_two_pass = false, cmap_drop_tir = false, cmap_no_focus = false;
   app.add_option("--glass-method", glass_method,
-                 "light through glass: table (light-transport tables, seed 002) or caustic-map (image-space caustic maps, seed 003); mirrors always use caustic maps")
+                 "light through glass: table (light-transport tables, Iwasaki et al.) or caustic-map (image-space caustic maps, timofy 2009); mirrors always use caustic maps")
       ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
   std::string glass_view = to_string(GlassView::kTable);
   GlassViewOptions view_options;
   app.add_option("--glass-view", glass_view,
-                 "the view through glass: table (view rays through the light-transport table, seed 002 §3) or nearby (nearby-geometry refraction, seed 003: per pixel against the glass's back faces and the scene's depth)")
+                 "the view through glass: table (view rays through the light-transport table, Iwasaki et al. §3) or nearby (nearby-geometry refraction, timofy 2009: per pixel against the glass's back faces and the scene's depth)")
       ->check(CLI::IsMember({"table", "nearby"}))->capture_default_str();
   app.add_option("--glass-view-iterations", view_options.iterations, "nearby glass view: landing iterations against the scene's depth")
       ->check(CLI::Range(1, 64))->capture_default_str();
@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
   int supersample = 2;
   app.add_option("--supersample", supersample, "antialiasing: render N x N samples per pixel and box-filter them (1: off)")
       ->check(CLI::Range(1, 4))->capture_default_str();
-  // Shadows (issue 20: variance shadow maps, seed 003).
+  // Shadows (variance shadow maps, timofy 2009).
   ShadowOptions shadow_options;
   std::string shadow_filter = to_string(shadow_options.filter);
   app.add_option("--shadow-filter", shadow_filter, "shadows of directional lights: pcf (3x3) or vsm (variance shadow maps, Donnelly & Lauritzen 2006)")
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 63))->capture_default_str();
   app.add_option("--vsm-bleeding", shadow_options.vsm_bleeding, "variance shadow maps: light-bleeding reduction in [0, 0.95]")
       ->check(CLI::Range(0.0f, 0.95f))->capture_default_str();
-  // Media (seed 004; docs/volume.md).
+  // Media (Pfeuti; docs/volume.md).
   VolumeOptions volume;
   bool no_media = false, no_octree = false;
   std::uint32_t volume_photons = 0, volume_grid = 0;
@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
   app.add_flag("--no-octree", no_octree, "media: uniform steps inside index grids (measures what the octree saves)");
   app.add_flag("--no-media", no_media, "media: no volume caustics or single scattering");
-  // The water surface (seed 001).
+  // The water surface (Mihalik 2008).
   WaterLook look;
   std::string fresnel = "approx", camera_pos, camera_target;
   bool plain_water = false, no_refraction = false, no_reflection = false, no_colour = false, no_glow = false;

@@ -11,7 +11,7 @@
 // Keys (as before the panel): Space pauses the waves, R resets the camera,
 // Esc quits. Caustics: M cycles the method, +/- the plane count, [ ] the
 // acceptance epsilon, arrow keys move the first light, W/S scale the
-// waves, C toggles culling. Water surface (seed 001): T plain / textured,
+// waves, C toggles culling. Water surface (Mihalik 2008): T plain / textured,
 // 1 refraction, 2 reflection, 3 water colour, 4 glow, F approximate /
 // exact Fresnel, , and . fewer / more W/A steps. Display (docs/display.md):
 // 9 / 0 exposure down / up half a stop, A auto exposure, O filmic /

@@ -1,4 +1,4 @@
-// Irradiance images (shared/DESIGN.md; prefixed with #version and
+// Irradiance images (docs/architecture.md; prefixed with #version and
 // caustix.glsl): irradiance at the receiver's first surface seen from
 // above, divided by E0; no albedo, no ambient. Pass 0 lays down depth and
 // the auxiliary samples (seen, |n_y|, cosine towards the first light), each

@@ -1,9 +1,9 @@
 // Diffuse receivers (prefixed with #version and caustix.glsl). Pass 0
 // writes ambient and depth; each later pass adds one light with additive
-// blending: I_o = sum_lights I_c I_d + I_a (seed 000 eq. 4-19, 4-20), with
+// blending: I_o = sum_lights I_c I_d + I_a (Tipprasert 2006 eq. 4-19, 4-20), with
 // I_c I_d = albedo * irradiance. Seen through water (u_fog = 1: the camera
 // under water, or the reflection texture seen from below) the colour is
-// attenuated towards the water colour by the distance to the eye, seed 001
+// attenuated towards the water colour by the distance to the eye, Mihalik 2008
 // eq. 10: C = C_w + a (C_obj - C_w), a = e^(-k d) (eq. 4); with additive
 // passes, the ambient pass carries (1 - a) C_w and every pass is scaled by a.
 // A textured receiver's albedo is u_albedo times its texture's linear colour

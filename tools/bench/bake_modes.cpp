@@ -6,10 +6,10 @@
 //       position map by the rasteriser and by CGAL ray casting (one ray per
 //       texel), depth profile; median of N runs; ray casts per second.
 //   caustix-bench table-5-4 [--csv FILE]
-//       Seed 000 table 5-4 on our code: smart-slicing planes for 3..28
+//       Tipprasert 2006 table 5-4 on our code: smart-slicing planes for 3..28
 //       specified planes, for the sphere, the teapot and the organic model.
 //   caustix-bench ltt [--resolutions 8,12,...] [--samples N] [--min-cos C] [--normal-bits B] [--csv FILE]
-//       Light-transport tables (seed 002): per glass mesh (the unit sphere,
+//       Light-transport tables (Iwasaki et al.): per glass mesh (the unit sphere,
 //       a 10k-vertex UV sphere, teapot_solid) and grid resolution R, the
 //       stored table size, bake time and rays per second, and the look-up
 //       error against direct traces at random (vertex, direction) pairs.

@@ -5,9 +5,9 @@
 //   caustix-bench frames SCENE.cxb [--method M] [--planes N] [--size WxH] ...
 //       Milliseconds per frame of the runtime (one CSV line).
 //   caustix-bench methods SCENE.cxb [--planes N] [--size WxH]
-//       Seed 000 table 5-5: eq. 2-9 differences between the methods' images.
+//       Tipprasert 2006 table 5-5: eq. 2-9 differences between the methods' images.
 //   caustix-bench water SCENE.cxb [--size WxH] [--frames N] [--csv FILE]
-//       Milliseconds per frame of each water-surface effect (seed 001).
+//       Milliseconds per frame of each water-surface effect (Mihalik 2008).
 //   caustix-bench receivers SCENE.cxb [--size WxH] [--frames N]
 //       Every receiver lit from every light: the per-pair forward path
 //       against the deferred pass over Engine::bind_all() (one CSV line).
@@ -127,7 +127,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
   return kExitOk;
 }
 
-// Seed 000 table 5-5 on our code: the eq. 2-9 difference between the
+// Tipprasert 2006 table 5-5 on our code: the eq. 2-9 difference between the
 // images of smart and uniform slicing, and of level map and volumetric, at
 // one plane count (same frame, same time).
 int methods(const std::string& cxb, std::uint32_t planes, int width, int height, const std::string& label) {
@@ -160,7 +160,7 @@ int methods(const std::string& cxb, std::uint32_t planes, int width, int height,
   return kExitOk;
 }
 
-// Lighting every receiver from every light (issue 46; docs/embedding.md):
+// Lighting every receiver from every light (docs/embedding.md):
 // ms of the per-pair forward path (bind(object, light) and a draw per
 // pair, additive, on a G-buffer's depth) and of the deferred pass
 // (bind_all() and one full-screen draw) over the same G-buffer, seen from
@@ -259,9 +259,9 @@ struct RuntimeModes final : Modes {
         ->check(CLI::IsMember({"coarse", "full"}));
     fr->add_option("--volume-focus", volume_focus, "media: focus-grid voxels a side (0: none; docs/volume.md)")
         ->check(CLI::Range(0, 128))->capture_default_str();
-    fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (seed 003; mirrors always use caustic maps)")
+    fr->add_option("--glass-method", glass_method, "light through glass: table or caustic-map (timofy 2009; mirrors always use caustic maps)")
         ->check(CLI::IsMember({"table", "caustic-map"}))->capture_default_str();
-    fr->add_option("--glass-view", glass_view, "the view through glass: table (seed 002 §3) or nearby (nearby-geometry refraction, seed 003)")
+    fr->add_option("--glass-view", glass_view, "the view through glass: table (Iwasaki et al. §3) or nearby (nearby-geometry refraction, timofy 2009)")
         ->check(CLI::IsMember({"table", "nearby"}))->capture_default_str();
     fr->add_option("--cmap-photons", cmap_photons, "caustic maps: photon grid side")->check(CLI::Range(1, 4096))->capture_default_str();
     fr->add_option("--cmap-size", cmap_size, "caustic maps: caustic map side")->check(CLI::Range(16, 4096))->capture_default_str();
@@ -284,7 +284,7 @@ struct RuntimeModes final : Modes {
     me->add_option("--size", fsize, "image size WxH")->capture_default_str();
     me->add_option("--label", label, "first CSV column");
     me->add_flag("--header", header, "print the CSV header first");
-    wa = app.add_subcommand("water", "ms per frame of each water-surface effect (seed 001) and texture size");
+    wa = app.add_subcommand("water", "ms per frame of each water-surface effect (Mihalik 2008) and texture size");
     wa->add_option("scene", cxb, "baked scene with water (.cxb)")->required();
     wa->add_option("--size", wsize, "frame size WxH")->capture_default_str();
     wa->add_option("--frames", wframes, "frames measured per setting (median)")->check(CLI::Range(1, 1000))->capture_default_str();

@@ -27,12 +27,12 @@ struct Knob {
   bool glass_only;  // only scenes with transparent objects
   bool water_only;  // only scenes with water (level maps)
   std::function<void(Setting&, double)> apply;
-  bool media_only = false;  // only in-scatter references (seed 004; docs/volume.md)
-  bool caster_only = false;  // only scenes with glass or mirrors (image-space caustic maps, issue 20)
-  bool dispersion_only = false;  // only scenes with dispersion (issue 22)
+  bool media_only = false;  // only in-scatter references (Pfeuti; docs/volume.md)
+  bool caster_only = false;  // only scenes with glass or mirrors (image-space caustic maps)
+  bool dispersion_only = false;  // only scenes with dispersion
 };
 
-// Caustic maps (seed 003) draw glass from here on; mirrors always use them.
+// Caustic maps (timofy 2009) draw glass from here on; mirrors always use them.
 runtime::CausticMapOptions& caustic_maps(Setting& s) {
   s.caustics.glass_method = runtime::GlassMethod::kCausticMap;
   return s.caustics.caustic_map;
@@ -52,7 +52,7 @@ const std::vector<Knob>& knobs() {
       {"caustics-size", {128, 256, 512, 1024, 2048}, false, true,
        [](Setting& s, double v) { s.caustics.map_size = static_cast<std::uint32_t>(v); }},
       {"water-grid", {0.25, 0.5, 1, 2, 4}, false, true, [](Setting& s, double v) { s.bake.water_grid_scale = v; }},
-      // Another method: photon splatting (seed 001 ch. 8) at P x P photons per map.
+      // Another method: photon splatting (Mihalik 2008 ch. 8) at P x P photons per map.
       {"splat-photons", {256, 512, 1024, 2048}, false, true,
        [](Setting& s, double v) {
          s.caustics.method = runtime::CausticsMethod::kSplat;
@@ -64,7 +64,7 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.bake.glass_refine.max_turn_deg = v; }},
       {"glass-size", {128, 256, 512, 1024, 2048}, true, false,
        [](Setting& s, double v) { s.caustics.glass_map_size = static_cast<std::uint32_t>(v); }},
-      // Media (seed 004): judged on in-scatter images.
+      // Media (Pfeuti): judged on in-scatter images.
       {"volume-grid", {16, 32, 64, 128}, false, false,
        [](Setting& s, double v) { s.caustics.volume.grid = static_cast<std::uint32_t>(v); }, true},
       {"volume-photons", {64, 128, 256, 512, 1024}, false, false,
@@ -79,7 +79,7 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.caustics.volume.focus_grid = static_cast<std::uint32_t>(v); }, true},
       {"view-step", {0.25, 0.5, 1, 2}, false, false,
        [](Setting& s, double v) { s.caustics.volume.view_step = static_cast<float>(v); }, true},
-      // Image-space caustic maps (issue 20; docs/caustic-maps.md).
+      // Image-space caustic maps (docs/caustic-maps.md).
       {"glass-method", {0, 1}, true, false,
        [](Setting& s, double v) { s.caustics.glass_method = v != 0 ? runtime::GlassMethod::kCausticMap : runtime::GlassMethod::kTable; }},
       {"cmap-photons", {128, 256, 512, 1024}, false, false,
@@ -88,7 +88,7 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { caustic_maps(s).map_size = static_cast<std::uint32_t>(v); }, false, true},
       {"cmap-sigma", {0, 0.5, 1, 2}, false, false,
        [](Setting& s, double v) { caustic_maps(s).splat_sigma = static_cast<float>(v); }, false, true},
-      // The caustic map's focus window (issue 47): 1 on, 0 off.
+      // The caustic map's focus window: 1 on, 0 off.
       {"cmap-focus", {1, 0}, false, false, [](Setting& s, double v) { caustic_maps(s).focus = v != 0; }, false, true},
       {"cmap-iterations", {1, 2, 4, 10}, false, false,
        [](Setting& s, double v) { caustic_maps(s).iterations = static_cast<std::uint32_t>(v); }, false, true},
@@ -101,7 +101,7 @@ const std::vector<Knob>& knobs() {
          c.photon_budget = static_cast<std::uint32_t>(v);
        },
        false, true},
-      // Dispersion (issue 22; docs/dispersion.md): wavelengths the caustic
+      // Dispersion (docs/dispersion.md): wavelengths the caustic
       // maps and a dispersive water's passes trace.
       {"wavelengths", {1, 2, 4, 8, 16, 32}, false, false,
        [](Setting& s, double v) {
@@ -270,7 +270,7 @@ int tradeoff(const TradeoffRequest& q) {
     const runtime::CausticsStats cs = (*renderer)->caustics_stats(false);
     std::string cells = "-";
     if (scene->desc.water) cells = std::to_string(scene->desc.water->cells[0]) + "x" + std::to_string(scene->desc.water->cells[1]);
-    // The focal columns (issue 47): empty for an in-scatter image (no
+    // The focal columns: empty for an in-scatter image (no
     // ground region) or where the reference has no power there.
     const auto focal = [](const std::optional<double>& v) {
       char b[32] = "";

@@ -36,9 +36,9 @@ int water_effects(const std::string& cxb, int width, int height, int warmup, int
   const std::vector<Row> rows{
       {"plain surface", [](L& l, C&) { l.textures = false; }},
       {"plain surface, no caustics", [](L& l, C& c) { l.textures = false; c.method = runtime::CausticsMethod::kNone; }},
-      {"seed 001 all effects", [](L&, C&) {}},
-      {"all effects as before issue 21 (512^2 textures, 3 steps fixed)", [](L& l, C&) { l.texture_size = 512; l.max_steps = 3; }},
-      {"seed 001 all effects, no caustics", [](L&, C& c) { c.method = runtime::CausticsMethod::kNone; }},
+      {"Mihalik 2008 all effects", [](L&, C&) {}},
+      {"all effects at their first settings (512^2 textures, 3 steps fixed)", [](L& l, C&) { l.texture_size = 512; l.max_steps = 3; }},
+      {"Mihalik 2008 all effects, no caustics", [](L&, C& c) { c.method = runtime::CausticsMethod::kNone; }},
       {"- refraction", [](L& l, C&) { l.refraction = false; }},
       {"- reflection", [](L& l, C&) { l.reflection = false; }},
       {"- water colour", [](L& l, C&) { l.colour = false; }},

@@ -1,7 +1,7 @@
 #pragma once
 // caustix-bench water: ms per frame of each effect of the water surface
-// (seed 001) on a baked scene, side by side in one run, and the cost of the
-// refraction/reflection textures by size against the seed's table 3.
+// (Mihalik 2008) on a baked scene, side by side in one run, and the cost of the
+// refraction/reflection textures by size against Mihalik 2008's table 3.
 
 #include <string>
 

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   bool as_json = false;
   CLI::App app{"caustix-compare: error metrics of image A against reference B"};
   app.footer(
-      "Metrics: eq29 = seed 000 eq. 2-9, the mean CIE L*u*v* difference (white Y = 1, i.e. E/E0 = 1);\n"
+      "Metrics: eq29 = Tipprasert 2006 eq. 2-9, the mean CIE L*u*v* difference (white Y = 1, i.e. E/E0 = 1);\n"
       "rel_l1 = sum|A-B|/sum|B| and rms of luminance; flux_ratio = sum A / sum B; peak = distance between\n"
       "the brightest pixels (pixels, and metres when the images carry caustix:region).\n"
       "--split: the error split by cause, each pixel in one class (silhouette, self-shadow, terminator,\n"

@@ -27,7 +27,7 @@ struct Coeff {
   double k = 0;
   bool any() const { return st[0] > 0 || st[1] > 0 || st[2] > 0; }
   bool scatters() const { return ss[0] > 0 || ss[1] > 0 || ss[2] > 0; }
-  // Seed 004, "Viewing Pass": isotropic 1/(4 pi); Schlick
+  // Pfeuti, "Viewing Pass": isotropic 1/(4 pi); Schlick
   // (1/(4 pi)) (1 - k^2) / (1 - k cos a)^2, a between the light's direction
   // of travel and the scattered direction.
   double phase_value(double cos_a) const {

@@ -214,7 +214,7 @@ Result<Image> trace(const Request& q) {
           const std::uint32_t obj = world.owner[h->triangle];
           const Object& o = scene.objects[obj];
           if (is_mirror(o.role)) {
-            // A two-sided specular reflector (issue 20): the smooth normal
+            // A two-sided specular reflector: the smooth normal
             // turned to face the photon, the reflectance per channel.
             Vec3d nrm = world.normal_at(h->triangle, p);
             if (dot(nrm, dir) > 0) nrm = {-nrm[0], -nrm[1], -nrm[2]};

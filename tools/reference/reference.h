@@ -1,6 +1,6 @@
 #pragma once
 // caustix-reference: an independent CPU photon tracer for irradiance images
-// (shared/DESIGN.md), used to measure the runtime's approximations. It reads
+// (docs/architecture.md), used to measure the runtime's approximations. It reads
 // scene.json and the meshes (not the .cxb), evaluates the water surface of
 // the wave sum exactly (ray / height-field intersection by bracketing and
 // Illinois regula falsi), refracts with Snell's law and the exact unpolarised Fresnel
@@ -42,7 +42,7 @@ struct Request {
   std::uint32_t batches = 8;
   std::uint64_t seed = 1;
   double glass_crease_deg = 30.0;  // as caustix-bake --glass-crease
-  // Dispersion (issue 22): > 0, every photon at this wavelength (nm) with
+  // Dispersion: > 0, every photon at this wavelength (nm) with
   // weight 1 (a monochromatic image). 0: in a scene with dispersion each
   // photon draws its wavelength uniformly from 380-780 nm and carries 400 nm
   // times the CIE-to-linear-sRGB density there (spectrum.h rgb_density: an
@@ -63,7 +63,7 @@ struct Image {
 
 Result<Image> trace(const Request& request);
 
-// In-scatter images (shared/DESIGN.md; issue 19): orthographic along -z,
+// In-scatter images (docs/architecture.md): orthographic along -z,
 // columns along +x over [x0, x1], row 0 at y1; each pixel the pixel-box
 // average of the single-scattered radiance reaching the camera, / E0.
 // Estimator (docs/reference.md): photons traced exactly as above, their
@@ -89,7 +89,7 @@ struct InscatterRequest {
   int grid = 64;               // voxels along the medium's longest side, for views through glass
   int view_samples = 4;        // per pixel axis, for views through glass
   double samples_per_pixel = 2;  // deposit points per pixel a photon segment crosses
-  // Dispersion (issue 22), as ReferenceRequest::wavelength_nm for the
+  // Dispersion, as ReferenceRequest::wavelength_nm for the
   // photons: > 0 every photon and view ray at this wavelength, weight 1;
   // 0 in a scene that disperses, each photon at its own drawn wavelength,
   // view rays through glass at n_d (the track-length grid they gather from

@@ -69,7 +69,7 @@ Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg) {
 
 namespace {
 
-// A thin-walled sheet (Role::kThin, issue 45), traced as what it is: two
+// A thin-walled sheet (Role::kThin), traced as what it is: two
 // parallel faces at one point, Fresnel at each (the same reflectance r at
 // both: the inner face sees the refracted angle, and reflectance is
 // reciprocal), the light bouncing between them until it leaves forward

@@ -169,7 +169,7 @@ Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg);
 // keeping its flux, so estimates stay unbiased. `inside` lists the glass
 // objects it is in (overlapping shells of one material are one solid);
 // n_outside is the index around the glass; nm the photon's wavelength
-// (dispersion, issue 22: each glass's index at it; 0: every index n_d).
+// (dispersion: each glass's index at it; 0: every index n_d).
 // Returns the new direction.
 // A thin-walled object (Role::kThin) is crossed as a sheet: reflected, or
 // transmitted without bending (its inner reflections traced), `inside`
@@ -180,7 +180,7 @@ Vec3d cross_interface(const World& world, const SceneDesc& scene, std::uint32_t 
                       const Vec3d& dir, double n_outside, std::vector<std::uint32_t>& inside, double u01, double nm = 0,
                       std::array<double, 3>* power = nullptr);
 
-// A photon's wavelength (dispersion, issue 22; reference.h's
+// A photon's wavelength (dispersion; reference.h's
 // wavelength_nm): `fixed` when > 0, weight 1 (a monochromatic image); else,
 // in a scene that disperses, drawn uniformly from 380-780 nm with `power`
 // times 400 nm x the CIE-to-linear-sRGB density there (an unbiased

@@ -29,7 +29,7 @@ constexpr GLintptr kDispatchOffset = 16, kPhotonDispatchOffset = 32, kDrawOffset
 // Caustic map texels a side of one texel of the adaptive photons' density
 // map (causticmap_density.vert).
 constexpr int kDensityBlock = 8;
-// The focus window (issue 47; causticmap_focus.comp): landed photons are
+// The focus window (causticmap_focus.comp): landed photons are
 // counted in kFocusBins x kFocusBins cells over the map; a cell is
 // concentrated where at least kFocusConcentration times the photons its
 // area would catch straight from the light landed in it, and at least

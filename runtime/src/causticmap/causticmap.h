@@ -1,5 +1,5 @@
 #pragma once
-// Image-space caustic maps (seed 003; Shah, Konttinen & Pattanaik 2007;
+// Image-space caustic maps (timofy 2009; Shah, Konttinen & Pattanaik 2007;
 // docs/caustic-maps.md): per light, the casters (mirrors and thin-walled
 // glass always, solid glass when CausticsOptions::glass_method is
 // kCausticMap) seen from the light in an
@@ -48,7 +48,7 @@ class CausticMapEngine {
   // The caustic map of `light` for the current transforms. world_boxes[i]
   // is object i's world bounding box (min, max). Remade only when the
   // light, the transforms or the options changed since (`versions`), and
-  // only when `due` unless none exists (issue 44); counted into `work`.
+  // only when `due` unless none exists; counted into `work`.
   // `casters` as casters() gives it.
   Status update_light(const SceneDesc& scene, std::uint32_t light, const CausticsOptions& options,
                       const std::vector<std::array<glm::vec3, 2>>& world_boxes, const std::vector<bool>& casters,

@@ -1,5 +1,5 @@
 #pragma once
-// Image-space caustic maps (seed 003) as a light-side effect
+// Image-space caustic maps (timofy 2009) as a light-side effect
 // (engine/light_effect.h): per light, the caustic map of the mirrors and,
 // with GlassMethod::kCausticMap, the glass. Made on the first frame whose
 // options need it; a frame that needs none clears every light's. Internal

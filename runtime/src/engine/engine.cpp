@@ -78,7 +78,7 @@ struct Engine::Impl {
   std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
   std::vector<TriangleMesh> cpu_meshes;                             // object space, for moving objects
   std::vector<GpuMesh> meshes;
-  AlbedoTextures albedo;  // receivers' base-colour textures (issue 45)
+  AlbedoTextures albedo;  // receivers' base-colour textures
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
 
@@ -327,7 +327,7 @@ struct Engine::Impl {
   void bind_slot(const ReceiverLighting& r) const {
     // The multi-bind call binds the indexed point alone: glBindBufferRange
     // would also set the generic GL_UNIFORM_BUFFER binding, which the
-    // application may be using (issue 46).
+    // application may be using.
     const GLuint buffer = blocks.get();
     const auto offset = static_cast<GLintptr>(r.offset);
     const auto size = static_cast<GLsizeiptr>(sizeof(LightBlock));

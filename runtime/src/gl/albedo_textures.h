@@ -1,5 +1,5 @@
 #pragma once
-// Receivers' albedo textures on the GPU (issue 45): one GL texture per
+// Receivers' albedo textures on the GPU: one GL texture per
 // (image, wrap s, wrap t) the scene uses, sRGB8_ALPHA8 with a full mip
 // chain, wrap and trilinear (and, where the context has it, 8x anisotropic)
 // filtering set on the texture itself. Internal to the runtime.

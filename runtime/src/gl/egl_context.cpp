@@ -17,7 +17,7 @@ Error gfx_error(const std::string& msg) {
 }
 
 // libepoxy: use eglGetPlatformDisplayEXT; the core eglGetPlatformDisplay
-// aborts ("No provider") before a display exists (shared/TOOLCHAIN.md).
+// aborts ("No provider") before a display exists.
 EGLDisplay open_display() {
   if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) {
     EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);

@@ -2,7 +2,7 @@
 // A ray of light leaving a transparent object (world space) with the flux
 // it carries per unit of incident irradiance: the glass's CPU sample of its
 // light-transport tables (GlassEngine::exit_sample), which places the glass's
-// focus windows and the media's focus grids (issue 47). Internal to the
+// focus windows and the media's focus grids. Internal to the
 // runtime.
 
 #include <glm/glm.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Focus windows (issue 47): finer texels where light concentrates. Shared by
+// Focus windows: finer texels where light concentrates. Shared by
 // the glass tables' windows (glass.cpp, placed from the CPU sample of the
 // tables' exit rays) and the caustic maps' (causticmap.cpp and
 // causticmap_focus.comp, placed on the GPU from the landed photons).

@@ -21,7 +21,7 @@ class StateGuard {
   ~StateGuard();
   // Puts back every value saved (what the destructor does); the call may
   // go on after it, with enter() (Engine::draw_water's callback runs with
-  // the caller's state, issue 46).
+  // the caller's state).
   void restore() const;
   // The state the passes assume, from the saved one: the caller's sampler
   // objects off the saved units, the capabilities the passes never touch

@@ -16,7 +16,7 @@ struct GpuMesh {
   gl::Buffer uvs;  // vec2 per vertex, or none
   GLsizei index_count = 0;
   // Closed and consistently wound (common/mesh_topology.h): back faces are never seen from outside, so passes
-  // that cut it open (seed 001 §5.1, fig. 3) may cull them.
+  // that cut it open (Mihalik 2008 §5.1, fig. 3) may cull them.
   bool closed = false;
 
   std::uint64_t vertex_count = 0;  // interleaved position + normal, 24 bytes each

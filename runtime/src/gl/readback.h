@@ -1,5 +1,5 @@
 #pragma once
-// GPU -> CPU data without a stall (issue 44): small GPU buffers (counters,
+// GPU -> CPU data without a stall: small GPU buffers (counters,
 // sums) are copied on the GPU into a slot of a persistently mapped ring,
 // a fence follows, and later frames poll the fences (never wait on them)
 // and read the slots whose copies have landed, from mapped memory, with no

@@ -1,6 +1,6 @@
 #pragma once
 // The wavelengths the camera's refracted view rays take through dispersive
-// water and glass (issue 22; docs/dispersion.md, "The view through water
+// water and glass (docs/dispersion.md, "The view through water
 // and glass"): the view passes shade each pixel once per sample at the
 // medium's index there and add the results with the samples' RGB weights,
 // as the light passes do. Internal to the runtime.

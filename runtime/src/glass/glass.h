@@ -1,5 +1,5 @@
 #pragma once
-// Caustics from transparent objects on the GPU (seed 002 §4): per light,
+// Caustics from transparent objects on the GPU (Iwasaki et al. §4): per light,
 // the outgoing rays of every transparent vertex from its light-transport
 // table (glass_rays.comp), the mean transmitted direction, and per target
 // (every opaque receiver, for each light) a virtual camera along it with n virtual planes
@@ -55,7 +55,7 @@ class GlassEngine {
   // the same illumination textures with the bin's RGB weights; else the
   // d line at n_d.
   // Remade only when the light, the transforms or the options changed
-  // since (`versions`), and only when `due` unless none exist (issue 44);
+  // since (`versions`), and only when `due` unless none exist;
   // counted into `work`. A glass whose `by_caustic_maps[object]` is set
   // sends no light here (the caustic maps carry it: a receiver inside it,
   // CausticMapEngine::casters()).
@@ -71,7 +71,7 @@ class GlassEngine {
     GLuint illumination;       // RGBA32F 2D array, one layer per plane
     GLuint target;             // RGBA32F: normal + frame V of the first surface
     float tolerance;           // self-shadow tolerance along V
-    // The focus window (issue 47): centre u, v and half-size in texture
+    // The focus window: centre u, v and half-size in texture
     // coordinates (0: none); its planes are layers plane_v.size() + k.
     std::array<float, 3> focus;
   };
@@ -81,12 +81,12 @@ class GlassEngine {
   // A sample of the rays of `light` leaving the glass (the n_d table's
   // rows of every k-th vertex, on the CPU: no GPU work, no wait): what
   // orients the planes and places the focus windows, and the media's
-  // focus grids (issue 47).
+  // focus grids.
   std::vector<ExitRay> exit_sample(const SceneDesc& scene, std::uint32_t light) const;
 
   // Draws the transparent objects as glass over the opaque scene's colour
   // and depth into the bound draw framebuffer: view rays through the table
-  // (seed 002 §3) or nearby-geometry refraction (GlassView::kNearby), the
+  // (Iwasaki et al. §3) or nearby-geometry refraction (GlassView::kNearby), the
   // latter once per wavelength of `spectrum` for dispersive glass.
   // `scene_color` and `scene_depth` in any format gl/scene_inputs.h
   // accepts; `reader` resolves them where they are multisampled.

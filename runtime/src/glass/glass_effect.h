@@ -1,5 +1,5 @@
 #pragma once
-// Caustics from the glass's light-transport tables (seed 002 §4) as a
+// Caustics from the glass's light-transport tables (Iwasaki et al. §4) as a
 // light-side effect (engine/light_effect.h): per light, the exit rays of
 // every glass vertex and each receiver's illumination textures. Its rays
 // read the light's block and shadow maps. Internal to the runtime.

@@ -1,9 +1,9 @@
 #pragma once
 // GlassEngine's insides, shared by its sources: glass.cpp (the light side:
-// tables, exit rays, virtual planes, illumination textures; seed 002 §4),
+// tables, exit rays, virtual planes, illumination textures; Iwasaki et al. §4),
 // glass_focus.cpp (the focus windows over concentrated light) and
-// glass_view.cpp (the view through the glass, draw_glass; seed 002 §3 and
-// seed 003's nearby-geometry refraction). Internal to the runtime.
+// glass_view.cpp (the view through the glass, draw_glass; Iwasaki et al. §3 and
+// timofy 2009's nearby-geometry refraction). Internal to the runtime.
 
 #include "glass.h"
 
@@ -175,13 +175,13 @@ struct GlassEngine::Impl {
   // orient the planes (mean_travel) and place the focus windows
   // (focus_window), and change neither image's light.
   std::vector<SampledRay> sampled_rays(const SceneDesc& scene, const Light& light) const;
-  // The average direction of the transmitted light (seed 002 §4.2: "We set
+  // The average direction of the transmitted light (Iwasaki et al. §4.2: "We set
   // a virtual camera so that the viewing direction is parallel to the
   // average direction of the transmitted lights"), unnormalised: the
   // sampled exit directions weighted by their Fresnel transmittance. An
   // estimate; it only orients the planes.
   static Vec3d mean_travel(const std::vector<SampledRay>& rays);
-  // Seed 002 gives every plane one texture over the whole target
+  // Iwasaki et al. gives every plane one texture over the whole target
   // (512^2: 7.8 mm texels over glass_ball's 4 m floor), and a ball lens
   // puts most of its light within a centimetre of its focus, so the focal
   // spot was a texel wide and its peak an eighth of the optics'. Here the

@@ -1,8 +1,8 @@
 // The view through the glass (Engine::draw_glass): the glass drawn into a
 // target over its rectangle of the frame, reading the caller's scene, then
 // copied into the caller's framebuffer. Rays through the light-transport
-// table (seed 002 §3) or nearby-geometry refraction off the glass's back
-// faces (seed 003), and thin-walled sheets over both.
+// table (Iwasaki et al. §3) or nearby-geometry refraction off the glass's back
+// faces (timofy 2009), and thin-walled sheets over both.
 #include "glass_impl.h"
 
 namespace caustix::runtime {

@@ -410,7 +410,7 @@ struct CausticsEngine::Impl {
     if (last) glGenerateTextureMipmap(m.color.get());
   }
 
-  // Seed 001 ch. 8, GPU variant: render the water along V into the photon
+  // Mihalik 2008 ch. 8, GPU variant: render the water along V into the photon
   // texture (splat_photon.frag), copy it into a vertex buffer through the
   // pixel-pack binding (the paper's PBO route), draw it as points with
   // additive blending into the caustics map.
@@ -852,7 +852,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   }
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
-  // disperses; issue 22): refract at every water vertex, then each
+  // disperses): refract at every water vertex, then each
   // triangle's flux (eq. 2-8, 4-18), then every map of this light; photon
   // splatting refracts per photon instead. Several wavelengths add up in
   // each map's spectral sums (accumulate_wavelength).

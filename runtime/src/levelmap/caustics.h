@@ -1,5 +1,5 @@
 #pragma once
-// Water caustics on the GPU (seed 000 §4.3-4.7, §5.2.1): per light, refract
+// Water caustics on the GPU (Tipprasert 2006 §4.3-4.7, §5.2.1): per light, refract
 // at every water vertex and compute each water triangle's flux; per level
 // map of that light, cull the illumination volumes against the frame, then
 // intersect them with the reference planes into the caustics map (level map:
@@ -34,7 +34,7 @@ class CausticsEngine {
   // Marks the maps of `light` (or of all lights) whose receiver is
   // `object` (or any) for re-derivation: their next update_light()
   // re-derives the frame, position map and depth profile (and so the
-  // planes) for the lights' and objects' state then (seed 000 §4.2; the
+  // planes) for the lights' and objects' state then (Tipprasert 2006 §4.2; the
   // thesis re-profiled per frame): the frame on the CPU from the
   // receiver's world vertices, the position map rendered on the GPU, the
   // histogram by a compute shader and the planes from it
@@ -43,7 +43,7 @@ class CausticsEngine {
 
   // Caustics maps of light `light` for the water's current shape, remade
   // only when the light, the transforms, the water or the options changed
-  // since (`versions`), and only when `due` unless none exists (issue 44);
+  // since (`versions`), and only when `due` unless none exists;
   // counted into `work`. world[i] are object i's vertices in world space.
   Status update_light(std::uint32_t light, const std::vector<Light>& lights, const std::optional<Water>& water,
                       const std::vector<std::vector<std::array<double, 3>>>& world, const CausticsOptions& options,

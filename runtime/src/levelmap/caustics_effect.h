@@ -1,5 +1,5 @@
 #pragma once
-// The water's caustics (seed 000's level maps, the uniform and volumetric
+// The water's caustics (Tipprasert 2006's level maps, the uniform and volumetric
 // baselines, photon splatting) as a light-side effect
 // (engine/light_effect.h): each (receiver, light)'s caustics map for the
 // water's current shape. Internal to the runtime.

@@ -38,7 +38,7 @@ class ShadowMaps {
   // Renders light `li`'s maps; `center`, `radius` bound the scene. Only
   // when the light, the transforms (`versions`) or the options changed
   // since they were last rendered, or when `due` is false and they exist
-  // (issue 44); counted into `work`.
+  //; counted into `work`.
   void render(const SceneDesc& scene, std::uint32_t li, const glm::vec3& center, float radius, const ShadowOptions& options,
               const SceneVersions& versions, bool due, EffectWork& work);
 

@@ -46,7 +46,7 @@ Coefficients coefficients(const Vec3f& absorption, const Scattering& s) {
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
-// Issue 47: the radiance grid spans the whole medium (fog_ball: 4.7 cm
+// The radiance grid spans the whole medium (fog_ball: 4.7 cm
 // voxels), and a ball lens puts its light through a focal line a few
 // millimetres wide, so the line came out at 0.41 of optics' in-scatter
 // and 13 cm too high (the grid's blur keeps the wider cone above the
@@ -179,7 +179,7 @@ struct VolumeEngine::Impl {
   std::uint64_t index_bytes = 0;
   bool ran = false;        // the effect is on and has a grid
   bool counting = false;   // some light was remade this frame: its tallies are this frame's
-  // What each light's radiance was made from (issue 44).
+  // What each light's radiance was made from.
   MadeFrom<LightInputs> made;
   // Each frame's tallies come back through `readback` without a stall:
   // `tallied` holds the latest that arrived (of frame `tallied_frame`),
@@ -474,7 +474,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   const float power = point ? light.intensity : light.irradiance;
   const glm::vec3 color = to_glm(light.color) * power;
 
-  // Sources (seed 004 "Photon Generation"): the light's window over what
+  // Sources (Pfeuti "Photon Generation"): the light's window over what
   // lies in the air (the medium box, objects above any water) on a plane
   // above it, and the water surface when the water or an object under it
   // scatters.

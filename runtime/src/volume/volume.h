@@ -1,5 +1,5 @@
 #pragma once
-// Volume caustics and single scattering in participating media (seed 004:
+// Volume caustics and single scattering in participating media (Pfeuti:
 // Sun, Zhou, Stollnitz, Shi and Guo, "Interactive Relighting of Dynamic
 // Refractive Objects", SIGGRAPH 2008; docs/volume.md). Per light, photons
 // are generated over the window of the light that covers the media (or on
@@ -55,12 +55,12 @@ class VolumeEngine {
   // Photons of light `li` into its radiance grid. `bind_light` binds the
   // light's block and shadow maps (caustix.glsl). `water` is the animated
   // surface when the scene has water. The photons are marched once per
-  // sample of `waves` (traced_wavelengths; issue 22), carrying the light's
+  // sample of `waves` (traced_wavelengths), carrying the light's
   // colour times the sample's RGB weights, every index (water, glass) at
   // the sample's wavelength when `spectral` (else n_d).
   // Remade only when the light, the transforms, the water or the options
   // (`caustics`, which holds `options`) changed since (`versions`), and
-  // only when `due` unless none exists (issue 44); counted into `work`.
+  // only when `due` unless none exists; counted into `work`.
   // `focus_rays` (called only when the light is remade; may be empty)
   // gives the light's rays out of the glass: where they concentrate,
   // the focus grid takes the photons' deposits at finer voxels.

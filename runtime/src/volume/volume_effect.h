@@ -1,5 +1,5 @@
 #pragma once
-// The media (seed 004) as a light-side effect (engine/light_effect.h):
+// The media (Pfeuti) as a light-side effect (engine/light_effect.h):
 // photons marched through the media from the same water state as the
 // caustics, bent by the glass's index grids, into each light's radiance
 // grid; the glass's exit rays place its focus grid. Its photons read the

@@ -1,5 +1,5 @@
 // WaterSimulation (include/caustix/runtime/water_sim.h): the interactive
-// height-field water of issue 21. State: heights ping-ponged between two
+// height-field water. State: heights ping-ponged between two
 // SSBOs (a substep reads one, writes the other) and velocities updated in
 // place; two R32F targets hold the bodies' submerged lengths now and at the
 // previous push().

@@ -1,5 +1,5 @@
 #pragma once
-// The water grid on the GPU (seed 000 §4.3): positions and normals
+// The water grid on the GPU (Tipprasert 2006 §4.3): positions and normals
 // recomputed by a compute shader each frame, from the scene's wave list
 // (analytic normals) or from heights the application supplies (central
 // differences), in SSBOs that the caustics passes and the surface's own
@@ -19,7 +19,7 @@ class WaterSurface {
   // Brings the surface to `time` (the waves) or to the heights set last.
   // Work happens only when the surface changes: new heights, a new time
   // while some wave moves, a new amplitude scale, back to the waves
-  // (issue 44: a still pool costs nothing). Returns whether it changed.
+  // (a still pool costs nothing). Returns whether it changed.
   bool update(float time);
   // Bumped whenever update() changes the surface: what the light side's
   // products of this water depend on.

@@ -206,7 +206,7 @@ Status WaterView::draw(const Frame& f, const WaterLook& look, const std::functio
   const bool textured = look.textures && draw_scene;
   std::optional<WaterCameras> cams;
   if (textured) {
-    // Seed 001's two textures (§5.1-5.2), drawn by the application.
+    // Mihalik 2008's two textures (§5.1-5.2), drawn by the application.
     cams = water_cameras(f.main, f.fov_y_deg, f.aspect, f.near_plane, f.far_plane, *f.water, look);
     int size = look.texture_size;
     if (size == 0) {  // auto: a texel per pixel across the extended field of view, within the limit

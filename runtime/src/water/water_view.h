@@ -1,5 +1,5 @@
 #pragma once
-// The water surface's appearance (seed 001, Mihálik, ch. 5-9): the cameras
+// The water surface's appearance (Mihalik 2008, ch. 5-9): the cameras
 // of the refraction and reflection textures, the textures themselves, the
 // surface shader that reads them, and the glow. The renderer draws the
 // scene into the textures (it owns the lighting passes); this class says

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the mesh-import corpus (issue 16): files shaped like the ones users
+"""Writes the mesh-import corpus: files shaped like the ones users
 bring from other tools -- comments where each format allows them, colours and
 normals per vertex, polygons of any size (non-convex too), binary and ASCII,
 shuffled element order, extra properties and elements, huge coordinates,

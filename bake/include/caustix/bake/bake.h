@@ -18,7 +18,7 @@
 
 namespace caustix::bake {
 
-// What a bake says while it runs (issue 48); either may be empty.
+// What a bake says while it runs; either may be empty.
 struct BakeObserver {
   // Each warning as soon as it is found (BakeResult::warnings keeps them
   // too), so that a bake that fails or is stopped later has said them.
@@ -50,7 +50,7 @@ struct BakeOptions {
   std::uint32_t max_texture_size = 2048;
   // Runtime defaults to record in the .cxb (RNDR chunk; presets set them).
   std::optional<RenderDefaults> render;
-  // Shared work (issue 48): meshes with the same content after import are
+  // Shared work: meshes with the same content after import are
   // stored once, and solid transparent objects on one mesh with the same
   // IOR, dispersion and absorption use one set of light-transport tables
   // (Object::tables_from, the LTTR chunk), whatever their transforms.
@@ -58,7 +58,7 @@ struct BakeOptions {
   // predates LTTR reads).
   bool share = true;
   // Not part of the bake's inputs: what it says while it runs, and budgets
-  // (issue 48; 0: none). Past either the bake stops with an ErrorCode::kBudget
+  // (0: none). Past either the bake stops with an ErrorCode::kBudget
   // error naming the stage, the object and the option to lower. Checked at
   // every progress step (a light-transport table's every 1 %); memory is the
   // process's peak resident set, and also checked before a light-transport
@@ -111,7 +111,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
 
 // Transparent objects drawing `mesh` (scene.meshes[mesh_index], read from
 // `path`) when it is open -- it has boundary edges: a pane, a shade, so it
-// bounds no solid -- become thin-walled (Role::kThin, issue 45), as glTF
+// bounds no solid -- become thin-walled (Role::kThin), as glTF
 // would draw them, losing what needs an inside (absorption, dispersion,
 // scattering); returns a warning per object so changed. A closed mesh that
 // is not a solid (wound inconsistently or inside out, non-manifold: a
@@ -125,7 +125,7 @@ Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uin
 // each depth profile (-v).
 std::string report_json(const BakeResult& result, const BakeOptions& options);
 
-// What a bake that failed had done, for its --report (issue 48): the
+// What a bake that failed had done, for its --report: the
 // stages it finished with their seconds, the stage and item it was in, and
 // the warnings it had said.
 struct BakeLog {

@@ -1,5 +1,5 @@
 #pragma once
-// Reference planes (seed 000 §4.2.1, eq. 4-6..4-9) and the depth profile with
+// Reference planes (Tipprasert 2006 §4.2.1, eq. 4-6..4-9) and the depth profile with
 // smart slicing (§4.7.2, eq. 4-21, 4-22).
 //
 // Uniform slicing follows the thesis exactly: n pieces give n + 1 planes at

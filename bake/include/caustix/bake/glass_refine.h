@@ -1,10 +1,10 @@
 #pragma once
-// Refinement of transparent meshes for the light-transport table (seed 002
+// Refinement of transparent meshes for the light-transport table (Iwasaki et al.
 // §3 samples the transport at vertices only; the runtime interpolates it
 // linearly across each triangle, §4.1). Glass as people model it breaks
 // both: a wedge prism of 6 vertices has no vertex inside any face, and the
 // importer's averaged normals at its corners bend light as no face does,
-// so it cast no refracted light at all (issue 18). Two steps, both
+// so it cast no refracted light at all. Two steps, both
 // deterministic:
 //
 //  1. Creases: an edge whose two triangles' normals differ by more than

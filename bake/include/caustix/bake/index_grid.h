@@ -1,6 +1,6 @@
 #pragma once
 // Voxelisation of a transparent object's refractive index and the octree of
-// near-constant index (seed 004, "Voxelization", "Octree Construction";
+// near-constant index (Pfeuti, "Voxelization", "Octree Construction";
 // formats/index_grid.h describes the result). Deterministic whatever the
 // thread count.
 

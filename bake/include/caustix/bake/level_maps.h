@@ -1,5 +1,5 @@
 #pragma once
-// The level-map stage of the bake (seed 000 §4.2, §4.7.2): for every
+// The level-map stage of the bake (Tipprasert 2006 §4.2, §4.7.2): for every
 // receiver and every light that refracted light can reach, the bounding
 // frame, position and diffuse maps, depth profile and both plane sets; and
 // a CGAL oriented bounding box per object for culling.

@@ -1,5 +1,5 @@
 #pragma once
-// The light-transport stage of the baker (seed 002 §3; formats/light_transport.h
+// The light-transport stage of the baker (Iwasaki et al. §3; formats/light_transport.h
 // describes the table): for every vertex of every transparent object and every
 // direction of the hemi-octahedral grid, the refracted ray is traced through
 // the object with exact ray-mesh intersection (CGAL AABB tree) until it
@@ -22,9 +22,9 @@
 
 namespace caustix::bake {
 
-// What casts the tables' rays (issue 48): Embree (the default; robust
+// What casts the tables' rays: Embree (the default; robust
 // mode, single precision) or CGAL's AABB tree (exact predicates, double
-// precision: the baker before issue 48, `caustix-bake --ltt-rays cgal`).
+// precision: the baker's only caster before Embree, `caustix-bake --ltt-rays cgal`).
 // Both give tables that do not depend on the thread count; they differ in
 // the last bits of exit points and, for a few grazing directions, in
 // whether the object blocks the light (docs/glass.md).
@@ -34,7 +34,7 @@ struct TransportOptions {
   std::uint32_t resolution = kDefaultTransportResolution;  // R: R x R directions per vertex
   std::uint32_t max_bounces = 4;  // internal reflections and re-entries followed (the paper: 0)
   std::uint32_t bits = kDefaultTransportBits;  // significant bits kept per field (8..16)
-  // Dispersive objects (issue 22; docs/dispersion.md): tables at this many
+  // Dispersive objects (docs/dispersion.md): tables at this many
   // more wavelengths, evenly over 380..780 nm with both ends (0 or
   // 2..kMaxTransportWavelengths), besides the one at n_d. The runtime
   // interpolates between the two whose indices bracket each traced
@@ -44,7 +44,7 @@ struct TransportOptions {
   // Locate where the path class switches between neighbouring grid
   // directions (LightTransportTable::switches, the LTTW chunk), by
   // kSwitchSteps traces per such grid edge, at the vertices of flat faces:
-  // what the runtime cuts triangles torn between two classes with (issue 47).
+  // what the runtime cuts triangles torn between two classes with.
   bool switches = true;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Position map and diffuse map (seed 000 §4.2.2): an orthographic view along
+// Position map and diffuse map (Tipprasert 2006 §4.2.2): an orthographic view along
 // -V over the frame (eq. 4-10..4-13), computed on the CPU by a scanline
 // rasteriser (texel centres, edge functions in double precision). Per texel:
 // the depth of the first surface the light meets (the largest V coordinate),

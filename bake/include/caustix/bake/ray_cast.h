@@ -41,7 +41,7 @@ class RayCaster {
   std::unique_ptr<Impl> impl_;
 };
 
-// The same first-hit queries through Embree 3 (issue 48): 6.7-8.5x the
+// The same first-hit queries through Embree 3: 6.7-8.5x the
 // CGAL tree's rays per second (docs/reference.md), for the light-transport
 // tables. Robust mode (watertight: rays through shared edges and vertices
 // hit, GeometryKernel.EmbreeRaysThroughSharedEdgesAndVerticesHit); single

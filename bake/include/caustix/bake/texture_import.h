@@ -1,5 +1,5 @@
 #pragma once
-// Base-colour textures for receivers (issue 45): image files or glTF
+// Base-colour textures for receivers: image files or glTF
 // images read through OpenImageIO into what the .cxb stores (8-bit
 // sRGB-encoded RGB, top row first; formats/scene.h TextureImage).
 //

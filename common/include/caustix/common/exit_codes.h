@@ -1,5 +1,5 @@
 #pragma once
-// Exit codes of every caustix command-line tool (documented in README.md).
+// Exit codes of every caustix command-line tool (documented in docs/tools.md).
 // Never renumber: build systems and scripts test for them.
 
 #include "caustix/common/status.h"

@@ -14,7 +14,7 @@ struct TriangleMesh {
   std::vector<std::array<float, 3>> normals;  // unit, one per position
   // Texture coordinates (glTF's TEXCOORD_0: (0, 0) is the image's first
   // texel, top-left): empty, or one per position. Only receivers with a
-  // base-colour texture keep them (issue 45).
+  // base-colour texture keep them.
   std::vector<std::array<float, 2>> uvs;
   std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise = front
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Bounding frames for level maps (seed 000 §4.2.1): the light direction
+// Bounding frames for level maps (Tipprasert 2006 §4.2.1): the light direction
 // refracted by the flat water surface (eq. 2-8), and the frame aligned to it
 // (eq. 4-1) with tight extents. Shared by the baker and by the runtime,
 // which re-derives frames when a light or an object moves.
@@ -26,14 +26,14 @@ std::vector<Vec3d> world_points(const Mat4f& transform, const std::vector<Vec3f>
 std::vector<Vec3d> world_normals(const Mat4f& transform, const std::vector<Vec3f>& normals);
 
 // Per object: for a transparent object whose world box holds a receiver's
-// (an insect in amber; issue 45), the first such receiver. The light-
+// (an insect in amber), the first such receiver. The light-
 // transport tables' rays start where light leaves the glass and never
 // reach inside, so the runtime lights such glass by caustic maps; the
 // baker says so. A world box is the box of the object's mesh bounds
 // (MeshInfo) with its 8 corners through its transform.
 std::vector<std::optional<std::uint32_t>> receiver_inside_glass(const SceneDesc& scene);
 
-// Seed 000 eq. 2-8: T = (eta cos(theta_i) - cos(theta_r)) N + eta I, with I
+// Tipprasert 2006 eq. 2-8: T = (eta cos(theta_i) - cos(theta_r)) N + eta I, with I
 // the unit incident direction, N the unit normal on the incident side
 // (I . N <= 0) and eta = n1 / n2. Returns nothing on total internal reflection.
 std::optional<Vec3d> refract(const Vec3d& incident, const Vec3d& normal, double eta);

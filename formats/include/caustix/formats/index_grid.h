@@ -1,13 +1,13 @@
 #pragma once
 // Voxelised refractive index of a transparent object, for photon marching
-// in media (seed 004, "Voxelization" and "Octree Construction"; Sun et al.
+// in media (Pfeuti, "Voxelization" and "Octree Construction"; Sun et al.
 // 2008). Baked by bake/index_grid.h only for scenes where something
 // scatters; stored as one "IGRD" chunk per transparent object
 // (formats/SPEC.md). The grid lies in object space, so it follows the
 // object's rigid motion at run time.
 //
 // coverage: the fraction of each voxel inside the mesh, Gaussian-filtered
-// (the seed's "grey voxels"), quantised to q / 65535. The index is
+// (Pfeuti's "grey voxels"), quantised to q / 65535. The index is
 //   n = ior_outside + (ior_inside - ior_outside) * coverage.
 // level: the octree of regions of near-constant index, stored per voxel as
 // the level k of the largest aligned cube of 2^k voxels around it whose

@@ -1,5 +1,5 @@
 #pragma once
-// Level maps (seed 000 §4.2, §4.7.2) as stored in the .cxb: one per
+// Level maps (Tipprasert 2006 §4.2, §4.7.2) as stored in the .cxb: one per
 // (receiver, light) pair that refracted light can reach. Each holds the
 // bounding frame, the position map and diffuse map, the depth profile and
 // both plane sets (uniform and smart). Also the per-object oriented bounding

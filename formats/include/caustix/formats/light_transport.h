@@ -1,5 +1,5 @@
 #pragma once
-// Light-transport tables (seed 002 §3, §4.1; its reference [12]): for every
+// Light-transport tables (Iwasaki et al. §3, §4.1; its reference [12]): for every
 // vertex of a transparent object and every incident direction of a grid over
 // the hemisphere around the vertex normal, where the refracted ray leaves
 // the object again, in which direction, with which Fresnel transmittance and
@@ -102,13 +102,14 @@ struct LightTransportTable {
   // stored in the file; a decoded table says 16.
   std::uint32_t precision_bits = 16;
   // Where the path class switches between neighbouring grid directions
-  // (issue 47; the optional LTTW chunk): 2 bytes per entry, in the order
+  // (the optional LTTW chunk): 2 bytes per entry, in the order
   // of the entries, for the grid edge to the next column and to the next
   // row. 0: no switch there (the two do not both leave, or leave alike, or
   // the edge leaves the grid); k in 1..255: the two leave unalike and the
   // class switches at k / 256 of the way from this entry, found by
   // bisecting the traced direction (kSwitchSteps halvings). Empty: none
-  // stored (files from before issue 47's cut, or a table without a switch).
+  // stored (files from before the tables stored their switches, or a table
+  // without a switch).
   std::vector<std::uint8_t> switches;
 
   std::size_t entry_index(std::uint32_t vertex, std::uint32_t row, std::uint32_t col) const {

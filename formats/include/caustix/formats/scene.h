@@ -2,7 +2,7 @@
 // The scene description as it travels from scene.json through the .cxb to
 // the runtime: objects (with material, role, transform and mesh metadata),
 // lights, water and the default camera. Units are metres, world space is
-// right-handed with +y up, colours are linear RGB (shared/DESIGN.md).
+// right-handed with +y up, colours are linear RGB (docs/architecture.md).
 //
 // encode_scene() turns a SceneDesc plus one Draco stream per mesh into a
 // .cxb; decode_scene() is its inverse over a validated Container and is as
@@ -29,11 +29,11 @@
 namespace caustix {
 
 // On-disk enums: never renumber.
-// kMirror (issue 20): a two-sided specular reflector (any mesh, open ones
+// kMirror: a two-sided specular reflector (any mesh, open ones
 // too); it casts shadows, reflects material.reflectance of the light that
-// reaches it and is lit by the image-space caustic maps (seed 003), not a
+// reaches it and is lit by the image-space caustic maps (timofy 2009), not a
 // receiver of caustics itself.
-// kThin (issue 45): a thin-walled transparent surface (glTF's
+// kThin: a thin-walled transparent surface (glTF's
 // KHR_materials_transmission without KHR_materials_volume: a window pane, a
 // lamp shade, a bulb), open or closed. Light crosses each sheet where it
 // meets it, without bending: Fresnel in and out at the same point, the
@@ -51,11 +51,11 @@ inline bool is_mirror(Role r) { return r == Role::kMirror; }
 inline bool is_thin(Role r) { return r == Role::kThin; }
 // Light passes through it: solid or thin-walled glass.
 inline bool transmits(Role r) { return is_transparent(r) || is_thin(r); }
-// Objects whose light the image-space caustic maps carry (seed 003).
+// Objects whose light the image-space caustic maps carry (timofy 2009).
 inline bool is_caster(Role r) { return transmits(r) || is_mirror(r); }
 
 
-// Single scattering in a participating medium (seed 004, "Viewing Pass"):
+// Single scattering in a participating medium (Pfeuti, "Viewing Pass"):
 // scattering coefficient sigma_s and the phase function, isotropic 1/(4 pi)
 // or Schlick's (1/(4 pi)) (1 - k^2) / (1 - k cos a)^2 with a the angle
 // between the light's direction of travel and the scattered direction
@@ -68,7 +68,7 @@ struct Scattering {
   bool scatters() const { return coefficient[0] > 0 || coefficient[1] > 0 || coefficient[2] > 0; }
 };
 
-// A base-colour texture on a receiver (issue 45; the TEXR chunk): the
+// A base-colour texture on a receiver (the TEXR chunk): the
 // diffuse reflectance is albedo times the texture's linear colour. Where
 // the texture is looked up:
 //  kUv   the mesh's texture coordinates (glTF TEXCOORD_0; (0, 0) is the
@@ -151,7 +151,7 @@ struct Object {
   Role role = Role::kReceiver;
   Material material;
   Mat4f transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-  // Solid transparent objects (issue 48): the earlier object whose
+  // Solid transparent objects: the earlier object whose
   // light-transport tables (LTTB, LTTS) this one uses instead of its own
   // (the LTTR chunk). Allowed when both are solid glass on the same mesh
   // with the same IOR, dispersion and absorption, whatever their
@@ -257,22 +257,22 @@ struct RenderDefaults {
   std::uint32_t caustics_map_size = 512;  // water caustics map S x S, 1..kMaxRuntimeMapSize
   std::uint32_t glass_map_size = 512;     // glass illumination textures, 1..kMaxRuntimeMapSize
   std::uint32_t glass_planes = 4;         // virtual planes per glass target, 1..kMaxGlassPlanes
-  // Media (seed 004; docs/volume.md): photons per axis per light (1..8192)
+  // Media (Pfeuti; docs/volume.md): photons per axis per light (1..8192)
   // and radiance-grid voxels along the media's longest side (2..1024).
   std::uint32_t volume_photons = 256;
   std::uint32_t volume_grid = 64;
-  // Image-space caustic maps (issue 20; docs/caustic-maps.md): photon grid
+  // Image-space caustic maps (docs/caustic-maps.md): photon grid
   // side (1..4096), caustic map side (16..4096), adaptive traversal levels
   // (0..8; 0: the uniform grid) and photon budget (1..2^24).
   std::uint32_t cmap_photons = 512;
   std::uint32_t cmap_map_size = 512;
   std::uint32_t cmap_adaptive_levels = 0;
   std::uint32_t cmap_photon_budget = 1u << 16;
-  // The water surface's refraction and reflection textures (issue 44;
-  // seed 001 §5.1-5.2): the largest side the automatic size (a texel per
+  // The water surface's refraction and reflection textures
+  // (Mihalik 2008 §5.1-5.2): the largest side the automatic size (a texel per
   // pixel) may reach, 16..8192, or 0 for no limit but the driver's.
   std::uint32_t water_texture = 512;
-  // Glass focus windows where glass disperses (issue 47; docs/glass.md, "A
+  // Glass focus windows where glass disperses (docs/glass.md, "A
   // window per wavelength"): 1 drawn at half their texels a side and
   // interpolated (fast, balanced), 0 at their own (accurate).
   std::uint32_t glass_spectral_coarse = 1;
@@ -310,7 +310,7 @@ bool scene_scatters(const SceneDesc& scene);
 // pay nothing for it.
 bool scene_disperses(const SceneDesc& scene);
 // E0, what irradiance and in-scatter images are divided by
-// (shared/DESIGN.md): the first directional light's irradiance, else 1.
+// (docs/architecture.md): the first directional light's irradiance, else 1.
 float scene_e0(const SceneDesc& scene);
 
 // A value rule broken: `pointer` is a JSON pointer into the scene

@@ -1,5 +1,5 @@
 #pragma once
-// Reference-plane placement from a depth profile (seed 000 §4.2.1 eq. 4-6..4-9
+// Reference-plane placement from a depth profile (Tipprasert 2006 §4.2.1 eq. 4-6..4-9
 // and §4.7.2 eq. 4-21, 4-22). Pure functions on the histogram, shared by the
 // baker (bake/depth_profile.h) and the runtime (re-slicing with other plane
 // counts or epsilons, and re-profiling after a light or object moves).

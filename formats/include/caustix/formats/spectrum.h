@@ -1,5 +1,5 @@
 #pragma once
-// Dispersion (issue 22; docs/dispersion.md): the index of refraction as a
+// Dispersion (docs/dispersion.md): the index of refraction as a
 // function of wavelength, and the wavelengths the renderers sample.
 //
 // A material's and the water's `dispersion` has glTF

@@ -28,18 +28,18 @@ inline constexpr Tag kTagRender = make_tag("RNDR");   // optional, at most once:
 inline constexpr Tag kTagMesh = make_tag("MESH");     // required, one per mesh, in mesh order
 inline constexpr Tag kTagMedia = make_tag("MDIA");    // required if present, at most once: media and scattering
 inline constexpr Tag kTagMirrors = make_tag("MIRR");  // required if present, at most once: mirrors' reflectance
-inline constexpr Tag kTagDispersion = make_tag("DISP");  // required if present, at most once: dispersion (issue 22)
-inline constexpr Tag kTagSpots = make_tag("SPOT");       // required if present, at most once: spot lights' cones (issue 45)
-inline constexpr Tag kTagTint = make_tag("TINT");        // required if present, at most once: transparent objects' tints (issue 45)
-inline constexpr Tag kTagTextures = make_tag("TEXR");    // optional, at most once: receivers' albedo textures (issue 45)
+inline constexpr Tag kTagDispersion = make_tag("DISP");  // required if present, at most once: dispersion
+inline constexpr Tag kTagSpots = make_tag("SPOT");       // required if present, at most once: spot lights' cones
+inline constexpr Tag kTagTint = make_tag("TINT");        // required if present, at most once: transparent objects' tints
+inline constexpr Tag kTagTextures = make_tag("TEXR");    // optional, at most once: receivers' albedo textures
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once
 // Light-transport tables (formats/light_transport.h).
 inline constexpr Tag kTagTransport = make_tag("LTTB");  // required, one per transparent object
-inline constexpr Tag kTagSpectralTransport = make_tag("LTTS");  // required if present: tables at other wavelengths (issue 22)
-inline constexpr Tag kTagTransportSwitches = make_tag("LTTW");  // optional, at most one per table: where its path class switches (issue 47)
-inline constexpr Tag kTagTransportShared = make_tag("LTTR");  // required if present, at most once: objects that use another's tables (issue 48)
+inline constexpr Tag kTagSpectralTransport = make_tag("LTTS");  // required if present: tables at other wavelengths
+inline constexpr Tag kTagTransportSwitches = make_tag("LTTW");  // optional, at most one per table: where its path class switches
+inline constexpr Tag kTagTransportShared = make_tag("LTTR");  // required if present, at most once: objects that use another's tables
 // Index grids for media (formats/index_grid.h).
 inline constexpr Tag kTagIndexGrid = make_tag("IGRD");  // required, one per transparent object of a scattering scene
 

@@ -2,7 +2,7 @@
 // Image error metrics for comparing methods and against the reference.
 // Images are linear RGB floats, row-major, 3 channels, equal sizes.
 //
-// average_luv_difference() is seed 000 §2.7, eq. 2-9: the mean over pixels
+// average_luv_difference() is Tipprasert 2006 §2.7, eq. 2-9: the mean over pixels
 // of the Euclidean distance in CIE L*u*v* (D65 white, Y_n = `white`).
 // Pixels where `mask` is given and false are left out.
 
@@ -45,7 +45,7 @@ struct Comparison {
   double eq29 = 0, rel_l1 = 0, rms = 0, flux_ratio = 1;
   double peak_error_px = 0;
   std::optional<double> peak_error_m;
-  // The focus (issue 47), where averages hide the error: A's brightest
+  // The focus, where averages hide the error: A's brightest
   // pixel over B's (luminance), and, with the region, the power of the
   // pixels whose centres lie within 1 and 2 cm of B's brightest pixel,
   // A's over B's (nothing where B has no power there). Meaningful where the

@@ -52,7 +52,7 @@ struct Bindings {
 enum class LightMode : int {
   kDirect = 0,     // no water between light and receiver: E cos * visibility (+ light through glass)
   kFlatWater = 1,  // method "none": refraction and Fresnel through flat water, no caustics
-  kCaustics = 2,   // seed 000 §4.6: the caustics map, eq. 4-19
+  kCaustics = 2,   // Tipprasert 2006 §4.6: the caustics map, eq. 4-19
 };
 
 // The std140 uniform block CaustixLight of the GLSL include, one per
@@ -88,7 +88,7 @@ struct LightBlock {
   glm::vec4 glass_w{0};         // w: the focus window's centre, v
   glm::vec4 glass_half{0};      // w: the focus window's half-size (0: none)
   std::array<glm::vec4, 4> glass_plane_v{};  // 16 plane coordinates along V, decreasing
-  // Image-space caustic map (seed 003): an orthographic frame
+  // Image-space caustic map (timofy 2009): an orthographic frame
   // along the light, V towards it; texture coordinate as for the caustics
   // map. The map holds irradiance on the receivers' first surface seen
   // from the light (rgb, without the light's colour) and that surface's

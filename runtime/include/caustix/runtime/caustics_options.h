@@ -18,17 +18,17 @@
 namespace caustix::runtime {
 
 enum class CausticsMethod {
-  kLevelMap,    // level map with smart-sliced planes (seed 000 ch. 4, §4.7.2)
+  kLevelMap,    // level map with smart-sliced planes (Tipprasert 2006 ch. 4, §4.7.2)
   kUniform,     // level map with the uniform planes (eq. 4-6..4-9)
   kVolumetric,  // the volumetric baseline: one slice image per plane (§5.2.1)
-  kSplat,       // photon splatting (seed 001 ch. 8, GPU variant): photon texture -> points, additive
+  kSplat,       // photon splatting (Mihalik 2008 ch. 8, GPU variant): photon texture -> points, additive
   kNone,        // no caustics: refraction and Fresnel through flat water only; glass casts a plain shadow
 };
 
 const char* to_string(CausticsMethod m);
 std::optional<CausticsMethod> parse_method(const std::string& name);
 
-// Volume caustics and single scattering in media (seed 004; docs/volume.md).
+// Volume caustics and single scattering in media (Pfeuti; docs/volume.md).
 // Used only by scenes where something scatters (a medium box, water or glass
 // with "scattering"); elsewhere they cost nothing.
 struct VolumeOptions {
@@ -48,7 +48,7 @@ struct VolumeOptions {
   // Viewing pass: steps along the camera's rays, in radiance-grid voxels
   // (focus-grid voxels inside the focus grid).
   float view_step = 0.5f;
-  // The focus grid (issue 47): voxels along each side of a second grid
+  // The focus grid: voxels along each side of a second grid
   // over the box where the light through transparent objects concentrates
   // (a ball's focal line), placed per light from the glass's sampled exit
   // rays; 0 turns it off, else 2..128. Only scenes with glass in a medium
@@ -60,12 +60,12 @@ inline constexpr std::uint64_t kMaxRadianceVoxels = std::uint64_t{1} << 24;
 
 // How light through transparent objects reaches the receivers.
 enum class GlassMethod {
-  // light-transport tables (seed 002 §4): baked per object. A glass whose
+  // light-transport tables (Iwasaki et al. §4): baked per object. A glass whose
   // world bounding box holds a receiver's (an insect in amber) is lit by
   // caustic maps instead: the tables' rays start where light leaves the
   // glass and never reach inside (docs/glass.md).
   kTable,
-  kCausticMap,  // image-space caustic maps (seed 003; Shah et al. 2007): nothing baked, any rigid object
+  kCausticMap,  // image-space caustic maps (timofy 2009; Shah et al. 2007): nothing baked, any rigid object
 };
 const char* to_string(GlassMethod m);
 std::optional<GlassMethod> parse_glass_method(const std::string& name);
@@ -73,11 +73,11 @@ std::optional<GlassMethod> parse_glass_method(const std::string& name);
 // How Engine::draw_glass() finds what the camera sees through the glass
 // (docs/glass.md, "The view through the glass").
 enum class GlassView {
-  // Seed 002 §3: per vertex, the light-transport table gives where and in
+  // Iwasaki et al. §3: per vertex, the light-transport table gives where and in
   // which direction the view ray leaves the object; the exit ray is marched
   // through the scene's depth buffer.
   kTable,
-  // Nearby-geometry refraction (seed 003; Shah, Konttinen & Pattanaik 2007,
+  // Nearby-geometry refraction (timofy 2009; Shah, Konttinen & Pattanaik 2007,
   // with Wyman 2005's back faces): per pixel, exact refraction into the
   // glass, the exit point by iterating against the glass's back faces seen
   // from the camera, exact refraction out, and the landing point by Shah's
@@ -93,7 +93,7 @@ struct GlassViewOptions {
   bool operator==(const GlassViewOptions&) const = default;
 };
 
-// Image-space caustic maps (seed 003, Shah, Konttinen & Pattanaik 2007;
+// Image-space caustic maps (timofy 2009, Shah, Konttinen & Pattanaik 2007;
 // docs/caustic-maps.md): per light, the casters (mirrors always, glass with
 // GlassMethod::kCausticMap) seen from the light give photons * photons
 // photons, refracted or reflected in a compute shader, landed on the
@@ -117,7 +117,7 @@ struct CausticMapOptions {
   // normal turns first, until photon_budget photons.
   std::uint32_t adaptive_levels = 0;
   std::uint32_t photon_budget = 1u << 16;  // adaptive: most photons traced (>= the coarsest level's cells; <= 2^24)
-  // A focus window (issue 47): where the landed photons concentrate, the
+  // A focus window: where the landed photons concentrate, the
   // same photons splatted a second time into a square of half the map's
   // texels a side, placed on the GPU from this update's photons; the
   // texture then holds it above the main map (map_size x (map_size +
@@ -131,7 +131,7 @@ struct CausticMapOptions {
 // cube maps whichever filter is chosen.
 enum class ShadowFilter {
   kPcf,  // 3x3 percentage-closer filtering of the depth map
-  kVsm,  // variance shadow maps (Donnelly & Lauritzen 2006; seed 003): soft, filtered moments, Chebyshev's bound
+  kVsm,  // variance shadow maps (Donnelly & Lauritzen 2006; timofy 2009): soft, filtered moments, Chebyshev's bound
 };
 const char* to_string(ShadowFilter f);
 std::optional<ShadowFilter> parse_shadow_filter(const std::string& name);
@@ -157,18 +157,18 @@ struct CausticsOptions {
   // Photon splatting: the water is rasterised into a photons x photons
   // texture over the frame's window (plus a margin), one photon a texel.
   std::uint32_t photons = 1024;
-  // Glass (seed 002 §4.2): virtual planes per target (the paper: 4; at most
+  // Glass (Iwasaki et al. §4.2): virtual planes per target (the paper: 4; at most
   // 16) and the illumination-texture size (the paper: 512).
   std::uint32_t glass_planes = 4;
   std::uint32_t glass_map_size = 512;
-  // Smooth glass caustics (issue 21; docs/glass.md): each whole
+  // Smooth glass caustics (docs/glass.md): each whole
   // intersection triangle's intensity interpolated from its corners'
   // neighbourhoods (triangles within 10x of its own), scaled to keep the
   // triangle's flux, instead of eq. 3's one constant per triangle: no
   // spokes or steps from a faceted mesh (the glass ball's shadow ring:
   // ring spread 0.089 -> 0.023). false: eq. 3 as the paper has it.
   bool glass_smooth = true;
-  // Focus windows (issue 47; docs/glass.md): where the light through the
+  // Focus windows (docs/glass.md): where the light through the
   // glass lands concentrated (at least kFocusConcentration times the
   // incident irradiance, judged from the CPU sample of the tables), each
   // plane gets a second illumination texture of glass_map_size texels over
@@ -200,15 +200,15 @@ struct CausticsOptions {
   // from its corners' (estimated from the water grid around each vertex by
   // central differences) and scaled to keep eq. 4-18's flux, instead of one
   // constant per water triangle: no mosaic of the water grid beating
-  // against the pixels (moire in caustic lines; issue 21). Triangles at
+  // against the pixels (moire in caustic lines). Triangles at
   // folds (corners beyond 10x the triangle's) keep the constant. false:
-  // seed 000's eq. 4-18 as written.
+  // Tipprasert 2006's eq. 4-18 as written.
   bool water_smooth = true;
   VolumeOptions volume;
   GlassMethod glass_method = GlassMethod::kTable;
   CausticMapOptions caustic_map;
   ShadowOptions shadows;
-  // Dispersion (issue 22; docs/dispersion.md). In a scene with dispersion
+  // Dispersion (docs/dispersion.md). In a scene with dispersion
   // the image-space caustic maps trace this many wavelengths (1..32), each
   // at the centre of an equal bin of 380-780 nm and added into RGB with the
   // bin's CIE-to-linear-sRGB weights; 1 traces the d line only (every index

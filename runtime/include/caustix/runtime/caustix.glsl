@@ -6,13 +6,13 @@
 // Call, per light, after Engine::bind(receiver, light):
 //   vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
 // or, with CAUSTIX_ALL_RECEIVERS defined before the include and after
-// Engine::bind_all() (deferred and clustered-forward passes, issue 46):
+// Engine::bind_all() (deferred and clustered-forward passes):
 //   vec3 caustix_irradiance_at(vec3 world_position, vec3 world_normal, int receiver, int light)
 //   vec3 caustix_irradiance_all(vec3 world_position, vec3 world_normal, int receiver)
 //   int caustix_light_count()
 // the irradiance (W/m^2 times the light's linear colour) that light delivers
 // at the point: through flat water (Fresnel, refraction), as caustics from
-// the water (seed 000 §4.6, eq. 4-19), through glass (seed 002 §4.3), with
+// the water (Tipprasert 2006 §4.6, eq. 4-19), through glass (Iwasaki et al. §4.3), with
 // shadows and the water's absorption. A diffuse surface's outgoing radiance
 // is albedo / pi times it (caustix's own renderer omits the 1/pi, as the
 // thesis's I_c I_d does). Sum over lights (eq. 4-20).
@@ -126,7 +126,7 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 // fragment shader has.
 //
 // The glass focus windows' texels per side, as a fraction of their
-// illumination texture's (issue 47; LightBlock::glass_half.w): a window's
+// illumination texture's (LightBlock::glass_half.w): a window's
 // layers hold it in their lower-left quarter. The engine's kFocusTexels.
 const float CAUSTIX_GLASS_FOCUS_TEXELS = 0.5;
 
@@ -139,14 +139,14 @@ const float CAUSTIX_GLASS_FOCUS_TEXELS = 0.5;
 //  1 flat water (method "none"): refraction and Fresnel through the flat
 //    surface, no caustics: E_in T(theta_i) cos(theta_i)/cos(theta_t) * n.(-T)
 //    * e^(-K d) * visibility.
-//  2 caustics casting (seed 000 §4.6): the caustics map holds irradiance on
+//  2 caustics casting (Tipprasert 2006 §4.6): the caustics map holds irradiance on
 //    planes perpendicular to V (eq. 4-18, R) and the light's mean direction
 //    of travel d there (G, B: R times d.U / d.V and d.W / d.V); a point gets
 //    R n.d / V.d (the cos theta_t of eq. 4-18 for this surface and the light
 //    that actually arrives, where the thesis takes n.V), e^(-K d) (eq.
 //    4-17), and its visibility: not behind its own first surface (position
 //    map) and not in another object's shadow. When the water disperses
-//    (frame_v.w 1; issue 22) the map's R is the mean over the traced
+//    (frame_v.w 1) the map's R is the mean over the traced
 //    wavelengths and caustix_caustics_color holds the irradiance per RGB
 //    channel (the spectral integral): each channel is scaled by its ratio
 //    to R, the direction taken as the wavelengths' mean.
@@ -188,7 +188,7 @@ layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_sha
 layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V, and its direction
 layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
 layout(binding = CAUSTIX_UNIT_CAUSTICS_COLOR) uniform sampler2D caustix_caustics_color;  // irradiance per RGB channel (dispersion)
-// Glass (seed 002 §4.3): the receiver's illumination textures for this
+// Glass (Iwasaki et al. §4.3): the receiver's illumination textures for this
 // light, on planes perpendicular to glass_v: the mean transmitted direction
 // reversed, or a flat receiver's normal on its lit side (one plane, the
 // receiver's own), and the glass's own shadow maps, which
@@ -197,7 +197,7 @@ layout(binding = CAUSTIX_UNIT_GLASS_ILLUMINATION) uniform sampler2DArray caustix
 layout(binding = CAUSTIX_UNIT_GLASS_TARGET) uniform sampler2D caustix_glass_target;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_2D) uniform sampler2DShadow caustix_glass_shadow_2d;
 layout(binding = CAUSTIX_UNIT_GLASS_SHADOW_CUBE) uniform samplerCubeShadow caustix_glass_shadow_cube;
-// Image-space caustic map (seed 003; docs/caustic-maps.md): light off
+// Image-space caustic map (timofy 2009; docs/caustic-maps.md): light off
 // mirrors, and through glass drawn by caustic maps, as irradiance on the
 // receivers' first surface seen from the light (rgb) and that surface's
 // coordinate along cmap_v (alpha).
@@ -241,7 +241,7 @@ vec2 caustix_fetch_moments(bool glass, vec2 uv) {
 }
 
 #else
-// ---- every (receiver, light) at once: Engine::bind_all() (issue 46) ----
+// ---- every (receiver, light) at once: Engine::bind_all() ----
 // For deferred and clustered-forward passes, which know a point's receiver
 // (a G-buffer's object id) but bind nothing per receiver. The table holds
 // every pair's block, in the order receiver * lights + light, with where
@@ -364,7 +364,7 @@ float caustix_shadow_visibility(vec3 p, vec3 n, vec3 to_light) {
   return caustix_shadow_visibility_in(false, p, n, to_light);
 }
 
-// Seed 002 §4.3: the incident intensity at p from the illumination textures:
+// Iwasaki et al. §4.3: the incident intensity at p from the illumination textures:
 // zero where p lies behind the target's first surface as the virtual camera
 // sees it (shadow), else interpolated between the two planes around p
 // (d_i <= z_p < d_(i+1)), clamped at the outermost planes.
@@ -390,7 +390,7 @@ vec3 caustix_glass_irradiance(vec3 p) {
   int i1 = min(i0 + 1, n - 1);
   float f = layer - float(i0);
   vec3 e = mix(caustix_fetch_glass_illumination(uv, i0), caustix_fetch_glass_illumination(uv, i1), f);
-  // The focus window (issue 47): where the light through the glass
+  // The focus window: where the light through the glass
   // concentrates, layers n..2n-1 hold the same planes over a square of
   // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, in
   // their lower-left quarter (CAUSTIX_GLASS_FOCUS_TEXELS of the side; the
@@ -417,7 +417,7 @@ vec3 caustix_glass_irradiance(vec3 p) {
 // shadow maps: the photons found their own way (a mirror lights the floor
 // its own wall shades from the sun).
 //
-// With a focus window (issue 47; engine.h's LightBlock says where it lies)
+// With a focus window (engine.h's LightBlock says where it lies)
 // the main map fills the texture's lowest rows (t scaled by cmap_w.w), and
 // inside the window's square the light of the photons that landed densely
 // there is in the window's finer texels instead: the two add up. The
@@ -527,7 +527,7 @@ vec3 caustix_irradiance_at(vec3 world_position, vec3 world_normal, int receiver,
   return caustix_irradiance_from_light(world_position, normalize(world_normal));
 }
 
-// Every light's (seed 000 eq. 4-20: the sum).
+// Every light's (Tipprasert 2006 eq. 4-20: the sum).
 vec3 caustix_irradiance_all(vec3 world_position, vec3 world_normal, int receiver) {
   vec3 e = vec3(0.0);
   for (int li = 0; li < caustix_table_shape.y; ++li) e += caustix_irradiance_at(world_position, world_normal, receiver, li);

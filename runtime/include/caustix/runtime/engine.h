@@ -14,29 +14,29 @@
 //
 // The light side (no camera): update() animates the water (or takes the
 // application's heights), renders every light's shadow maps, its caustics
-// maps (seed 000: level map, uniform, volumetric, splatting) and the glass
-// illumination textures (seed 002). Afterwards, for every (receiver, light)
+// maps (Tipprasert 2006: level map, uniform, volumetric, splatting) and the glass
+// illumination textures (Iwasaki et al.). Afterwards, for every (receiver, light)
 // pair, lighting() gives the GL textures, the world -> map matrices and the
 // scalars as a plain struct, and bind() binds them where the GLSL include
 // (glsl_include(), installed as caustix/runtime/caustix.glsl) expects
 // them; the application's fragment shader then calls
 //     vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
-// once per light and adds the results (seed 000 eq. 4-20). A deferred or
+// once per light and adds the results (Tipprasert 2006 eq. 4-20). A deferred or
 // clustered-forward pass, which cannot bind per pair, calls bind_all()
 // instead and, in a shader compiled with CAUSTIX_ALL_RECEIVERS,
 // caustix_irradiance_all(world_position, world_normal, object): every
 // light at any receiver.
 //
 // The view side, into the caller's framebuffer with the caller's camera:
-// draw_water() (seed 001), draw_glass() (seed 002 §3) and draw_media()
-// (seed 004), each optional.
+// draw_water() (Mihalik 2008), draw_glass() (Iwasaki et al. §3) and draw_media()
+// (Pfeuti), each optional.
 //
-// Mirrors and caustic maps (seed 003; docs/caustic-maps.md): light off
+// Mirrors and caustic maps (timofy 2009; docs/caustic-maps.md): light off
 // mirror objects, and through glass when FrameUpdate::caustics.glass_method
 // is kCausticMap, reaches the receivers through each light's image-space
 // caustic map, which update() renders; the include adds it.
 //
-// Media (seed 004; docs/volume.md): in a scene where something scatters (a
+// Media (Pfeuti; docs/volume.md): in a scene where something scatters (a
 // medium box, water or glass with "scattering"), update() also marches
 // photons through the media, bent by the transparent objects' baked index
 // grids, into a radiance grid per light; draw_media() adds the single
@@ -120,7 +120,7 @@ class Engine {
   // Moves light `index` (directional: direction of travel; point: its
   // position; the type cannot change). No GL call: the next update()
   // re-derives its level maps on the GPU (frame, position map, depth
-  // profile and planes: seed 000 §4.2, §4.7.2) and remakes its other
+  // profile and planes: Tipprasert 2006 §4.2, §4.7.2) and remakes its other
   // light-side products.
   Status set_light(std::uint32_t index, const Light& light);
   // Moves object `index` (rigid or similarity: its object -> world matrix,

@@ -80,10 +80,10 @@ struct GpuMemory {
   std::uint64_t meshes = 0;        // the scene's vertex and index buffers and albedo textures
   std::uint64_t shadow_maps = 0;   // depth maps, their moments (VSM)
   std::uint64_t water = 0;         // the surface's buffers
-  std::uint64_t level_maps = 0;    // position and caustics maps, lists, slices (seed 000, 001 ch. 8)
-  std::uint64_t glass = 0;         // transport tables, rays, targets, illumination textures (seed 002)
-  std::uint64_t caustic_maps = 0;  // caster and caustic maps, photons (seed 003)
-  std::uint64_t media = 0;         // radiance and index grids (seed 004)
+  std::uint64_t level_maps = 0;    // position and caustics maps, lists, slices (Tipprasert 2006, 001 ch. 8)
+  std::uint64_t glass = 0;         // transport tables, rays, targets, illumination textures (Iwasaki et al.)
+  std::uint64_t caustic_maps = 0;  // caster and caustic maps, photons (timofy 2009)
+  std::uint64_t media = 0;         // radiance and index grids (Pfeuti)
   std::uint64_t views = 0;         // the view side: water textures and glow, copies of the caller's scene
   std::uint64_t other = 0;         // light blocks, read-back rings
   std::uint64_t receiver_table = 0;  // Engine::bind_all()'s table and texture arrays (0 until its first call)
@@ -160,7 +160,7 @@ struct CausticMapStats {
   std::array<float, 3> focus{0, 0, 0};
 };
 
-// What the photon marching did (seed 004), summed over lights. Energies
+// What the photon marching did (Pfeuti), summed over lights. Energies
 // are luminance-weighted photon power divided by E0 (the first directional
 // light's irradiance, else 1), m^2. in = scattered + absorbed + leaving +
 // reflected + truncated up to the fixed-point rounding of the GPU's

@@ -26,7 +26,7 @@
 // naming the format it has and those accepted.
 //
 // Engine::draw_water(view, look, draw_scene, scene_depth): the water
-// surface (seed 001) into the framebuffer bound to
+// surface (Mihalik 2008) into the framebuffer bound to
 // GL_DRAW_FRAMEBUFFER with the current viewport, depth-tested against
 // its depth buffer (without writing it). `draw_scene` renders the
 // reflection texture, then the refraction texture (see WaterPass: the
@@ -51,7 +51,7 @@
 // Engine::draw_glass(view, scene_color, scene_depth, sky, options): the
 // transparent objects as glass into the bound framebuffer: what is
 // seen through them by `options.method` (GlassView: view rays through the
-// light-transport table, seed 002 §3, or nearby-geometry refraction, seed
+// light-transport table, Iwasaki et al. §3, or nearby-geometry refraction, seed
 // 003), with the Fresnel reflection of the sky. `scene_color` and
 // `scene_depth` (see "Scene textures" above) are the opaque scene as the
 // caller rendered it with `view`, the size of the viewport; they may be
@@ -67,7 +67,7 @@
 // objects; kUsage for options out of range (naming the knob).
 //
 // Engine::draw_media(view_proj, scene_color, scene_depth, scale): single
-// scattering in the media (seed 004 "Viewing Pass"), seen through
+// scattering in the media (Pfeuti "Viewing Pass"), seen through
 // `view_proj` (any camera: perspective or orthographic; GL clip
 // conventions), into the framebuffer bound to GL_DRAW_FRAMEBUFFER over
 // the current viewport. Every pixel's ray is marched through the
@@ -103,7 +103,7 @@ struct View {
 };
 
 // What draw_water() asks the application to draw into one of its textures
-// (seed 001 §5.1-5.2). When the callback runs, the engine has bound the
+// (Mihalik 2008 §5.1-5.2). When the callback runs, the engine has bound the
 // texture's framebuffer (GL_FRAMEBUFFER, both draw and read), set the
 // viewport to (0, 0, size, size), cleared colour and depth, enabled depth
 // testing (GL_LESS, depth writes on), disabled blending and face culling,
@@ -115,7 +115,7 @@ struct View {
 // other capabilities. The callback draws its opaque scene with
 // `view_proj`, writing gl_ClipDistance[0] = dot(clip_plane, vec4(world,
 // 1)), and where `fog` is set attenuates each colour towards `water_color`
-// by exp(-fog_k d), d the distance from `eye` (seed 001 eq. 10). It may
+// by exp(-fog_k d), d the distance from `eye` (Mihalik 2008 eq. 10). It may
 // change any state; the engine restores the caller's afterwards.
 struct WaterPass {
   unsigned framebuffer = 0;  // bound when the callback runs; size x size pixels

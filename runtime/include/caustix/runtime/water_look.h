@@ -1,5 +1,5 @@
 #pragma once
-// How the water surface looks when Engine::draw_water draws it (seed 001,
+// How the water surface looks when Engine::draw_water draws it (Mihalik 2008,
 // Mihálik, ch. 5-9). Each effect can be switched off on its own, for a
 // viewer's toggles and for measuring what it costs.
 
@@ -45,14 +45,14 @@ struct WaterLook {
   // as many texels as the viewport has pixels across the extended field of
   // view (fov_ext x its larger side, rounded up to a multiple of 64), at
   // most max_texture_size: the floor's edges seen through the water are
-  // not stair-stepped by texels bigger than the pixels (issue 21) up to
+  // not stair-stepped by texels bigger than the pixels up to
   // that size.
   int texture_size = 0;
   // The automatic size's limit (16..8192; 0: 4096): what the textures may
   // cost, 36 bytes a texel for the two (colour in 32-bit floats, one depth
   // buffer). A bake preset records its own (RenderDefaults::water_texture;
   // Engine::default_water_look): fast 256, balanced 512 (9.4 MB), accurate
-  // none. Issue 44, docs/runtime-speed.md.
+  // none. Measured in docs/runtime-speed.md.
   int max_texture_size = 512;
   float fov_ext = 1.5f;       // FOV_ext (fig. 5, table 1)
   float fresnel_q = 5.0f;     // q of eq. 7 (table 1)

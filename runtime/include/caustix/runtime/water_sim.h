@@ -1,6 +1,6 @@
 #pragma once
 // caustix::runtime::WaterSimulation: interactive water for an Engine's pool
-// (issue 21; docs/water-simulation.md). A height field on the GPU, one
+// (docs/water-simulation.md). A height field on the GPU, one
 // height and one vertical velocity per vertex of the scene's water grid
 // (Engine::water_grid()), advanced by the linear wave equation
 //     dv/dt = c^2 lap(h) - gamma v,    dh/dt = v (+ nu lap(h), below)

@@ -1,6 +1,6 @@
 #pragma once
 // An application's two ways of lighting every receiver from every light
-// (docs/embedding.md, "Deferred and multi-light renderers"; issue 46), as
+// (docs/embedding.md, "Deferred and multi-light renderers"), as
 // a client of the public Engine API: a G-buffer of the receivers (world
 // position with the object's index, world normal), then either
 //   - per pair: for each light and receiver, Engine::bind(object, light)

@@ -9,12 +9,12 @@
 //
 // A frame: Engine::update (water, shadow maps, caustics maps, glass
 // illumination per light); receivers (ambient, then one additive pass per
-// light: caustics casting, seed 000 §4.6, eq. 4-19/4-20); Engine::draw_glass
+// light: caustics casting, Tipprasert 2006 §4.6, eq. 4-19/4-20); Engine::draw_glass
 // and Engine::draw_water on top (the water's textures drawn by the same
 // receiver passes through its callback), then Engine::draw_media over it
-// all (seed 004: single scattering, stopped by the opaque scene's depth). present() tone-maps to a display
+// all (Pfeuti: single scattering, stopped by the opaque scene's depth). present() tone-maps to a display
 // framebuffer; read_hdr() and read_display() return its pixels.
-// render_irradiance() writes the irradiance images of shared/DESIGN.md.
+// render_irradiance() writes the irradiance images of docs/architecture.md.
 
 #include <cstdint>
 #include <memory>
@@ -44,7 +44,7 @@ using namespace caustix::runtime;
 // sRGB-encoded. read_hdr() and EXR output stay linear, untouched by it.
 enum class ToneMap {
   kFilmic,       // ACES's filmic curve as fitted by Narkowicz (2015): a toe, a long shoulder
-  kExponential,  // 1 - e^-x (caustix's curve before issue 21)
+  kExponential,  // 1 - e^-x (caustix's first curve)
 };
 struct DisplayOptions {
   ToneMap tone_map = ToneMap::kFilmic;
@@ -89,7 +89,7 @@ struct FrameParams {
   SkyModel sky = SkyModel::kFlat;
 };
 
-// shared/DESIGN.md: a top-down orthographic view of [x0, x1] x [z0, z1];
+// docs/architecture.md: a top-down orthographic view of [x0, x1] x [z0, z1];
 // each pixel is the irradiance at the first surface of `receiver` seen from
 // above, divided by E0 (the first directional light's irradiance, or 1 if
 // the scene has none), averaged over the pixel's square (a pixel-box
@@ -119,7 +119,7 @@ struct IrradianceImage {
   std::vector<float> aux;
 };
 
-// shared/DESIGN.md's in-scatter image (seed 004; docs/volume.md): an
+// docs/architecture.md's in-scatter image (Pfeuti; docs/volume.md): an
 // orthographic view along -z of [x0, x1] x [y0, y1], columns along +x, row
 // 0 at y1; each pixel the single-scattered radiance reaching the camera
 // divided by E0, averaged over the pixel's square (pixel_samples^2 rays on
