@@ -80,7 +80,8 @@ void main() {
   uint p = gl_GlobalInvocationID.x;
   if (p >= cmd[10]) return;
   uint t = u_pairs != 0 ? list[2u * p] : list[p];
-  vec2 plane = planes[u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane)];
+  uint plane_index = u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane);
+  vec2 plane = planes[plane_index];
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);
   vec2 q[3];
   vec2 slopes[3];
@@ -112,7 +113,9 @@ void main() {
     }
   }
   prims[5u * p] = vec4(q[0], q[1]);
-  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? 1.0 : 0.0);
+  // w: 0 where the plane is not reached, else the plane's index + 1 (the
+  // level-map draw's depth, caustics_windows.frag).
+  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? float(plane_index + 1u) : 0.0);
   prims[5u * p + 2u] = vec4(plane, slopes[0]);
   prims[5u * p + 3u] = corners;
   prims[5u * p + 4u] = vec4(slopes[1], slopes[2]);

@@ -24,6 +24,13 @@ uniform vec3 u_texel_map;
 #ifdef DEPTH_SHIFT
 uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
 #endif
+#ifdef WINDOW_DEPTH
+// Level maps: 0, plane k's primitives at depth (k + 1) / 8192, where
+// caustics_windows.frag put the texels whose surface lies in k's window
+// alone; 1, every primitive at depth 1, where it put the texels of several
+// windows. Exact in floats, as the depth test (GL_EQUAL) needs.
+uniform int u_several_windows;
+#endif
 
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
@@ -87,7 +94,11 @@ void main() {
     float lo = min(0.0, h) - delta, hi = max(0.0, h) + delta;
     p = a + along * mix(-delta, longest + delta, float(k & 1)) + across * mix(lo, hi, float(k >> 1));
   }
-  gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, 0.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
+  float z = 0.0;
+#ifdef WINDOW_DEPTH
+  z = u_several_windows != 0 ? 1.0 : p1.w / 4096.0 - 1.0;  // window depth (k + 1) / 8192
+#endif
+  gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, z, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
 #ifdef GLASS_WIDE
   glass_wide_corner(q0, q1, q2, p, p1, prims[PRIM_STRIDE * prim + 2], prims[PRIM_STRIDE * prim + 3], prims[PRIM_STRIDE * prim + 4],
                     prims[PRIM_STRIDE * prim + 5]);

@@ -1,7 +1,8 @@
-// Acceptance test of the level map (Tipprasert 2006 eq. 4-15, §4.5; prefixed with
-// #version and caustics_coverage.glsl): keep a fragment of plane D only
-// where the receiver's first surface (the position map) lies within the
-// plane's window. Windows are half-open, D - eps < v <= D + eps, like the
+// Acceptance test of the level map (Tipprasert 2006 eq. 4-15, §4.5;
+// prefixed with #version, caustics_coverage.glsl and caustics_windows.glsl):
+// keep a fragment of plane D only where the receiver's first surface (the
+// position map) lies within the plane's window. Windows are half-open,
+// D - eps < v <= D + eps, like the
 // depth levels (a level holds its top boundary), so adjacent windows tile
 // without gap or overlap and each receiver point is lit through exactly one
 // plane, even a surface lying exactly on a boundary. The texel gets the
@@ -34,6 +35,10 @@
 // water triangles' edges wherever neighbours' directions differed: a dark
 // mesh in the caustics under waves at 4 planes and a coarse water grid.)
 // The plane stays what buckets the beams and culls them.
+// The depth test before shading keeps only the fragments whose texel's
+// surface lies in this plane's window, or in several windows
+// (caustics_windows.frag); the test below decides as it would alone.
+layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis: 1, or up to 4 when u_map_scale > 1
@@ -43,16 +48,17 @@ out vec4 o_irradiance;
 
 void main() {
   load_primitive();
+  // This plane's index (caustics_geometry.comp: w is the index + 1).
+  uint k = uint(prims[PRIM_STRIDE * v_prim + 1].w) - 1u;
   float inside = 0.0, surface = 0.0, depth = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
       float v = texelFetch(u_position_map, ivec2(at * u_map_scale), 0).r;
-      float d = v - v_plane.x;
       if (v > -1e29) surface += 1.0;
-      if (d <= v_plane.y && d > -v_plane.y) {
+      if (sample_window(v, k)) {
         inside += 1.0;
-        depth += d;
+        depth += v - v_plane.x;
       }
     }
   }

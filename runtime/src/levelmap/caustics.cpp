@@ -130,7 +130,12 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
-  gl::Program prepare, cull, fixup, geometry, levelmap, volumetric, slab, combine, presence, profile, accumulate, plan;
+  gl::Program prepare, cull, fixup, geometry, levelmap, windows, volumetric, slab, combine, presence, profile, accumulate, plan;
+  // The level-map draw's depth (caustics_windows.frag): which plane's
+  // window each caustics texel's surface lies in; one for every map, as
+  // large as the largest caustics map.
+  gl::Texture window_depth;
+  std::uint32_t window_depth_size = 0;
   gl::Program splat_photon, splat_points;
   // Photon splatting (one set, reused map after map): the photon texture,
   // the vertex buffer it is copied into, and the points' vertex array.
@@ -319,6 +324,15 @@ struct CausticsEngine::Impl {
     m.fbo = gl::make_framebuffer();
     glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
     m.caustics_size = size;
+  }
+
+  // The windows' depth (32-bit float: the draw compares (k + 1) / 8192
+  // exactly), grown to the largest caustics map drawn.
+  void ensure_window_depth(std::uint32_t size) {
+    if (window_depth_size >= size && window_depth.get()) return;
+    window_depth = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    window_depth_size = size;
   }
 
   void ensure_slices(MapGpu& m, std::uint32_t count, std::uint32_t size) {
@@ -594,7 +608,10 @@ struct CausticsEngine::Impl {
     const auto size = static_cast<GLsizei>(m.caustics_size);
     const float zero[4] = {0, 0, 0, 0};
     // 3. Geometry of every listed primitive, then 4. one rectangle each.
-    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane) {
+    // `windows`: the level-map draw over the windows' depth, plane by plane,
+    // then, where a texel spans several planes' windows, every plane.
+    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane, bool windows_drawn = false,
+                                  bool several_windows = false) {
       {
         const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the last plane's draw read the primitives
@@ -607,22 +624,56 @@ struct CausticsEngine::Impl {
       draw_program.use();
       draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
       glBindVertexArray(empty_vao.get());
+      if (windows_drawn) draw_program.set("u_several_windows", 0);
       glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      if (several_windows) {
+        draw_program.set("u_several_windows", 1);
+        glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      }
     };
 
     if (pairs) {
+      ensure_window_depth(m.caustics_size);
+      glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, window_depth.get(), 0);
       glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
       glViewport(0, 0, size, size);
       glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
+      const float no_window = 0.0f;
+      glDepthMask(GL_TRUE);
+      glClearNamedFramebufferfv(m.fbo.get(), GL_DEPTH, 0, &no_window);
+      const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
+      const int samples = static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f));
+      glBindTextureUnit(0, m.position_map.get());
+      {
+        // 3a. Each texel's window into depth, so that the draw's depth test
+        // drops the fragments its window test would discard, before they
+        // are shaded (caustics_windows.frag).
+        const gl::TimedPass timed("level maps: windows", gl::PassKind::kRaster);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        windows.use();
+        windows.set("u_map_scale", glm::vec2(scale));
+        windows.set("u_samples", samples);
+        glBindVertexArray(empty_vao.get());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+      }
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
-      const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
       levelmap.set("u_map_scale", glm::vec2(scale));
-      levelmap.set("u_samples", static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f)));
+      levelmap.set("u_samples", samples);
       levelmap.set("u_texels_per_metre", glm::vec2(static_cast<float>(m.caustics_size) / (2 * f.half[0]),
                                                    static_cast<float>(m.caustics_size) / (2 * f.half[2])));
-      glBindTextureUnit(0, m.position_map.get());
-      geometry_then_draw(levelmap, 0);
+      // With one sample a texel every texel is one plane's: the second
+      // draw would find no texel at depth 1.
+      geometry_then_draw(levelmap, 0, true, samples > 1);
+      glDisable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, 0, 0);
     } else {
       // §5.2.1: per sample plane, the receiver's slice image, then the
       // plane's intersection triangles times that slice, then combine.
@@ -685,12 +736,16 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.model_of = std::move(model_of);
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
   const std::string splat_fs = with_optics(shaders::k_splat_photon_frag_glsl);
-  const std::string levelmap_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, "#define DEPTH_SHIFT\n");
-  const std::string levelmap_fs = coverage + shaders::k_caustics_levelmap_frag_glsl;
+  const std::string levelmap_vs =
+      insert_after_version(shaders::k_caustics_intersect_vert_glsl, "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
+  const std::string levelmap_fs = coverage + shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
+  const std::string windows_fs =
+      std::string("#version 450 core\n") + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.levelmap, "caustics_levelmap", levelmap_vs.c_str(), levelmap_fs.c_str()},
+       {&s.windows, "caustics_windows", shaders::k_fullscreen_vert_glsl, windows_fs.c_str()},
        {&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
        {&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
@@ -948,10 +1003,11 @@ std::uint64_t CausticsEngine::position_maps_made(std::uint32_t light) const {
 std::uint64_t CausticsEngine::gpu_bytes() const {
   const Impl& s = *impl_;
   // Refracted rays and fluxes, the read-back ring, the splats' photons
-  // (one set for every map), and the maps.
+  // (one set for every map), the windows' depth, and the maps.
   std::uint64_t bytes = std::uint64_t{16} * s.water->vertex_count() + std::uint64_t{8} * s.water->triangle_count() +
                         s.readback.gpu_bytes() + std::uint64_t{32} * s.photon_size * s.photon_size +
-                        4 * static_cast<std::uint64_t>(s.plan_scratch_words) + s.allocated * (kListBytes + kPrimitiveBytes);
+                        4 * static_cast<std::uint64_t>(s.plan_scratch_words) + s.allocated * (kListBytes + kPrimitiveBytes) +
+                        std::uint64_t{4} * s.window_depth_size * s.window_depth_size;
   for (const MapGpu& m : s.maps) bytes += m.gpu_bytes;
   return bytes;
 }

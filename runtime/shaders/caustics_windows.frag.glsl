@@ -1,0 +1,37 @@
+// The window of every caustics texel, as depth, before the level-map draw
+// (beyond the thesis: rejection before shading; prefixed with #version and
+// caustics_windows.glsl). caustics_levelmap.frag keeps a fragment of plane
+// k only where some of the texel's surface samples are k's; most fragments
+// of a plane's triangles fall where the surface is another plane's, and
+// were shaded only to be discarded. This pass looks at the same samples
+// once per texel and writes whose they are:
+// - no plane's (no surface): the cleared depth 0, which no primitive has;
+// - plane k's alone: depth (k + 1) / 8192, the depth caustics_intersect.vert
+//   gives plane k's primitives, so that the draw's depth test (GL_EQUAL,
+//   before shading) keeps exactly plane k's fragments there;
+// - several planes' (a caustics texel coarser than the position map's
+//   texels, over a depth step): depth 1, which only a second draw, every
+//   primitive at depth 1, meets; the fragment shader then tests the
+//   samples as it always does.
+// The fragments kept, in their order, and so the caustics map are the
+// draw's alone. Exact: (k + 1) / 8192 and 1 are floats the depth buffer
+// (32-bit float) and the rasteriser carry unrounded.
+layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
+uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
+uniform int u_samples;                                  // per axis, as caustics_levelmap.frag's
+
+void main() {
+  uint lo = 0xffffffffu, hi = 0u;
+  for (int j = 0; j < u_samples; ++j) {
+    for (int i = 0; i < u_samples; ++i) {
+      vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
+      uint k = window_of(texelFetch(u_position_map, ivec2(at * u_map_scale), 0).r);
+      if (k != 0xffffffffu) {
+        lo = min(lo, k);
+        hi = max(hi, k);
+      }
+    }
+  }
+  if (lo > hi) discard;
+  gl_FragDepth = lo == hi ? float(lo + 1u) / 8192.0 : 1.0;
+}
