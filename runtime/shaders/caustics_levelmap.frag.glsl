@@ -2,10 +2,10 @@
 // prefixed with #version, caustics_coverage.glsl and caustics_windows.glsl):
 // keep a fragment of plane D only where the receiver's first surface (the
 // position map) lies within the plane's window. Windows are half-open,
-// D - eps < v <= D + eps, like the
-// depth levels (a level holds its top boundary), so adjacent windows tile
-// without gap or overlap and each receiver point is lit through exactly one
-// plane, even a surface lying exactly on a boundary. The texel gets the
+// D - eps < v <= D + eps, like the depth levels (a level holds its top
+// boundary), so adjacent windows tile without gap or overlap and each
+// receiver point is lit through exactly one plane, even a surface lying
+// exactly on a boundary. The texel gets the
 // triangle's irradiance times the fraction of the texel it covers;
 // additive blending sums the beams, as the vector (1, s_u, s_w) I_c of
 // caustics_geometry.comp (the map's R is eq. 4-18's irradiance on the plane,
