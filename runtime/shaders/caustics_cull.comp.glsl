@@ -18,16 +18,8 @@ layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
 layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list length, [9] overflow
-// Planned on the CPU or by caustics_plan.comp: the count, the lowest and
-// highest window bounds along V, the widest window, then (offset, eps)
-// sorted by offset, highest first.
-layout(std430, binding = 7) readonly buffer Planes {
-  uint plane_count;
-  float depth_lo;
-  float depth_hi;
-  float widest;
-  vec2 planes[];
-};
+// The planes (binding 7), planned on the CPU or by caustics_plan.comp:
+// caustics_windows.glsl, prefixed.
 
 layout(binding = 0) uniform sampler2D u_depth_tiles;  // min, max frame V per tile; min > max where empty
 

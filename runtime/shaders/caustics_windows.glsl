@@ -1,11 +1,13 @@
 // The acceptance windows of the level-map planes (Tipprasert 2006 §4.4,
-// eq. 4-15), shared by caustics_windows.frag and caustics_levelmap.frag
-// (prefixed to both). Windows are half-open, D - eps < v <= D + eps, so
+// eq. 4-15), shared by caustics_cull.comp, caustics_windows.frag and
+// caustics_levelmap.frag (prefixed to each, after #version). Windows are half-open, D - eps < v <= D + eps, so
 // adjacent ones tile; where rounding puts a depth in two, it belongs to
 // the first (the higher plane), so that every receiver point is lit
 // through exactly one plane.
 
-// The planes as the cull planned them: sorted by offset, highest first.
+// Planned on the CPU or by caustics_plan.comp: the count, the lowest and
+// highest window bounds along V, the widest window, then (offset, eps)
+// sorted by offset, highest first.
 layout(std430, binding = 7) readonly buffer Planes {
   uint plane_count;
   float depth_lo;

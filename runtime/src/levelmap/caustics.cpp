@@ -608,10 +608,9 @@ struct CausticsEngine::Impl {
     const auto size = static_cast<GLsizei>(m.caustics_size);
     const float zero[4] = {0, 0, 0, 0};
     // 3. Geometry of every listed primitive, then 4. one rectangle each.
-    // `windows`: the level-map draw over the windows' depth, plane by plane,
-    // then, where a texel spans several planes' windows, every plane.
-    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane, bool windows_drawn = false,
-                                  bool several_windows = false) {
+    // `several_windows`: the level-map draw again, every primitive at the
+    // depth of the texels that span several planes' windows.
+    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane, bool several_windows = false) {
       {
         const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the last plane's draw read the primitives
@@ -624,7 +623,6 @@ struct CausticsEngine::Impl {
       draw_program.use();
       draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
       glBindVertexArray(empty_vao.get());
-      if (windows_drawn) draw_program.set("u_several_windows", 0);
       glDrawArraysIndirect(GL_TRIANGLES, nullptr);
       if (several_windows) {
         draw_program.set("u_several_windows", 1);
@@ -669,7 +667,8 @@ struct CausticsEngine::Impl {
                                                    static_cast<float>(m.caustics_size) / (2 * f.half[2])));
       // With one sample a texel every texel is one plane's: the second
       // draw would find no texel at depth 1.
-      geometry_then_draw(levelmap, 0, true, samples > 1);
+      levelmap.set("u_several_windows", 0);
+      geometry_then_draw(levelmap, 0, samples > 1);
       glDisable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       glDepthMask(GL_TRUE);
@@ -743,6 +742,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
       std::string("#version 450 core\n") + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
+  const std::string cull_src = insert_after_version(shaders::k_caustics_cull_comp_glsl, shaders::k_caustics_windows_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.levelmap, "caustics_levelmap", levelmap_vs.c_str(), levelmap_fs.c_str()},
        {&s.windows, "caustics_windows", shaders::k_fullscreen_vert_glsl, windows_fs.c_str()},
@@ -753,7 +753,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.combine, "volumetric_combine", shaders::k_fullscreen_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
        {&s.presence, "caustics_presence", shaders::k_fullscreen_vert_glsl, shaders::k_caustics_presence_frag_glsl},
        {&s.prepare, "caustics_prepare", prepare_src.c_str()},
-       {&s.cull, "caustics_cull", shaders::k_caustics_cull_comp_glsl},
+       {&s.cull, "caustics_cull", cull_src.c_str()},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
        {&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
        {&s.profile, "profile", shaders::k_profile_comp_glsl},
