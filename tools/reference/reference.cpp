@@ -54,8 +54,8 @@ Result<Image> trace(const Request& q) {
   for (std::size_t t = 0; t < world.tris.size(); ++t) {
     if (world.owner[t] == *receiver) rtris.push_back(world.tris[t]);
   }
-  const bake::RayCaster caster(world.pos, world.tris, world.owner);
-  const bake::RayCaster receiver_only(world.pos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
+  const FirstHits caster(world.pos, world.tris, world.owner);
+  const FirstHits receiver_only(world.pos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
   const double top = world.object_box[*receiver].second[1], min_y = world.object_box[*receiver].first[1];
   double scene_size = 1;
   for (const auto& p : world.pos) scene_size = std::max({scene_size, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
@@ -182,13 +182,17 @@ Result<Image> trace(const Request& q) {
         const double nm = photon_wavelength(q.wavelength_nm, disperses, [&] { return u01(rng); }, rgb);
         const double n_water = water ? water_index_at(*water, nm) : 1.0;
         bool in_water = false;
+        bool on_mesh = false;  // the photon leaves a mesh's surface (FirstHits)
         inside.clear();
         for (int step = 0; step < kMaxInteractions; ++step) {
           // Above the water, the surface may come first: refract into it.
           const bool above_water = water && !in_water && inside.empty() && dir[1] < 0;
           const auto s = above_water ? surface.intersect(origin, dir) : std::nullopt;
-          const auto h = s && surface_above(origin, dir, *s, y_clear) ? std::nullopt
-                                                                      : caster.first_hit_triangle(add(origin, dir, eps), dir);
+          std::optional<bake::RayCaster::Hit> h;
+          if (!s || !surface_above(origin, dir, *s, y_clear)) {
+            const Vec3d from = add(origin, dir, eps);
+            h = on_mesh ? caster.from_surface(from, dir) : caster.from_space(from, dir);
+          }
           if (above_water) {
             if (s && (!h || *s < h->distance + eps)) {
               origin = add(origin, dir, *s);
@@ -197,6 +201,7 @@ Result<Image> trace(const Request& q) {
               for (double& c : rgb) c *= entry->transmittance;
               dir = entry->dir;
               in_water = true;
+              on_mesh = false;
               continue;
             }
           }
@@ -220,16 +225,17 @@ Result<Image> trace(const Request& q) {
             if (dot(nrm, dir) > 0) nrm = {-nrm[0], -nrm[1], -nrm[2]};
             for (std::size_t c = 0; c < 3; ++c) rgb[c] *= o.material.reflectance[c];
             origin = p;
+            on_mesh = true;
             dir = normalize(add(dir, nrm, -2 * dot(dir, nrm)));
             continue;
           }
           if (!transmits(o.role)) {
             if (obj != *receiver) break;
             // Only the receiver's first surface seen from above counts.
-            const auto above = receiver_only.first_hit({p[0], top + 1.0, p[2]}, {0, -1, 0});
-            if (!above || std::fabs((top + 1.0 - *above) - p[1]) > 1e-5 * (1 + std::fabs(p[1]))) break;
             const double col = (p[0] - q.x0) / dx, row = (p[2] - q.z0) / dz;
             if (col < 0 || row < 0 || col >= q.width || row >= q.height) break;
+            const auto above = receiver_only.from_space({p[0], top + 1.0, p[2]}, {0, -1, 0});
+            if (!above || std::fabs((top + 1.0 - above->distance) - p[1]) > 1e-5 * (1 + std::fabs(p[1]))) break;
             const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(q.width) + static_cast<std::size_t>(col);
             const double w = std::fabs(world.geo_normal[h->triangle][1]) / (dx * dz) / out.e0;
             for (std::size_t c = 0; c < 3; ++c) img[3 * i + c] += rgb[c] * w;
@@ -238,6 +244,7 @@ Result<Image> trace(const Request& q) {
           }
           // A glass interface.
           origin = p;
+          on_mesh = true;
           dir = cross_interface(world, scene, h->triangle, p, dir, in_water ? n_water : 1.0, inside, u01(rng), nm, &rgb);
         }
       }

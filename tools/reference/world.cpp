@@ -185,4 +185,24 @@ void reduce_batches(const std::vector<std::vector<double>>& batch_images, Image&
   out.relative_noise = value_sum > 0 ? noise_sum / value_sum : 0;
 }
 
+FirstHits::FirstHits(const std::vector<Vec3d>& pos, const std::vector<std::array<std::uint32_t, 3>>& tris,
+                     const std::vector<std::uint32_t>& owner)
+    : pos_(pos), tris_(tris), exact_(pos, tris, owner), fast_(pos, tris) {}
+
+std::optional<bake::RayCaster::Hit> FirstHits::from_space(const Vec3d& o, const Vec3d& d) const {
+  if (!fast_.ok()) return exact_.first_hit_triangle(o, d);
+  auto h = fast_.first_hit_triangle(o, d);
+  if (!h) return h;
+  // The distance to the hit triangle's plane in doubles (Embree's is in
+  // floats); Embree's where the ray runs along the plane.
+  const auto& t = tris_[h->triangle];
+  const Vec3d n = cross(add(pos_[t[1]], pos_[t[0]], -1), add(pos_[t[2]], pos_[t[0]], -1));
+  const double dn = dot(d, n);
+  if (dn != 0) {
+    const double s = dot(add(pos_[t[0]], o, -1), n) / dn;
+    if (std::isfinite(s) && s >= 0) h->distance = s;
+  }
+  return h;
+}
+
 }  // namespace caustix::reference
