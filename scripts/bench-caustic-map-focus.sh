@@ -5,7 +5,7 @@
 # the light still and turning every frame; per-pass GPU times too.
 # METHOD=caustic-map (the default) measures the caustic maps' window
 # (docs/caustic-maps.md; none: --cmap-no-focus), METHOD=tables the glass
-# tables' (docs/glass.md; none: --glass-no-focus; with FULL=1 also "full":
+# tables' (docs/glass-focus.md; none: --glass-no-focus; with FULL=1 also "full":
 # --glass-focus-spectral full, a dispersive glass's windows at their own
 # texels).
 #

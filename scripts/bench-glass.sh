@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates docs/results/ltt_sweep.csv (light-transport table size, bake
 # time and look-up error against grid resolution, caustix-bench ltt) and
-# its plot ltt_sweep.png (docs/glass.md shows them). Needs a built tree
+# its plot ltt_sweep.png (docs/glass-tables.md shows them). Needs a built tree
 # (scripts/test.sh or scripts/run-default.sh); installs python3-matplotlib
 # if missing.
 set -euo pipefail

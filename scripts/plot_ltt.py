@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plot for docs/glass.md from docs/results/ltt_sweep.csv (caustix-bench ltt)."""
+"""Plot for docs/glass-tables.md from docs/results/ltt_sweep.csv (caustix-bench ltt)."""
 import csv
 import sys
 

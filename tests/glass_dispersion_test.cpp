@@ -120,7 +120,7 @@ TEST_F(GlassDispersion, BallLensPerWavelengthFromTables) {
 // within 3 % of optics' (0.636 in these pixels: the F line focuses above
 // the floor and spreads wider). The issue, before the window, read -22 %
 // to -27 % for the lines. Both ways of drawing a dispersive glass's window
-// (CausticsOptions::glass_focus_spectral_coarse; docs/glass.md, "A window
+// (CausticsOptions::glass_focus_spectral_coarse; docs/glass-focus.md, "A window
 // per wavelength"): at half its texels, interpolated (the default;
 // measured -1.4, -4.7, -3.5 % and +2.2 %), and at its own (accurate;
 // -0.8, -3.1, -2.1 % and +1.4 %). The two must differ (the coarse window

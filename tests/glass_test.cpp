@@ -115,7 +115,7 @@ TEST_F(Glass, BallLensFluxAndFocalSpot) {
 // (measured: relative L1 5e-4, flux +0.02 %; bounds 0.5 % and 0.1 %, and
 // the two must differ, or the second program drew nothing). Also printed:
 // each image's relative L1 against the optics image, pixel by pixel (0.138
-// for both; the spokes, docs/glass.md), to judge a change of the window's
+// for both; the spokes, docs/glass-focus.md), to judge a change of the window's
 // drawing by.
 TEST_F(Glass, BallLensFocusAgreesWithOptics) {
   const int n = 204;
@@ -456,7 +456,7 @@ TEST_F(Glass, LowPolyGlassCastsItsLight) {
   // as the right edge's ray does, landing left of the prism's shadow on the
   // floor's direct light (E0: the edge is where the band's light rises
   // through half its level over it). The triangles across that switch are
-  // cut there (LTTW); dropped, the edge sat 5 cm right of it (docs/glass.md).
+  // cut there (LTTW); dropped, the edge sat 5 cm right of it (docs/glass-tables.md).
   const double x_switch = -0.425, y_switch = 0.8 - 0.5 * (x_switch + 0.5);
   ASSERT_NEAR(x_switch + (y_switch - 0.3) * d1[0] / -d1[1], -0.5, 1e-3);  // it meets the bottom's edge
   const double want_left = -0.5 + shift;
@@ -835,7 +835,7 @@ TEST(LightTransport, LookupAgreesWithDirectTraces) {
                 t.resolution, mode ? "bicubic" : "bilinear", compared, worst[mode].dir, worst[mode].pos, worst[mode].t);
   }
   ASSERT_GT(compared, 600);
-  // docs/glass.md: at the default R = 20 (12-bit fields, 14-bit Draco
+  // docs/glass-tables.md: at the default R = 20 (12-bit fields, 14-bit Draco
   // normals) the sweep measured 0.49 deg bicubic and 1.0 deg bilinear over
   // 4000 look-ups on this mesh. The bounds leave room for the other sample
   // set, and require bicubic to beat bilinear clearly.

@@ -217,7 +217,7 @@ TEST(Reference, GlassBallFocusesWhereTheBallLensFormulaDoes) {
 // in the same pixels (optics_oracle.h), within 4 sigma of the reference's
 // own noise plus 0.5 % for the mesh's facets. 40 M photons over +-5.1 cm
 // in 0.5 mm pixels measured -0.40, -0.37, -0.22, -0.06 % within 0.5, 1, 2,
-// 5 cm and the brightest 2 mm pixel 7 075 against 7 151 E0 (docs/glass.md).
+// 5 cm and the brightest 2 mm pixel 7 075 against 7 151 E0 (docs/glass-focus.md).
 TEST(Reference, FineSphereFocusAgreesWithOptics) {
   const int n = 102;
   const double x0 = -0.051, pix = 0.001;

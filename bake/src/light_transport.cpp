@@ -337,10 +337,10 @@ LightTransportTable trace_transport_table(std::uint32_t object, const Material& 
     // Where two neighbouring grid directions leave unalike (the path class
     // switches between them), the switch found by bisection along the grid
     // edge, so that the runtime can cut a triangle whose corners lie on
-    // both sides at the switch (docs/glass.md, "The prism's left band
+    // both sides at the switch (docs/glass-tables.md, "The prism's left band
     // edge"). The class of the stored entry decides each half.
     // Only on flat faces, where a switch draws a straight, sharp band edge
-    // (a prism's, a cube's; docs/glass.md): on curved glass the bisection
+    // (a prism's, a cube's; docs/glass-tables.md): on curved glass the bisection
     // would cost a scan-like blob's table 3 times its rays.
     std::uint64_t n_switch = 0;
     const bool bisect = opt.switches && tracer.flat(static_cast<std::uint32_t>(v));

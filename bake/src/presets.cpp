@@ -48,7 +48,7 @@ BakeOptions make(std::uint32_t planes, std::uint32_t levels, std::uint32_t posit
 // size is the lever (glass_ball 6.3 / 4.5 % at 512^2 / 1024^2); photons
 // beyond the map's texels buy little, so accurate traces an adaptive 1024^2
 // grid within 2^19 photons and fast halves both. Dispersive glass's focus
-// windows (docs/glass.md, "A window per wavelength"): at half their texels
+// windows (docs/glass-focus.md, "A window per wavelength"): at half their texels
 // a side the dispersive ball's frame with the light turning costs +22.6 %
 // instead of +26.2 % on llvmpipe (the bound is 25 %), its lines
 // within 1 cm move by 0.6-1.6 points and its d line's brightest 2 mm by 20

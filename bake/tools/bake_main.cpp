@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-ltt-switches", no_switches,
                "light-transport tables: do not locate where their path class switches on flat faces (LTTW): a faster "
                "bake (a prism's tables: 0.6 times the time), and the runtime drops triangles torn between two classes "
-               "instead of cutting them at the switch (docs/glass.md)");
+               "instead of cutting them at the switch (docs/glass-tables.md)");
   std::string ltt_rays = "embree";
   app.add_option("--ltt-rays", ltt_rays,
                  "light-transport tables: what casts their rays: embree (fast, single precision) or cgal (exact "

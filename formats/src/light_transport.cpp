@@ -228,7 +228,7 @@ std::array<double, 4> catmull_rom(double a, bool use_lo, bool use_hi) {
 // extrapolation of that path class up to the query instead of its nearest
 // corners' mean, which is off by the transport's gradient times up to a
 // cell (the prism's vertex 6 cm from its switch between the direct and
-// the totally reflected exit landed 3.1 cm off the floor, docs/glass.md).
+// the totally reflected exit landed 3.1 cm off the floor, docs/glass-tables.md).
 // The slopes are held near 0 where the entries do not fix them (all on a
 // line: constant across it). Writes each entry's weight (summing to 1);
 // false where no entry leaves alike with `heavy` (never for a leaving one).

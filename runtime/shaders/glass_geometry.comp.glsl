@@ -100,7 +100,7 @@ void main() {
   // flux above 12). Its volume would smear the light between the corners'
   // landings (a tilted pane: +2.6 % over its footprint; the prism's direct
   // and totally reflected exits, 27.8 degrees apart, spread its band's
-  // light between them: docs/glass.md). Where two classes meet and the
+  // light between them: docs/glass-tables.md). Where two classes meet and the
   // tables say where they switch (LTTW), it is cut there (below);
   // otherwise it is dropped. Nor can a
   // triangle whose corners do not all pass light (the object shades some

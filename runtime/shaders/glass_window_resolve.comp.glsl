@@ -1,5 +1,5 @@
 #version 450 core
-// Glass focus windows drawn coarse (docs/glass.md, "A window
+// Glass focus windows drawn coarse (docs/glass-focus.md, "A window
 // per wavelength"): where glass disperses the window's layers were drawn
 // at half their texels a side, into a square of the same layers
 // beside the window (glass.cpp, window_squares); here each window texel

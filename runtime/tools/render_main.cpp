@@ -83,16 +83,16 @@ int main(int argc, char** argv) {
                "glass (table): one intensity per intersection triangle, as Iwasaki et al.'s eq. 3 (default: interpolated from the corners; docs/glass.md)");
   bool glass_no_focus = false;
   app.add_flag("--glass-no-focus", glass_no_focus,
-               "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as Iwasaki et al. (docs/glass.md)");
+               "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as Iwasaki et al. (docs/glass-focus.md)");
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
   app.add_option("--glass-focus-wide", glass_focus_wide,
                  "glass (table): in a focus window, triangles at least this many of its texels high are drawn by a second program that "
-                 "covers the texels along one edge in closed form (0: every triangle clipped; docs/glass.md)")
+                 "covers the texels along one edge in closed form (0: every triangle clipped; docs/glass-focus.md)")
       ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
   std::string glass_focus_spectral;
   app.add_option("--glass-focus-spectral", glass_focus_spectral,
                  "glass (table): where glass disperses, focus windows drawn per wavelength at half their texels a side and interpolated "
-                 "(coarse) or at their own (full); default: the bake preset's (accurate: full), else coarse (docs/glass.md)")
+                 "(coarse) or at their own (full); default: the bake preset's (accurate: full), else coarse (docs/glass-focus.md)")
       ->check(CLI::IsMember({"coarse", "full"}));
   bool caustics_flat = false;
   app.add_flag("--caustics-flat", caustics_flat,

@@ -273,7 +273,7 @@ ErrorStats stats(std::vector<double> v) {
   return s;
 }
 
-// Table size and look-up error against grid resolution (docs/glass.md).
+// Table size and look-up error against grid resolution (docs/glass-tables.md).
 int ltt(const std::string& meshes, const std::vector<std::uint32_t>& resolutions, int samples, double min_cos,
         int normal_bits, const std::string& csv) {
   struct GlassMesh {

@@ -249,13 +249,13 @@ struct RuntimeModes final : Modes {
     fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
-    fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass.md)");
+    fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
     fr->add_option("--glass-focus-wide", glass_focus_wide,
-                   "glass (table): focus windows' wide triangles, in window texels (0: every triangle clipped; docs/glass.md)")
+                   "glass (table): focus windows' wide triangles, in window texels (0: every triangle clipped; docs/glass-focus.md)")
         ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
     fr->add_option("--glass-focus-spectral", glass_focus_spectral,
                    "glass (table): dispersive glass's focus windows at half their texels (coarse) or their own (full); default: the "
-                   "file's preset, else coarse (docs/glass.md)")
+                   "file's preset, else coarse (docs/glass-focus.md)")
         ->check(CLI::IsMember({"coarse", "full"}));
     fr->add_option("--volume-focus", volume_focus, "media: focus-grid voxels a side (0: none; docs/volume.md)")
         ->check(CLI::Range(0, 128))->capture_default_str();

@@ -253,7 +253,7 @@ struct CausticMapEngine::Impl {
       pl.focus = with_focus;
       // With a focus window, mips: its texels are finer than the pixels
       // that usually look at them, and a focus read at one point would
-      // flicker as the view moves (as the tables' windows, docs/glass.md).
+      // flicker as the view moves (as the tables' windows, docs/glass-focus.md).
       int mips = 1;
       while (with_focus && ((size + focus_side(size)) >> mips) > 0) ++mips;
       pl.map = make_map(size, GL_RGBA32F, GL_LINEAR, with_focus ? size + focus_side(size) : size, mips);

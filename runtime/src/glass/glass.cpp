@@ -507,7 +507,7 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
   // cost that ball's frame +26-31 % with the light turning (llvmpipe).
   // With CausticsOptions::glass_focus_spectral_coarse such a window is
   // drawn at half its texels a side and interpolated into its own
-  // (resolve_window): docs/glass.md, "A window per wavelength". A
+  // (resolve_window): docs/glass-focus.md, "A window per wavelength". A
   // monochromatic image (CausticsOptions::wavelength_nm) is drawn the same
   // way, so that it is what the RGB image sums; one wavelength (the d line
   // alone) is the glass without dispersion, as drawn without it.

@@ -1,5 +1,5 @@
 // Focus windows: where the sampled exit rays concentrate, a square of the
-// receiver's frame drawn again at finer texels (docs/glass.md, "Focus
+// receiver's frame drawn again at finer texels (docs/glass-focus.md, "Focus
 // windows"), placed on the CPU from the table's sample and resolved on the
 // GPU where it was drawn coarse.
 #include "glass_impl.h"

@@ -56,7 +56,7 @@ constexpr float kFocusMinHalf = focus::kMinHalf;
 // layers hold it in their lower-left quarter. A full layer cost glass_teapot's
 // illumination pass 3.4 times its time (85 -> 286 ms, llvmpipe, the light
 // moving); half the texels keep glass_ball's focus within 4.5 % of optics
-// at 0.5 cm, against 2.9 % (docs/glass.md).
+// at 0.5 cm, against 2.9 % (docs/glass-focus.md).
 constexpr float kFocusTexels = focus::kTexels;
 
 inline glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }

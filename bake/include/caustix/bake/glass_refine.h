@@ -30,9 +30,7 @@
 //     runtime maps each triangle's light linearly between its corners'
 //     exit rays; on a ball lens the landing point is far from linear in
 //     the entry point (spherical aberration), so coarse curved triangles
-//     spread the focal spot (glass_ball, 7.5 degrees per edge: power
-//     within 2 cm of the focus 8 % low against caustix-reference; split
-//     to 3.75 degrees, 3.5 % with 1024^2 textures, docs/glass.md). The
+//     spread the focal spot (docs/glass-tables.md measures it). The
 //     new vertex lies on the old edge with the normalised mean of its
 //     ends' normals, the Phong normal there, so the surface that is traced
 //     is the same (to second order in the turn) and caustix-reference,

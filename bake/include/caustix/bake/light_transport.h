@@ -27,7 +27,7 @@ namespace caustix::bake {
 // precision: the baker's only caster before Embree, `caustix-bake --ltt-rays cgal`).
 // Both give tables that do not depend on the thread count; they differ in
 // the last bits of exit points and, for a few grazing directions, in
-// whether the object blocks the light (docs/glass.md).
+// whether the object blocks the light (docs/glass-tables.md).
 enum class RayEngine { kEmbree, kCgal };
 
 struct TransportOptions {

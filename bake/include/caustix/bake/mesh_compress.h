@@ -23,7 +23,7 @@ struct DracoOptions {
   int normal_bits = 14;    // 6..30 (octahedral); 10 => under 0.2 deg, each bit halves it.
                            // 14: the normals steer refraction through glass, and
                            // coarser ones make light-transport tables larger and
-                           // less accurate (docs/glass.md)
+                           // less accurate (docs/glass-tables.md)
   int speed = 3;           // Draco encoder speed 0 (smallest) .. 10 (fastest)
 };
 

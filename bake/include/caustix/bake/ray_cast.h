@@ -41,9 +41,10 @@ class RayCaster {
   std::unique_ptr<Impl> impl_;
 };
 
-// The same first-hit queries through Embree 3: 6.7-8.5x the
-// CGAL tree's rays per second (docs/reference.md), for the light-transport
-// tables. Robust mode (watertight: rays through shared edges and vertices
+// The same first-hit queries through Embree 3, several times the CGAL
+// tree's rays per second (docs/reference.md), for the light-transport
+// tables and the reference tracer's rays that start off every mesh.
+// Robust mode (watertight: rays through shared edges and vertices
 // hit, GeometryKernel.EmbreeRaysThroughSharedEdgesAndVerticesHit); single
 // precision, with the mesh moved to its box's centre so that float
 // coordinates keep 2^-24 of its size; the BVH built on one thread, so that

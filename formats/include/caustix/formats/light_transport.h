@@ -17,7 +17,7 @@
 // the square's boundary, so every direction that can reach the vertex lies
 // inside the grid: no back-facing entries are stored). The map is not
 // equal-area: a cell's solid angle varies by a factor of about 2 between the
-// pole and the corners (stated in docs/glass.md with the measured error).
+// pole and the corners (stated in docs/glass-tables.md with the measured error).
 // The tangent frame is the branchless one of Duff et al. 2017 ("Building an
 // orthonormal basis, revisited"), computed identically in GLSL.
 //
@@ -30,7 +30,7 @@
 // to 16 bits over [0, max_path] (each field q / 65535 of its range). The
 // writer may keep fewer significant bits b (precision_bits): it rounds
 // every field to a multiple of 2^(16 - b), which readers need not know
-// and which the compressor turns into a smaller chunk (docs/glass.md has
+// and which the compressor turns into a smaller chunk (docs/glass-tables.md has
 // the measured sizes). status 0 = the ray leaves the object for good, 1 =
 // trapped (still inside after max_bounces internal reflections and
 // re-entries), 2 = the object itself blocks the light from this direction
@@ -54,7 +54,7 @@ struct SceneDesc;
 inline constexpr std::uint32_t kMinTransportResolution = 2;
 inline constexpr std::uint32_t kMaxTransportResolution = 128;
 inline constexpr std::uint32_t kMaxTransportBounces = 64;
-// Defaults from the resolution sweep in docs/glass.md (caustix-bench ltt):
+// Defaults from the resolution sweep in docs/glass-tables.md (caustix-bench ltt):
 // with bicubic look-up, R = 20 at 12 bits keeps the exit-direction error
 // under 0.5 deg and a 10k-vertex sphere under 20 MB.
 inline constexpr std::uint32_t kDefaultTransportResolution = 20;

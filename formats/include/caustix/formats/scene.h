@@ -272,7 +272,7 @@ struct RenderDefaults {
   // (Mihalik 2008 §5.1-5.2): the largest side the automatic size (a texel per
   // pixel) may reach, 16..8192, or 0 for no limit but the driver's.
   std::uint32_t water_texture = 512;
-  // Glass focus windows where glass disperses (docs/glass.md, "A
+  // Glass focus windows where glass disperses (docs/glass-focus.md, "A
   // window per wavelength"): 1 drawn at half their texels a side and
   // interpolated (fast, balanced), 0 at their own (accurate).
   std::uint32_t glass_spectral_coarse = 1;

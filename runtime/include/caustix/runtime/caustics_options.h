@@ -165,10 +165,10 @@ struct CausticsOptions {
   // intersection triangle's intensity interpolated from its corners'
   // neighbourhoods (triangles within 10x of its own), scaled to keep the
   // triangle's flux, instead of eq. 3's one constant per triangle: no
-  // spokes or steps from a faceted mesh (the glass ball's shadow ring:
-  // ring spread 0.089 -> 0.023). false: eq. 3 as the paper has it.
+  // spokes or steps from a faceted mesh (the glass ball's shadow ring).
+  // false: eq. 3 as the paper has it.
   bool glass_smooth = true;
-  // Focus windows (docs/glass.md): where the light through the
+  // Focus windows (docs/glass-focus.md): where the light through the
   // glass lands concentrated (at least kFocusConcentration times the
   // incident irradiance, judged from the CPU sample of the tables), each
   // plane gets a second illumination texture of glass_map_size texels over
@@ -178,19 +178,15 @@ struct CausticsOptions {
   // In a focus window, the triangles at least this many of its texels high
   // across their longest edge are drawn by a second program that covers
   // the texels along one edge in closed form instead of clipping them
-  // (docs/glass.md, "The window's wide primitives"): the same light (0.05 %
-  // of glass_ball's focus image) for less of the window's cost with the
-  // light moving (glass_teapot +50 % -> +24 % on llvmpipe). 0 (or not
+  // (docs/glass-focus.md, "The window's wide primitives"): the same light
+  // for less of the window's cost with the light moving. 0 (or not
   // finite): every triangle clipped.
   float glass_focus_wide = 4.0f;
   // Where glass disperses, a focus window is drawn once per traced
   // wavelength; true: at half its texels a side, into a square beside it,
-  // and interpolated into its own (docs/glass.md, "A window per
-  // wavelength"). On the dispersive ball (llvmpipe, the light turning) the
-  // frame costs +22.6 % of the frame without a window instead of +26.2 %;
-  // its F, d, C lines within 1 cm read -1.4, -4.7, -3.5 % of optics
-  // instead of -0.8, -3.1, -2.1 %, its d line's brightest 2 mm -45 %
-  // instead of -25 %. A monochromatic image (wavelength_nm) is drawn alike,
+  // and interpolated into its own (docs/glass-focus.md, "A window per
+  // wavelength", which measures what it saves and what the focus loses).
+  // A monochromatic image (wavelength_nm) is drawn alike,
   // so that it is what the RGB image sums; one wavelength (the d line
   // alone) is the glass without dispersion, at the window's own texels.
   // The bake preset's (RenderDefaults::glass_spectral_coarse; accurate:
