@@ -8,6 +8,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <string>
@@ -137,6 +138,35 @@ TEST_F(FrameCost, AStillLightAndStillGlassAreNotRemade) {
   ASSERT_TRUE(r->set_object_transform(1, t).ok());
   ASSERT_TRUE(r->render(small_frame(*r, 2.0f)).ok());
   EXPECT_EQ(r->caustics_stats().work.glass.updated, 1u);
+}
+
+// What an engine's temporal antialiasing sees: the light side takes no
+// camera (Engine::update), so a camera jittered by a fraction of a pixel,
+// as TAA does every frame, remakes none of its textures: they hold still
+// under the jitter (docs/temporal.md).
+TEST_F(FrameCost, AJitteredCameraRemakesNoLightSideTexture) {
+  auto r = renderer_of(test::canonical_scene("fog_ball"), "frame_cost_jitter");
+  ASSERT_TRUE(r);
+  FrameParams f = small_frame(*r, 0.0f);
+  ASSERT_TRUE(r->render(f).ok());
+  const auto& c = f.camera;
+  const float distance = std::hypot(c.position[0] - c.target[0], c.position[1] - c.target[1], c.position[2] - c.target[2]);
+  // Half a pixel at the target's distance.
+  const float d = std::tan(0.5f * c.fov_y_deg * 3.14159265f / 180.0f) * distance / static_cast<float>(f.height);
+  for (int k = 0; k < 4; ++k) {
+    // Along x, then y, then back.
+    FrameParams g = f;
+    g.camera.position[k % 2] += (k < 2 ? d : -d);
+    g.camera.target[k % 2] += (k < 2 ? d : -d);
+    ASSERT_TRUE(r->render(g).ok());
+    const CausticsStats st = r->caustics_stats();
+    SCOPED_TRACE(k);
+    EXPECT_EQ(st.work.shadow_maps.updated, 0u);
+    EXPECT_EQ(st.work.glass.updated, 0u);
+    EXPECT_EQ(st.work.media.updated, 0u);
+    EXPECT_EQ(st.work.blocks_uploaded, 0u);
+    if (gl_counted(st)) EXPECT_EQ(st.gl.dispatches, 0u) << "no compute pass: nothing of the light side was made again";
+  }
 }
 
 TEST_F(FrameCost, AStillPoolIsNotRemade) {

@@ -1,5 +1,6 @@
 // Image metrics: zero for identical images, the known value for known
-// perturbations.
+// perturbations; the temporal statistic's ratio is 1/2 for smooth motion
+// and 1 for noise.
 
 #include <gtest/gtest.h>
 
@@ -7,6 +8,9 @@
 
 #include "caustix/metrics/error_split.h"
 #include "caustix/metrics/image_metrics.h"
+#include "caustix/metrics/temporal.h"
+
+#include <random>
 
 namespace caustix::metrics {
 namespace {
@@ -102,6 +106,60 @@ TEST(ErrorSplit, ClassesFollowCoverageCosineFoldsAndSlope) {
   const auto& slope = s.classes[s.class_of[5]];
   EXPECT_NEAR(slope.rel_l1(), 0.1, 1e-6);
   EXPECT_NEAR(slope.bias(), 0.1, 1e-6);
+}
+
+// A Gaussian spot (sigma 0.1 m, peak 1) at x = x0 + k * step over
+// [-1, 1]^2 in 64^2 pixels, plus noise of the given amplitude per pixel.
+std::vector<Image> moving_spot(double step, double noise, int frames, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Image> out;
+  for (int k = 0; k < frames; ++k) {
+    Image im{64, 64, {}};
+    const double cx = -0.2 + k * step;
+    for (int row = 0; row < 64; ++row) {
+      for (int col = 0; col < 64; ++col) {
+        const double x = -1 + (col + 0.5) / 32.0, z = -1 + (row + 0.5) / 32.0;
+        const double v = std::exp(-((x - cx) * (x - cx) + z * z) / (2 * 0.01)) + noise * u(rng);
+        im.rgb.insert(im.rgb.end(), 3, static_cast<float>(v));
+      }
+    }
+    out.push_back(std::move(im));
+  }
+  return out;
+}
+
+TEST(Temporal, SmoothMotionHalvesRhoAndNoiseKeepsIt) {
+  // Smooth: second differences shrink as step^2, first as step.
+  const TemporalStats a = temporal_stats(moving_spot(0.02, 0, 12, 1)), b = temporal_stats(moving_spot(0.01, 0, 12, 1));
+  EXPECT_NEAR(b.rho / a.rho, 0.5, 0.05);
+  // Noise: the same rho whatever the step, near sqrt(3) (independent
+  // noise's second difference spreads sqrt(6) times its amplitude, the
+  // first sqrt(2)).
+  const TemporalStats n1 = temporal_stats(moving_spot(0.02, 1e-1, 12, 2)), n2 = temporal_stats(moving_spot(0, 1e-1, 12, 3));
+  EXPECT_NEAR(n2.rho / n1.rho, 1.0, 0.15);
+  EXPECT_GT(n1.rho, 1.4);
+}
+
+TEST(Temporal, JumpsOfFluxPeakAndFocus) {
+  // A still spot whose brightness steps up 10 % at frame 3: the flux, the
+  // peak and the focus power jump by 10 % of their means (to the mean's
+  // share of frames after the step).
+  std::vector<Image> frames = moving_spot(0, 0, 6, 1);
+  for (std::size_t k = 3; k < frames.size(); ++k) {
+    for (float& v : frames[k].rgb) v *= 1.1f;
+  }
+  const TemporalStats s = temporal_stats(frames, std::array<double, 4>{-1, -1, 1, 1}, 0.1);
+  const double mean = (3 * 1.0 + 3 * 1.1) / 6;
+  EXPECT_NEAR(s.flux_jump, 0.1 / mean, 1e-5);
+  EXPECT_NEAR(s.peak_jump, 0.1 / mean, 1e-5);
+  ASSERT_TRUE(s.focus_jump);
+  EXPECT_NEAR(*s.focus_jump, 0.1 / mean, 1e-4);  // the followed centre moves by the floats' rounding
+  // The focus followed: a spot moving 1 cm a frame keeps its power within
+  // 10 cm (the pixels' discreteness only).
+  const TemporalStats moving = temporal_stats(moving_spot(0.01, 0, 8, 1), std::array<double, 4>{-1, -1, 1, 1}, 0.1);
+  EXPECT_LT(*moving.focus_jump, 0.05);
+  EXPECT_THROW(temporal_stats(std::vector<Image>(2, frames[0])), std::invalid_argument);
 }
 
 }  // namespace

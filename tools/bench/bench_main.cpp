@@ -1,5 +1,5 @@
 // caustix-bench: measurements behind docs/ (not timed tests). The
-// subcommands live in runtime_modes.cpp (frames, methods, water) and
+// subcommands live in runtime_modes.cpp (frames, methods, water), temporal.cpp and
 // bake_modes.cpp (bake-stages, table-5-4, ltt, raycast, tradeoff); a
 // CAUSTIX_PARTS=runtime build has only the former.
 
@@ -11,6 +11,7 @@
 #include "caustix/common/cli.h"
 #include "caustix/common/exit_codes.h"
 #include "runtime_modes.h"
+#include "temporal.h"
 #if CAUSTIX_BENCH_BAKE_MODES
 #include "bake_modes.h"
 #endif
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<std::unique_ptr<bench::Modes>> groups;
   groups.push_back(bench::add_runtime_modes(app));
+  groups.push_back(bench::add_temporal_mode(app));
 #if CAUSTIX_BENCH_BAKE_MODES
   groups.push_back(bench::add_bake_modes(app));
 #endif

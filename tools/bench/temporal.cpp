@@ -1,0 +1,226 @@
+// caustix-bench temporal: does the picture hold still when the light, the
+// water or an object moves a little? A stack of irradiance (or in-scatter)
+// images is rendered with the motion advancing one step a frame, and again
+// at half the step; metrics::temporal_stats says how much of the change
+// between frames is smooth (rho halves with the step) and how large the
+// jumps of flux, peak and focus power are (docs/temporal.md).
+//
+//   caustix-bench temporal SCENE.cxb --motion light|water|object --step S
+//       [--receiver NAME --region x0,z0,x1,z1 | --inscatter --region x0,y0,x1,y1]
+//       [--frames N] [--size N] [--pixel-samples N] [--method M] [--glass-method G]
+//       [--object NAME] [--time T] [--focus-radius R] [--label L] [--header]
+
+#include "temporal.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "caustix/common/cli.h"
+#include "caustix/metrics/temporal.h"
+#include "caustix/sample/renderer.h"
+#include "bench_common.h"
+
+namespace caustix::bench {
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+struct Motion {
+  std::string kind;    // light, water, object
+  std::string object;  // for "object"
+  double step = 0;     // degrees (light), seconds (water), metres (object)
+};
+
+struct Request {
+  std::string cxb, receiver;
+  bool inscatter = false;
+  std::array<double, 4> region{-1, -1, 1, 1};
+  int frames = 12, size = 160, pixel_samples = 2;
+  double time = 0, focus_radius = 0.01;
+  runtime::CausticsOptions caustics;
+  bool set_method = false, set_glass_method = false;
+  bool glass_no_focus = false, cmap_no_focus = false;
+  int volume_focus = -1;  // media focus grid; -1: the file's
+};
+
+// The first light turned by `degrees` about the z axis (its direction, and
+// a point light's position about the origin), so that
+// what it focuses moves along x in irradiance and in-scatter images alike.
+Light turned(Light l, double degrees) {
+  const double c = std::cos(degrees * kDegree), s = std::sin(degrees * kDegree);
+  auto turn = [&](std::array<float, 3>& v) {
+    const double x = v[0], y = v[1];
+    v[0] = static_cast<float>(c * x - s * y);
+    v[1] = static_cast<float>(s * x + c * y);
+  };
+  turn(l.direction);  // a spot's axis too
+  if (l.type == LightType::kPoint) turn(l.position);
+  return l;
+}
+
+// The stack of frames 0..n-1 with the motion at k * step.
+Result<std::vector<metrics::Image>> stack(sample::Renderer& r, const Request& q, const Motion& m, double step) {
+  const Light light0 = r.scene().lights.empty() ? Light{} : r.scene().lights[0];
+  std::optional<std::uint32_t> object;
+  Mat4f transform0{};
+  if (m.kind == "object") {
+    for (std::uint32_t i = 0; i < r.scene().objects.size(); ++i) {
+      if (r.scene().objects[i].name == m.object) object = i;
+    }
+    if (!object) return make_error(ErrorCode::kUsage, "no object named '" + m.object + "' in " + q.cxb);
+    transform0 = r.scene().objects[*object].transform;
+  }
+  if (m.kind == "light" && r.scene().lights.empty()) return make_error(ErrorCode::kUsage, q.cxb + " has no light to turn");
+  std::vector<metrics::Image> frames;
+  for (int k = 0; k < q.frames; ++k) {
+    const double at = k * step;
+    float time = static_cast<float>(q.time);
+    if (m.kind == "light") {
+      if (auto st = r.set_light(0, turned(light0, at)); !st.ok()) return st.error();
+    } else if (m.kind == "water") {
+      time = static_cast<float>(q.time + at);
+    } else {
+      Mat4f t = transform0;
+      t[12] += static_cast<float>(at);
+      if (auto st = r.set_object_transform(*object, t); !st.ok()) return st.error();
+    }
+    const auto& rg = q.region;
+    const float x0 = static_cast<float>(rg[0]), y0 = static_cast<float>(rg[1]), x1 = static_cast<float>(rg[2]),
+                y1 = static_cast<float>(rg[3]);
+    // The frame's image of either kind, as an Image.
+    auto take = [&](auto request, auto render) -> Status {
+      request.width = request.height = q.size;
+      request.time = time;
+      request.caustics = q.caustics;
+      request.pixel_samples = q.pixel_samples;
+      auto img = render(request);
+      if (!img) return img.error();
+      frames.push_back({img->width, img->height, std::move(img->rgb)});
+      return Status::success();
+    };
+    const Status st = q.inscatter ? take(sample::InscatterRequest{x0, y0, x1, y1},
+                                         [&](const sample::InscatterRequest& iq) { return r.render_inscatter(iq); })
+                                  : take(sample::IrradianceRequest{q.receiver, x0, y0, x1, y1},
+                                         [&](const sample::IrradianceRequest& iq) { return r.render_irradiance(iq); });
+    if (!st.ok()) return st.error();
+  }
+  // Back where it started, for the next stack.
+  if (m.kind == "light") {
+    if (auto st = r.set_light(0, light0); !st.ok()) return st.error();
+  } else if (m.kind == "object") {
+    if (auto st = r.set_object_transform(*object, transform0); !st.ok()) return st.error();
+  }
+  return frames;
+}
+
+int temporal(Request q, const Motion& m, const std::string& label) {
+  auto session = open_scene(q.cxb);
+  if (!session) return cli::fail("caustix-bench", session.error());
+  auto& r = *session->renderer;
+  runtime::CausticsOptions co = runtime::default_caustics_options(r.scene());
+  if (q.set_method) co.method = q.caustics.method;
+  if (q.set_glass_method) co.glass_method = q.caustics.glass_method;
+  if (q.glass_no_focus) co.glass_focus = false;
+  if (q.cmap_no_focus) co.caustic_map.focus = false;
+  if (q.volume_focus >= 0) co.volume.focus_grid = static_cast<std::uint32_t>(q.volume_focus);
+  q.caustics = co;
+  if (!q.inscatter && q.receiver.empty()) {
+    return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "temporal: --receiver or --inscatter"));
+  }
+  const std::optional<std::array<double, 4>> region = q.region;
+  metrics::TemporalStats at[2];
+  for (int half = 0; half < 2; ++half) {
+    auto frames = stack(r, q, m, half ? 0.5 * m.step : m.step);
+    if (!frames) return cli::fail("caustix-bench", frames.error());
+    at[half] = metrics::temporal_stats(*frames, region, q.focus_radius);
+  }
+  auto pct = [](double v) { return 100.0 * v; };
+  std::printf("%s,%s,%s,%s,%s,%g,%d,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,\"%s\"\n", label.c_str(),
+              std::filesystem::path(q.cxb).filename().string().c_str(),
+              q.inscatter ? "media" : runtime::to_string(q.caustics.method), runtime::to_string(q.caustics.glass_method),
+              m.kind.c_str(), m.step, q.frames, at[0].rho, at[1].rho, at[0].rho > 0 ? at[1].rho / at[0].rho : 0.0,
+              pct(at[0].flux_jump), pct(at[1].flux_jump), pct(at[0].peak_jump), pct(at[1].peak_jump),
+              pct(at[0].focus_jump.value_or(0)), pct(at[1].focus_jump.value_or(0)), pct(at[0].peak_second), pct(at[1].peak_second),
+              session->context->description().c_str());
+  return 0;
+}
+
+class TemporalMode : public Modes {
+ public:
+  explicit TemporalMode(CLI::App& app) {
+    cmd_ = app.add_subcommand("temporal",
+                              "frame-to-frame stability: rho and the jumps of flux, peak and focus as the light, the water or an "
+                              "object moves by a step and by half of it (one CSV line; docs/temporal.md)");
+    cmd_->add_option("scene", q_.cxb, "baked scene (.cxb)")->required();
+    cmd_->add_option("--motion", m_.kind, "what moves: light (the first light turns about z), water (time), object (along x)")
+        ->check(CLI::IsMember({"light", "water", "object"}))
+        ->required();
+    cmd_->add_option("--step", m_.step, "per frame: degrees (light), seconds (water) or metres (object)")->required();
+    cmd_->add_option("--object", m_.object, "--motion object: the object's name");
+    cmd_->add_option("--receiver", q_.receiver, "irradiance images of this receiver");
+    cmd_->add_flag("--inscatter", q_.inscatter, "in-scatter images of the scene's media instead (--region is x0,y0,x1,y1)");
+    cmd_->add_option("--region", region_, "world rectangle x0,z0,x1,z1 (--inscatter: x0,y0,x1,y1)")->capture_default_str();
+    cmd_->add_option("--frames", q_.frames, "frames per stack")->check(CLI::Range(3, 1000))->capture_default_str();
+    cmd_->add_option("--size", q_.size, "image side in pixels")->check(CLI::Range(8, 4096))->capture_default_str();
+    cmd_->add_option("--pixel-samples", q_.pixel_samples, "samples per pixel axis")->check(CLI::Range(1, 16))->capture_default_str();
+    cmd_->add_option("--time", q_.time, "animation time of frame 0 (seconds)")->capture_default_str();
+    cmd_->add_option("--focus-radius", q_.focus_radius, "focus power within this radius of the followed focus (metres)")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    cmd_->add_option("--method", method_, "water caustics: levelmap, uniform, volumetric, splat, none (default: the file's)")
+        ->check(CLI::IsMember({"levelmap", "uniform", "volumetric", "splat", "none"}));
+    cmd_->add_option("--glass-method", glass_method_, "light through glass: table or caustic-map (default: the file's)")
+        ->check(CLI::IsMember({"table", "caustic-map"}));
+    cmd_->add_flag("--glass-no-focus", q_.glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
+    cmd_->add_flag("--cmap-no-focus", q_.cmap_no_focus, "caustic maps: no focus window (docs/caustic-maps.md)");
+    cmd_->add_option("--volume-focus", q_.volume_focus, "media: focus-grid voxels a side (0: none; default: the file's)")
+        ->check(CLI::Range(0, 128));
+    cmd_->add_option("--label", label_, "first CSV column");
+    cmd_->add_flag("--header", header_, "print the CSV header first");
+  }
+  bool chosen() const override { return cmd_->parsed(); }
+  int run() override {
+    std::array<double, 4> rg{};
+    char comma[3] = {};
+    std::istringstream in(region_);
+    if (!(in >> rg[0] >> comma[0] >> rg[1] >> comma[1] >> rg[2] >> comma[2] >> rg[3]) || comma[0] != ',' || comma[1] != ',' ||
+        comma[2] != ',' || !(rg[2] > rg[0]) || !(rg[3] > rg[1])) {
+      return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "bad --region '" + region_ + "'"));
+    }
+    if (!std::isfinite(m_.step) || m_.step == 0) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "--step must be finite and not 0"));
+    if (m_.kind == "object" && m_.object.empty()) return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "--motion object needs --object"));
+    q_.region = rg;
+    if (!method_.empty()) {
+      q_.caustics.method = *runtime::parse_method(method_);
+      q_.set_method = true;
+    }
+    if (!glass_method_.empty()) {
+      q_.caustics.glass_method = *runtime::parse_glass_method(glass_method_);
+      q_.set_glass_method = true;
+    }
+    if (header_) {
+      std::printf("label,scene,method,glass_method,motion,step,frames,rho,rho_half,rho_ratio,flux_jump_pct,flux_jump_half_pct,"
+                  "peak_jump_pct,peak_jump_half_pct,focus_jump_pct,focus_jump_half_pct,peak_second_pct,peak_second_half_pct,renderer\n");
+    }
+    return temporal(q_, m_, label_);
+  }
+
+ private:
+  CLI::App* cmd_ = nullptr;
+  Request q_;
+  Motion m_;
+  std::string region_ = "-1,-1,1,1", method_, glass_method_, label_ = "-";
+  bool header_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Modes> add_temporal_mode(CLI::App& app) { return std::make_unique<TemporalMode>(app); }
+
+}  // namespace caustix::bench
