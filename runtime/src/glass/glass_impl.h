@@ -53,10 +53,9 @@ constexpr int kFocusMinRays = focus::kMinSamples;
 constexpr float kFocusMaxHalf = focus::kMaxHalf;
 constexpr float kFocusMinHalf = focus::kMinHalf;
 // The window's texels per side, as a fraction of the main texture's: its
-// layers hold it in their lower-left quarter. A full layer cost glass_teapot's
-// illumination pass 3.4 times its time (85 -> 286 ms, llvmpipe, the light
-// moving); half the texels keep glass_ball's focus within 4.5 % of optics
-// at 0.5 cm, against 2.9 % (docs/glass-focus.md).
+// layers hold it in their lower-left quarter. A full layer would cost the
+// illumination pass several times its time for little more of the focus
+// (docs/glass-focus.md measures both).
 constexpr float kFocusTexels = focus::kTexels;
 
 inline glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
