@@ -311,6 +311,8 @@ TEST_F(Volume, FogBallFocusMatchesTheTracedBallLens) {
 // caustix-reference (its own tracer, the mesh) agrees with optics within
 // 5 % at the peak and 1 cm in height (measured with 4 M photons: -0.8 %,
 // the same row).
+// Cost: fog_ball's bake (its index grids), two in-scatter images (with
+// and without the focus grid) and a 1.5 M-photon in-scatter reference.
 TEST_F(Volume, FogBallFocalLineAgreesWithOptics) {
   auto r = bake_and_create(kScenes + "fog_ball.json");
   ASSERT_TRUE(r);
