@@ -54,8 +54,11 @@ Result<Image> trace(const Request& q) {
   for (std::size_t t = 0; t < world.tris.size(); ++t) {
     if (world.owner[t] == *receiver) rtris.push_back(world.tris[t]);
   }
-  const FirstHits caster(world.pos, world.tris, world.owner);
-  const FirstHits receiver_only(world.pos, rtris, std::vector<std::uint32_t>(rtris.size(), 0));
+  // Rays leave a mesh's surface only at glass and mirrors.
+  const bool bounces = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                   [](const Object& o) { return transmits(o.role) || is_mirror(o.role); });
+  const FirstHits caster(world.pos, world.tris, world.owner, bounces);
+  const FirstHits receiver_only(world.pos, rtris, std::vector<std::uint32_t>(rtris.size(), 0), false);
   const double top = world.object_box[*receiver].second[1], min_y = world.object_box[*receiver].first[1];
   double scene_size = 1;
   for (const auto& p : world.pos) scene_size = std::max({scene_size, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});

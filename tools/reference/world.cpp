@@ -186,11 +186,13 @@ void reduce_batches(const std::vector<std::vector<double>>& batch_images, Image&
 }
 
 FirstHits::FirstHits(const std::vector<Vec3d>& pos, const std::vector<std::array<std::uint32_t, 3>>& tris,
-                     const std::vector<std::uint32_t>& owner)
-    : pos_(pos), tris_(tris), exact_(pos, tris, owner), fast_(pos, tris) {}
+                     const std::vector<std::uint32_t>& owner, bool from_surfaces)
+    : pos_(pos), tris_(tris), fast_(pos, tris) {
+  if (from_surfaces || !fast_.ok()) exact_.emplace(pos, tris, owner);
+}
 
 std::optional<bake::RayCaster::Hit> FirstHits::from_space(const Vec3d& o, const Vec3d& d) const {
-  if (!fast_.ok()) return exact_.first_hit_triangle(o, d);
+  if (!fast_.ok()) return exact_->first_hit_triangle(o, d);
   auto h = fast_.first_hit_triangle(o, d);
   if (!h) return h;
   // The distance to the hit triangle's plane in doubles (Embree's is in

@@ -159,28 +159,31 @@ struct World {
 // First hits for the photon loops, by where a ray starts.
 // - Off every mesh (emitted above the scene, leaving the water surface, or
 //   looking down from above a receiver): Embree 3 in its robust
-//   (watertight) mode, 6.7-8.5x the CGAL tree's rays per second, with the
-//   distance then recomputed in doubles on the hit triangle's plane, so
-//   that the hit point is as exact as CGAL's.
+//   (watertight) mode, several times the CGAL tree's rays per second
+//   (docs/reference.md), with the distance then recomputed in doubles on
+//   the hit triangle's plane, so that the hit point is as exact as CGAL's.
 // - Leaving a mesh's surface (a glass interface or a mirror): CGAL's tree
 //   in doubles with exact predicates (bake/ray_cast.h). Embree takes the
 //   origin in floats, which can put it on the wrong side of the surface it
 //   leaves (about 1e-7 of the scene's size) and meet that surface again.
-// Without Embree (it could not start) every ray goes to CGAL.
+//   The tree is built only for a caller that casts such rays
+//   (`from_surfaces`), or when Embree could not start: then every ray goes
+//   to CGAL.
 class FirstHits {
  public:
   FirstHits(const std::vector<Vec3d>& pos, const std::vector<std::array<std::uint32_t, 3>>& tris,
-            const std::vector<std::uint32_t>& owner);
+            const std::vector<std::uint32_t>& owner, bool from_surfaces);
   std::optional<bake::RayCaster::Hit> from_space(const Vec3d& origin, const Vec3d& dir) const;
+  // Only with `from_surfaces`.
   std::optional<bake::RayCaster::Hit> from_surface(const Vec3d& origin, const Vec3d& dir) const {
-    return exact_.first_hit_triangle(origin, dir);
+    return exact_->first_hit_triangle(origin, dir);
   }
 
  private:
   const std::vector<Vec3d>& pos_;
   const std::vector<std::array<std::uint32_t, 3>>& tris_;
-  bake::RayCaster exact_;
   bake::EmbreeCaster fast_;
+  std::optional<bake::RayCaster> exact_;
 };
 
 // Imports every object's mesh and places it in the world. A transparent
