@@ -7,7 +7,63 @@
 namespace caustix::metrics {
 namespace {
 
-constexpr int kShifts = 4;  // mean-shift steps per frame (temporal_stats' focus)
+// The focus's mean shift: steps at most, and the move (in pixels) below
+// which it has settled.
+constexpr int kMaxShifts = 200;
+constexpr double kSettled = 1e-3;
+// Sub-samples a pixel axis where a pixel straddles the focus's circle.
+constexpr int kCoverSamples = 16;
+
+// Each pixel's luminance weighted by the share of its area inside the
+// circle (cx, cz, radius): the sum, and the weighted centre. Counting whole
+// pixels by their centres would make the power jump by a pixel's share
+// whenever the circle's edge crosses a pixel centre: with 5 mm pixels and
+// a 1 cm radius, some 8 % of the power a pixel, a jump of the measure and
+// not of the picture.
+struct Covered {
+  double power = 0, x = 0, z = 0;
+};
+Covered covered(const Image& im, const std::array<double, 4>& rg, double cx, double cz, double radius) {
+  const double sx = (rg[2] - rg[0]) / im.width, sz = (rg[3] - rg[1]) / im.height;
+  const int c0 = std::max(0, static_cast<int>(std::floor((cx - radius - rg[0]) / sx)));
+  const int c1 = std::min(im.width - 1, static_cast<int>(std::floor((cx + radius - rg[0]) / sx)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((cz - radius - rg[1]) / sz)));
+  const int r1 = std::min(im.height - 1, static_cast<int>(std::floor((cz + radius - rg[1]) / sz)));
+  const double r2 = radius * radius;
+  Covered c;
+  for (int row = r0; row <= r1; ++row) {
+    for (int col = c0; col <= c1; ++col) {
+      const double x0 = rg[0] + col * sx - cx, z0 = rg[1] + row * sz - cz;
+      // Nearest and farthest points of the pixel from the centre.
+      const double nx = std::max({x0, 0.0, -(x0 + sx)}), nz = std::max({z0, 0.0, -(z0 + sz)});
+      const double fx = std::max(std::fabs(x0), std::fabs(x0 + sx)), fz = std::max(std::fabs(z0), std::fabs(z0 + sz));
+      double share = 0;
+      if (fx * fx + fz * fz <= r2) {
+        share = 1;
+      } else if (nx * nx + nz * nz < r2) {
+        int in = 0;
+        for (int a = 0; a < kCoverSamples; ++a) {
+          for (int b = 0; b < kCoverSamples; ++b) {
+            const double x = x0 + (a + 0.5) * sx / kCoverSamples, z = z0 + (b + 0.5) * sz / kCoverSamples;
+            in += x * x + z * z <= r2 ? 1 : 0;
+          }
+        }
+        share = static_cast<double>(in) / (kCoverSamples * kCoverSamples);
+      }
+      if (share == 0) continue;
+      const double y = share * luminance(im, static_cast<std::size_t>(row) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(col));
+      c.power += y;
+      c.x += y * (cx + x0 + 0.5 * sx);
+      c.z += y * (cz + z0 + 0.5 * sz);
+    }
+  }
+  if (c.power > 0) {
+    c.x /= c.power;
+    c.z /= c.power;
+  }
+  c.power *= sx * sz;
+  return c;
+}
 
 // Largest |v[k+1] - v[k]| (order 1) or |v[k+1] - 2 v[k] + v[k-1]| (order
 // 2) over the mean of |v|; 0 where the mean is 0.
@@ -55,26 +111,19 @@ TemporalStats temporal_stats(const std::vector<Image>& frames, const std::option
     double cx = rg[0] + p[0] * sx, cz = rg[1] + p[1] * sz;
     std::vector<double> power;
     for (const Image& f : frames) {
-      // Mean shift: the centre moves to the luminance-weighted centre of
-      // the pixels within the radius, a few times, and settles on the
-      // brightest part nearby (on a focal line, on its brightest stretch).
-      for (int iteration = 0; iteration < kShifts; ++iteration) {
-        double sum = 0, mx = 0, mz = 0;
-        for (int row = 0; row < h; ++row) {
-          for (int col = 0; col < w; ++col) {
-            const double x = rg[0] + (col + 0.5) * sx, z = rg[1] + (row + 0.5) * sz;
-            if ((x - cx) * (x - cx) + (z - cz) * (z - cz) > focus_radius * focus_radius) continue;
-            const double y = luminance(f, static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(col));
-            sum += y;
-            mx += y * x;
-            mz += y * z;
-          }
-        }
-        if (!(sum > 0)) break;
-        cx = mx / sum;
-        cz = mz / sum;
+      // Mean shift until it settles: the centre moves to the weighted
+      // centre of the light within the radius, and so onto the brightest
+      // part nearby (on a focal line, its brightest stretch). Settled, the
+      // centre depends on the frame only, not on how many steps were taken.
+      for (int iteration = 0; iteration < kMaxShifts; ++iteration) {
+        const Covered c = covered(f, rg, cx, cz, focus_radius);
+        if (!(c.power > 0)) break;
+        const double moved = std::hypot((c.x - cx) / sx, (c.z - cz) / sz);
+        cx = c.x;
+        cz = c.z;
+        if (moved < kSettled) break;
       }
-      power.push_back(power_within(f, rg, cx, cz, focus_radius));
+      power.push_back(covered(f, rg, cx, cz, focus_radius).power);
     }
     s.focus_jump = largest_change(power, 1);
   }

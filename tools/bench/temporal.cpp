@@ -8,7 +8,7 @@
 //   caustix-bench temporal SCENE.cxb --motion light|water|object --step S
 //       [--receiver NAME --region x0,z0,x1,z1 | --inscatter --region x0,y0,x1,y1]
 //       [--frames N] [--size N] [--pixel-samples N] [--method M] [--glass-method G]
-//       [--object NAME] [--time T] [--focus-radius R] [--label L] [--header]
+//       [--object NAME] [--time T] [--focus-radius R] [--write-frames DIR] [--label L] [--header]
 
 #include "temporal.h"
 
@@ -23,6 +23,7 @@
 
 #include "caustix/common/cli.h"
 #include "caustix/metrics/temporal.h"
+#include "caustix/sample/image_output.h"
 #include "caustix/sample/renderer.h"
 #include "bench_common.h"
 
@@ -47,6 +48,7 @@ struct Request {
   bool set_method = false, set_glass_method = false;
   bool glass_no_focus = false, cmap_no_focus = false;
   int volume_focus = -1;  // media focus grid; -1: the file's
+  std::string write_frames;  // a folder for the stacks' images; empty: none
 };
 
 // The first light turned by `degrees` about the z axis (its direction, and
@@ -139,6 +141,15 @@ int temporal(Request q, const Motion& m, const std::string& label) {
     auto frames = stack(r, q, m, half ? 0.5 * m.step : m.step);
     if (!frames) return cli::fail("caustix-bench", frames.error());
     at[half] = metrics::temporal_stats(*frames, region, q.focus_radius);
+    if (!q.write_frames.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(q.write_frames, ec);
+      for (std::size_t k = 0; k < frames->size(); ++k) {
+        const metrics::Image& f = (*frames)[k];
+        const std::string path = q.write_frames + "/" + (half ? "half_" : "step_") + std::to_string(k) + ".exr";
+        if (auto st = sample::write_float_image(path, f.width, f.height, 3, f.rgb); !st.ok()) return cli::fail("caustix-bench", st.error());
+      }
+    }
   }
   auto pct = [](double v) { return 100.0 * v; };
   std::printf("%s,%s,%s,%s,%s,%g,%d,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,\"%s\"\n", label.c_str(),
@@ -181,6 +192,7 @@ class TemporalMode : public Modes {
     cmd_->add_flag("--cmap-no-focus", q_.cmap_no_focus, "caustic maps: no focus window (docs/caustic-maps.md)");
     cmd_->add_option("--volume-focus", q_.volume_focus, "media: focus-grid voxels a side (0: none; default: the file's)")
         ->check(CLI::Range(0, 128));
+    cmd_->add_option("--write-frames", q_.write_frames, "write both stacks' images to this folder (step_K.exr, half_K.exr)");
     cmd_->add_option("--label", label_, "first CSV column");
     cmd_->add_flag("--header", header_, "print the CSV header first");
   }

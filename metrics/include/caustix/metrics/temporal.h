@@ -29,8 +29,10 @@ struct TemporalStats {
   // With a region and a radius: the luminance power within the radius of
   // the focus, its largest change from one frame to the next relative to
   // its mean. The focus is followed from frame to frame: from the last
-  // frame's centre (at first the brightest pixel), a few mean-shift steps
-  // to the luminance-weighted centre of the pixels within the radius.
+  // frame's centre (at first the brightest pixel), mean-shift steps to the
+  // luminance-weighted centre of the light within the radius until the
+  // centre settles. Pixels count by the share of their area inside the
+  // circle, so that the measure moves continuously with the centre.
   std::optional<double> focus_jump;
 };
 
