@@ -177,7 +177,10 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
       const double g = test::power_within(got, n, x0, pix, radius), w = test::power_within(want, n, x0, pix, radius);
       std::printf("[glass_ball, %s] power within %.3f m: %.5f vs %.5f optics (%+.1f %%)\n", label, radius, g, w, 100 * (g / w - 1));
       if (focus) EXPECT_NEAR(g / w, 1.0, radius < 0.01 ? 0.10 : 0.05) << "within " << radius << " m";
-      if (!focus && radius == 0.01) EXPECT_LT(g / w, 0.85) << "the main texture alone resolves the spot: the test tells nothing";
+      // Without a window the main texture's 7.8 mm texels hold 0.45 of the
+      // light within 5 mm (0.87 within 1 cm since each texel's share of a
+      // triangle is weighted at the part's centroid).
+      if (!focus && radius == 0.005) EXPECT_LT(g / w, 0.85) << "the main texture alone resolves the spot: the test tells nothing";
     }
     const double gp = test::peak_block(got, n, 4), wp = test::peak_block(want, n, 4);
     std::printf("[glass_ball, %s] brightest 2 mm pixel %.1f vs %.1f E0 optics (%+.1f %%)\n", label, gp, wp, 100 * (gp / wp - 1));

@@ -459,7 +459,9 @@ Status GlassEngine::update_light(const SceneDesc& scene, std::uint32_t li, const
     const std::uint32_t planes = hv > 1e-5f * std::max(t.frame.half[0], t.frame.half[2]) ? wanted : 1;
     t.plane_v.resize(planes);
     for (std::uint32_t k = 0; k < planes; ++k) t.plane_v[k] = planes == 1 ? 0.0f : hv - 2.0f * hv * static_cast<float>(k) / static_cast<float>(planes - 1);
-    t.focus = co.glass_focus ? Impl::focus_window(t, sampled, by_caustic_maps) : std::array<float, 3>{0, 0, 0};
+    // The last window is kept while it serves (at the same texture size).
+    const std::array<float, 3> last = t.size == size ? t.focus : std::array<float, 3>{0, 0, 0};
+    t.focus = co.glass_focus ? Impl::focus_window(t, sampled, by_caustic_maps, last, size) : std::array<float, 3>{0, 0, 0};
     s.ensure_target(t, size, planes, t.focus[2] > 0);
     const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]), static_cast<float>(t.frame.origin[2]));
     const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),

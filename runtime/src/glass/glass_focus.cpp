@@ -6,7 +6,8 @@
 
 namespace caustix::runtime {
 
-auto GlassEngine::Impl::focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip) -> std::array<float, 3> {
+auto GlassEngine::Impl::focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip,
+                                     const std::array<float, 3>& previous, int size) -> std::array<float, 3> {
   const glm::vec3 origin(static_cast<float>(t.frame.origin[0]), static_cast<float>(t.frame.origin[1]),
                          static_cast<float>(t.frame.origin[2]));
   const glm::vec3 U(t.frame.u[0], t.frame.u[1], t.frame.u[2]), V(t.frame.v[0], t.frame.v[1], t.frame.v[2]),
@@ -50,9 +51,27 @@ auto GlassEngine::Impl::focus_window(const Target& t, const std::vector<SampledR
   // coordinates (cell i spans [i, i + 1] / kFocusBins).
   const float u0 = static_cast<float>(lo[0] - 1) / kFocusBins, u1 = static_cast<float>(hi[0] + 2) / kFocusBins;
   const float v0 = static_cast<float>(lo[1] - 1) / kFocusBins, v1 = static_cast<float>(hi[1] + 2) / kFocusBins;
-  const float half = std::max({0.5f * (u1 - u0), 0.5f * (v1 - v0), kFocusMinHalf});
-  if (half > kFocusMaxHalf) return {0, 0, 0};
-  return {0.5f * (u0 + u1), 0.5f * (v0 + v1), half};
+  const float needed = std::max({0.5f * (u1 - u0), 0.5f * (v1 - v0), kFocusMinHalf});
+  if (needed > kFocusMaxHalf) return {0, 0, 0};
+  // Stable as the light moves (docs/glass-focus.md, "A window that holds
+  // still"). The half-size is the next of the steps kFocusMinHalf x
+  // 2^(k/4) at or above what is needed, so that nearby placements agree
+  // on it; the last window stays while it holds the concentrated cells
+  // and is not more than two steps larger, so a focus that drifts moves
+  // its window rarely. A new window's corner lies on a multiple of its
+  // texel, so that one moved at the same half-size keeps its texels where
+  // they were on the target: the light drawn into them does not change
+  // where the window went on covering it.
+  const float half = std::min(kFocusMaxHalf, kFocusMinHalf * std::exp2(std::ceil(4.0f * std::log2(needed / kFocusMinHalf) - 1e-4f) / 4.0f));
+  const auto holds = [&](const std::array<float, 3>& w) {
+    return w[2] > 0 && w[0] - w[2] <= u0 && u1 <= w[0] + w[2] && w[1] - w[2] <= v0 && v1 <= w[1] + w[2];
+  };
+  if (holds(previous) && previous[2] <= half * std::sqrt(2.0f) * 1.0001f) return previous;
+  const float texel = 2.0f * half / (kFocusTexels * static_cast<float>(std::max(size, 1)));
+  const auto corner = [&](float lo_edge, float hi_edge) { return std::round((0.5f * (lo_edge + hi_edge) - half) / texel) * texel; };
+  std::array<float, 3> w{corner(u0, u1) + half, corner(v0, v1) + half, half};
+  if (!holds(w)) w = {0.5f * (u0 + u1), 0.5f * (v0 + v1), half};  // the rounding took a side out (half == needed)
+  return w;
 }
 
 auto GlassEngine::Impl::window_squares(int size) -> WindowSquares {

@@ -190,7 +190,10 @@ struct GlassEngine::Impl {
   // zero half-size where nothing concentrates (a pane, a prism: no
   // window, no cost).
   // A glass in `skip` sends no light here (the caustic maps carry it).
-  static std::array<float, 3> focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip);
+  // `previous` is the target's last window, kept while it still serves
+  // (hysteresis: glass_focus.cpp); `size` is the main texture's side.
+  static std::array<float, 3> focus_window(const Target& t, const std::vector<SampledRay>& rays, const std::vector<bool>& skip,
+                                           const std::array<float, 3>& previous, int size);
   // What the surface's tint leaves of light through the glass: in and out, tint^2.
   static glm::vec3 transmit(const Material& m) {
     const glm::vec3 t(m.tint[0], m.tint[1], m.tint[2]);
