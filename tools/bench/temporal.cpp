@@ -24,13 +24,12 @@
 #include "caustix/common/cli.h"
 #include "caustix/metrics/temporal.h"
 #include "caustix/sample/image_output.h"
+#include "caustix/sample/motion.h"
 #include "caustix/sample/renderer.h"
 #include "bench_common.h"
 
 namespace caustix::bench {
 namespace {
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 struct Motion {
   std::string kind;    // light, water, object
@@ -51,74 +50,26 @@ struct Request {
   std::string write_frames;  // a folder for the stacks' images; empty: none
 };
 
-// The first light turned by `degrees` about the z axis (its direction, and
-// a point light's position about the origin), so that
-// what it focuses moves along x in irradiance and in-scatter images alike.
-Light turned(Light l, double degrees) {
-  const double c = std::cos(degrees * kDegree), s = std::sin(degrees * kDegree);
-  auto turn = [&](std::array<float, 3>& v) {
-    const double x = v[0], y = v[1];
-    v[0] = static_cast<float>(c * x - s * y);
-    v[1] = static_cast<float>(s * x + c * y);
-  };
-  turn(l.direction);  // a spot's axis too
-  if (l.type == LightType::kPoint) turn(l.position);
-  return l;
-}
-
-// The stack of frames 0..n-1 with the motion at k * step.
+// The stack of frames 0..n-1 with the motion at k * step (sample::render_stack).
 Result<std::vector<metrics::Image>> stack(sample::Renderer& r, const Request& q, const Motion& m, double step) {
-  const Light light0 = r.scene().lights.empty() ? Light{} : r.scene().lights[0];
-  std::optional<std::uint32_t> object;
-  Mat4f transform0{};
-  if (m.kind == "object") {
-    for (std::uint32_t i = 0; i < r.scene().objects.size(); ++i) {
-      if (r.scene().objects[i].name == m.object) object = i;
-    }
-    if (!object) return make_error(ErrorCode::kUsage, "no object named '" + m.object + "' in " + q.cxb);
-    transform0 = r.scene().objects[*object].transform;
-  }
-  if (m.kind == "light" && r.scene().lights.empty()) return make_error(ErrorCode::kUsage, q.cxb + " has no light to turn");
-  std::vector<metrics::Image> frames;
-  for (int k = 0; k < q.frames; ++k) {
-    const double at = k * step;
-    float time = static_cast<float>(q.time);
-    if (m.kind == "light") {
-      if (auto st = r.set_light(0, turned(light0, at)); !st.ok()) return st.error();
-    } else if (m.kind == "water") {
-      time = static_cast<float>(q.time + at);
-    } else {
-      Mat4f t = transform0;
-      t[12] += static_cast<float>(at);
-      if (auto st = r.set_object_transform(*object, t); !st.ok()) return st.error();
-    }
-    const auto& rg = q.region;
-    const float x0 = static_cast<float>(rg[0]), y0 = static_cast<float>(rg[1]), x1 = static_cast<float>(rg[2]),
-                y1 = static_cast<float>(rg[3]);
-    // The frame's image of either kind, as an Image.
-    auto take = [&](auto request, auto render) -> Status {
-      request.width = request.height = q.size;
-      request.time = time;
-      request.caustics = q.caustics;
-      request.pixel_samples = q.pixel_samples;
-      auto img = render(request);
-      if (!img) return img.error();
-      frames.push_back({img->width, img->height, std::move(img->rgb)});
-      return Status::success();
-    };
-    const Status st = q.inscatter ? take(sample::InscatterRequest{x0, y0, x1, y1},
-                                         [&](const sample::InscatterRequest& iq) { return r.render_inscatter(iq); })
-                                  : take(sample::IrradianceRequest{q.receiver, x0, y0, x1, y1},
-                                         [&](const sample::IrradianceRequest& iq) { return r.render_irradiance(iq); });
-    if (!st.ok()) return st.error();
-  }
-  // Back where it started, for the next stack.
-  if (m.kind == "light") {
-    if (auto st = r.set_light(0, light0); !st.ok()) return st.error();
-  } else if (m.kind == "object") {
-    if (auto st = r.set_object_transform(*object, transform0); !st.ok()) return st.error();
-  }
-  return frames;
+  sample::StackRequest sq;
+  sq.receiver = q.receiver;
+  sq.inscatter = q.inscatter;
+  for (int i = 0; i < 4; ++i) sq.region[static_cast<std::size_t>(i)] = static_cast<float>(q.region[static_cast<std::size_t>(i)]);
+  sq.frames = q.frames;
+  sq.size = q.size;
+  sq.pixel_samples = q.pixel_samples;
+  sq.time = q.time;
+  sq.caustics = q.caustics;
+  const sample::Motion motion{m.kind == "light"   ? sample::MotionKind::kLight
+                              : m.kind == "water" ? sample::MotionKind::kWater
+                                                  : sample::MotionKind::kObject,
+                              m.object};
+  auto frames = sample::render_stack(r, sq, motion, step);
+  if (!frames) return make_error(frames.error().code, q.cxb + ": " + frames.error().message);
+  std::vector<metrics::Image> out;
+  for (sample::StackFrame& f : *frames) out.push_back({f.width, f.height, std::move(f.rgb)});
+  return out;
 }
 
 int temporal(Request q, const Motion& m, const std::string& label) {
