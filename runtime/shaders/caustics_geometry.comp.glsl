@@ -61,7 +61,8 @@ vec3 on_plane(uint j, float plane_v) {
 // shaders, which interpolate them and rescale so that the triangle keeps
 // its flux exactly (the mean of a linear function over a triangle is its
 // corners'). Triangles at folds (a ratio beyond 10x either way) keep the
-// paper's constant: interpolating across a fold would smear its line.
+// paper's constant: interpolating across a fold would smear its line; from
+// 5x to 10x the corners fade to it.
 float corner_ratio(uint j, float plane_v, float flux_per_area, float beam_per_area, float irradiance) {
   uint gx = u_grid.x, ix = j % gx, iz = j / gx;
   uint xm = ix > 0u ? j - 1u : j, xp = ix + 1u < gx ? j + 1u : j;
@@ -109,7 +110,15 @@ void main() {
       vec3 c = vec3(corner_ratio(i0, plane.x, f.x / water_tri, f.y / water_tri, irradiance),
                     corner_ratio(i1, plane.x, f.x / water_tri, f.y / water_tri, irradiance),
                     corner_ratio(i2, plane.x, f.x / water_tri, f.y / water_tri, irradiance));
-      if (min(min(c.x, c.y), c.z) >= 0.1 && max(max(c.x, c.y), c.z) <= 10.0) corners = vec4(c, 1.0);
+      // Towards a fold the corners fade to the constant: fully theirs up
+      // to a spread of 5x, the constant from 10x, linear in the log
+      // between. A switch at 10x moved a triangle's light within it at
+      // once when the moving water took its spread across, and the
+      // caustics map's texels along the folds jumped from frame to frame
+      // (docs/temporal.md).
+      float spread = max(max(max(c.x, c.y), c.z), 1.0 / max(min(min(c.x, c.y), c.z), 1e-30));
+      float keep = min(c.x, min(c.y, c.z)) > 0.0 ? clamp(log2(10.0 / spread), 0.0, 1.0) : 0.0;
+      if (keep > 0.0) corners = vec4(mix(vec3(1.0), c, keep), 1.0);
     }
   }
   prims[5u * p] = vec4(q[0], q[1]);
