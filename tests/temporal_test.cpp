@@ -62,6 +62,17 @@ class Temporal : public test::GlTest {
   }
 };
 
+// Irradiance images of `r`'s floor over the square [-half, half]^2 in
+// size^2 pixels, at the file's defaults.
+sample::StackRequest floor_request(const sample::Renderer& r, float half, int size) {
+  sample::StackRequest q;
+  q.receiver = "floor";
+  q.region = {-half, -half, half, half};
+  q.size = size;
+  q.caustics = runtime::default_caustics_options(r.scene());
+  return q;
+}
+
 // glass_ball's focus on the floor, 1 mm pixels of 4 x 4 samples (the
 // tables' focus window has 1.4 mm texels at the fast preset), the sun
 // turned 0.05 deg a frame: the focus moves 0.65 mm a frame. Its power
@@ -70,12 +81,8 @@ void glass_focus_holds_still(runtime::GlassMethod method, const char* label) {
   auto made = Temporal::renderer("glass_ball");
   ASSERT_TRUE(made);
   sample::Renderer& r = *made;
-  sample::StackRequest q;
-  q.receiver = "floor";
-  q.region = {-0.1f, -0.1f, 0.1f, 0.1f};
-  q.size = 200;
+  sample::StackRequest q = floor_request(r, 0.1f, 200);
   q.pixel_samples = 4;
-  q.caustics = runtime::default_caustics_options(r.scene());
   q.caustics.glass_method = method;
   const auto s = Temporal::both(r, q, {sample::MotionKind::kLight, {}}, 0.05, 0.01, label);
   EXPECT_LE(s[1].rho / s[0].rho, 0.7);
@@ -118,13 +125,9 @@ void pool_holds_still(runtime::CausticsMethod method, const char* label, int fra
   auto made = Temporal::renderer("default");
   ASSERT_TRUE(made);
   sample::Renderer& r = *made;
-  sample::StackRequest q;
-  q.receiver = "floor";
-  q.region = {-0.96f, -0.96f, 0.96f, 0.96f};
-  q.size = 128;
+  sample::StackRequest q = floor_request(r, 0.96f, 128);
   q.time = 1.0;
   q.frames = frames;
-  q.caustics = runtime::default_caustics_options(r.scene());
   q.caustics.method = method;
   const auto s = Temporal::both(r, q, {sample::MotionKind::kWater, {}}, 0.0042, 0.0, label);
   EXPECT_LE(s[1].rho / s[0].rho, 0.7);
