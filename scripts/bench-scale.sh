@@ -7,7 +7,9 @@
 #   - ms per frame with the level maps and without caustics (--method none),
 #     and their ratio;
 #   - the engine's GL calls, draws and dispatches per steady frame;
-#   - the engine's GPU memory at 1280 x 800;
+#   - the engine's GPU memory at 1280 x 800, all of it and the light
+#     side's (what CausticsOptions::memory_budget holds), with the
+#     caustics maps' finest texel and the budget's coarsening;
 #   - the fragment- and compute-shader invocations of a frame (the
 #     pipeline statistics of caustix-bench frames --passes, summed over the
 #     passes).
@@ -20,7 +22,8 @@
 # Environment: FRAMES (measured, median; default 3), WARMUP (default 2),
 # RECEIVERS (default "1 4 16 64"), LIGHTS (default "1 2 4"; every N is
 # measured with one light, N = 16 also with each L), RENDERER (a label;
-# default llvmpipe).
+# default llvmpipe), BUILD (the build folder whose binaries run; default
+# build).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -31,7 +34,7 @@ WARMUP=${WARMUP:-2}
 RECEIVERS=${RECEIVERS:-"1 4 16 64"}
 LIGHTS=${LIGHTS:-"1 2 4"}
 RENDERER=${RENDERER:-llvmpipe}
-B=build
+B=${BUILD:-build}
 source scripts/require-gl-counts.sh
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
@@ -93,8 +96,8 @@ for n in $RECEIVERS; do cases="$cases $n:1"; done
 for l in $LIGHTS; do [ "$l" = 1 ] || cases="$cases 16:$l"; done
 
 csv=$out/scale_$RENDERER.csv
-echo "receivers,lights,objects,ms,ms_without_caustics,ratio,gl_calls,draws,dispatches,draws_dispatches,gpu_mb_1280x800,fs_invocations,cs_invocations,renderer" >"$csv"
-field() { /usr/bin/python3 -c 'import csv,sys; print(next(csv.reader([sys.argv[1]]))[int(sys.argv[2])])' "$1" "$2"; }
+echo "receivers,lights,objects,ms,ms_without_caustics,ratio,gl_calls,draws,dispatches,draws_dispatches,gpu_mb_1280x800,fs_invocations,cs_invocations,renderer,light_side_mb_1280x800,texel_mm,coarsened" >"$csv"
+field() { /usr/bin/python3 -c 'import csv,sys; r = next(csv.reader([sys.argv[1]])); k = int(sys.argv[2]); print(r[k] if k < len(r) else "")' "$1" "$2"; }
 for c in $cases; do
   n=${c%%:*}
   l=${c##*:}
@@ -103,7 +106,8 @@ for c in $cases; do
   bench() { $B/tools/caustix-bench frames "$T/scale.cxb" "$@"; }
   measured=(--frames "$FRAMES" --warmup "$WARMUP")
   # caustix-bench frames: label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,volumes_drawn,
-  # volumes_total,gpu_mb,gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer
+  # volumes_total,gpu_mb,gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer,light_side_mb,texel_mm,coarsened
+  # (the last three absent from builds before texels by need)
   with=$(bench "${measured[@]}")
   without=$(bench "${measured[@]}" --method none)
   memory=$(bench --size 1280x800 --frames 1 --warmup 1)
@@ -123,7 +127,7 @@ PY
   dispatches=$(field "$with" 15)
   objects=$((n + 3))
   ratio=$(/usr/bin/python3 -c "print(f'{$ms / $ms0:.2f}')")
-  echo "$n,$l,$objects,$ms,$ms0,$ratio,$(field "$with" 12),$draws,$dispatches,$((draws + dispatches)),$(field "$memory" 11),$invocations,\"$(field "$with" 17)\"" >>"$csv"
+  echo "$n,$l,$objects,$ms,$ms0,$ratio,$(field "$with" 12),$draws,$dispatches,$((draws + dispatches)),$(field "$memory" 11),$invocations,\"$(field "$with" 17)\",$(field "$memory" 18),$(field "$memory" 19),$(field "$memory" 20)" >>"$csv"
   echo "scale: $n receivers x $l lights: $ms ms ($ratio x without caustics), $((draws + dispatches)) draws + dispatches"
 done
 echo "wrote $csv"

@@ -2,7 +2,9 @@
 """Plot of scripts/bench-scale.sh's CSV (docs/runtime-speed.md, "As the
 scene grows"): scale.png, against the receivers under the water (one
 light): the frame's time over the frame without caustics, draws plus
-dispatches, GPU memory at 1280 x 800 and shader invocations."""
+dispatches, GPU memory at 1280 x 800 and shader invocations. Where
+OUT/scale_before_<renderer>.csv exists (the same benchmark of an earlier
+build, run beside it), it is drawn in grey."""
 import csv
 import os
 import sys
@@ -15,6 +17,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 out = sys.argv[1] if len(sys.argv) > 1 else "docs/results"
 renderer = sys.argv[2] if len(sys.argv) > 2 else "llvmpipe"
 rows = list(csv.DictReader(open(os.path.join(out, f"scale_{renderer}.csv"))))
+before_path = os.path.join(out, f"scale_before_{renderer}.csv")
+before = list(csv.DictReader(open(before_path))) if os.path.exists(before_path) else []
 one = [r for r in rows if r["lights"] == "1"]
 n = [int(r["receivers"]) for r in one]
 fig, axes = plt.subplots(1, 4, figsize=(15, 3.6))
@@ -25,6 +29,11 @@ panels = [
     ("fs_invocations", "fragment-shader invocations"),
 ]
 for ax, (key, label) in zip(axes, panels):
+    if before:
+        b1 = [r for r in before if r["lights"] == "1"]
+        ax.plot([int(r["receivers"]) for r in b1], [float(r[key]) for r in b1], "o--", color="0.6", label="before, 1 light")
+        bm = [r for r in before if r["lights"] != "1"]
+        ax.plot([int(r["receivers"]) for r in bm], [float(r[key]) for r in bm], "s", color="0.6", label="before, more lights")
     ax.plot(n, [float(r[key]) for r in one], "o-", label="1 light")
     for lights in sorted({r["lights"] for r in rows} - {"1"}):
         more = [r for r in rows if r["lights"] == lights]

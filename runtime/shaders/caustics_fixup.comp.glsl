@@ -5,7 +5,9 @@
 // thousands of tiny primitives costs per-instance overhead on some drivers.
 layout(local_size_x = 1) in;
 layout(std430, binding = 6) buffer Command { uint cmd[]; };
-// cmd: [0..3] draw {6 n, 1, 0, 0}, [4] unused; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n
+// cmd: [0..3] draw {6 n, 1, 0, 0}, [4] unused; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n;
+// [11..14] the second level-map draw {0, 1, 0, 0}, which caustics_windows.frag
+// gives the first's count where a texel spans several windows.
 uniform uint u_capacity;
 void main() {
   uint n = min(cmd[8], u_capacity);
@@ -18,4 +20,8 @@ void main() {
   cmd[6] = 1u;
   cmd[7] = 1u;
   cmd[10] = n;
+  cmd[11] = 0u;
+  cmd[12] = 1u;
+  cmd[13] = 0u;
+  cmd[14] = 0u;
 }

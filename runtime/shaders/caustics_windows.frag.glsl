@@ -12,13 +12,17 @@
 // - several planes' (a caustics texel coarser than the position map's
 //   texels, over a depth step): depth 1, which only a second draw, every
 //   primitive at depth 1, meets; the fragment shader then tests the
-//   samples as it always does.
+//   samples as it always does. That second draw's indirect command has no
+//   vertices unless some texel is written here at depth 1 (its count is
+//   then the first draw's), so a map whose texels each lie in one window
+//   pays nothing for it.
 // The fragments kept, in their order, and so the caustics map are the
 // draw's alone. Exact: (k + 1) / 8192 and 1 are floats the depth buffer
 // (32-bit float) and the rasteriser carry unrounded.
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis, as caustics_levelmap.frag's
+layout(std430, binding = 6) buffer Command { uint cmd[]; };  // caustics_fixup.comp's layout
 
 void main() {
   uint lo = 0xffffffffu, hi = 0u;
@@ -34,4 +38,5 @@ void main() {
   }
   if (lo > hi) discard;
   gl_FragDepth = lo == hi ? float(lo + 1u) / 8192.0 : 1.0;
+  if (lo != hi) cmd[11] = cmd[0];  // the same value from every such texel
 }

@@ -69,6 +69,15 @@ int main(int argc, char** argv) {
   app.add_option("--caustics-size", caustics_size,
                  "caustics map size S (S x S); default: the bake preset's, else " + std::to_string(built_in.map_size))
       ->check(CLI::Range(1, 8192));
+  float texel = 0.0f;
+  app.add_option("--texel", texel,
+                 "caustics maps' texel, metres, for every receiver (default: the light's largest lit extent / the map size)")
+      ->check(CLI::Range(1e-6, 1e3));
+  double budget_mb = -1.0;
+  app.add_option("--memory-budget", budget_mb,
+                 "GPU memory the light side may hold, MB (MiB); the caustics maps' texels are coarsened to fit; 0: none "
+                 "(default: the bake preset's, 128 at balanced)")
+      ->check(CLI::Range(0.0, 1.0e7));
   std::uint32_t glass_planes = 0, glass_size = 0;
   app.add_option("--glass-planes", glass_planes,
                  "glass: virtual planes per target (Iwasaki et al. §4.2); default: the bake preset's, else " +
@@ -263,6 +272,8 @@ int main(int argc, char** argv) {
   if (planes > 0) caustics.planes = planes;
   if (epsilon > 0) caustics.epsilon = epsilon;
   if (caustics_size > 0) caustics.map_size = caustics_size;
+  caustics.texel_size = texel;
+  if (budget_mb >= 0) caustics.memory_budget = static_cast<std::uint64_t>(budget_mb * 1048576.0);
   if (glass_planes > 0) caustics.glass_planes = glass_planes;
   if (glass_size > 0) caustics.glass_map_size = glass_size;
   caustics.glass_smooth = !glass_flat;
@@ -432,8 +443,9 @@ int main(int argc, char** argv) {
   }
   if (!written) return fail(written.error());
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const CausticsStats cs = (*renderer)->caustics_stats(verbose);
+  for (const std::string& w : cs.warnings) std::fprintf(stderr, "caustix-render: warning: %s\n", w.c_str());
   if (verbose) {
-    const CausticsStats cs = (*renderer)->caustics_stats(true);
     std::printf("renderer: %s\n", (*context)->description().c_str());
     std::printf("caustics map %u^2, glass textures %u^2, %u glass planes (%s)\n", caustics.map_size,
                 caustics.glass_map_size, caustics.glass_planes,
@@ -442,6 +454,11 @@ int main(int argc, char** argv) {
     std::printf("caustics (%s): %llu planes drawn, %llu of %llu illumination volumes after culling\n", method.c_str(),
                 static_cast<unsigned long long>(cs.planes_drawn), static_cast<unsigned long long>(cs.volumes_drawn),
                 static_cast<unsigned long long>(cs.volumes_total));
+    const CausticsTexels& tx = cs.texels;
+    std::printf("caustics maps: %u, %.1f MB, finest texel %.2f mm (coarsened %.2fx by the budget), at least %u texels a side, "
+                "%u unreachable; light side %.1f MB of a %.1f MB budget%s\n",
+                tx.maps, static_cast<double>(tx.map_bytes) / 1e6, tx.texel * 1e3, tx.coarsened, tx.least_side, tx.unreachable,
+                static_cast<double>(tx.light_side) / 1e6, static_cast<double>(tx.budget) / 1e6, tx.over_budget ? " (over)" : "");
     const GpuMemory& m = cs.memory;
     auto mb = [](std::uint64_t b) { return static_cast<double>(b) / 1e6; };
     std::printf("engine GPU memory %.1f MB: level maps %.1f, shadow maps %.1f, glass %.1f, caustic maps %.1f, media %.1f, "

@@ -211,6 +211,7 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
                        top * 1.1f, ImVec2(0.0f, k < PassTimes::kCount ? 28.0f : 48.0f));
     }
     const CausticsStats cs = r.caustics_stats();
+    for (const std::string& w : cs.warnings) std::fprintf(stderr, "caustix-view: warning: %s\n", w.c_str());
     auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
     ImGui::Text("water triangles %llu, volumes %llu of %llu, planes %llu%s", u(cs.water_triangles), u(cs.volumes_drawn),
                 u(cs.volumes_total), u(cs.planes_drawn), cs.overflowed ? ", OVERFLOW (the list grows)" : "");
@@ -230,6 +231,11 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
     ImGui::TextWrapped("engine GPU memory %.1f MB: level maps %.1f, shadows %.1f, glass %.1f, caustic maps %.1f, media %.1f, "
                        "water %.1f, views %.1f, meshes %.1f", mb(m.total()), mb(m.level_maps), mb(m.shadow_maps), mb(m.glass),
                        mb(m.caustic_maps), mb(m.media), mb(m.water), mb(m.views), mb(m.meshes));
+    const CausticsTexels& tx = cs.texels;
+    ImGui::TextWrapped("caustics maps %u (%.1f MB), finest texel %.2f mm, coarsened %.2fx by the budget, at least %u texels a side, "
+                       "%u unreachable; light side %.1f of %.1f MB%s", tx.maps, mb(tx.map_bytes), tx.texel * 1e3, tx.coarsened,
+                       tx.least_side, tx.unreachable,
+                       mb(tx.light_side), mb(tx.budget), tx.over_budget ? " (OVER)" : "");
   }
   if (ImGui::CollapsingHeader("GPU time per engine pass")) {
     r.engine().set_gpu_timing(true, true);
@@ -264,6 +270,11 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
     if (ImGui::Checkbox("epsilon as baked", &baked_eps)) c.epsilon = baked_eps ? std::nullopt : std::optional<float>(0.02f);
     if (c.epsilon) ImGui::SliderFloat("epsilon (m)", &*c.epsilon, 1e-4f, 0.5f, "%.4f", ImGuiSliderFlags_Logarithmic);
     pow2_combo("caustics map", c.map_size, 64, 4096);
+    ImGui::SliderFloat("texel (m; 0: from the map)", &c.texel_size, 0.0f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    int budget_mib = static_cast<int>(c.memory_budget >> 20);
+    if (ImGui::SliderInt("memory budget (MiB; 0: none)", &budget_mib, 0, 2048, "%d", ImGuiSliderFlags_Logarithmic)) {
+      c.memory_budget = static_cast<std::uint64_t>(std::max(budget_mib, 0)) << 20;
+    }
     ImGui::Checkbox("cull illumination volumes", &c.cull);
     ImGui::Checkbox("smooth water caustics", &c.water_smooth);
     slider_u32("photons (splat)", c.photons, 16, 4096, ImGuiSliderFlags_Logarithmic);

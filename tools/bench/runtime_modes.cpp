@@ -91,6 +91,10 @@ void write_passes(const std::string& path, const std::string& label, const std::
   }
 }
 
+// CausticsOptions::memory_budget when --memory-budget is not given: the
+// file's preset's.
+constexpr std::uint64_t kPresetBudget = ~std::uint64_t{0};
+
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
            std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light,
@@ -103,6 +107,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
     with_defaults.map_size = runtime::CausticsOptions{}.map_size;
     if (r->scene().render) runtime::apply_render_defaults(with_defaults, *r->scene().render);
   }
+  if (co.memory_budget == kPresetBudget) with_defaults.memory_budget = runtime::default_caustics_options(r->scene()).memory_budget;
   if (glass_size > 0) with_defaults.glass_map_size = glass_size;  // explicit wins over the file's
   if (!glass_focus_spectral.empty()) with_defaults.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   std::vector<runtime::GpuTimes> gpu;
@@ -111,8 +116,11 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
   if (!times) return cli::fail("caustix-bench", times.error());
   if (!passes_csv.empty()) write_passes(passes_csv, label, cxb, co, width, height, gpu, session->context->description());
   // The last measured frame's GL calls, before anything else adds to them.
-  const runtime::GlCalls calls = r->caustics_stats().gl;
-  const runtime::CausticsStats cs = r->caustics_stats(true);
+  runtime::CausticsStats cs = r->caustics_stats();
+  const runtime::GlCalls calls = cs.gl;
+  std::vector<std::string> warnings = std::move(cs.warnings);
+  cs = r->caustics_stats(true);
+  warnings.insert(warnings.end(), cs.warnings.begin(), cs.warnings.end());
   auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
   // Empty GL-call columns from a build without CAUSTIX_COUNT_GL_CALLS.
   std::string counts = ",,,,";
@@ -120,10 +128,12 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
     counts = std::to_string(calls.calls) + "," + std::to_string(calls.syncs) + "," + std::to_string(calls.draws) + "," +
              std::to_string(calls.dispatches) + "," + std::to_string(calls.upload_bytes);
   }
-  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%s,\"%s\"\n", label.c_str(), cxb.c_str(), runtime::to_string(co.method),
-              co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms, times->min_ms, u(cs.planes_drawn),
-              u(cs.volumes_drawn), u(cs.volumes_total), static_cast<double>(cs.gpu_bytes) / 1e6, counts.c_str(),
-              session->context->description().c_str());
+  std::printf("%s,%s,%s,%u,%d,%dx%d,%.2f,%.2f,%llu,%llu,%llu,%.1f,%s,\"%s\",%.1f,%.3f,%.3f\n", label.c_str(), cxb.c_str(),
+              runtime::to_string(co.method), co.planes.value_or(0), co.cull ? 1 : 0, width, height, times->median_ms, times->min_ms,
+              u(cs.planes_drawn), u(cs.volumes_drawn), u(cs.volumes_total), static_cast<double>(cs.gpu_bytes) / 1e6, counts.c_str(),
+              session->context->description().c_str(), static_cast<double>(cs.memory.light_side()) / 1e6, cs.texels.texel * 1e3,
+              cs.texels.coarsened);
+  for (const std::string& w : warnings) std::fprintf(stderr, "caustix-bench: warning: %s\n", w.c_str());
   return kExitOk;
 }
 
@@ -226,6 +236,8 @@ struct RuntimeModes final : Modes {
   std::uint32_t cmap_photons = runtime::CausticMapOptions{}.photons, cmap_size = runtime::CausticMapOptions{}.map_size;
   std::uint32_t cmap_adaptive = runtime::CausticMapOptions{}.adaptive_levels, cmap_budget = runtime::CausticMapOptions{}.photon_budget;
   std::string cxb, method = "levelmap", label = "-", fsize = "640x480", wsize = "640x480", csv, passes_csv;
+  float texel = 0.0f;
+  double budget_mb = -1.0;
   std::uint32_t planes = 0, csize = 0, gsize = 0, volume_focus = runtime::VolumeOptions{}.focus_grid;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
@@ -246,6 +258,10 @@ struct RuntimeModes final : Modes {
     fr->add_option("--frames", count, "frames measured (median reported)")->check(CLI::Range(1, 100000))->capture_default_str();
     fr->add_option("--caustics-size", csize, "caustics map size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
+    fr->add_option("--texel", texel, "caustics maps' texel, metres (0: the light's largest lit extent / the map size)")
+        ->check(CLI::Range(0.0, 1e3));
+    fr->add_option("--memory-budget", budget_mb, "the light side's GPU memory budget, MiB (0: none; default: the preset's)")
+        ->check(CLI::Range(0.0, 1.0e7));
     fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
@@ -318,7 +334,7 @@ struct RuntimeModes final : Modes {
     }
     if (header) {
       std::printf("label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,primitives_drawn,volumes_total,gpu_mb,"
-                  "gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer\n");
+                  "gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer,light_side_mb,texel_mm,coarsened\n");
     }
     runtime::CausticsOptions co;
     co.method = *runtime::parse_method(method);
@@ -328,6 +344,8 @@ struct RuntimeModes final : Modes {
     co.glass_focus_wide = glass_focus_wide;
     co.volume.focus_grid = volume_focus;
     co.map_size = csize;
+    co.texel_size = texel;
+    co.memory_budget = budget_mb >= 0 ? static_cast<std::uint64_t>(budget_mb * 1048576.0) : kPresetBudget;
     co.glass_method = *runtime::parse_glass_method(glass_method);
     co.caustic_map.photons = cmap_photons;
     co.caustic_map.map_size = cmap_size;

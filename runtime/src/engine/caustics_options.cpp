@@ -61,6 +61,10 @@ void apply_render_defaults(CausticsOptions& o, const RenderDefaults& render) {
   o.caustic_map.adaptive_levels = render.cmap_adaptive_levels;
   o.caustic_map.photon_budget = render.cmap_photon_budget;
   o.glass_focus_spectral_coarse = render.glass_spectral_coarse != 0;
+  // The light side's memory budget by preset (not recorded in the file:
+  // a runtime policy): fast half of balanced's, accurate twice.
+  const std::uint64_t mib = std::uint64_t{1} << 20;
+  o.memory_budget = render.preset == "fast" ? 64 * mib : render.preset == "accurate" ? 256 * mib : 128 * mib;
 }
 
 CausticsOptions default_caustics_options(const SceneDesc& scene) {

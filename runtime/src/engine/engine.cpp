@@ -295,6 +295,20 @@ struct Engine::Impl {
     }
   }
 
+  GpuMemory memory() const {
+    GpuMemory m;
+    for (const auto& e : effects) e->memory(m);  // shadow maps, level maps, glass, caustic maps, media
+    for (const GpuMesh& mesh : meshes) m.meshes += mesh.gpu_bytes();
+    m.meshes += albedo.gpu_bytes;
+    if (water) m.water = water->gpu_bytes();
+    if (glass) m.views += glass->view_bytes();
+    if (water_view) m.views += water_view->gpu_bytes();  // refraction, reflection, glow targets
+    m.views += scene_reader.gpu_bytes();  // copies of the caller's scene, where a view-side draw needs them
+    m.other = std::uint64_t{stride} * lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
+    m.receiver_table = table.gpu_bytes();
+    return m;
+  }
+
   // What the effects borrow from the engine while they update.
   struct Services final : EngineServices {
     Impl& s;
@@ -318,6 +332,7 @@ struct Engine::Impl {
       p->set("u_light_power", b.light_color.w);
       p->set("u_spot", glm::vec3(b.spot));
     }
+    GpuMemory memory() const override { return s.memory(); }
     std::function<std::vector<ExitRay>()> glass_exit_rays(std::uint32_t li) const override {
       if (!s.glass) return {};
       return [&impl = s, li]() { return impl.glass->exit_sample(impl.scene, li); };
@@ -548,6 +563,9 @@ Status Engine::set_object_transform(std::uint32_t index, const Mat4f& t) {
   if (index >= s.scene.objects.size()) return usage("set_object_transform: no object " + std::to_string(index));
   SceneDesc probe = s.scene;
   probe.objects[index].transform = t;
+  // The engine's images keep their sizes, not their texels (they live on
+  // the GPU), which the rules would refuse; the transform is not theirs.
+  probe.images.clear();
   if (auto issue = validate_scene(probe, false)) return usage("set_object_transform: " + issue->pointer + ": " + issue->message);
   s.scene.objects[index].transform = t;
   s.world_vertices[index] = world_points(t, s.cpu_meshes[s.scene.objects[index].mesh_index].positions);
@@ -855,20 +873,9 @@ CausticsStats Engine::stats(bool wait) {
   CausticsStats st = s.caustics ? s.caustics->stats(wait) : CausticsStats{};
   st.frame = s.frame;
   st.work = s.work;
-  GpuMemory& m = st.memory;
-  for (const auto& e : s.effects) e->memory(m);  // shadow maps, level maps, glass, caustic maps, media
-  for (const GpuMesh& mesh : s.meshes) m.meshes += mesh.gpu_bytes();
-  m.meshes += s.albedo.gpu_bytes;
-  if (s.water) m.water = s.water->gpu_bytes();
-  if (s.glass) {
-    m.views += s.glass->view_bytes();
-    st.glass_wavelengths = s.glass->wavelengths();
-  }
-  if (s.water_view) m.views += s.water_view->gpu_bytes();  // refraction, reflection, glow targets
-  m.views += s.scene_reader.gpu_bytes();  // copies of the caller's scene, where a view-side draw needs them
-  m.other = std::uint64_t{s.stride} * s.lighting.size() + 16 + 16;  // light blocks, the 1x1 stand-ins
-  m.receiver_table = s.table.gpu_bytes();
-  st.gpu_bytes = m.total();
+  st.memory = s.memory();
+  if (s.glass) st.glass_wavelengths = s.glass->wavelengths();
+  st.gpu_bytes = st.memory.total();
   const gl::CallTally& c = s.frame_calls;
   st.gl = GlCalls{gl::kCountingBuilt, c.calls, c.draws, c.dispatches, c.syncs, c.upload_bytes};
   return st;

@@ -58,6 +58,8 @@ class EngineServices {
   // also sets its light uniforms (u_light_type, u_light_direction,
   // u_light_position, u_light_power, u_spot).
   virtual void bind_light(std::uint32_t light, const CausticsOptions& options, const gl::Program* program) = 0;
+  // GPU memory by effect as it is now (Engine::stats().memory).
+  virtual GpuMemory memory() const = 0;
   // The glass's exit rays towards `light` (a CPU sample of its tables), to
   // call when needed; an empty function without glass.
   virtual std::function<std::vector<ExitRay>()> glass_exit_rays(std::uint32_t light) const = 0;

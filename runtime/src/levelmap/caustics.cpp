@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 
@@ -28,10 +29,44 @@ constexpr GLsizeiptr kPlanesBytes = kPlanesHeader + 8 * GLsizeiptr{kMaxPlanes};
 // What each map's counters contribute to a frame's read-back slot:
 // command words 8..10 (listed, overflow, drawn) and the plane count.
 constexpr std::size_t kCounterBytes = 16;
+// A map's command buffer (caustics_fixup.comp): the draw, the geometry
+// dispatch, the counters, and at word 11 the second level-map draw.
+constexpr GLsizeiptr kCommandBytes = 60;
+constexpr GLsizeiptr kSecondDrawOffset = 44;
 // A list sized from a measured count keeps this much headroom for the
 // counts of the frames until the next measurement arrives.
 constexpr double kHeadroom = 1.25;
 constexpr std::uint64_t kMinCapacity = 1024;
+// The budget coarsens the texels in steps of 2^(1/4), at most 2^13 times
+// (every map is at its smallest long before).
+constexpr int kMaxCoarsenSteps = 52;
+
+// With the texel from map_size, a map has at least this share of map_size
+// a side before the budget coarsens it: a small receiver's outline,
+// terminator and folds stay as sharp in a view that comes close as with
+// map_size (a 1 m sphere under the sine wave of sphere_waves, against the
+// traced reference at 12.5 mm pixels: fold pixels' error 5.6 % at 512^2,
+// 8.2 % at 128^2, the floor's texel; docs/caustics.md).
+constexpr double kLeastShare = 0.5;
+
+// The sides a caustics map may take: 16 * 2^(k/2) rounded up to a
+// multiple of 8 (16, 24, 32, 48, 64, 96, 128, 184, 256, 368, 512, ...), so
+// that a receiver or a light moving a little keeps its map's size (a new
+// size is a new texture, and a step in the picture).
+std::uint32_t ladder_side(double need) {
+  static const std::vector<std::uint32_t> ladder = [] {
+    std::vector<std::uint32_t> l;
+    for (int k = 0; l.empty() || l.back() < kMaxRuntimeMapSize; ++k) {
+      const double v = std::ceil(16.0 * std::pow(2.0, k / 2.0) / 8.0) * 8.0;
+      l.push_back(std::min(static_cast<std::uint32_t>(v), kMaxRuntimeMapSize));
+    }
+    return l;
+  }();
+  for (const std::uint32_t side : ladder) {
+    if (side >= need) return side;
+  }
+  return ladder.back();
+}
 
 // What a map's reference planes were made from: rebuilt when any changes.
 struct PlanKey {
@@ -60,6 +95,12 @@ struct MapGpu {
   gl::Texture caustics;      // RGBA32F at caustics_size: irradiance on the plane and its direction (caustics_geometry.comp)
   gl::Framebuffer fbo;
   std::uint32_t caustics_size = 0;
+  // Texels by need (Impl::plan_texels): the side its caustics map takes at
+  // its next draw; 0 where the water's light cannot reach it now (then it
+  // holds no map and binds the black texture).
+  std::uint32_t planned_side = 0;
+  bool planned = false;
+  bool unlit = false;  // its light no longer reaches it through the water (rederive_map)
   // The depth profile: the baked histogram, re-made on the GPU after a
   // light or the receiver moves (then its planes are planned there too).
   gl::Buffer histogram;
@@ -72,8 +113,7 @@ struct MapGpu {
   std::optional<std::vector<ReferencePlane>> cpu_planes;
   float self_tolerance = 0;
   gl::Texture depth_tiles;  // RG32F min/max frame V per tile
-  gl::Framebuffer position_fbo;  // run-time re-derivation
-  gl::Texture position_depth;
+  gl::Framebuffer position_fbo;  // run-time re-derivation (its depth: Impl::position_depth)
   gl::Buffer command;
   // Entries its list needs (Impl::list, shared). Measured with a read-back
   // the first time a map is drawn with a plan (warm-up), then sized from
@@ -93,6 +133,28 @@ struct MapGpu {
   bool spectral = false;  // the last update traced several wavelengths: `color` is valid
   std::uint64_t gpu_bytes = 0;
 };
+
+// Position-map texels per caustics texel, and the samples per axis the
+// caustics shaders take of them in a caustics texel (up to 4 x 4 where it
+// is coarser than the position map's).
+std::pair<float, int> texel_sampling(const MapGpu& m) {
+  const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
+  return {scale, static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f))};
+}
+
+// GPU bytes per texel of a map's own textures: the caustics map and its
+// mips; where the water disperses, the sum over wavelengths and the RGB
+// texture with mips; for the volumetric baseline, a slice and an
+// illumination texel per plane.
+double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral) {
+  double b = 16.0 * 4.0 / 3.0;
+  if (spectral) b += 16.0 + 16.0 * 4.0 / 3.0;
+  if (o.method == CausticsMethod::kVolumetric) {
+    const std::size_t planes = m.cpu_planes ? m.cpu_planes->size() : m.lm->planes_requested;
+    b += 17.0 * static_cast<double>(planes);
+  }
+  return b;
+}
 
 // The plan of map `m` for the options: which slicing, and its n or eps.
 PlanKey plan_key(const MapGpu& m, const CausticsOptions& o) {
@@ -130,12 +192,24 @@ void set_frame(const gl::Program& p, const BoundingFrame& f) {
 struct CausticsEngine::Impl {
   const WaterSurface* water = nullptr;
   std::vector<MapGpu> maps;
+  gl::Texture black;  // 1 x 1 RGBA32F zero: the caustics of a receiver without a map
+  // The plan of texels (plan_texels): the other effects' light-side
+  // memory told at begin_frame, the budget's coarsening step (kept while
+  // it holds), what the stats say and the warnings not yet handed out.
+  std::uint64_t other_bytes = 0;
+  int coarsen_step = 0;
+  CausticsTexels texels;
+  std::vector<std::string> warnings;
+  int warned_step = 0;
+  bool warned_over = false;
   gl::Program prepare, cull, fixup, geometry, levelmap, windows, volumetric, slab, combine, presence, profile, accumulate, plan;
   // The level-map draw's depth (caustics_windows.frag): which plane's
   // window each caustics texel's surface lies in; one for every map, as
   // large as the largest caustics map.
   gl::Texture window_depth;
   std::uint32_t window_depth_size = 0;
+  gl::Texture position_depth;  // the position maps' re-derivation (rederive_map), shared
+  std::uint32_t position_depth_size = 0;
   gl::Program splat_photon, splat_points;
   // Photon splatting (one set, reused map after map): the photon texture,
   // the vertex buffer it is copied into, and the points' vertex array.
@@ -363,15 +437,203 @@ struct CausticsEngine::Impl {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
 
-  std::uint64_t bytes_of(const MapGpu& m) const {
-    const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
+  // A map's own textures, which its texels size (bytes_per_texel).
+  static std::uint64_t texture_bytes(const MapGpu& m) {
     const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 16 * 4 / 3;  // RGBA32F and its mips
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
-    const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
     const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * 7 / 3;  // sum, colour and its mips
-    const std::uint64_t depth = m.position_depth.get() ? pm : 0;  // re-derivation's depth buffer
+    return cm + sl + spectral;
+  }
+
+  // Everything a map holds: its textures and what the bake sized.
+  static std::uint64_t bytes_of(const MapGpu& m) {
+    const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
+    const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
     const std::uint64_t profile = 4 * m.lm->histogram.size() + kPlanesBytes;
-    return pm + cm + sl + tiles + spectral + depth + profile + 44;
+    return pm + texture_bytes(m) + tiles + profile + static_cast<std::uint64_t>(kCommandBytes);
+  }
+
+  // What the maps share: refracted rays and fluxes, the read-back ring,
+  // the splats' photons (one set for every map), the planner's scratch,
+  // the lists, the windows' depth and the re-derivations' depth.
+  std::uint64_t shared_bytes() const {
+    return std::uint64_t{16} * water->vertex_count() + std::uint64_t{8} * water->triangle_count() + readback.gpu_bytes() +
+           std::uint64_t{32} * photon_size * photon_size + 4 * static_cast<std::uint64_t>(plan_scratch_words) +
+           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{4} * window_depth_size * window_depth_size +
+           std::uint64_t{4} * position_depth_size * position_depth_size + 16;
+  }
+
+  // The larger side of the part of map m's frame (its U-W rectangle) that
+  // the water's light can reach: the water grid's rectangle at its level
+  // seen along V (the refracted light), grown by a tenth of its larger
+  // side for light the waves bend outward, clipped to the frame; 0 where
+  // they miss, or where the light no longer reaches the receiver through
+  // the water. A point light under the water lights the whole frame.
+  double lit_extent(const MapGpu& m, const std::vector<Light>& lights) const {
+    const BoundingFrame& f = m.lm->frame;
+    if (m.unlit) return 0.0;
+    const Water& w = water->water();
+    const Light& light = lights[m.lm->light];
+    if (light.type != LightType::kDirectional && light.position[1] <= w.level) return 2.0 * std::max(f.half[0], f.half[2]);
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (int c = 0; c < 4; ++c) {
+      const double rel[3] = {w.extent[(c & 1) != 0 ? 2 : 0] - f.origin[0], w.level - f.origin[1],
+                             w.extent[(c & 2) != 0 ? 3 : 1] - f.origin[2]};
+      const double uw[2] = {rel[0] * f.u[0] + rel[1] * f.u[1] + rel[2] * f.u[2], rel[0] * f.w[0] + rel[1] * f.w[1] + rel[2] * f.w[2]};
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], uw[k]);
+        hi[k] = std::max(hi[k], uw[k]);
+      }
+    }
+    const double margin = 0.1 * std::max(double{w.extent[2]} - w.extent[0], double{w.extent[3]} - w.extent[1]);
+    const double half[2] = {f.half[0], f.half[2]};
+    double side = 0.0;
+    for (int k = 0; k < 2; ++k) {
+      const double a = std::max(lo[k] - margin, -half[k]), b = std::min(hi[k] + margin, half[k]);
+      if (b <= a) return 0.0;
+      side = std::max(side, b - a);
+    }
+    return side;
+  }
+
+  // Texels by need under the budget (CausticsOptions::texel_size,
+  // memory_budget): per light one texel size in metres -- texel_size, or
+  // the largest lit extent of the light's maps over map_size -- and each
+  // map the side its frame needs at it (ladder_side), at least
+  // kLeastShare of map_size (with the texel from map_size) and at most
+  // map_size (or kMaxRuntimeMapSize with texel_size). Where the light side
+  // would then hold more than the budget, it steps down by 2^(1/4) at a
+  // time: first that least side, towards the maps' own need (small
+  // receivers give up the texels they have beyond the floor's density),
+  // then every texel, until the maps fit; where not even the smallest
+  // maps would fit, only the first (CausticsOptions::memory_budget) and
+  // the stats say so. A step
+  // once taken is kept while it fits and the finer one would win back
+  // less than two steps, so that the maps do not change size back and
+  // forth. Warns once per new step. The sides take effect at each map's
+  // next draw.
+  void plan_texels(const CausticsOptions& o, const std::vector<Light>& lights) {
+    const bool spectral = water_wavelengths(water->water(), o).size() > 1;
+    const bool given = o.texel_size > 0.0f;
+    const std::uint32_t cap = given ? kMaxRuntimeMapSize : std::max(o.map_size, 1u);
+    const double least = given ? 0.0 : kLeastShare * cap;
+    // Steps that lower the least side before the texels coarsen: until it
+    // is below the smallest map.
+    const int least_steps = least > kMinCausticsMapSize ? static_cast<int>(std::ceil(4.0 * std::log2(least / kMinCausticsMapSize))) : 0;
+    const int last_step = least_steps + kMaxCoarsenSteps;
+    std::vector<double> lit(maps.size()), base(positions_made.size(), given ? double{o.texel_size} : 0.0);
+    // The pair lists are sized from counts read back as the maps are
+    // drawn, and coarser texels list more pairs (the cull widens each
+    // footprint by a texel): room for them to grow by their headroom.
+    std::uint64_t fixed = other_bytes + shared_bytes() +
+                          static_cast<std::uint64_t>(static_cast<double>(allocated * (kListBytes + kPrimitiveBytes)) * (kHeadroom - 1.0));
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+      const MapGpu& m = maps[i];
+      lit[i] = lit_extent(m, lights);
+      if (!given) base[m.lm->light] = std::max(base[m.lm->light], lit[i] / static_cast<double>(cap));
+      fixed += bytes_of(m) - texture_bytes(m);
+    }
+    auto texel_factor = [&](int k) { return std::pow(2.0, std::max(k - least_steps, 0) / 4.0); };
+    auto least_at = [&](int k) { return k < least_steps ? least * std::pow(2.0, -k / 4.0) : 0.0; };
+    // The maps' sides and bytes at step k.
+    auto plan_at = [&](int k, std::vector<std::uint32_t>* sides) {
+      const double factor = texel_factor(k), floor_side = least_at(k);
+      std::uint64_t bytes = 0;
+      for (std::size_t i = 0; i < maps.size(); ++i) {
+        const MapGpu& m = maps[i];
+        const double texel = base[m.lm->light] * factor;
+        std::uint32_t side = 0;
+        if (lit[i] > 0.0 && texel > 0.0) {
+          const double need = 2.0 * std::max(m.lm->frame.half[0], m.lm->frame.half[2]) / texel;
+          side = std::min(cap, ladder_side(std::max(need, floor_side)));
+        }
+        bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral));
+        if (sides) (*sides)[i] = side;
+      }
+      return bytes;
+    };
+    int step = 0;
+    bool over = false;
+    if (o.memory_budget > 0) {
+      auto fits = [&](int k) { return fixed + plan_at(k, nullptr) <= o.memory_budget; };
+      // The smallest step that fits (the bytes fall as the step grows).
+      // Where not even the smallest maps fit, what is over is not theirs
+      // (position maps, shadow maps, the other effects): coarsening them
+      // would cost the picture and hardly the memory, so only the small
+      // receivers' extra texels go.
+      over = !fits(last_step);
+      int lo = 0, hi = last_step;
+      while (lo < hi && !over) {
+        const int mid = (lo + hi) / 2;
+        if (fits(mid)) {
+          hi = mid;
+        } else {
+          lo = mid + 1;
+        }
+      }
+      step = over ? least_steps : lo;
+      if (!over && coarsen_step > step && coarsen_step - step <= 1 && fits(coarsen_step)) step = coarsen_step;
+    }
+    std::vector<std::uint32_t> sides(maps.size());
+    const std::uint64_t bytes = plan_at(step, &sides);
+    double finest = 0.0;
+    std::uint32_t unreachable = 0;
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+      maps[i].planned_side = sides[i];
+      maps[i].planned = true;
+      if (sides[i] == 0) {
+        ++unreachable;
+      } else {
+        const double t = base[maps[i].lm->light];
+        finest = finest == 0.0 ? t : std::min(finest, t);
+      }
+    }
+    const double factor = texel_factor(step);
+    texels.texel = static_cast<float>(finest * factor);
+    texels.coarsened = static_cast<float>(factor);
+    texels.least_side = static_cast<std::uint32_t>(std::min<double>(least_at(step), cap));
+    texels.unreachable = unreachable;
+    texels.budget = o.memory_budget;
+    texels.light_side = fixed + bytes;
+    texels.over_budget = over;
+    if (step > warned_step || (over && !warned_over)) {
+      const double mib = 1024.0 * 1024.0;
+      char text[640];
+      if (over) {
+        std::snprintf(text, sizeof text,
+                      "caustics maps: the light side holds %.1f MiB besides its caustics maps (position maps, shadow maps, the "
+                      "other effects), over the memory budget of %.1f MiB (CausticsOptions::memory_budget): the maps are kept "
+                      "at their need (%.1f MiB); a smaller baked position map (caustix-bake --map-size) or fewer lights would fit",
+                      static_cast<double>(fixed) / mib, static_cast<double>(o.memory_budget) / mib, static_cast<double>(bytes) / mib);
+      } else {
+        char coarser[96] = "";
+        if (factor > 1.0) std::snprintf(coarser, sizeof coarser, ", texels coarsened %.2fx to %.2f mm", factor, finest * factor * 1e3);
+        std::snprintf(text, sizeof text,
+                      "caustics maps: at %.2f mm texels and at least %.0f texels a side the light side would hold %.1f MiB, over "
+                      "the memory budget of %.1f MiB (CausticsOptions::memory_budget): small receivers' maps at least %u texels "
+                      "a side%s (%.1f MiB)",
+                      finest * 1e3, least, static_cast<double>(fixed + plan_at(0, nullptr)) / mib,
+                      static_cast<double>(o.memory_budget) / mib, texels.least_side, coarser, static_cast<double>(fixed + bytes) / mib);
+      }
+      warnings.emplace_back(text);
+      warned_step = std::max(warned_step, step);
+      warned_over = warned_over || over;
+    }
+    coarsen_step = step;
+  }
+
+  // A map the water's light cannot reach holds no textures.
+  static void release_textures(MapGpu& m) {
+    m.caustics.reset();
+    m.fbo.reset();
+    m.caustics_size = 0;
+    m.slices.reset();
+    m.illumination.reset();
+    m.slice_count = m.slice_size = 0;
+    m.spectral_sum.reset();
+    m.color.reset();
+    m.spectral_size = 0;
+    m.spectral = false;
   }
 
   // The light and the water's IOR, for the passes that refract at the water.
@@ -503,12 +765,18 @@ struct CausticsEngine::Impl {
 
   // Alpha = the receiver's presence (caustics_presence.frag), then the mip
   // chain; m.fbo draws into the map's level 0.
-  void finish_map(MapGpu& m) {
+  void finish_map(MapGpu& m, const CausticsOptions& o) {
     const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
     glViewport(0, 0, static_cast<GLsizei>(m.caustics_size), static_cast<GLsizei>(m.caustics_size));
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
     presence.use();
+    const auto [scale, samples] = texel_sampling(m);
+    presence.set("u_map_scale", glm::vec2(scale));
+    presence.set("u_samples", samples);
+    // The level-map draws give a texel its surface samples' irradiance;
+    // splats and the volumetric slices the light over the whole texel.
+    presence.set("u_fraction", o.method == CausticsMethod::kSplat || o.method == CausticsMethod::kVolumetric ? 1 : 0);
     glBindTextureUnit(0, m.position_map.get());
     glBindVertexArray(empty_vao.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -522,7 +790,7 @@ struct CausticsEngine::Impl {
   void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
     plan_planes(m, o);
-    ensure_caustics_target(m, o.map_size);
+    ensure_caustics_target(m, m.planned_side);
     if (o.method == CausticsMethod::kSplat) {
       draw_splat(m, o, light, ior);
       return;
@@ -544,7 +812,7 @@ struct CausticsEngine::Impl {
     // read-back. Later frames size it from counts read asynchronously
     // (size_list), with headroom; one that still overflows draws what fits
     // and says so (CausticsStats::overflowed).
-    const ListKey list_key{pairs, o.cull, m.plan->smart, o.planes.value_or(0), o.epsilon.value_or(0.0f), o.map_size};
+    const ListKey list_key{pairs, o.cull, m.plan->smart, o.planes.value_or(0), o.epsilon.value_or(0.0f), m.caustics_size};
     const bool measure = m.measured != list_key;
     // Before the first measurement: a small list the warm-up re-sizes.
     if (m.capacity == 0) m.capacity = kMinCapacity;
@@ -625,8 +893,10 @@ struct CausticsEngine::Impl {
       glBindVertexArray(empty_vao.get());
       glDrawArraysIndirect(GL_TRIANGLES, nullptr);
       if (several_windows) {
+        // Its command (caustics_fixup.comp's words 11..14) has the first
+        // draw's count only where the windows pass found such texels.
         draw_program.set("u_several_windows", 1);
-        glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+        glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t{kSecondDrawOffset}));
       }
     };
 
@@ -639,8 +909,7 @@ struct CausticsEngine::Impl {
       const float no_window = 0.0f;
       glDepthMask(GL_TRUE);
       glClearNamedFramebufferfv(m.fbo.get(), GL_DEPTH, 0, &no_window);
-      const float scale = static_cast<float>(m.lm->map_size) / static_cast<float>(m.caustics_size);
-      const int samples = static_cast<int>(std::clamp(std::ceil(scale), 1.0f, 4.0f));
+      const auto [scale, samples] = texel_sampling(m);
       glBindTextureUnit(0, m.position_map.get());
       {
         // 3a. Each texel's window into depth, so that the draw's depth test
@@ -653,8 +922,10 @@ struct CausticsEngine::Impl {
         windows.use();
         windows.set("u_map_scale", glm::vec2(scale));
         windows.set("u_samples", samples);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
         glBindVertexArray(empty_vao.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
@@ -724,6 +995,17 @@ struct CausticsEngine::Impl {
 
 CausticsEngine::~CausticsEngine() = default;
 
+Status CausticsEngine::check(const CausticsOptions& o) {
+  if (o.map_size < 1 || o.map_size > kMaxRuntimeMapSize) {
+    return make_error(ErrorCode::kUsage, "caustics options: map_size must be 1.." + std::to_string(kMaxRuntimeMapSize) + ", got " +
+                                             std::to_string(o.map_size));
+  }
+  if (!(std::isfinite(o.texel_size) && o.texel_size >= 0.0f)) {
+    return make_error(ErrorCode::kUsage, "caustics options: texel_size must be 0 (from map_size) or a finite length in metres");
+  }
+  return Status::success();
+}
+
 Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<LevelMap>& maps, const WaterSurface& water,
                                                                std::function<void(std::uint32_t)> draw_object,
                                                                std::function<glm::mat4(std::uint32_t)> model_of) {
@@ -760,6 +1042,10 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl},
        {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl}}));
   s.empty_vao = gl::make_vertex_array();
+  s.black = gl::make_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(s.black.get(), 1, GL_RGBA32F, 1, 1);
+  const float none[4] = {0, 0, 0, 0};
+  glClearTexImage(s.black.get(), 0, GL_RGBA, GL_FLOAT, none);
 
   s.refracted = gl::make_buffer();
   glNamedBufferStorage(s.refracted.get(), GLsizeiptr{16} * water.vertex_count(), nullptr, 0);
@@ -785,7 +1071,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     gl::set_sampling(m.position_map.get(), GL_NEAREST);
     s.build_depth_tiles(m);
     m.command = gl::make_buffer();
-    glNamedBufferStorage(m.command.get(), 44, nullptr, 0);
+    glNamedBufferStorage(m.command.get(), kCommandBytes, nullptr, 0);
     // The baked profile, for the GPU's planning after a re-derivation.
     m.histogram = gl::make_buffer();
     glNamedBufferStorage(m.histogram.get(), GLsizeiptr{4} * static_cast<GLsizeiptr>(std::max<std::size_t>(lm.histogram.size(), 1)),
@@ -830,6 +1116,7 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
     const Vec3d origin{model[3][0], model[3][1], model[3][2]};
     std::string why;
     const auto dir = light_direction(desc, water, origin, min_y, max_y, &why);
+    m.unlit = !dir;
     if (!dir) {
       // The light no longer reaches it through the water: an empty map.
       glClearTexImage(m.position_map.get(), 0, GL_RED, GL_FLOAT, &kEmptyV);
@@ -844,11 +1131,17 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
     const auto size = static_cast<GLsizei>(lm.map_size);
     if (!m.position_fbo.get()) {
       m.position_fbo = gl::make_framebuffer();
-      m.position_depth = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(m.position_depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
       glNamedFramebufferTexture(m.position_fbo.get(), GL_COLOR_ATTACHMENT0, m.position_map.get(), 0);
-      glNamedFramebufferTexture(m.position_fbo.get(), GL_DEPTH_ATTACHMENT, m.position_depth.get(), 0);
     }
+    // One depth buffer for every map's re-derivation, as large as the
+    // largest position map (a map's own made every moving light's maps
+    // hold one more position map's bytes each).
+    if (s.position_depth_size < lm.map_size || !s.position_depth.get()) {
+      s.position_depth = gl::make_texture(GL_TEXTURE_2D);
+      glTextureStorage2D(s.position_depth.get(), 1, GL_DEPTH_COMPONENT32F, size, size);
+      s.position_depth_size = lm.map_size;
+    }
+    glNamedFramebufferTexture(m.position_fbo.get(), GL_DEPTH_ATTACHMENT, s.position_depth.get(), 0);
     std::optional<gl::TimedPass> timed_position;
     timed_position.emplace("level maps: position maps", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.position_fbo.get());
@@ -905,6 +1198,10 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   for (MapGpu& m : s.maps) {
     if (m.lm->light == light && m.rederive) s.rederive_map(m, lights, scene_water, world);
   }
+  s.plan_texels(o, lights);
+  for (MapGpu& m : s.maps) {
+    if (m.lm->light == light && m.planned_side == 0) Impl::release_textures(m);
+  }
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
   // disperses): refract at every water vertex, then each
@@ -939,7 +1236,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     }
     for (std::size_t i = 0; i < s.maps.size(); ++i) {
       MapGpu& m = s.maps[i];
-      if (m.lm->light != light) continue;
+      if (m.lm->light != light || m.planned_side == 0) continue;
       s.draw_map(m, o, desc, ior);
       if (!splat && k == 0) s.read_counters_later(i);  // one wavelength's; splatting fills no culling counters
       if (spectral) s.accumulate_wavelength(m, samples[k], k == 0, k + 1 == samples.size());
@@ -949,9 +1246,11 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   s.stats = counted;
   for (MapGpu& m : s.maps) {
     if (m.lm->light != light) continue;
-    m.spectral = spectral;
-    s.finish_map(m);
-    m.gpu_bytes = s.bytes_of(m);
+    if (m.planned_side != 0) {
+      m.spectral = spectral;
+      s.finish_map(m, o);
+    }
+    m.gpu_bytes = Impl::bytes_of(m);
   }
   s.stats.wavelengths = static_cast<std::uint32_t>(samples.size());
   return gl::check_gl("caustics pass");
@@ -959,15 +1258,16 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
 
 std::optional<CausticsEngine::Binding> CausticsEngine::binding(std::uint32_t object, std::uint32_t light) const {
   for (const MapGpu& m : impl_->maps) {
-    if (m.lm->object == object && m.lm->light == light && m.caustics.get()) {
-      return Binding{m.lm, m.caustics.get(), m.spectral ? m.color.get() : 0u, m.position_map.get(), m.self_tolerance};
-    }
+    if (m.lm->object != object || m.lm->light != light) continue;
+    if (m.caustics.get()) return Binding{m.lm, m.caustics.get(), m.spectral ? m.color.get() : 0u, m.position_map.get(), m.self_tolerance};
+    if (m.planned) return Binding{m.lm, impl_->black.get(), 0u, m.position_map.get(), m.self_tolerance};
   }
   return std::nullopt;
 }
 
-void CausticsEngine::begin_frame(std::uint64_t frame) {
+void CausticsEngine::begin_frame(std::uint64_t frame, std::uint64_t other_bytes) {
   Impl& s = *impl_;
+  s.other_bytes = other_bytes;
   s.poll();
   s.frame = frame;
   s.counted_this_frame = false;
@@ -991,6 +1291,15 @@ CausticsStats CausticsEngine::stats(bool wait) {
   out.volumes_drawn = s.gpu_counts.volumes_drawn;
   out.planes_drawn = s.gpu_counts.planes_drawn;
   out.overflowed = s.gpu_counts.overflowed;
+  out.texels = s.texels;
+  out.texels.maps = 0;
+  out.texels.map_bytes = 0;
+  for (const MapGpu& m : s.maps) {
+    out.texels.maps += m.caustics.get() ? 1u : 0u;
+    out.texels.map_bytes += Impl::texture_bytes(m);
+  }
+  out.warnings = std::move(s.warnings);
+  s.warnings.clear();
   return out;
 }
 
@@ -1002,12 +1311,7 @@ std::uint64_t CausticsEngine::position_maps_made(std::uint32_t light) const {
 
 std::uint64_t CausticsEngine::gpu_bytes() const {
   const Impl& s = *impl_;
-  // Refracted rays and fluxes, the read-back ring, the splats' photons
-  // (one set for every map), the windows' depth, and the maps.
-  std::uint64_t bytes = std::uint64_t{16} * s.water->vertex_count() + std::uint64_t{8} * s.water->triangle_count() +
-                        s.readback.gpu_bytes() + std::uint64_t{32} * s.photon_size * s.photon_size +
-                        4 * static_cast<std::uint64_t>(s.plan_scratch_words) + s.allocated * (kListBytes + kPrimitiveBytes) +
-                        std::uint64_t{4} * s.window_depth_size * s.window_depth_size;
+  std::uint64_t bytes = s.shared_bytes();
   for (const MapGpu& m : s.maps) bytes += m.gpu_bytes;
   return bytes;
 }

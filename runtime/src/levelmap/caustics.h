@@ -30,6 +30,9 @@ class CausticsEngine {
                                                         std::function<void(std::uint32_t)> draw_object,
                                                         std::function<glm::mat4(std::uint32_t)> model_of);
   ~CausticsEngine();
+  // The options it reads that can be wrong: map_size, texel_size (a
+  // usage error names the field).
+  static Status check(const CausticsOptions& options);
 
   // Marks the maps of `light` (or of all lights) whose receiver is
   // `object` (or any) for re-derivation: their next update_light()
@@ -51,7 +54,10 @@ class CausticsEngine {
 
   struct Binding {
     const LevelMap* map;
-    GLuint caustics;      // RGBA32F: irradiance on planes perpendicular to V, its direction, presence
+    // RGBA32F: irradiance on planes perpendicular to V, its direction,
+    // presence; a 1 x 1 black texture where the water's light cannot
+    // reach the receiver now (it has no map then).
+    GLuint caustics;
     GLuint color;         // RGBA32F: irradiance per RGB channel when the water disperses (else 0)
     GLuint position_map;  // R32F, frame V of the first surface
     float self_tolerance;
@@ -62,7 +68,10 @@ class CausticsEngine {
   // A frame's update_light() calls come between these two: begin_frame
   // polls the read-backs of earlier frames (never waiting) and resets the
   // frame's counts; end_frame sends this frame's GPU counters back.
-  void begin_frame(std::uint64_t frame);
+  // `other_bytes`: the light side's memory held by the other effects
+  // (GpuMemory::light_side() less the level maps), which the budget's
+  // plan of texels leaves room for.
+  void begin_frame(std::uint64_t frame, std::uint64_t other_bytes);
   void end_frame();
   // The frame's counts; the GPU's (volumes and planes drawn, overflow) are
   // of the latest frame whose read-back has arrived (counters_frame), or of

@@ -13,9 +13,11 @@ namespace caustix::runtime {
 class CausticsEffect final : public LightEffect {
  public:
   explicit CausticsEffect(CausticsEngine& caustics) : caustics_(caustics) {}
+  Status check(const CausticsOptions& o, EngineServices&) override { return CausticsEngine::check(o); }
   bool active(const CausticsOptions&) const override { return true; }
   Status begin_frame(const FrameStart& start) override {
-    caustics_.begin_frame(start.frame);
+    const GpuMemory m = start.engine.memory();
+    caustics_.begin_frame(start.frame, m.light_side() - m.level_maps);
     return Status::success();
   }
   Status update_light(const LightUpdate& u) override {

@@ -142,11 +142,38 @@ struct ShadowOptions {
   bool operator==(const ShadowOptions&) const = default;
 };
 
+// The smallest map the budget coarsens a receiver's to (a map_size below
+// it is kept as asked).
+inline constexpr std::uint32_t kMinCausticsMapSize = 16;
+
 struct CausticsOptions {
   CausticsMethod method = CausticsMethod::kLevelMap;
   std::optional<std::uint32_t> planes;  // re-slice with n pieces (uniform) / eps = h/(2n) (smart)
   std::optional<float> epsilon;         // re-slice smart planes with this eps (metres)
-  std::uint32_t map_size = 512;         // caustics map S x S
+  // Texels by need (docs/caustics.md, "Texels by need and the memory
+  // budget"): a light's caustics maps share one texel size in metres, so
+  // that a small receiver gets few texels and a large one many, each map
+  // a square over its receiver's frame. The texel is texel_size when set
+  // (> 0; maps then up to kMaxRuntimeMapSize a side), else the light's
+  // largest lit extent (the part of a receiver's frame the water's light
+  // can reach) over map_size: the receiver with the most water above it
+  // gets map_size texels a side, as with one size for all, and no map
+  // gets more. A receiver the water's light cannot reach gets no map.
+  std::uint32_t map_size = 512;
+  float texel_size = 0.0f;              // metres; 0: from map_size as above
+  // GPU memory the light side may hold (every effect's textures and
+  // buffers but the scene's meshes, the view side and bind_all()'s
+  // table; GpuMemory::light_side()): where the maps as above would not
+  // fit, small receivers first give up the texels they hold beyond their
+  // need (at least half of map_size a side), then every texel coarsens by
+  // steps of 2^(1/4) until they fit, each receiver keeping a map (at
+  // least kMinCausticsMapSize a side). Where the rest of the light side
+  // alone is over it (position maps, shadow maps), coarsening could not
+  // help: the maps stay at their need and stats().texels.over_budget says
+  // so. stats().texels says what was chosen; stats().warnings says it
+  // once. 0: no budget. The bake preset's: 64 MiB at fast, 128 MiB at
+  // balanced (and without a preset), 256 MiB at accurate.
+  std::uint64_t memory_budget = std::uint64_t{128} << 20;
   // Largest magnification of a beam's cross-section (A_w cos / A_d in
   // eq. 4-18): keeps folds where refracted rays cross finite.
   float max_magnification = 1.0e4f;

@@ -87,9 +87,28 @@ struct GpuMemory {
   std::uint64_t views = 0;         // the view side: water textures and glow, copies of the caller's scene
   std::uint64_t other = 0;         // light blocks, read-back rings
   std::uint64_t receiver_table = 0;  // Engine::bind_all()'s table and texture arrays (0 until its first call)
+  // What CausticsOptions::memory_budget holds: all but the meshes, the
+  // view side and the table.
+  std::uint64_t light_side() const { return shadow_maps + water + level_maps + glass + caustic_maps + media + other; }
   std::uint64_t total() const {
     return meshes + shadow_maps + water + level_maps + glass + caustic_maps + media + views + other + receiver_table;
   }
+};
+
+// The caustics maps' texels by need and the memory budget
+// (CausticsOptions::texel_size, memory_budget; docs/caustics.md).
+struct CausticsTexels {
+  float texel = 0.0f;              // metres: the finest texel a light's maps use now (0: no maps)
+  float coarsened = 1.0f;          // the budget's factor on every light's texel (1: none)
+  // The least side a map keeps (half of map_size), as the budget lowered
+  // it towards the receivers' own need (0: no longer a floor).
+  std::uint32_t least_side = 0;
+  std::uint32_t maps = 0;          // caustics maps held
+  std::uint32_t unreachable = 0;   // (receiver, light) maps the water's light cannot reach now: no texels
+  std::uint64_t map_bytes = 0;     // the caustics maps' textures (and their mips, colour, slices)
+  std::uint64_t budget = 0;        // memory_budget (0: none)
+  std::uint64_t light_side = 0;    // the light side's memory as planned, with room for the pair lists to grow
+  bool over_budget = false;        // the light side is over the budget without its caustics maps: they stay at their need
 };
 
 // What the last frame's caustics pass did, per level map (for benchmarks).
@@ -122,6 +141,10 @@ struct CausticsStats {
   FrameWork work;
   // GPU memory by effect; gpu_bytes is their sum.
   GpuMemory memory;
+  CausticsTexels texels;
+  // What the engine warns of, each once, since the previous stats() call
+  // (a budget that coarsens the texels, with the figures).
+  std::vector<std::string> warnings;
 };
 
 // What the last update()'s caustic maps did, summed over lights.

@@ -1,0 +1,151 @@
+// Texels by need under a memory budget (CausticsOptions::texel_size,
+// memory_budget; docs/caustics.md, "Texels by need and the memory
+// budget"), on the default pool (floor, walls, a 1 m ball and a block
+// under 4 x 4 m of water): a small receiver gets fewer texels than the
+// floor, a budget coarsens every map until the light side fits and says
+// so once, the light on each receiver is kept through the coarsening,
+// and a receiver the water's light cannot reach holds no map.
+
+#include <gtest/gtest.h>
+
+#include <epoxy/gl.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "bake_fixture.h"
+#include "caustix/sample/renderer.h"
+#include "gl_fixture.h"
+#include "scene_fixture.h"
+
+namespace caustix {
+namespace {
+
+using sample::IrradianceRequest;
+using sample::Renderer;
+
+class Texels : public test::GlTest {};
+
+constexpr std::uint32_t kFloor = 0, kBall = 2;
+
+// The side of (object, light 0)'s caustics map as the last update left it.
+int map_side(Renderer& r, std::uint32_t object) {
+  const auto l = r.engine().lighting(object, 0);
+  EXPECT_TRUE(l.ok());
+  if (!l.ok()) return 0;
+  GLint w = 0;
+  glGetTextureLevelParameteriv(l->caustics, 0, GL_TEXTURE_WIDTH, &w);
+  return w;
+}
+
+// E/E0 integrated over the receiver's region seen from above, m^2: the
+// power it receives (in E0 m^2).
+double power(Renderer& r, const std::string& receiver, float x0, float z0, float x1, float z1,
+             const runtime::CausticsOptions& options) {
+  IrradianceRequest q;
+  q.receiver = receiver;
+  q.x0 = x0;
+  q.z0 = z0;
+  q.x1 = x1;
+  q.z1 = z1;
+  q.width = q.height = 64;
+  q.time = 1.0f;
+  q.caustics = options;
+  q.pixel_samples = 2;
+  const auto img = r.render_irradiance(q);
+  EXPECT_TRUE(img.ok()) << img.error().message;
+  if (!img.ok()) return 0;
+  double sum = 0;
+  for (std::size_t i = 0; i < img->rgb.size(); i += 3) sum += img->rgb[i + 1];
+  return sum * (x1 - x0) * (z1 - z0) / (q.width * q.height);
+}
+
+// Cost: about 12 s on llvmpipe (one bake, six irradiance images of the
+// default pool at 512^2 maps).
+TEST_F(Texels, MapsFollowTheReceiversAndTheBudgetKeepingTheLight) {
+  auto r = test::bake_and_create(test::write_scene(test::canonical_scene("default"), "texels"));
+  ASSERT_TRUE(r);
+  runtime::CausticsOptions o;  // map_size 512, 128 MiB
+  o.memory_budget = 0;
+  const double floor0 = power(*r, "floor", -2, -2, 2, 2, o);
+  const double ball0 = power(*r, "ball", -1.1f, -0.2f, -0.1f, 0.8f, o);
+  const runtime::CausticsStats free = r->caustics_stats();
+  // The floor has the most water above it: map_size. The 1 m ball's frame
+  // at the floor's texel would need about 128 texels; it keeps half the
+  // floor's side (kLeastShare).
+  EXPECT_EQ(map_side(*r, kFloor), 512);
+  EXPECT_EQ(map_side(*r, kBall), 256);
+  EXPECT_EQ(free.texels.coarsened, 1.0f);
+  EXPECT_TRUE(free.warnings.empty());
+  EXPECT_GT(floor0, 0.5) << "the floor is lit";
+
+  // A budget a third of the maps' bytes below what they hold: the texels
+  // coarsen until the light side fits, and the stats say so once.
+  o.memory_budget = free.memory.light_side() - free.texels.map_bytes / 3;
+  const double floor1 = power(*r, "floor", -2, -2, 2, 2, o);
+  const double ball1 = power(*r, "ball", -1.1f, -0.2f, -0.1f, 0.8f, o);
+  const runtime::CausticsStats tight = r->caustics_stats();
+  EXPECT_GT(tight.texels.coarsened, 1.0f);
+  EXPECT_LE(tight.texels.light_side, o.memory_budget);
+  EXPECT_LE(tight.memory.light_side(), o.memory_budget) << "what the engine holds, not only what it planned";
+  EXPECT_FALSE(tight.texels.over_budget);
+  EXPECT_LT(map_side(*r, kFloor), 512);
+  ASSERT_EQ(tight.warnings.size(), 1u);
+  EXPECT_NE(tight.warnings[0].find("memory budget"), std::string::npos) << tight.warnings[0];
+  EXPECT_TRUE(r->caustics_stats().warnings.empty()) << "warned once";
+  // The maps' texels hold the light that lands on them: coarser texels
+  // move none of it. The floor is flat (each texel's flux is exact; only
+  // the bilinear reading of the folds near its edges moves); the ball's
+  // outline seen from the light is filtered over wider texels.
+  std::printf("budget %.1f MiB: texels %.2fx coarser, floor %d texels, ball %d; power floor %+.3f %%, ball %+.3f %%\n",
+              static_cast<double>(o.memory_budget) / 1048576.0, tight.texels.coarsened, map_side(*r, kFloor), map_side(*r, kBall),
+              100 * (floor1 / floor0 - 1), 100 * (ball1 / ball0 - 1));
+  EXPECT_NEAR(floor1 / floor0, 1.0, 0.005);
+  EXPECT_NEAR(ball1 / ball0, 1.0, 0.02);
+
+  // A budget below what the light side holds besides its caustics maps:
+  // no coarsening could meet it, so every receiver keeps a map at its
+  // need (the ball's frame at the floor's texel: 128), and it says so.
+  o.memory_budget = 1;
+  power(*r, "floor", -2, -2, 2, 2, o);
+  const runtime::CausticsStats over = r->caustics_stats();
+  EXPECT_TRUE(over.texels.over_budget);
+  EXPECT_EQ(over.texels.maps, 4u);
+  EXPECT_EQ(map_side(*r, kFloor), 512);
+  EXPECT_EQ(map_side(*r, kBall), 128);
+  ASSERT_EQ(over.warnings.size(), 1u);
+  EXPECT_NE(over.warnings[0].find("besides its caustics maps"), std::string::npos) << over.warnings[0];
+
+  // The ball moved 20 m away, out from under the water: no map, no light,
+  // and its texels given back.
+  o.memory_budget = 0;
+  const Status moved = r->set_object_transform(kBall, Mat4f{0.5f, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0, 0.5f, 0, 20, 0.5f, 0, 1});
+  ASSERT_TRUE(moved.ok()) << moved.error().message;
+  EXPECT_EQ(power(*r, "ball", 19.5f, -0.5f, 20.5f, 0.5f, o), 0.0);
+  const runtime::CausticsStats gone = r->caustics_stats();
+  EXPECT_EQ(gone.texels.unreachable, 1u);
+  EXPECT_EQ(gone.texels.maps, 3u);
+  EXPECT_EQ(map_side(*r, kBall), 1) << "the black 1 x 1 texture";
+  EXPECT_LT(gone.texels.map_bytes, free.texels.map_bytes);
+}
+
+TEST_F(Texels, BadTexelOptionsAreRefused) {
+  auto r = test::bake_and_create(test::write_scene(test::canonical_scene("flat_pool"), "texels_bad"));
+  ASSERT_TRUE(r);
+  runtime::FrameUpdate f;
+  f.caustics.texel_size = -0.01f;
+  EXPECT_EQ(r->engine().update(f).error().code, ErrorCode::kUsage);
+  f.caustics.texel_size = std::nanf("");
+  EXPECT_EQ(r->engine().update(f).error().code, ErrorCode::kUsage);
+  f.caustics.texel_size = 0.0f;
+  f.caustics.map_size = 0;
+  EXPECT_EQ(r->engine().update(f).error().code, ErrorCode::kUsage);
+  f.caustics.map_size = 512;
+  f.caustics.texel_size = 0.01f;  // 1 cm texels over flat_pool's floor
+  ASSERT_TRUE(r->engine().update(f).ok());
+  EXPECT_NEAR(r->caustics_stats().texels.texel, 0.01f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace caustix
