@@ -42,12 +42,14 @@ constexpr std::uint64_t kMinCapacity = 1024;
 constexpr int kMaxCoarsenSteps = 52;
 
 // With the texel from map_size, a map has at least this share of map_size
-// a side before the budget coarsens it: a small receiver's outline,
+// a side unless the budget needs its texels: a small receiver's outline,
 // terminator and folds stay as sharp in a view that comes close as with
-// map_size (a 1 m sphere under the sine wave of sphere_waves, against the
-// traced reference at 12.5 mm pixels: fold pixels' error 5.6 % at 512^2,
-// 8.2 % at 128^2, the floor's texel; docs/caustics.md).
-constexpr double kLeastShare = 0.5;
+// map_size. Against the traced reference (docs/caustics.md, "Texels by
+// need and the memory budget"): a 1 m sphere under sphere_waves' sine wave
+// at 9.4 mm pixels, fold pixels 5.6 % at 512^2, 5.7 % at 256^2, 8.2 % at
+// 128^2 (its need at the floor's texel); default's block at 256^2, 5.7 ->
+// 7.5 %. So every map keeps map_size until the budget asks.
+constexpr double kLeastShare = 1.0;
 
 // The sides a caustics map may take: 16 * 2^(k/2) rounded up to a
 // multiple of 8 (16, 24, 32, 48, 64, 96, 128, 184, 256, 368, 512, ...), so

@@ -151,21 +151,22 @@ struct CausticsOptions {
   std::optional<std::uint32_t> planes;  // re-slice with n pieces (uniform) / eps = h/(2n) (smart)
   std::optional<float> epsilon;         // re-slice smart planes with this eps (metres)
   // Texels by need (docs/caustics.md, "Texels by need and the memory
-  // budget"): a light's caustics maps share one texel size in metres, so
-  // that a small receiver gets few texels and a large one many, each map
-  // a square over its receiver's frame. The texel is texel_size when set
-  // (> 0; maps then up to kMaxRuntimeMapSize a side), else the light's
-  // largest lit extent (the part of a receiver's frame the water's light
-  // can reach) over map_size: the receiver with the most water above it
-  // gets map_size texels a side, as with one size for all, and no map
-  // gets more. A receiver the water's light cannot reach gets no map.
+  // budget"): a light's caustics maps share one texel size in metres,
+  // each map a square over its receiver's frame. With texel_size set
+  // (> 0) every map takes the side its frame needs at it (up to
+  // kMaxRuntimeMapSize). Else the texel is the light's largest lit extent
+  // (the part of a receiver's frame the water's light can reach) over
+  // map_size, and every map keeps map_size a side unless the budget below
+  // needs texels: then small receivers give theirs up first, down to
+  // what their frame needs at that texel. A receiver the water's light
+  // cannot reach gets no map.
   std::uint32_t map_size = 512;
   float texel_size = 0.0f;              // metres; 0: from map_size as above
   // GPU memory the light side may hold (every effect's textures and
   // buffers but the scene's meshes, the view side and bind_all()'s
   // table; GpuMemory::light_side()): where the maps as above would not
   // fit, small receivers first give up the texels they hold beyond their
-  // need (at least half of map_size a side), then every texel coarsens by
+  // need (their frame at the texel above), then every texel coarsens by
   // steps of 2^(1/4) until they fit, each receiver keeping a map (at
   // least kMinCausticsMapSize a side). Where the rest of the light side
   // alone is over it (position maps, shadow maps), coarsening could not

@@ -100,8 +100,9 @@ struct GpuMemory {
 struct CausticsTexels {
   float texel = 0.0f;              // metres: the finest texel a light's maps use now (0: no maps)
   float coarsened = 1.0f;          // the budget's factor on every light's texel (1: none)
-  // The least side a map keeps (half of map_size), as the budget lowered
-  // it towards the receivers' own need (0: no longer a floor).
+  // The least side a map keeps (map_size with the texel from map_size),
+  // as the budget lowered it towards the receivers' own need (0: no
+  // longer a floor).
   std::uint32_t least_side = 0;
   std::uint32_t maps = 0;          // caustics maps held
   std::uint32_t unreachable = 0;   // (receiver, light) maps the water's light cannot reach now: no texels
