@@ -608,14 +608,15 @@ struct CausticsEngine::Impl {
                       "at their need (%.1f MiB); a smaller baked position map (caustix-bake --map-size) or fewer lights would fit",
                       static_cast<double>(fixed) / mib, static_cast<double>(o.memory_budget) / mib, static_cast<double>(bytes) / mib);
       } else {
+        char sides[64] = "every map at its need";
+        if (texels.least_side > 0) std::snprintf(sides, sizeof sides, "small receivers' maps at least %u texels a side", texels.least_side);
         char coarser[96] = "";
         if (factor > 1.0) std::snprintf(coarser, sizeof coarser, ", texels coarsened %.2fx to %.2f mm", factor, finest * factor * 1e3);
         std::snprintf(text, sizeof text,
                       "caustics maps: at %.2f mm texels and at least %.0f texels a side the light side would hold %.1f MiB, over "
-                      "the memory budget of %.1f MiB (CausticsOptions::memory_budget): small receivers' maps at least %u texels "
-                      "a side%s (%.1f MiB)",
+                      "the memory budget of %.1f MiB (CausticsOptions::memory_budget): %s%s (%.1f MiB)",
                       finest * 1e3, least, static_cast<double>(fixed + plan_at(0, nullptr)) / mib,
-                      static_cast<double>(o.memory_budget) / mib, texels.least_side, coarser, static_cast<double>(fixed + bytes) / mib);
+                      static_cast<double>(o.memory_budget) / mib, sides, coarser, static_cast<double>(fixed + bytes) / mib);
       }
       warnings.emplace_back(text);
       warned_step = std::max(warned_step, step);
