@@ -507,13 +507,12 @@ struct CausticsEngine::Impl {
   // would then hold more than the budget, it steps down by 2^(1/4) at a
   // time: first that least side, towards the maps' own need (small
   // receivers give up the texels they have beyond the floor's density),
-  // then every texel, until the maps fit; where not even the smallest
-  // maps would fit, only the first (CausticsOptions::memory_budget) and
-  // the stats say so. A step
-  // once taken is kept while it fits and the finer one would win back
-  // less than two steps, so that the maps do not change size back and
-  // forth. Warns once per new step. The sides take effect at each map's
-  // next draw.
+  // then every texel, until the maps fit. Where not even the smallest
+  // maps would fit, only the first steps are taken and the stats say so.
+  // A step once taken is kept while it fits and the finer one would win
+  // back less than two steps, so that the maps do not change size back
+  // and forth. Warns once per new step. The sides take effect at each
+  // map's next draw.
   void plan_texels(const CausticsOptions& o, const std::vector<Light>& lights) {
     const bool spectral = water_wavelengths(water->water(), o).size() > 1;
     const bool given = o.texel_size > 0.0f;
