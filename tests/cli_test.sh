@@ -200,9 +200,58 @@ iinfo "$tmp/img.exr" >"$tmp/info" 2>&1; contains "exr is float" "$tmp/info" "flo
 contains "truncation named" "$tmp/err" "truncated"
 [ ! -e "$tmp/t.png" ]; check "no image on failure" 0 $?
 "$render" "$tmp/corrupt.cxb" -o "$tmp/t.png" 2>/dev/null; check "render corrupt" 4 $?
-"$render" "$src/assets/scenes/default.json" -o "$tmp/t.png" 2>/dev/null; check "render a json" 4 $?
 "$render" "$tmp/a.cxb" -o "$tmp/t.png" --size 0x5 2>/dev/null; check "render bad size" 2 $?
 "$render" "$tmp/a.cxb" -o "$tmp/t.unknownext" 2>/dev/null; check "render bad extension" 5 $?
+
+# One step from a scene or glTF file to a picture (docs/tools.md): baked
+# in-process into the cache on the first open -- the bytes caustix-bake
+# writes -- and reused while no file it was baked from changes.
+cache=$tmp/cache
+cp "$src/assets/gltf/glass_ball.gltf" "$tmp/open.gltf"
+"$render" "$tmp/open.gltf" -o "$tmp/o1.png" --size 96x64 --cache "$cache" 2>"$tmp/err"; check "render a .gltf" 0 $?
+contains "a cold cache bakes" "$tmp/err" "baked in"
+"$bake" "$tmp/open.gltf" -o "$tmp/open.cxb" -q; check "bake the .gltf" 0 $?
+cmp -s "$tmp/open.cxb" "$cache"/*.cxb; check "the cache holds caustix-bake's bytes" 0 $?
+"$render" "$tmp/open.gltf" -o "$tmp/o2.png" --size 96x64 --cache "$cache" -v >"$tmp/out" 2>&1; check "render it again" 0 $?
+contains "a warm cache is reused" "$tmp/out" "baked before"
+cmp -s "$tmp/o1.png" "$tmp/o2.png"; check "the same picture from the cache" 0 $?
+sed -i 's/"name": "ball"/"name": "glass ball"/' "$tmp/open.gltf"
+"$render" "$tmp/open.gltf" -o "$tmp/o3.png" --size 96x64 --cache "$cache" 2>"$tmp/err"; check "render the changed .gltf" 0 $?
+contains "a changed file is baked again" "$tmp/err" "baked in"
+"$render" "$tmp/open.gltf" -o "$tmp/o4.png" --size 96x64 --cache "$cache" --bake-preset fast -q; check "another preset" 0 $?
+[ "$(ls "$cache"/*.cxb | wc -l)" = 3 ]; check "an entry per contents and options" 0 $?
+# A file without lights: the default rig, said; --no-default-light: dark.
+python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+d['extensionsUsed'].remove('KHR_lights_punctual'); del d['extensions']
+for n in d['nodes']: n.pop('extensions', None)
+json.dump(d, open(sys.argv[2], 'w'))" "$src/assets/gltf/glass_ball.gltf" "$tmp/unlit.gltf"
+"$render" "$tmp/unlit.gltf" -o "$tmp/rig.exr" --size 96x64 --cache "$cache" 2>"$tmp/err"; check "render a file without lights" 0 $?
+contains "the default rig is said" "$tmp/err" "the file has no lights; lit by the default rig"
+"$render" "$tmp/unlit.gltf" -o "$tmp/dark.exr" --size 96x64 --cache "$cache" --no-default-light 2>"$tmp/err"
+check "--no-default-light" 0 $?
+contains "dark, and said" "$tmp/err" "the scene has no lights; everything will be dark"
+# The sun lights the floor: its mean over the picture is several times the
+# sky's ambient alone (measured: 2.7x).
+python3 -c "
+import subprocess, sys
+def mean(f):
+    out = subprocess.run(['oiiotool', f, '--printstats'], capture_output=True, text=True).stdout
+    avg = [l for l in out.splitlines() if 'Stats Avg' in l][0].split(':')[1].split()
+    return sum(float(v) for v in avg[:3]) / 3
+sys.exit(0 if mean(sys.argv[1]) > 2.0 * mean(sys.argv[2]) else 1)" "$tmp/rig.exr" "$tmp/dark.exr"
+check "the default rig lights the scene" 0 $?
+# Failures: a broken glTF named by pointer, exit 3, no image and no entry;
+# a cache that cannot be made, exit 5.
+sed 's/"mesh": 1,/"mesh": 7,/' "$src/assets/gltf/glass_ball.gltf" >"$tmp/broken.gltf"
+entries=$(ls "$cache" | wc -l)
+"$render" "$tmp/broken.gltf" -o "$tmp/b.png" --cache "$cache" 2>"$tmp/err"; check "render a broken glTF" 3 $?
+contains "the broken glTF's pointer" "$tmp/err" "/nodes/1/mesh: mesh 7 does not exist"
+[ ! -e "$tmp/b.png" ] && [ "$(ls "$cache" | wc -l)" = "$entries" ]; check "no image, no entry" 0 $?
+"$render" "$tmp/open.gltf" -o "$tmp/b.png" --cache /proc/caustix-cache -q 2>"$tmp/err"; check "an unwritable cache" 5 $?
+contains "the cache named" "$tmp/err" "/proc/caustix-cache"
+"$render" "$tmp/open.gltf" -o "$tmp/b.png" --bake-preset slow 2>/dev/null; check "an unknown bake preset" 2 $?
 
 # irradiance images and caustix-compare
 compare=$build/tools/caustix-compare
@@ -258,6 +307,11 @@ if command -v xvfb-run >/dev/null; then
   idiff -fail 0.05 -failpercent 20 "$tmp/ui_corner.png" "$tmp/noui_corner.png" >/dev/null 2>&1
   check "the panel is drawn (its corner differs from --no-ui)" 2 $?
   "$view" "$tmp/a.cxb" --ripple 1,2,3 --frames 1 --screenshot "$tmp/s.png" 2>"$tmp/err"; check "viewer bad --ripple" 2 $?
+  # A glTF file opened straight away, through the bake cache.
+  xvfb-run -a -s "-screen 0 640x480x24" "$view" "$src/assets/gltf/glass_ball.gltf" --cache "$tmp/cache" --size 160x120 \
+    --frames 2 --screenshot "$tmp/gshot.png" >"$tmp/vout" 2>&1
+  check "viewer opens a .gltf" 0 $?
+  contains "the viewer baked it" "$tmp/vout" "baked in"
 else
   failed=$((failed + 1)); echo "FAIL: xvfb-run missing (scripts/setup-deps.sh installs it)"
 fi

@@ -920,14 +920,14 @@ TEST(LightTransport, AnOpenMeshBakesThinWalledNamingEdges) {
 }
 
 // Light transport runs inside the object: a closed mesh that is wound
-// inconsistently, inside out, or has edges of three triangles is refused,
-// saying which, before any tracing (a solid was meant); one with a hole
-// too bounds no solid and bakes thin-walled, saying so.
+// inconsistently or has edges of three triangles is refused, saying which,
+// before any tracing (a solid was meant); one with a hole too bounds no
+// solid and bakes thin-walled, saying so; a solid wound inside out is
+// turned outside out, saying so, into exactly the intact solid.
 TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
   using test::CubeFlaw;
   const std::vector<std::pair<CubeFlaw, std::string>> cases{
       {CubeFlaw::kFlippedFace, "3 edge(s) whose two triangles are wound inconsistently"},
-      {CubeFlaw::kInsideOut, "wound inside out"},
       {CubeFlaw::kDuplicateFace, "non-manifold edge(s)"},
       {CubeFlaw::kFin, "2 boundary edge(s) of holes, 1 non-manifold edge(s)"}};
   for (const auto& [flaw, says] : cases) {
@@ -951,15 +951,25 @@ TEST(LightTransport, MiswoundAndNonManifoldSolidsAreRefused) {
     EXPECT_NE(baked.error().message.find(mesh.string() + ": transparent object 'ball'"), std::string::npos) << baked.error().message;
     EXPECT_NE(baked.error().message.find(says), std::string::npos) << baked.error().message;
   }
-  // The intact cube bakes.
+  // The cube inside out bakes turned, the same bytes as the intact cube
+  // (same path, so that only the mesh can differ).
   const auto mesh = std::filesystem::temp_directory_path() / "caustix_cube.obj";
-  std::ofstream(mesh) << test::to_obj(test::unit_cube());
   nlohmann::json j = scene("glass_ball");
   j["objects"][1]["mesh"] = mesh.string();
   bake::BakeOptions opt;
   opt.transport.resolution = 4;
+  std::ofstream(mesh) << test::to_obj(test::unit_cube(CubeFlaw::kInsideOut));
+  auto turned = bake::bake_scene(test::write_scene(j, "glass_cube"), opt);
+  ASSERT_TRUE(turned.ok()) << turned.error().message;
+  std::string said;
+  for (const auto& w : turned->warnings) said += w + "\n";
+  EXPECT_NE(said.find(mesh.string() + ": transparent object 'ball' is wound inside out (signed volume -1.0"), std::string::npos) << said;
+  EXPECT_NE(said.find("baked turned outside out (its triangles reversed)"), std::string::npos) << said;
+  EXPECT_EQ(turned->scene.objects[1].role, Role::kTransparent);
+  std::ofstream(mesh) << test::to_obj(test::unit_cube());
   auto baked = bake::bake_scene(test::write_scene(j, "glass_cube"), opt);
-  EXPECT_TRUE(baked.ok()) << baked.error().message;
+  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  EXPECT_TRUE(baked->cxb == turned->cxb);
 }
 
 // A table above kMaxTransportEntries (1 GiB) is refused before tracing:

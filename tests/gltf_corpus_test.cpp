@@ -395,7 +395,7 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          g.doc["extensionsUsed"] = json::array();
          g.doc["nodes"][1].erase("extensions");
        },
-       {"the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual"}},
+       {"the file has no lights; lit by the default rig, a sun 55 degrees high over the camera's right shoulder"}},
       {"zero_scale_node",
        [](GltfBuilder& g) {
          const SplitCube c(0.2f);
@@ -428,12 +428,30 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          const SeamSphere s(24, 12, 0.3);
          add_root(g, {{"name", "Bulb"}, {"mesh", mesh_of(g, s.positions, s.normals, s.indices, g.material(m))}, {"translation", {0.0, 1.0, 0.0}}});
        },
-       {"ignored KHR_materials_dispersion (a thin-walled material does not disperse"}, true,
+       {"ignored KHR_materials_dispersion (a thin-walled material does not disperse",
+        "transparent object 'Bulb' is a closed solid but thin-walled, so it does not bend or focus light; to make it solid "
+        "glass give its glTF material KHR_materials_volume"},
+       true,
        [](const bake::BakeResult& r) {
          ASSERT_TRUE(named(r.scene, "Bulb"));
          EXPECT_EQ(named(r.scene, "Bulb")->role, Role::kThin);
          EXPECT_EQ(named(r.scene, "Bulb")->material.dispersion, 0.0f);
          EXPECT_TRUE(r.transport.empty());
+       }},
+      {"inside_out_ball",  // a solid exported with reversed winding (outward normals): turned, not refused
+       [](GltfBuilder& g) {
+         use_transmission(g);
+         g.doc["nodes"][0].erase("mesh");
+         SeamSphere s(24, 12, 0.3);
+         for (std::size_t t = 0; t + 2 < s.indices.size(); t += 3) std::swap(s.indices[t + 1], s.indices[t + 2]);
+         add_root(g, {{"name", "Ball"}, {"mesh", mesh_of(g, s.positions, s.normals, s.indices, g.material(kGlass))}, {"translation", {0.0, 1.0, 0.0}}});
+       },
+       {"transparent object 'Ball' is wound inside out (signed volume -", "baked turned outside out (its triangles reversed)"},
+       true,
+       [](const bake::BakeResult& r) {
+         ASSERT_TRUE(named(r.scene, "Ball"));
+         EXPECT_EQ(named(r.scene, "Ball")->role, Role::kTransparent);
+         EXPECT_FALSE(r.transport.empty()) << "a solid has its light-transport table";
        }},
       {"open_volume_shard",  // an open surface marked as a volume: baked thin-walled, naming it, not refused
        [](GltfBuilder& g) {

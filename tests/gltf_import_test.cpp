@@ -189,10 +189,30 @@ TEST_F(Gltf, GlbWithExternalBufferAndHierarchy) {
   auto baked = bake::bake_scene(gltf.string(), {});
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   EXPECT_EQ(baked->inputs, (std::vector<std::string>{gltf.string(), (dir_ / "tree.bin").string()}));
-  EXPECT_NE(std::find_if(baked->warnings.begin(), baked->warnings.end(), [&](const std::string& w) {
-              return w.rfind(gltf.string() + ": the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual", 0) == 0;
-            }),
-            baked->warnings.end());
+  auto said = [](const bake::BakeResult& r, const std::string& start) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.rfind(start, 0) == 0; });
+  };
+  // The file has no lights: the default rig's sun, from over the automatic
+  // camera's right shoulder (the camera looks along -(0.6, 0.7, 1)), said.
+  EXPECT_TRUE(said(*baked, gltf.string() + ": the file has no lights; lit by the default rig"));
+  const SceneDesc& lit = baked->scene;
+  ASSERT_EQ(lit.lights.size(), 1u);
+  EXPECT_EQ(lit.lights[0].type, LightType::kDirectional);
+  EXPECT_FLOAT_EQ(lit.lights[0].irradiance, 1.0f);
+  const Vec3f d = lit.lights[0].direction;
+  EXPECT_NEAR(std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), 1.0, 1e-6);
+  EXPECT_NEAR(std::asin(-d[1]) * 180.0 / 3.14159265358979, 55.0, 1e-4);  // its elevation
+  // Light travels away from the camera's side (-z) and to its left (-x of
+  // a camera at +x +z: the sun is on the right shoulder).
+  EXPECT_LT(d[2], 0.0f);
+  const double right_x = 1.0 / std::sqrt(1.36), right_z = -0.6 / std::sqrt(1.36);  // cross(up, back) normalised
+  EXPECT_LT(d[0] * right_x + d[2] * right_z, -0.1);
+  bake::BakeOptions dark;
+  dark.default_light = false;
+  auto unlit = bake::bake_scene(gltf.string(), dark);
+  ASSERT_TRUE(unlit.ok()) << unlit.error().message;
+  EXPECT_TRUE(unlit->scene.lights.empty());
+  EXPECT_TRUE(said(*unlit, gltf.string() + ": the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual"));
 }
 
 // Duplicated objects as exporters write them: each copy of the

@@ -33,10 +33,15 @@ double seconds_since(Clock::time_point t0) {
 // Light transport runs inside transparent objects (Iwasaki et al. §3): they must
 // bound a solid, wound outward. Returns what is wrong, naming up to five
 // edges (0-based vertex indices and the first vertex's position);
-// `closed` says whether the surface is closed (no boundary edge).
+// `closed` says whether the surface is closed (no boundary edge);
+// `inside_out` that it is a solid wound inside out: closed, manifold,
+// consistently wound, its signed volume negative and not a rounding's
+// worth of its bounding box (a closed sheet encloses no volume), so that
+// reversing every triangle makes it a solid.
 struct SolidIssue {
   std::string what;
   bool closed = false;
+  bool inside_out = false;
 };
 std::optional<SolidIssue> closed_solid_issue(const TriangleMesh& mesh) {
   const EdgeCensus c = census_edges(mesh);
@@ -61,11 +66,37 @@ std::optional<SolidIssue> closed_solid_issue(const TriangleMesh& mesh) {
     return SolidIssue{"is not a closed, consistently wound mesh: it has " + counts + "; " + first + " (vertex indices, 0-based)", c.open.empty()};
   }
   if (!(c.signed_volume > 0)) {
-    return SolidIssue{"is wound inside out or encloses no volume (signed volume " + std::to_string(c.signed_volume) +
-                          " m^3 in object space); its triangles must wind counter-clockwise seen from outside",
-                      true};
+    std::array<double, 3> lo{}, hi{};
+    for (std::size_t k = 0; k < 3; ++k) lo[k] = hi[k] = mesh.positions.empty() ? 0.0 : mesh.positions[0][k];
+    for (const auto& p : mesh.positions) {
+      for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min<double>(lo[k], p[k]), hi[k] = std::max<double>(hi[k], p[k]);
+    }
+    const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    const bool inside_out = c.signed_volume < -1e-6 * diagonal * diagonal * diagonal;
+    return SolidIssue{std::string(inside_out ? "is wound inside out" : "encloses no volume") + " (signed volume " +
+                          std::to_string(c.signed_volume) + " m^3 in object space); its triangles must wind counter-clockwise seen from outside",
+                      true, inside_out};
   }
   return std::nullopt;
+}
+
+// Reverses every triangle's winding. Normals from the file are kept when
+// they already point out of the turned solid (an exporter that wrote
+// outward normals over reversed triangles) and negated when they point in
+// (a modeller's "flip normals" turns both); says which.
+std::string turn_outside_out(TriangleMesh& mesh) {
+  double agree = 0;
+  for (auto& t : mesh.triangles) {
+    std::swap(t[1], t[2]);
+    if (mesh.normals.size() != mesh.positions.size()) continue;
+    const auto &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const std::array<double, 3> n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    for (std::uint32_t i : t) agree += n[0] * mesh.normals[i][0] + n[1] * mesh.normals[i][1] + n[2] * mesh.normals[i][2];
+  }
+  if (agree >= 0) return "its triangles reversed";
+  for (auto& n : mesh.normals) n = {-n[0], -n[1], -n[2]};
+  return "its triangles and normals reversed";
 }
 
 // The runtime draws in float world coordinates, spaced |x| 2^-23 apart near
@@ -93,14 +124,32 @@ std::optional<std::string> float_precision_warning(const Object& o, const Triang
 
 }  // namespace
 
-Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uint32_t mesh_index, const TriangleMesh& mesh,
-                                                      const std::string& path) {
+Result<std::vector<std::string>> prepare_glass_mesh(SceneDesc& scene, std::uint32_t mesh_index, TriangleMesh& mesh,
+                                                    const std::string& path) {
   std::vector<std::string> warnings;
   const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),
                                   [&](const Object& o) { return o.mesh_index == mesh_index && is_transparent(o.role); });
-  if (glass == scene.objects.end()) return warnings;
+  const bool thin = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                [&](const Object& o) { return o.mesh_index == mesh_index && is_thin(o.role); });
+  if (glass == scene.objects.end() && !thin) return warnings;
   const auto issue = closed_solid_issue(mesh);
-  if (!issue) return warnings;
+  if (!issue) {
+    // A closed solid drawn thin-walled: in glTF, transmission without
+    // KHR_materials_volume, which the author may not have meant.
+    for (const Object& o : scene.objects) {
+      if (o.mesh_index != mesh_index || o.role != Role::kThin) continue;
+      warnings.push_back(path + ": transparent object '" + o.name + "' is a closed solid but thin-walled, so it does not bend or "
+                         "focus light; to make it solid glass give its glTF material KHR_materials_volume with a "
+                         "thicknessFactor > 0 (Blender: the material's Thickness), or in scene.json drop \"thin\"");
+    }
+    return warnings;
+  }
+  if (glass == scene.objects.end()) return warnings;  // thin-walled glass needs no solid
+  if (issue->inside_out) {
+    const std::string how = turn_outside_out(mesh);
+    warnings.push_back(path + ": transparent object '" + glass->name + "' " + issue->what + "; baked turned outside out (" + how + ")");
+    return warnings;
+  }
   if (issue->closed) return make_error(ErrorCode::kInput, path + ": transparent object '" + glass->name + "' " + issue->what);
   for (Object& o : scene.objects) {
     if (o.mesh_index != mesh_index || !is_transparent(o.role)) continue;
@@ -261,7 +310,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
   BakeResult out;
   Voice voice(options, out.warnings);
   if (!voice.progress("scene", scene_path, 0.0)) return voice.error();
-  auto doc = load_scene(scene_path);
+  auto doc = load_scene(scene_path, options.default_light);
   if (!doc) return doc.error();
   out.inputs = doc->inputs;
   for (const std::string& w : doc->warnings) voice.warn(w);
@@ -328,7 +377,7 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     // One that bounds none (a pane, a shade: an open surface) is baked
     // thin-walled, as glTF would draw it, and said so.
     std::optional<GlassRefineReport> refined;
-    auto thin = make_open_glass_thin(scene, static_cast<std::uint32_t>(i), mesh, path);
+    auto thin = prepare_glass_mesh(scene, static_cast<std::uint32_t>(i), mesh, path);
     if (!thin) return thin.error();
     for (std::string& w : *thin) voice.warn(std::move(w));
     const auto glass = std::find_if(scene.objects.begin(), scene.objects.end(),

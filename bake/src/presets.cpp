@@ -81,4 +81,28 @@ const Preset* find_preset(std::string_view name) {
   return nullptr;
 }
 
+void apply_preset(const Preset& preset, BakeOptions& opt, const std::function<bool(std::string_view flag)>& given) {
+  const BakeOptions& p = preset.options;
+  auto unless_given = [&](std::string_view flag, auto& value, const auto& preset_value) {
+    if (!given || !given(flag)) value = preset_value;
+  };
+  auto& lm = opt.level_maps;
+  unless_given("--position-bits", opt.draco.position_bits, p.draco.position_bits);
+  unless_given("--normal-bits", opt.draco.normal_bits, p.draco.normal_bits);
+  unless_given("--draco-speed", opt.draco.speed, p.draco.speed);
+  unless_given("--planes", lm.slicing.planes, p.level_maps.slicing.planes);
+  unless_given("--levels", lm.slicing.levels, p.level_maps.slicing.levels);
+  unless_given("--map-size", lm.map_size, p.level_maps.map_size);
+  unless_given("--water-grid-scale", opt.water_grid_scale, p.water_grid_scale);
+  unless_given("--ltt-resolution", opt.transport.resolution, p.transport.resolution);
+  unless_given("--ltt-bounces", opt.transport.max_bounces, p.transport.max_bounces);
+  unless_given("--ltt-bits", opt.transport.bits, p.transport.bits);
+  unless_given("--ltt-wavelengths", opt.transport.wavelengths, p.transport.wavelengths);
+  unless_given("--glass-crease", opt.glass_refine.crease_deg, p.glass_refine.crease_deg);
+  unless_given("--glass-edge", opt.glass_refine.max_edge, p.glass_refine.max_edge);
+  unless_given("--glass-turn", opt.glass_refine.max_turn_deg, p.glass_refine.max_turn_deg);
+  unless_given("--epsilon", lm.slicing.epsilon, p.level_maps.slicing.epsilon);
+  opt.render = p.render;
+}
+
 }  // namespace caustix::bake

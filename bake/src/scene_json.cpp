@@ -643,7 +643,29 @@ Result<SceneDocument> parse_scene_json(const std::string& text, const std::strin
   return out;
 }
 
-Result<SceneDocument> load_scene(const std::string& path) {
+Light default_sun(const std::optional<Camera>& camera) {
+  // The automatic camera's direction back towards the eye (Renderer::default_camera).
+  double bx = 0.6, bz = 1.0;
+  if (camera) {
+    bx = static_cast<double>(camera->position[0]) - camera->target[0];
+    bz = static_cast<double>(camera->position[2]) - camera->target[2];
+  }
+  double h = std::hypot(bx, bz);
+  if (!(h > 1e-9)) bx = 0, bz = 1, h = 1;  // looking straight down
+  const double turn = 40.0 * 3.14159265358979323846 / 180.0, elevation = 55.0 * 3.14159265358979323846 / 180.0;
+  const double cx = bx / h, cz = bz / h;
+  // Turned to the view's right (a clockwise turn seen from above).
+  const double tx = cx * std::cos(turn) + cz * std::sin(turn), tz = -cx * std::sin(turn) + cz * std::cos(turn);
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.name = "default sun";
+  sun.direction = {static_cast<float>(-tx * std::cos(elevation)), static_cast<float>(-std::sin(elevation)),
+                   static_cast<float>(-tz * std::cos(elevation))};
+  sun.irradiance = 1.0f;
+  return sun;
+}
+
+Result<SceneDocument> load_scene(const std::string& path, bool default_light) {
   if (!is_gltf_path(path)) return load_scene_json(path);
   auto file = GltfFile::load(path);
   if (!file) return file.error();
@@ -660,7 +682,12 @@ Result<SceneDocument> load_scene(const std::string& path) {
   out.inputs = file->inputs();
   out.warnings = file->warnings();
   for (auto& s : gs->warnings) out.warnings.push_back(std::move(s));
-  if (out.scene.lights.empty()) {
+  if (out.scene.lights.empty() && default_light) {
+    out.scene.lights.push_back(default_sun(out.scene.camera));
+    out.warnings.push_back(path + ": the file has no lights; lit by the default rig, a sun 55 degrees high over the camera's "
+                                  "right shoulder (E0 = 1 W/m^2) and the daylight sky (--no-default-light: none; or export "
+                                  "its lights as KHR_lights_punctual)");
+  } else if (out.scene.lights.empty()) {
     out.warnings.push_back(path + ": the scene has no lights; everything will be dark. Export its lights as KHR_lights_punctual "
                                   "(Blender: glTF export, Include > Punctual Lights), or bake a scene.json that names this file "
                                   "(\"gltf\") and adds \"lights\" (docs/scene-format.md)");

@@ -3,9 +3,7 @@
 
 #include <tbb/global_control.h>
 
-#include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include <string>
 
 #include "caustix/bake/bake.h"
+#include "caustix/bake/console_progress.h"
 #include "caustix/bake/presets.h"
 #include "caustix/common/cli.h"
 #include "caustix/formats/file_io.h"
@@ -33,75 +32,6 @@ std::string make_escape(const std::string& s) {
 caustix::Status write_text(const std::string& path, const std::string& text) {
   return caustix::write_file_atomically(path, std::vector<std::uint8_t>(text.begin(), text.end()));
 }
-
-// What the bake says while it runs, on stderr: warnings as they
-// are found; on a terminal one progress line rewritten in place (stage,
-// item, percentage, estimated time left), elsewhere (a build log) a plain
-// line as each item starts and at each further tenth of a stage that has
-// run a second; with -v each stage's time as it ends. Nothing with -q. It
-// also keeps what a failed bake's --report needs (bake::BakeLog).
-class Progress {
- public:
-  using Clock = std::chrono::steady_clock;
-  Progress(bool quiet, bool verbose) : quiet_(quiet), verbose_(verbose), tty_(isatty(fileno(stderr)) != 0) {}
-
-  void warning(const std::string& w) {
-    log_.warnings.push_back(w);
-    if (quiet_) return;
-    clear_line();
-    std::fprintf(stderr, "caustix-bake: warning: %s\n", w.c_str());
-  }
-
-  void progress(const std::string& stage, const std::string& item, double fraction) {
-    const auto now = Clock::now();
-    const bool new_stage = stage != log_.stage;
-    if (new_stage) {
-      log_.stage = stage;
-      stage_start_ = now;
-      tenth_ = 0;
-    }
-    const double seconds = std::chrono::duration<double>(now - stage_start_).count();
-    if (fraction >= 1.0) {
-      log_.stages_done.emplace_back(stage, seconds);
-      log_.stage.clear();
-      log_.item.clear();
-      clear_line();
-      if (verbose_ && !quiet_) std::fprintf(stderr, "caustix-bake: %s: %.2f s\n", stage.c_str(), seconds);
-      return;
-    }
-    const bool new_item = new_stage || item != log_.item;
-    log_.item = item;
-    if (quiet_) return;
-    std::string eta;
-    if (fraction >= 0.02 && seconds >= 1.0) {
-      eta = ", about " + std::to_string(static_cast<long>(std::lround(seconds * (1.0 - fraction) / fraction))) + " s left";
-    }
-    const std::string line = stage + (item.empty() ? "" : ": " + item) + " " +
-                             std::to_string(static_cast<int>(fraction * 100.0)) + " %" + eta;
-    if (tty_) {
-      std::fprintf(stderr, "\r\033[Kcaustix-bake: %s", line.c_str());
-      std::fflush(stderr);
-      shown_ = true;
-    } else if (new_item || (seconds >= 1.0 && static_cast<int>(fraction * 10.0) > tenth_)) {
-      std::fprintf(stderr, "caustix-bake: %s\n", line.c_str());
-    }
-    tenth_ = std::max(tenth_, static_cast<int>(fraction * 10.0));
-  }
-
-  // Before anything else goes to the terminal.
-  void clear_line() {
-    if (!shown_) return;
-    std::fputs("\r\033[K", stderr);
-    shown_ = false;
-  }
-  const caustix::bake::BakeLog& log() const { return log_; }
-
- private:
-  bool quiet_, verbose_, tty_, shown_ = false;
-  int tenth_ = 0;
-  Clock::time_point stage_start_ = Clock::now();
-  caustix::bake::BakeLog log_;
-};
 
 }  // namespace
 
@@ -207,6 +137,10 @@ int main(int argc, char** argv) {
                  "transparent meshes: also split edges whose end normals turn by more than this (degrees) while longer "
                  "than --glass-edge / 4 of the diagonal: finer sampling of curved glass, a sharper focal spot (0: off)")
       ->check(CLI::Range(0.0, 180.0))->capture_default_str();
+  bool no_default_light = false;
+  app.add_flag("--no-default-light", no_default_light,
+               "a glTF file without lights stays dark, instead of being lit by the default rig (a sun over the camera's "
+               "right shoulder and the daylight sky)");
   bool no_share = false;
   app.add_flag("--no-share", no_share,
                "give every object its own mesh and light-transport tables even where they are identical (shared by "
@@ -226,31 +160,13 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "print per-mesh statistics and timings");
   if (auto rc = cli::parse(app, "caustix-bake", argc, argv)) return *rc;
   opt.share = !no_share;
+  opt.default_light = !no_default_light;
   opt.transport.rays = ltt_rays == "cgal" ? caustix::bake::RayEngine::kCgal : caustix::bake::RayEngine::kEmbree;
   opt.transport.switches = !no_switches;
 
   if (!preset.empty()) {
     // The preset's values for every option not given on the command line.
-    const bake::BakeOptions& p = bake::find_preset(preset)->options;
-    auto unless_given = [&](const char* flag, auto& value, const auto& preset_value) {
-      if (app.count(flag) == 0) value = preset_value;
-    };
-    unless_given("--position-bits", opt.draco.position_bits, p.draco.position_bits);
-    unless_given("--normal-bits", opt.draco.normal_bits, p.draco.normal_bits);
-    unless_given("--draco-speed", opt.draco.speed, p.draco.speed);
-    unless_given("--planes", lm.slicing.planes, p.level_maps.slicing.planes);
-    unless_given("--levels", lm.slicing.levels, p.level_maps.slicing.levels);
-    unless_given("--map-size", lm.map_size, p.level_maps.map_size);
-    unless_given("--water-grid-scale", opt.water_grid_scale, p.water_grid_scale);
-    unless_given("--ltt-resolution", opt.transport.resolution, p.transport.resolution);
-    unless_given("--ltt-bounces", opt.transport.max_bounces, p.transport.max_bounces);
-    unless_given("--ltt-bits", opt.transport.bits, p.transport.bits);
-    unless_given("--ltt-wavelengths", opt.transport.wavelengths, p.transport.wavelengths);
-    unless_given("--glass-crease", opt.glass_refine.crease_deg, p.glass_refine.crease_deg);
-    unless_given("--glass-edge", opt.glass_refine.max_edge, p.glass_refine.max_edge);
-    unless_given("--glass-turn", opt.glass_refine.max_turn_deg, p.glass_refine.max_turn_deg);
-    if (app.count("--epsilon") == 0) lm.slicing.epsilon = p.level_maps.slicing.epsilon;
-    opt.render = p.render;
+    bake::apply_preset(*bake::find_preset(preset), opt, [&](std::string_view flag) { return app.count(std::string(flag)) != 0; });
   }
   if (epsilon > 0) lm.slicing.epsilon = epsilon;
   lm.slicing.slicing = slicing == "uniform" ? Slicing::kUniform : Slicing::kSmart;
@@ -260,9 +176,8 @@ int main(int argc, char** argv) {
                                                          static_cast<std::size_t>(threads));
   }
 
-  Progress progress(quiet, verbose);
-  opt.observer.warning = [&](const std::string& w) { progress.warning(w); };
-  opt.observer.progress = [&](const std::string& stage, const std::string& item, double f) { progress.progress(stage, item, f); };
+  bake::ConsoleProgress progress("caustix-bake", quiet, verbose);
+  opt.observer = progress.observer();
   auto result = bake::bake_scene(scene_path, opt);
   progress.clear_line();
   if (!result) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "caustix/common/cli.h"
+#include "open_scene.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/sample/image_output.h"
 #include "caustix/sample/renderer.h"
@@ -24,13 +25,19 @@ int main(int argc, char** argv) {
   std::uint32_t planes = 0, caustics_size = 0;
   bool quiet = false, verbose = false, no_cull = false;
 
-  CLI::App app{"caustix-render: render a baked .cxb scene to an image, headless (EGL)"};
+  CLI::App app{"caustix-render: render a scene to an image, headless (EGL): a baked .cxb, or a scene.json or glTF file"};
   app.footer(
       "Output: .exr keeps linear float RGB; .png/.jpg/.tif get tone-mapped sRGB. With --irradiance, the\n"
       "        image is the receiver's irradiance / E0 seen from above (.exr).\n"
-      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input file unreadable, 4 invalid .cxb,\n"
-      "            5 image could not be written, 6 no usable OpenGL 4.5 context.");
-  app.add_option("scene", in_path, "baked scene (.cxb)")->required();
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input file unreadable (or a scene.json, glTF or mesh that\n"
+      "            does not bake), 4 invalid .cxb, 5 image (or the bake cache) could not be written,\n"
+      "            6 no usable OpenGL 4.5 context.");
+  app.add_option("scene", in_path,
+                 "baked scene (.cxb), or a scene.json or glTF file (.gltf, .glb), baked first into a cache and reused "
+                 "(docs/tools.md, \"Opening a scene or glTF file\")")
+      ->required();
+  tools::OpenOptions open_options;
+  tools::add_open_options(app, open_options);
   app.add_option("-o,--output", out_path, "output image (.png, .exr, ...)")->required();
   cli::add_size_option(app, "--size", size, "image size");
   app.add_option("--time", time, "animation time in seconds (waves)")->capture_default_str()
@@ -260,7 +267,9 @@ int main(int argc, char** argv) {
   // A file type no writer knows is refused before the render that would fill it.
   if (Status s = check_image_writer(out_path); !s.ok()) return fail(s.error());
 
-  auto scene = load_scene_file(in_path);
+  open_options.quiet = quiet;
+  open_options.verbose = verbose;
+  auto scene = tools::open_scene("caustix-render", in_path, open_options);
   if (!scene) return fail(scene.error());
   auto context = HeadlessContext::create();
   if (!context) return fail(context.error());

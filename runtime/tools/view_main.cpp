@@ -39,6 +39,7 @@
 #include <iostream>
 
 #include "caustix/common/cli.h"
+#include "open_scene.h"
 #include "caustix/formats/spectrum.h"
 #include "caustix/runtime/gl_context.h"
 #include "caustix/sample/image_output.h"
@@ -375,16 +376,22 @@ int main(int argc, char** argv) {
   using namespace caustix::sample;
   std::string in_path, size = "1280x720", screenshot;
   int frames = 0;
-  CLI::App app{"caustix-view: interactive viewer for a baked .cxb scene"};
+  CLI::App app{"caustix-view: interactive viewer for a scene: a baked .cxb, or a scene.json or glTF file"};
   app.footer(
       "Controls: left drag orbit, right drag pan, wheel zoom, Space pause waves, R reset, Esc quit.\n"
       "Water: T plain/textured, 1 refraction, 2 reflection, 3 colour, 4 glow, F Fresnel, , . W/A steps.\n"
       "Display: 9 0 exposure -/+ 0.5 EV, A auto exposure, O filmic/exponential tone curve, X supersampling.\n"
       "Panel: Tab hides/shows it. Interactive water: I toggles it, Ctrl + click drops a ripple,\n"
       "       Shift + drag moves the object chosen in the panel (Shift + wheel: up/down).\n"
-      "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable, 4 invalid .cxb, 5 screenshot not\n"
-      "            written, 6 no window or OpenGL 4.5 context (needs a display; try xvfb-run -a).");
-  app.add_option("scene", in_path, "baked scene (.cxb)")->required();
+      "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable (or a scene.json, glTF or mesh that does\n"
+      "            not bake), 4 invalid .cxb, 5 screenshot (or the bake cache) not written, 6 no window or\n"
+      "            OpenGL 4.5 context (needs a display; try xvfb-run -a).");
+  app.add_option("scene", in_path,
+                 "baked scene (.cxb), or a scene.json or glTF file (.gltf, .glb), baked first into a cache and reused "
+                 "(docs/tools.md, \"Opening a scene or glTF file\")")
+      ->required();
+  tools::OpenOptions open_options;
+  tools::add_open_options(app, open_options);
   cli::add_size_option(app, "--size", size, "window size");
   app.add_option("--screenshot", screenshot, "save the window to this image after --frames frames, then exit");
   app.add_option("--frames", frames, "frames to render before the screenshot (with --screenshot)")
@@ -409,7 +416,7 @@ int main(int argc, char** argv) {
     start_ripples.emplace_back(x, z);
   }
 
-  auto scene = load_scene_file(in_path);
+  auto scene = tools::open_scene("caustix-view", in_path, open_options);
   if (!scene) return fail(scene.error());
 
   glfwSetErrorCallback([](int code, const char* msg) { std::cerr << "caustix-view: GLFW error " << code << ": " << msg << "\n"; });

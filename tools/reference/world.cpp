@@ -32,8 +32,9 @@ Result<World> load_world(bake::SceneDocument& doc, double glass_crease_deg) {
     const auto& imported = doc.imported[o.mesh_index];
     auto mesh = imported ? Result<bake::ImportedMesh>(*imported) : bake::import_mesh(doc.mesh_paths[o.mesh_index]);
     if (!mesh) return mesh.error();
-    // As caustix-bake: glass that bounds no solid is thin-walled.
-    if (auto thin = bake::make_open_glass_thin(doc.scene, o.mesh_index, mesh->mesh, doc.mesh_paths[o.mesh_index]); !thin) {
+    // As caustix-bake: glass that bounds no solid is thin-walled, a solid
+    // wound inside out is turned.
+    if (auto thin = bake::prepare_glass_mesh(doc.scene, o.mesh_index, mesh->mesh, doc.mesh_paths[o.mesh_index]); !thin) {
       return thin.error();
     }
     if (is_transparent(o.role)) {

@@ -57,6 +57,9 @@ struct BakeOptions {
   // False: every object gets its own, as before (files a reader that
   // predates LTTR reads).
   bool share = true;
+  // A glTF file without lights gets the default rig (load_scene): a sun
+  // and the daylight sky, said in a warning. False: it stays dark.
+  bool default_light = true;
   // Not part of the bake's inputs: what it says while it runs, and budgets
   // (0: none). Past either the bake stops with an ErrorCode::kBudget
   // error naming the stage, the object and the option to lower. Checked at
@@ -110,16 +113,21 @@ struct BakeResult {
 Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& options);
 
 // Transparent objects drawing `mesh` (scene.meshes[mesh_index], read from
-// `path`) when it is open -- it has boundary edges: a pane, a shade, so it
-// bounds no solid -- become thin-walled (Role::kThin), as glTF
-// would draw them, losing what needs an inside (absorption, dispersion,
-// scattering); returns a warning per object so changed. A closed mesh that
-// is not a solid (wound inconsistently or inside out, non-manifold: a
-// modelling error in a solid), or an open one on a "both" object, is an
-// error naming the object. caustix-bake and caustix-reference apply it
-// alike.
-Result<std::vector<std::string>> make_open_glass_thin(SceneDesc& scene, std::uint32_t mesh_index, const TriangleMesh& mesh,
-                                                      const std::string& path);
+// `path`):
+// - when it is open -- it has boundary edges: a pane, a shade, so it bounds
+//   no solid -- they become thin-walled (Role::kThin), as glTF would draw
+//   them, losing what needs an inside (absorption, dispersion, scattering);
+//   a warning per object so changed;
+// - when it is a closed, consistently wound solid turned inside out, its
+//   triangles (and normals that point in) are reversed; a warning;
+// - when it is a closed solid drawn thin-walled (glTF transmission without
+//   KHR_materials_volume), a warning per object saying how to make it solid.
+// A closed mesh that is not a solid (wound inconsistently, non-manifold,
+// enclosing no volume: a modelling error in a solid), or an open one on a
+// "both" object, is an error naming the object. caustix-bake and
+// caustix-reference apply it alike.
+Result<std::vector<std::string>> prepare_glass_mesh(SceneDesc& scene, std::uint32_t mesh_index, TriangleMesh& mesh,
+                                                    const std::string& path);
 
 // The bake report: JSON (--report) and a readable summary with a bar chart of
 // each depth profile (-v).

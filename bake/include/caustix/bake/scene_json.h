@@ -39,8 +39,18 @@ struct SceneDocument {
 };
 
 // A scene from scene.json, or straight from a .gltf or .glb file (by its
-// extension): the glTF scene's objects, lights and camera.
-Result<SceneDocument> load_scene(const std::string& path);
+// extension): the glTF scene's objects, lights and camera. A glTF file
+// without lights (viewers light such files with an environment) gets, with
+// `default_light`, the default rig: a sun of E0 = 1 W/m^2 (default_sun())
+// under which the renderers' analytic sky is daylight, said in a warning;
+// without it the scene stays dark, also with a warning.
+Result<SceneDocument> load_scene(const std::string& path, bool default_light = true);
+
+// The default rig's sun for a scene seen by `camera` (the file's, or the
+// automatic one's direction when it has none): 55 degrees high, from 40
+// degrees to the right of the view's direction seen from above, so that
+// what the camera sees is lit from the front and modelled by the shading.
+Light default_sun(const std::optional<Camera>& camera);
 
 Result<SceneDocument> load_scene_json(const std::string& path);
 // As above for text already in memory; `path` names it in messages and
