@@ -90,9 +90,10 @@ constexpr float kAmbient = 0.12f;
 // (Y, x, y) and the zenith's (Y, x, y) divided by F(0, theta_s), so that the
 // shader's value is zenith x F(theta, gamma) / F(0, theta_s) (sky.frag.glsl).
 struct SkyTerms {
-  std::array<glm::vec3, 5> perez;
+  std::array<glm::vec3, 5> perez{glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
   glm::vec3 zenith_over_f0{0.0f};
   float zenith_luminance = 1.0f;  // Y_z in kcd/m^2
+  bool operator==(const SkyTerms&) const = default;
 };
 SkyTerms sky_terms(float t, float theta_s) {
   SkyTerms k;
@@ -118,20 +119,97 @@ SkyTerms sky_terms(float t, float theta_s) {
   return k;
 }
 
+// The sky as sky_model.glsl draws it, on the CPU (its twin: keep the two
+// alike), for the spherical harmonics of the surfaces' image-based light.
+struct SkyModelCpu {
+  bool analytic = false;
+  glm::vec3 flat{0.0f};
+  glm::vec3 to_sun{0.0f, 1.0f, 0.0f};
+  SkyTerms terms;
+  float scale = 1.0f;
+  bool operator==(const SkyModelCpu&) const = default;
+  glm::vec3 radiance(glm::vec3 d) const {
+    if (!analytic) return flat;
+    d = glm::normalize(glm::vec3(d.x, std::max(d.y, 0.0f), d.z));
+    const float cos_theta = std::max(d.y, 0.02f);
+    const float cos_gamma = std::clamp(glm::dot(d, to_sun), -1.0f, 1.0f), gamma = std::acos(cos_gamma);
+    const glm::vec3 f = (1.0f + terms.perez[0] * glm::exp(terms.perez[1] / cos_theta)) *
+                        (1.0f + terms.perez[2] * glm::exp(terms.perez[3] * gamma) + terms.perez[4] * cos_gamma * cos_gamma);
+    const glm::vec3 yxy = terms.zenith_over_f0 * f;
+    const float Y = yxy.x, x = yxy.y, y = std::max(yxy.z, 1e-4f);
+    const glm::vec3 xyz(x / y * Y, Y, (1.0f - x - y) / y * Y);
+    const glm::mat3 to_rgb(3.2406f, -0.9689f, 0.0557f, -1.5372f, 1.8758f, -0.2040f, -0.4986f, 0.0415f, 1.0570f);
+    return glm::max(to_rgb * xyz, glm::vec3(0.0f)) * scale;
+  }
+};
+
+// The real spherical harmonics of order <= 2 at unit d, in receiver.frag's
+// order (Ramamoorthi & Hanrahan 2001, eq. 3).
+std::array<float, 9> sh_basis(const glm::vec3& d) {
+  return {0.282095f,         0.488603f * d.y,         0.488603f * d.z,
+          0.488603f * d.x,   1.092548f * d.x * d.y,   1.092548f * d.y * d.z,
+          0.315392f * (3.0f * d.z * d.z - 1.0f), 1.092548f * d.x * d.z, 0.546274f * (d.x * d.x - d.y * d.y)};
+}
+
+// The environment's irradiance over pi, as order-2 spherical harmonics
+// (Ramamoorthi & Hanrahan 2001: the cosine lobe's convolution is A_l =
+// pi, 2 pi / 3, pi / 4 per band; order 2 keeps the irradiance to a few
+// per cent). The environment: the sky above the horizon; below it ground
+// of albedo kGroundAlbedo under the sun (`sun`: its irradiance on a level
+// floor, as drawn) and the sky, as a white floor would be drawn there.
+constexpr float kGroundAlbedo = 0.2f;
+std::array<glm::vec3, 9> sky_harmonics(const SkyModelCpu& sky, float sun) {
+  constexpr int kTheta = 48, kPhi = 96;
+  constexpr float kPi = 3.14159265358979f;
+  std::array<glm::vec3, 9> l{};
+  glm::vec3 sky_up(0.0f);  // the sky's irradiance on a level floor over pi
+  std::vector<std::pair<glm::vec3, float>> below;  // (direction, solid angle)
+  for (int i = 0; i < kTheta; ++i) {
+    const float theta = (static_cast<float>(i) + 0.5f) * kPi / kTheta;
+    const float d_omega = std::sin(theta) * (kPi / kTheta) * (2.0f * kPi / kPhi);
+    for (int j = 0; j < kPhi; ++j) {
+      const float phi = (static_cast<float>(j) + 0.5f) * 2.0f * kPi / kPhi;
+      const glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      if (d.y < 0.0f) {
+        below.emplace_back(d, d_omega);
+        continue;
+      }
+      const glm::vec3 value = sky.radiance(d);
+      sky_up += value * d.y * d_omega / kPi;
+      const auto y = sh_basis(d);
+      for (std::size_t k = 0; k < 9; ++k) l[k] += value * y[k] * d_omega;
+    }
+  }
+  const glm::vec3 ground = kGroundAlbedo * (glm::vec3(sun) + sky_up);
+  for (const auto& [d, d_omega] : below) {
+    const auto y = sh_basis(d);
+    for (std::size_t k = 0; k < 9; ++k) l[k] += ground * y[k] * d_omega;
+  }
+  constexpr float kBand[3] = {1.0f, 2.0f / 3.0f, 1.0f / 4.0f};  // A_l / pi
+  for (std::size_t k = 0; k < 9; ++k) l[k] *= kBand[k == 0 ? 0 : k < 4 ? 1 : 2];
+  return l;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
   std::unique_ptr<Engine> engine;
   std::vector<bool> closed;  // per mesh: closed and consistently wound
   gl::Program receiver, irradiance, present, luminance, downsample, sky;
-  // This frame's analytic sky (FrameParams::sky), when it has one: the
-  // direction towards the sun and the model's terms.
-  struct AnalyticSky {
-    glm::vec3 to_sun{0.0f, 1.0f, 0.0f};
-    SkyTerms terms;
-    float scale = 1.0f;
-  };
-  std::optional<AnalyticSky> analytic_sky;
+  // This frame's sky (FrameParams::sky), drawn behind the receivers and
+  // lighting those with a surface through its harmonics (sky_harmonics),
+  // remade only when the sky or the sun on the ground changes.
+  SkyModelCpu sky_model;
+  std::optional<std::pair<SkyModelCpu, float>> sky_sh_of;
+  std::array<glm::vec3, 9> sky_sh{};
+  void set_sky(const gl::Program& p) const {
+    p.set("u_sky_analytic", sky_model.analytic ? 1 : 0);
+    p.set("u_sky_flat", sky_model.flat);
+    p.set("u_to_sun", sky_model.to_sun);
+    for (int k = 0; k < 5; ++k) p.set(("u_perez[" + std::to_string(k) + "]").c_str(), sky_model.terms.perez[static_cast<std::size_t>(k)]);
+    p.set("u_zenith_over_f0", sky_model.terms.zenith_over_f0);
+    p.set("u_scale", sky_model.scale);
+  }
   gl::VertexArray empty_vao;
   Target hdr, display, irradiance_target, inscatter_target;
   Target resolved;      // the frame box-filtered down when supersampled
@@ -193,8 +271,19 @@ struct Renderer::Impl {
         glDisable(GL_CULL_FACE);
       }
       set_model(p, i);
-      p.set("u_albedo", to_glm(scene().objects[i].material.albedo));
+      const Object& o = scene().objects[i];
+      // A mirror (its light is the engine's caustic maps) is drawn as a
+      // polished metal of its reflectance, showing the sky.
+      const bool mirror = textured && is_mirror(o.role);
+      p.set("u_albedo", to_glm(mirror ? o.material.reflectance : o.material.albedo));
       if (textured) {
+        const std::optional<Surface> sf = mirror ? std::optional(Surface{1.0f, 0.0f, {0, 0, 0}}) : o.material.surface;
+        p.set("u_surface", sf ? 1 : 0);
+        if (sf) {
+          p.set("u_metallic", sf->metallic);
+          p.set("u_roughness", sf->roughness);
+          p.set("u_emissive", reference * to_glm(sf->emissive));
+        }
         const std::optional<AlbedoMap> map = engine->albedo_map(i);
         p.set("u_albedo_projection", map ? static_cast<int>(map->projection) : 0);
         if (map) {
@@ -239,13 +328,16 @@ struct Renderer::Impl {
     p.set("u_clip_plane", v.clip.value_or(glm::vec4(0.0f)));
     p.set("u_pass", pass);
     p.set("u_ambient", reference * kAmbient * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]));
+    p.set("u_eye", v.fog_eye);
+    set_sky(p);
+    for (int k = 0; k < 9; ++k) p.set(("u_sky_sh[" + std::to_string(k) + "]").c_str(), sky_sh[static_cast<std::size_t>(k)]);
     p.set("u_fog", v.fog ? 1 : 0);
     p.set("u_fog_eye", v.fog_eye);
     p.set("u_fog_k", medium.k);
     p.set("u_water_color", medium.color);
     const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value(), /*textured=*/true);
     glDisable(GL_CLIP_DISTANCE0);
-    if (pass == 0 && analytic_sky && !v.fog) draw_sky(v);
+    if (pass == 0 && sky_model.analytic && !v.fog) draw_sky(v);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     return st;
@@ -253,16 +345,12 @@ struct Renderer::Impl {
 
   // The analytic sky where nothing was drawn (depth still 1).
   void draw_sky(const PassView& v) const {
-    const AnalyticSky& a = *analytic_sky;
     glDisable(GL_CULL_FACE);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
     sky.use();
     sky.set("u_inv_view_proj", glm::inverse(v.view_proj));
-    sky.set("u_to_sun", a.to_sun);
-    for (int k = 0; k < 5; ++k) sky.set(("u_perez[" + std::to_string(k) + "]").c_str(), a.terms.perez[static_cast<std::size_t>(k)]);
-    sky.set("u_zenith_over_f0", a.terms.zenith_over_f0);
-    sky.set("u_scale", a.scale);
+    set_sky(sky);
     glBindVertexArray(empty_vao.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDepthMask(GL_TRUE);
@@ -288,13 +376,14 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   s.engine = std::move(*engine);
   s.reference = reference_irradiance(scene.desc, 0.5f * (s.engine->bounds_min() + s.engine->bounds_max()));
   const std::string lighting = std::string("#version 450 core\n") + s.engine->glsl_include();
-  const std::string receiver_fs = lighting + shaders::k_receiver_frag_glsl;
+  const std::string receiver_fs = lighting + shaders::k_sky_model_glsl + shaders::k_receiver_frag_glsl;
+  const std::string sky_fs = std::string("#version 450 core\n") + shaders::k_sky_model_glsl + shaders::k_sky_frag_glsl;
   const std::string irradiance_fs = lighting + shaders::k_irradiance_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(
       gl::build_programs({{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
                           {&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
                           {&s.present, "present", shaders::k_fullscreen_vert_glsl, shaders::k_present_frag_glsl},
-                          {&s.sky, "sky", shaders::k_fullscreen_vert_glsl, shaders::k_sky_frag_glsl},
+                          {&s.sky, "sky", shaders::k_fullscreen_vert_glsl, sky_fs.c_str()},
                           {&s.luminance, "luminance", shaders::k_fullscreen_vert_glsl, shaders::k_luminance_frag_glsl},
                           {&s.downsample, "downsample", shaders::k_fullscreen_vert_glsl, shaders::k_downsample_frag_glsl}}));
   s.empty_vao = gl::make_vertex_array();
@@ -343,18 +432,29 @@ Status Renderer::render(const FrameParams& f) {
   view.far_plane = f.camera.far_plane;
   const glm::mat4 view_proj = view.projection() * view.view;
   const glm::vec3 sky = s.reference * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
-  s.analytic_sky.reset();
-  if (f.sky == SkyModel::kAnalytic) {
-    const auto sun = std::find_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type == LightType::kDirectional; });
-    if (sun != scene.lights.end()) {
-      Impl::AnalyticSky a;
-      a.to_sun = -glm::normalize(to_glm(sun->direction));
+  // The sky: flat, or the analytic sky of the scene's first directional
+  // light; and that sun's irradiance on a level floor (the ground of the
+  // surfaces' image-based light).
+  SkyModelCpu sky_model;
+  sky_model.flat = sky;
+  float sun_on_floor = 0.0f;
+  const auto sun = std::find_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type == LightType::kDirectional; });
+  if (sun != scene.lights.end()) {
+    const glm::vec3 to_sun = -glm::normalize(to_glm(sun->direction));
+    sun_on_floor = sun->irradiance * std::max(to_sun.y, 0.0f);
+    if (f.sky == SkyModel::kAnalytic) {
+      sky_model.analytic = true;
+      sky_model.to_sun = to_sun;
       // A sun below the horizon lights nothing; its sky is the sky at the horizon.
-      const float theta_s = std::acos(std::clamp(a.to_sun.y, 0.0f, 1.0f));
-      a.terms = sky_terms(2.5f, theta_s);
-      a.scale = glm::dot(sky, glm::vec3(0.2126f, 0.7152f, 0.0722f)) / a.terms.zenith_luminance;
-      s.analytic_sky = a;
+      const float theta_s = std::acos(std::clamp(to_sun.y, 0.0f, 1.0f));
+      sky_model.terms = sky_terms(2.5f, theta_s);
+      sky_model.scale = glm::dot(sky, glm::vec3(0.2126f, 0.7152f, 0.0722f)) / sky_model.terms.zenith_luminance;
     }
+  }
+  s.sky_model = sky_model;
+  if (!s.sky_sh_of || *s.sky_sh_of != std::pair{sky_model, sun_on_floor}) {
+    s.sky_sh = sky_harmonics(sky_model, sun_on_floor);
+    s.sky_sh_of = std::pair{sky_model, sun_on_floor};
   }
   const WaterMedium medium = s.engine->water_medium(view, look);
 

@@ -44,3 +44,9 @@ for json in assets/demo/*.json; do
   $B/bake/caustix-bake "$json" -o "$T/$s.cxb" -q
   $B/runtime/caustix-render "$T/$s.cxb" -o "docs/gallery/$s.png" --size 640x400 -q
 done
+# glTF files opened in one step (no bake command: caustix-render bakes them
+# into a cache); neither has lights, so both show the default rig.
+for gltf in assets/gltf/materials.gltf; do
+  s=$(basename "$gltf" .gltf)
+  $B/runtime/caustix-render "$gltf" -o "docs/gallery/${s}_gltf.png" --size 640x400 --cache "$T/cache" -q
+done

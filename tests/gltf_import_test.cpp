@@ -507,6 +507,34 @@ TEST(GltfScene, GlassBallBakesAsTheSceneJsonDoes) {
   }
 }
 
+// assets/gltf/materials.gltf (a material sheet as exporters write it):
+// every receiver keeps its metallic-roughness factors as a surface, the
+// panel its emission times KHR_materials_emissive_strength, the amber ball
+// its Beer-Lambert coefficient -ln(c) / d, and the file, without lights,
+// gets the default sun.
+TEST(GltfScene, AMaterialSheetKeepsSurfacesEmissionAndVolume) {
+  auto doc = bake::load_scene(std::string(CAUSTIX_SOURCE_DIR) + "/assets/gltf/materials.gltf");
+  ASSERT_TRUE(doc.ok()) << doc.error().message;
+  const auto surface = [&](const char* name) {
+    const Object* o = find(doc->scene, name);
+    EXPECT_TRUE(o && o->role == Role::kReceiver && o->material.surface) << name;
+    return o && o->material.surface ? *o->material.surface : Surface{};
+  };
+  EXPECT_EQ(surface("gold"), (Surface{1.0f, 0.25f, {0, 0, 0}}));
+  EXPECT_EQ(surface("iron"), (Surface{1.0f, 1.0f, {0, 0, 0}}));
+  EXPECT_EQ(surface("red"), (Surface{0.0f, 0.0f, {0, 0, 0}}));
+  EXPECT_EQ(surface("panel").emissive, (Vec3f{2.0f, 1.2f, 0.6f}));
+  const Object* amber = find(doc->scene, "amber");
+  ASSERT_TRUE(amber);
+  EXPECT_EQ(amber->role, Role::kTransparent);
+  EXPECT_FALSE(amber->material.surface);
+  EXPECT_NEAR(amber->material.absorption[0], 0.0, 1e-6);
+  EXPECT_NEAR(amber->material.absorption[1], -std::log(0.55) / 0.3, 1e-4);
+  EXPECT_NEAR(amber->material.absorption[2], -std::log(0.15) / 0.3, 1e-4);
+  ASSERT_EQ(doc->scene.lights.size(), 1u);
+  EXPECT_EQ(doc->scene.lights[0].name, "default sun");
+}
+
 TEST_F(Gltf, MalformedFilesAreRefusedWithThePointer) {
   {  // POSITION names an accessor that does not exist.
     GltfBuilder g = pool_scene();

@@ -210,16 +210,25 @@ TEST(Render, AnAlbedoTextureScalesEachTexelsLightByItsLinearAlbedo) {
   b.doc["samplers"] = {{{"wrapS", 10497}, {"wrapT", 10497}}};
   b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
   b.use_extension("KHR_texture_transform", true);
-  const int mat = b.material({{"pbrMetallicRoughness",
-                               {{"metallicFactor", 0.0},
-                                {"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}}}}}}}});
-  const int mesh = b.mesh({{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", uv}}}, {"indices", idx}, {"material", mat}}});
-  b.scene({b.node({{"name", "floor"}, {"mesh", mesh}})});
-  const auto gltf = std::filesystem::temp_directory_path() / "caustix_textured_quad.gltf";
-  b.write_embedded(gltf);
-  nlohmann::json g = top_down_scene();
-  g["gltf"] = gltf.string();
-  expect_texture_ratios(render_file(test::write_scene(g, "textured_gltf"), 64, 64), true);
+  const nlohmann::json texture{{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}}}};
+  const int mat = b.material({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"baseColorTexture", texture}}}});
+  // The same without colour: a glTF dielectric's specular layer (F0 0.04)
+  // does not take the base colour, so the texture scales what is left.
+  const int black = b.material({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"baseColorFactor", {0, 0, 0, 1}}, {"baseColorTexture", texture}}}});
+  const auto render_quad = [&](int material, const std::string& tag) {
+    test::GltfBuilder q = b;
+    const int mesh = q.mesh({{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", uv}}}, {"indices", idx}, {"material", material}}});
+    q.scene({q.node({{"name", "floor"}, {"mesh", mesh}})});
+    const auto gltf = std::filesystem::temp_directory_path() / ("caustix_" + tag + ".gltf");
+    q.write_embedded(gltf);
+    nlohmann::json g = top_down_scene();
+    g["gltf"] = gltf.string();
+    return render_file(test::write_scene(g, tag), 64, 64);
+  };
+  Image diffuse = render_quad(mat, "textured_quad");
+  const Image specular = render_quad(black, "black_quad");
+  for (std::size_t k = 0; k < diffuse.rgba.size(); ++k) diffuse.rgba[k] -= specular.rgba[k];
+  expect_texture_ratios(diffuse, true);
 }
 
 // The analytic sky (FrameParams::sky; Preetham, Shirley & Smits 1999): a
@@ -258,6 +267,51 @@ TEST(Render, TheAnalyticSkyIsScaledToTheFlatSkyAtTheZenithAndBrightAboutTheSun) 
   EXPECT_GT(z[2], z[0]);
   std::printf("[analytic sky] zenith luminance %.4f (flat sky %.4f), towards the sun %.3f, away %.3f\n", zenith, flat,
               luminance(towards_sun), luminance(away));
+}
+
+// Surfaces (glTF's metallic-roughness model, formats/scene.h Surface) on
+// a 3 m floor seen straight down from 4.2 m under the flat sky, checked at
+// the four centre pixels (the view within 0.5 degrees of the normal)
+// against what the model gives there in closed form:
+// - emission alone (a black metal: F0 = 0, no diffuse) is emissive times
+//   the reference irradiance;
+// - a smooth metal of base colour 1 reflects the sky overhead exactly
+//   (F0 = 1; the split sum's A + B is 1 at roughness 0 and normal view);
+// - a white rough dielectric under a sky of constant radiance S above the
+//   horizon has diffuse irradiance / pi = S exactly (the harmonics of such
+//   a step are exact along its axis), plus F0 = 0.04 of the sky times A
+//   (0.452 at roughness 1, B 0);
+// - the sun's specular on a metal at normal incidence (n = l = v = h) is
+//   pi D Vis F E with D = 1 / (pi alpha^2), Vis = 1/4, F = F0: base E /
+//   (4 alpha^2), measured as the difference with the sun off.
+TEST(Render, SurfacesShadeAsTheMetallicRoughnessModelAtNormalIncidence) {
+  const auto centre = [&](const nlohmann::json& material, const std::vector<double>& sun, double e0) {
+    nlohmann::json j = top_down_scene();
+    j["lights"] = {{{"type", "directional"}, {"direction", sun}, {"irradiance", e0}}};
+    j["objects"] = {{{"name", "floor"},
+                     {"mesh", std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/plane.obj"},
+                     {"material", material},
+                     {"transform", {{"scale", {3, 1, 3}}}}}};
+    const Image img = render_file(test::write_scene(j, "surface"), 64, 64);
+    glm::dvec3 c(0.0);
+    for (int k = 0; k < 4; ++k) {
+      const float* p = img.at(31 + k / 2, 31 + k % 2);
+      c += 0.25 * glm::dvec3(p[0], p[1], p[2]);
+    }
+    return c;
+  };
+  const std::vector<double> up{0, 1, 0}, down{0, -1, 0};  // a sun travelling up lights nothing facing up
+  const glm::dvec3 sky(sample::kSkyColor[0], sample::kSkyColor[1], sample::kSkyColor[2]);  // E0 = 1
+  const auto expect_near = [](const glm::dvec3& got, const glm::dvec3& want, const char* what) {
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 0.01 * want[k] + 1e-4) << what << ", channel " << k;
+    std::printf("[surfaces] %s: %.4f %.4f %.4f (model %.4f %.4f %.4f)\n", what, got.x, got.y, got.z, want.x, want.y, want.z);
+  };
+  expect_near(centre({{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", {0.5, 0.25, 0.1}}}, up, 1.0), {0.5, 0.25, 0.1}, "emission");
+  expect_near(centre({{"albedo", 1.0}, {"metallic", 1.0}, {"roughness", 0.0}}, up, 1.0), sky, "smooth metal");
+  expect_near(centre({{"albedo", 1.0}, {"roughness", 1.0}}, up, 1.0), sky * (1.0 + 0.04 * 0.452), "white dielectric");
+  const nlohmann::json metal{{"albedo", 0.5}, {"metallic", 1.0}, {"roughness", 0.5}};
+  const double alpha = 0.25;
+  expect_near(centre(metal, down, 1.0) - centre(metal, down, 0.0), glm::dvec3(0.5 / (4.0 * alpha * alpha)), "sun on metal");
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -607,6 +609,48 @@ TEST(SceneCodec, TintsAreStoredAndValidated) {
   auto pc = cxb::read_container(plain.data(), plain.size());
   ASSERT_TRUE(pc.ok());
   EXPECT_TRUE(pc->find(cxb::kTagTint).empty());
+}
+
+// Receivers' surfaces (glTF's metallic-roughness model): stored in the
+// optional SURF chunk (shading only), every field surviving; a surface on
+// an object that is not a receiver, or a value out of range or NaN, is
+// refused by name; a scene without surfaces has no SURF chunk.
+TEST(SceneCodec, SurfacesAreStoredAndValidated) {
+  LightTransportTable table;
+  SceneDesc s = dispersive_scene(table);
+  ASSERT_EQ(s.objects[0].role, Role::kReceiver);
+  s.objects[0].material.surface = Surface{0.25f, 0.75f, {2.0f, 0.5f, 0.0f}};
+  auto b = encode_scene(s, {{0}}, {}, {}, {table});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.objects[0].material.surface, (Surface{0.25f, 0.75f, {2.0f, 0.5f, 0.0f}}));
+  EXPECT_FALSE(d->scene.objects[1].material.surface);
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  ASSERT_EQ(c->find(cxb::kTagSurfaces).size(), 1u);
+  EXPECT_FALSE(c->chunks()[c->find(cxb::kTagSurfaces).at(0)].flags & cxb::kChunkRequired);
+
+  for (const auto& [change, says] : std::vector<std::pair<std::function<void(Surface&)>, std::string>>{
+           {[](Surface& f) { f.metallic = 1.5f; }, "/objects/0/material/metallic"},
+           {[](Surface& f) { f.roughness = std::nanf(""); }, "/objects/0/material/roughness"},
+           {[](Surface& f) { f.emissive[1] = -1.0f; }, "/objects/0/material/emissive"}}) {
+    SceneDesc bad = s;
+    change(*bad.objects[0].material.surface);
+    d = decode(encode_scene(bad, {{0}}, {}, {}, {table}));
+    ASSERT_FALSE(d.ok()) << says;
+    EXPECT_NE(d.error().message.find(says), std::string::npos) << d.error().message;
+  }
+  SceneDesc bad = s;
+  bad.objects[1].material.surface = Surface{};  // object 1 is glass
+  d = decode(encode_scene(bad, {{0}}, {}, {}, {table}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("not a receiver"), std::string::npos) << d.error().message;
+
+  LightTransportTable plain_table;
+  auto plain = encode_scene(dispersive_scene(plain_table), {{0}}, {}, {}, {plain_table});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagSurfaces).empty());
 }
 
 // Thin-walled glass: role 5 in OBJS, no light-transport table,

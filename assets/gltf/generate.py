@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""Writes glass_ball.gltf in this folder (committed; re-run to regenerate):
+"""Writes glass_ball.gltf and materials.gltf in this folder (committed; re-run
+to regenerate).
+
+glass_ball.gltf:
 the canonical glass_ball scene (assets/scenes/glass_ball.json) as a glTF 2.0
 exporter writes it, for `caustix-bake glass_ball.gltf` and the tests that
 check that both routes bake the same scene (tests/gltf_import_test.cpp).
@@ -11,6 +14,23 @@ check that both routes bake the same scene (tests/gltf_import_test.cpp).
   sun    KHR_lights_punctual directional, 683 lux (E0 = 1 W/m^2 at
          683 lm/W), pointing straight down (node turned -90 deg about x)
   camera perspective, 45 deg, at (1.9, 2.3, 2.6) looking at (0, 0.35, 0)
+
+materials.gltf: a material sheet as a viewer's test scene has it, with no
+lights (viewers light such files with an environment; caustix gives them
+its default rig), for the gallery (docs/gallery.md) and the tools' tests:
+
+  floor    plane.obj, scale 6, grey rough dielectric (metallic 0)
+  metals   four spheres (radius 0.3) along x at z = 0, metallic 1,
+           roughness 0.25, 0.5, 0.75, 1, base colours gold, copper,
+           silver, iron
+  plastics four spheres at z = 0.9, metallic 0, roughness 0, 0.33,
+           0.67, 1, red, green, blue, white
+  amber    a solid glass ball (radius 0.4) at (0.4, 0.4, -1) with
+           KHR_materials_volume attenuationColor (1, 0.55, 0.15) over
+           0.3 m: orange through its volume, casting an orange caustic
+  panel    an upright 1.2 x 0.6 m quad at (-1.2, 0.5, -1.2) facing +z,
+           emissiveFactor (1, 0.6, 0.3) x KHR_materials_emissive_strength 2
+  camera   perspective, 40 deg, at (0.4, 2.6, 4.4) looking at (0, 0.25, -0.2)
 
 Buffers are embedded as base64 data URIs; vertices are the OBJ's (v, vn)
 pairs in order of first use, so the meshes are the OBJ importer's.
@@ -135,5 +155,47 @@ def main():
     g.write(os.path.join(HERE, "glass_ball.gltf"))
 
 
+def materials():
+    g = Gltf()
+    for ext in ("KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_emissive_strength"):
+        g.doc.setdefault("extensionsUsed", []).append(ext)
+    plane_obj = os.path.join(HERE, "..", "meshes", "plane.obj")
+    sphere_obj = os.path.join(HERE, "..", "meshes", "sphere.obj")
+
+    def material(name, base, metallic, roughness, extra=None):
+        m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0], "metallicFactor": metallic,
+                                                    "roughnessFactor": roughness}}
+        m.update(extra or {})
+        return g.push("materials", m)
+
+    nodes = [g.push("nodes", {"name": "floor", "mesh": g.mesh(plane_obj, material("floor", (0.5, 0.5, 0.5), 0.0, 0.8)),
+                              "scale": [6, 1, 6]})]
+    metals = [("gold", (1.0, 0.77, 0.34)), ("copper", (0.95, 0.64, 0.54)), ("silver", (0.97, 0.96, 0.91)), ("iron", (0.56, 0.57, 0.58))]
+    for k, (name, base) in enumerate(metals):
+        mesh = g.mesh(sphere_obj, material(name, base, 1.0, 0.25 * (k + 1)))
+        nodes.append(g.push("nodes", {"name": name, "mesh": mesh, "translation": [-1.2 + 0.8 * k, 0.3, 0.0], "scale": [0.3] * 3}))
+    plastics = [("red", (0.8, 0.05, 0.05)), ("green", (0.05, 0.6, 0.1)), ("blue", (0.05, 0.1, 0.8)), ("white", (0.9, 0.9, 0.9))]
+    for k, (name, base) in enumerate(plastics):
+        mesh = g.mesh(sphere_obj, material(name + " plastic", base, 0.0, k / 3.0))
+        nodes.append(g.push("nodes", {"name": name, "mesh": mesh, "translation": [-1.2 + 0.8 * k, 0.3, 0.9], "scale": [0.3] * 3}))
+    amber = material("amber", (1.0, 1.0, 1.0), 0.0, 0.0,
+                     {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.54},
+                                     "KHR_materials_volume": {"thicknessFactor": 0.8, "attenuationDistance": 0.3,
+                                                              "attenuationColor": [1.0, 0.55, 0.15]}}})
+    nodes.append(g.push("nodes", {"name": "amber", "mesh": g.mesh(sphere_obj, amber), "translation": [0.4, 0.4, -1.0], "scale": [0.4] * 3}))
+    panel = material("panel", (0.0, 0.0, 0.0), 0.0, 1.0,
+                     {"emissiveFactor": [1.0, 0.6, 0.3], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2.0}}})
+    s = math.sqrt(0.5)
+    nodes.append(g.push("nodes", {"name": "panel", "mesh": g.mesh(plane_obj, panel), "translation": [-1.2, 0.5, -1.2],
+                                  "rotation": [s, 0, 0, s], "scale": [1.2, 1, 0.6]}))
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": math.radians(40), "znear": 0.05, "zfar": 100.0}}]
+    nodes.append(g.push("nodes", {"name": "camera", "camera": 0, "translation": [0.4, 2.6, 4.4],
+                                  "rotation": look_at_quaternion([0.4, 2.6, 4.4], [0, 0.25, -0.2])}))
+    g.doc["scenes"] = [{"name": "materials", "nodes": nodes}]
+    g.doc["scene"] = 0
+    g.write(os.path.join(HERE, "materials.gltf"))
+
+
 if __name__ == "__main__":
     main()
+    materials()

@@ -46,7 +46,7 @@ constexpr std::uint64_t kMaxFileBytes = std::uint64_t{2} << 30;
 // Extensions whose content caustix uses.
 const std::set<std::string> kSupported{"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_materials_transmission",
                                        "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_dispersion",
-                                       "KHR_lights_punctual", "KHR_texture_transform"};
+                                       "KHR_lights_punctual", "KHR_texture_transform", "KHR_materials_emissive_strength"};
 
 // Extensions a file may require that caustix can still import without them.
 // The rule: an extension is ignorable when what it changes is something
@@ -634,9 +634,7 @@ struct GltfFile::Impl {
     if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture (the factors are used)");
     if (gm.normalTexture.index >= 0) ignored.push_back("normalTexture");
     if (gm.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
-    if (gm.emissiveTexture.index >= 0 || (gm.emissiveFactor.size() == 3 && (gm.emissiveFactor[0] > 0 || gm.emissiveFactor[1] > 0 || gm.emissiveFactor[2] > 0))) {
-      ignored.push_back("emission");
-    }
+    if (gm.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (the emissive factor is used)");
     if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) ignored.push_back("alphaMode " + gm.alphaMode);
     for (const auto& [name, value] : gm.extensions) {
       if (!kSupported.count(name)) ignored.push_back(name);
@@ -740,6 +738,31 @@ struct GltfFile::Impl {
       mat.reflectance = base;
     } else {
       mat.albedo = base;  // a baseColorTexture multiplies it (albedo_texture())
+      // The metallic-roughness model's factors and the emission
+      // (KHR_materials_emissive_strength scales it), for the renderers'
+      // shading (formats/scene.h Surface).
+      Surface& sf = mat.surface.emplace();
+      sf.metallic = static_cast<float>(metallic);
+      if (!(pbr.roughnessFactor >= 0 && pbr.roughnessFactor <= 1)) {
+        return fail(mp + "/pbrMetallicRoughness/roughnessFactor", "must be in [0, 1]");
+      }
+      sf.roughness = static_cast<float>(pbr.roughnessFactor);
+      double strength = 1;
+      if (const tinygltf::Value* es = extension(gm.extensions, "KHR_materials_emissive_strength")) {
+        if (const tinygltf::Value* v = field(*es, "emissiveStrength")) {
+          if (!v->IsNumber() || !(v->GetNumberAsDouble() >= 0 && v->GetNumberAsDouble() <= 1e6)) {
+            return fail(mp + "/extensions/KHR_materials_emissive_strength/emissiveStrength", "must be a number in [0, 1e6]");
+          }
+          strength = v->GetNumberAsDouble();
+        }
+      }
+      if (gm.emissiveFactor.size() == 3) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double e = gm.emissiveFactor[k];
+          if (!(e >= 0 && e <= 1)) return fail(mp + "/emissiveFactor/" + std::to_string(k), "must be in [0, 1]");
+          sf.emissive[k] = static_cast<float>(std::min(e * strength, 1e6));
+        }
+      }
     }
     if (pbr.baseColorTexture.index >= 0 && role != Role::kReceiver) {
       ignored.push_back(std::string("baseColorTexture (the base colour factor is used: ") +

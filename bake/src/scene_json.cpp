@@ -253,7 +253,8 @@ bool parse_albedo_texture(Walker& w, const json& v, const std::string& ptr, Albe
 
 bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file, bool& thin) {
   if (!w.object(v, ptr)) return false;
-  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "thin", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance"});
+  w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "thin", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance",
+                          "metallic", "roughness", "emissive"});
   if (const json* j = Walker::optional_member(v, "albedo_texture")) {
     out.albedo_texture.emplace();
     if (!parse_albedo_texture(w, *j, ptr + "/albedo_texture", *out.albedo_texture, texture_file)) return false;
@@ -289,6 +290,16 @@ bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& 
   }
   if (const json* j = Walker::optional_member(v, "reflectance"); j && !w.scalar_or_vec3(*j, ptr + "/reflectance", out.reflectance)) {
     return false;
+  }
+  // A receiver's surface beyond Lambert's (formats/scene.h Surface): any of
+  // the three gives it one, the others at their defaults.
+  for (const char* key : {"metallic", "roughness", "emissive"}) {
+    const json* j = Walker::optional_member(v, key);
+    if (!j) continue;
+    Surface& sf = out.surface ? *out.surface : out.surface.emplace();
+    const std::string kp = ptr + "/" + key;
+    const bool ok = key[0] == 'e' ? w.scalar_or_vec3(*j, kp, sf.emissive) : w.number(*j, kp, key[0] == 'm' ? sf.metallic : sf.roughness);
+    if (!ok) return false;
   }
   return parse_scattering(w, v, ptr, out.scattering);
 }

@@ -198,6 +198,25 @@ std::vector<std::uint8_t> encode_tints(const SceneDesc& s) {
   return w.take();
 }
 
+// SURF: u32 count; per receiver with a Surface, in object order: u32
+// object index, f32 metallic, f32 roughness, vec3 emissive.
+bool has_surfaces(const SceneDesc& s) {
+  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.surface.has_value(); });
+}
+std::vector<std::uint8_t> encode_surfaces(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.surface.has_value(); })));
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    const auto& sf = s.objects[i].material.surface;
+    if (!sf) continue;
+    w.u32(i);
+    w.f32(sf->metallic);
+    w.f32(sf->roughness);
+    w.vec3(sf->emissive);
+  }
+  return w.take();
+}
+
 // TEXR: u32 image count; per image: string source, u32 width,
 // u32 height, u32 data size, one zstd frame of width * height * 3 bytes
 // (sRGB RGB, top row first); u32 texture count; per textured receiver, in
@@ -450,21 +469,26 @@ bool decode_spots(ChunkDecoder& d, SceneDesc& s) {
   return d.finish();
 }
 
-// n entries of a u32 transparent object's index (strictly ascending; its
-// role one that `accepts`), each followed by what read(object) decodes
-// (DISP: solid glass; TINT: solid or thin-walled).
+// n entries of a u32 object index (strictly ascending; its role one that
+// `accepts`, which `kind` names in the message), each followed by what
+// read(object) decodes (DISP: solid glass; TINT: solid or thin-walled;
+// SURF: receivers).
 template <class Read>
-bool per_transparent_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, bool (*accepts)(Role), Read read) {
+bool per_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, bool (*accepts)(Role), const char* kind, Read read) {
   for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
     std::uint32_t obj = 0;
     if (!d.u32(obj, what)) return false;
     if (obj >= s.objects.size() || (k > 0 && obj <= prev) || !accepts(s.objects[obj].role)) {
-      return d.fail(std::string(what) + " " + std::to_string(obj) + " is out of range, out of order or not transparent");
+      return d.fail(std::string(what) + " " + std::to_string(obj) + " is out of range, out of order or not " + kind);
     }
     prev = obj;
     if (!read(s.objects[obj])) return false;
   }
   return true;
+}
+template <class Read>
+bool per_transparent_object(ChunkDecoder& d, SceneDesc& s, std::uint32_t n, const char* what, bool (*accepts)(Role), Read read) {
+  return per_object(d, s, n, what, accepts, "transparent", read);
 }
 
 bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
@@ -473,6 +497,18 @@ bool decode_tints(ChunkDecoder& d, SceneDesc& s) {
   if (n == 0) return d.fail("a 'TINT' chunk lists no tinted object");
   return per_transparent_object(d, s, n, "tinted object index", transmits,
                                 [&](Object& o) { return d.vec3(o.material.tint, "tint"); }) &&
+         d.finish();
+}
+
+bool decode_surfaces(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.objects.size(), 24, "object with a surface")) return false;
+  if (n == 0) return d.fail("a 'SURF' chunk lists no object");
+  return per_object(d, s, n, "surface object index", [](Role r) { return r == Role::kReceiver; }, "a receiver",
+                    [&](Object& o) {
+                      Surface& sf = o.material.surface.emplace();
+                      return d.f32(sf.metallic, "metallic") && d.f32(sf.roughness, "roughness") && d.vec3(sf.emissive, "emissive");
+                    }) &&
          d.finish();
 }
 
@@ -588,6 +624,8 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   // Optional: a reader that predates it draws the receivers untextured; the
   // light does not depend on it.
   if (has_textures(scene)) w.add_chunk(cxb::kTagTextures, 0, encode_textures(scene));
+  // Optional: a reader that predates it draws the receivers Lambertian.
+  if (has_surfaces(scene)) w.add_chunk(cxb::kTagSurfaces, 0, encode_surfaces(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -680,6 +718,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!texr) return texr.error();
   if (*texr) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagTextures, **texr, [&](ChunkDecoder& d) { return decode_textures(d, s); }));
+  }
+  auto surf = single(cxb::kTagSurfaces, false);
+  if (!surf) return surf.error();
+  if (*surf) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSurfaces, **surf, [&](ChunkDecoder& d) { return decode_surfaces(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

@@ -127,6 +127,12 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
       c.range(a, 0.0f, 1.0f, p + "/material/albedo", "each component must be in [0, 1]");
     }
     c.expect(!is_tinted(o.material) || transmits(o.role), p + "/material/tint", "only a transparent object has a tint");
+    if (const auto& sf = o.material.surface) {
+      c.expect(o.role == Role::kReceiver, p + "/material", "only a receiver has metallic, roughness or emissive");
+      c.range(sf->metallic, 0.0f, 1.0f, p + "/material/metallic", "must be in [0, 1]");
+      c.range(sf->roughness, 0.0f, 1.0f, p + "/material/roughness", "must be in [0, 1]");
+      for (float e : sf->emissive) c.range(e, 0.0f, 1e6f, p + "/material/emissive", "each component must be in [0, 1e6]");
+    }
     if (const auto& t = o.material.albedo_texture) {
       const std::string tp = p + "/material/albedo_texture";
       c.expect(o.role == Role::kReceiver, tp, "only a receiver takes an albedo texture");

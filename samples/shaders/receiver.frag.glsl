@@ -1,13 +1,28 @@
-// Diffuse receivers (prefixed with #version and caustix.glsl). Pass 0
-// writes ambient and depth; each later pass adds one light with additive
-// blending: I_o = sum_lights I_c I_d + I_a (Tipprasert 2006 eq. 4-19, 4-20), with
-// I_c I_d = albedo * irradiance. Seen through water (u_fog = 1: the camera
-// under water, or the reflection texture seen from below) the colour is
-// attenuated towards the water colour by the distance to the eye, Mihalik 2008
-// eq. 10: C = C_w + a (C_obj - C_w), a = e^(-k d) (eq. 4); with additive
-// passes, the ambient pass carries (1 - a) C_w and every pass is scaled by a.
-// A textured receiver's albedo is u_albedo times its texture's linear colour
-// (Engine::albedo_map, caustix_texture_coords()).
+// Receivers (prefixed with #version, caustix.glsl and sky_model.glsl).
+// Pass 0 writes ambient (and emission) and depth; each later pass adds one
+// light with additive blending: I_o = sum_lights I_c I_d + I_a (Tipprasert
+// 2006 eq. 4-19, 4-20), with I_c I_d = albedo * irradiance. Seen through
+// water (u_fog = 1: the camera under water, or the reflection texture seen
+// from below) the colour is attenuated towards the water colour by the
+// distance to the eye, Mihalik 2008 eq. 10: C = C_w + a (C_obj - C_w), a =
+// e^(-k d) (eq. 4); with additive passes, the ambient pass carries (1 - a)
+// C_w and every pass is scaled by a. A textured receiver's albedo is
+// u_albedo times its texture's linear colour (Engine::albedo_map,
+// caustix_texture_coords()).
+//
+// A receiver with a surface (u_surface 1: glTF's metallic-roughness
+// material, formats/scene.h Surface) is shaded as glTF 2.0's appendix B
+// has it: base colour c, metallic m, roughness r (alpha = r^2), F0 =
+// mix(0.04, c, m); per light the diffuse (1 - m)(1 - F) c and the GGX
+// specular D Vis F (Trowbridge-Reitz D, height-correlated Smith Vis,
+// Schlick F) times pi, times the light's irradiance (the renderer's units
+// leave out the 1/pi of a diffuse surface, as above); ambient from the
+// sky (image-based light): the diffuse part (1 - m) c times the sky's
+// cosine-weighted irradiance over pi from its spherical harmonics, the
+// specular part the sky in the reflected direction blended towards that
+// irradiance as the lobe widens, times F0 A + B (Karis 2014's analytic
+// fit of the split-sum's terms); plus the emission. docs/display.md,
+// "Surfaces".
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -22,8 +37,52 @@ uniform int u_fog;
 uniform vec3 u_fog_eye;
 uniform vec3 u_fog_k;
 uniform vec3 u_water_color;
+uniform int u_surface;     // 1: metallic-roughness shading
+uniform float u_metallic;
+uniform float u_roughness;
+uniform vec3 u_emissive;   // times the reference irradiance, as drawn
+uniform vec3 u_eye;
+uniform vec3 u_sky_sh[9];  // the sky's irradiance over pi, order-2 spherical harmonics
 
 out vec4 o_color;
+
+const float kPi = 3.14159265358979;
+
+// Ramamoorthi & Hanrahan 2001's basis (real SH, l <= 2), with the cosine
+// lobe's convolution folded into the coefficients on the CPU.
+vec3 sky_irradiance(vec3 n) {
+  return max(u_sky_sh[0] * 0.282095 + u_sky_sh[1] * (0.488603 * n.y) + u_sky_sh[2] * (0.488603 * n.z) +
+             u_sky_sh[3] * (0.488603 * n.x) + u_sky_sh[4] * (1.092548 * n.x * n.y) + u_sky_sh[5] * (1.092548 * n.y * n.z) +
+             u_sky_sh[6] * (0.315392 * (3.0 * n.z * n.z - 1.0)) + u_sky_sh[7] * (1.092548 * n.x * n.z) +
+             u_sky_sh[8] * (0.546274 * (n.x * n.x - n.y * n.y)), vec3(0.0));
+}
+
+vec3 fresnel_schlick(vec3 f0, float cos_theta) { return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0); }
+
+vec3 surface_ambient(vec3 c, vec3 n, vec3 v) {
+  float nv = max(dot(n, v), 1e-4);
+  vec3 f0 = mix(vec3(0.04), c, u_metallic);
+  // Karis 2014, "Physically Based Shading on Mobile": A, B of the split sum.
+  const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022), c1 = vec4(1.0, 0.0425, 1.04, -0.04);
+  vec4 k = u_roughness * c0 + c1;
+  float a004 = min(k.x * k.x, exp2(-9.28 * nv)) * k.x + k.y;
+  vec2 ab = max(vec2(-1.04, 1.04) * a004 + k.zw, vec2(0.0));
+  vec3 r = reflect(-v, n);
+  float alpha = u_roughness * u_roughness;
+  vec3 prefiltered = mix(sky_radiance(r), sky_irradiance(r), alpha);
+  return (1.0 - u_metallic) * c * sky_irradiance(n) + prefiltered * (f0 * ab.x + ab.y) + u_emissive;
+}
+
+vec3 surface_direct(vec3 c, vec3 n, vec3 v, vec3 l, vec3 e) {
+  vec3 h = normalize(l + v);
+  float nl = max(dot(n, l), 0.0), nv = max(dot(n, v), 1e-4), nh = max(dot(n, h), 0.0);
+  float alpha = max(u_roughness * u_roughness, 2e-3), a2 = alpha * alpha;
+  vec3 f = fresnel_schlick(mix(vec3(0.04), c, u_metallic), dot(v, h));
+  float denom = nh * nh * (a2 - 1.0) + 1.0;
+  float d = a2 / (kPi * denom * denom);
+  float vis = 0.5 / max(nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2), 1e-6);
+  return ((1.0 - u_metallic) * (1.0 - f) * c + kPi * d * vis * f) * e;
+}
 
 void main() {
   vec3 n = normalize(v_normal);
@@ -33,9 +92,13 @@ void main() {
     albedo *= texture(u_albedo_map, caustix_texture_coords(u_albedo_projection, u_albedo_rows[0], u_albedo_rows[1], v_uv, v_world, n)).rgb;
   }
   vec3 a = u_fog != 0 ? exp(-u_fog_k * length(v_world - u_fog_eye)) : vec3(1.0);
+  vec3 v = normalize(u_eye - v_world);
   if (u_pass == 0) {
-    o_color = vec4(a * albedo * u_ambient + (1.0 - a) * u_water_color, 1.0);
+    vec3 ambient = u_surface != 0 ? surface_ambient(albedo, n, v) : albedo * u_ambient;
+    o_color = vec4(a * ambient + (1.0 - a) * u_water_color, 1.0);
     return;
   }
-  o_color = vec4(a * albedo * caustix_irradiance(v_world, n), 0.0);
+  vec3 e = caustix_irradiance(v_world, n);
+  vec3 lit = u_surface != 0 ? surface_direct(albedo, n, v, -caustix_light_travel(v_world), e) : albedo * e;
+  o_color = vec4(a * lit, 0.0);
 }

@@ -107,6 +107,21 @@ struct TextureImage {
   std::vector<std::uint8_t> rgb;  // width * height * 3
 };
 
+// A receiver's surface beyond Lambert's, as glTF's metallic-roughness
+// model has it (the SURF chunk). It changes only how a renderer shades the
+// receiver (the sample renderer: docs/display.md, "Surfaces"); the light
+// the engine computes for it is the same.
+struct Surface {
+  float metallic = 0.0f;   // [0, 1]: 1 a metal, whose albedo is its specular colour
+  float roughness = 1.0f;  // [0, 1]: GGX's alpha is roughness^2
+  // Emitted light, linear RGB, each in [0, 1e6], relative to the scene's
+  // light: a surface emitting (1, 1, 1) is drawn as bright as a white
+  // diffuse surface under the scene's reference irradiance (its first
+  // sun's E0; docs/display.md), as glTF viewers draw emissiveFactor 1.
+  Vec3f emissive{0, 0, 0};
+  bool operator==(const Surface&) const = default;
+};
+
 struct Material {
   Vec3f albedo{0.8f, 0.8f, 0.8f};  // diffuse reflectance, each in [0, 1]
   bool transparent = false;
@@ -129,6 +144,10 @@ struct Material {
   // Light through a solid crosses its surface twice: tint^2. Reflections
   // are not tinted.
   Vec3f tint{1, 1, 1};
+  // Receivers only: absent, a Lambertian surface of `albedo` (scene.json
+  // without "metallic", "roughness" or "emissive"); glTF materials always
+  // have one.
+  std::optional<Surface> surface;
 };
 
 inline bool is_tinted(const Material& m) { return m.tint[0] != 1 || m.tint[1] != 1 || m.tint[2] != 1; }

@@ -5,6 +5,7 @@
 //
 // Call, per light, after Engine::bind(receiver, light):
 //   vec3 caustix_irradiance(vec3 world_position, vec3 world_normal)
+//   vec3 caustix_light_travel(vec3 world_position)  (the light's direction there, for specular)
 // or, with CAUSTIX_ALL_RECEIVERS defined before the include and after
 // Engine::bind_all() (deferred and clustered-forward passes):
 //   vec3 caustix_irradiance_at(vec3 world_position, vec3 world_normal, int receiver, int light)
@@ -512,6 +513,20 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
 #ifndef CAUSTIX_ALL_RECEIVERS
 vec3 caustix_irradiance(vec3 world_position, vec3 world_normal) {
   return caustix_irradiance_from_light(world_position, normalize(world_normal));
+}
+
+// The unit direction in which the bound light's light travels as it
+// arrives at the point, for a specular lobe beside caustix_irradiance():
+// the caustics map's frame axis under moving water (the mean direction:
+// the waves spread it), refracted at the rest level under flat water, else
+// straight from the light.
+vec3 caustix_light_travel(vec3 world_position) {
+  if (caustix_light.mode.x == 2) return -caustix_light.frame_v.xyz;
+  vec3 l = caustix_light.mode.y == 1 ? caustix_light.light_direction.xyz : normalize(world_position - caustix_light.light_position.xyz);
+  if (caustix_light.mode.x == 1) {
+    return caustix_light.mode.y == 1 ? caustix_light.refracted.xyz : refract(l, vec3(0.0, 1.0, 0.0), 1.0 / caustix_light.water.y);
+  }
+  return l;
 }
 #else
 int caustix_light_count() { return caustix_table_shape.y; }
