@@ -217,6 +217,46 @@ struct Renderer::Impl {
   // The last frame at its output size: resolved when supersampled, else hdr.
   const Target& frame() const { return supersample > 1 ? resolved : hdr; }
   gl::Texture opaque_depth;  // the receivers' depth before the glass writes its own (draw_media)
+  // The analytic sky as a cube map (kEnvironmentSize^2 a face), for what
+  // the glass sees where its rays leave the scene
+  // (GlassViewOptions::environment); drawn with the sky's program when the
+  // sky changes.
+  static constexpr int kEnvironmentSize = 64;
+  gl::Texture environment;
+  gl::Framebuffer environment_fbo;
+  void draw_environment() {
+    if (!environment.get()) {
+      environment = gl::make_texture(GL_TEXTURE_CUBE_MAP);
+      glTextureStorage2D(environment.get(), 1, GL_RGBA16F, kEnvironmentSize, kEnvironmentSize);
+      glTextureParameteri(environment.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(environment.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      environment_fbo = gl::make_framebuffer();
+    }
+    // The faces as GL lays them out (+x, -x, +y, -y, +z, -z), each a 90
+    // degree view from the origin.
+    static const std::array<std::pair<glm::vec3, glm::vec3>, 6> kFaces{{{{1, 0, 0}, {0, -1, 0}},
+                                                                         {{-1, 0, 0}, {0, -1, 0}},
+                                                                         {{0, 1, 0}, {0, 0, 1}},
+                                                                         {{0, -1, 0}, {0, 0, -1}},
+                                                                         {{0, 0, 1}, {0, -1, 0}},
+                                                                         {{0, 0, -1}, {0, -1, 0}}}};
+    const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, 0.1f, 10.0f);
+    glBindFramebuffer(GL_FRAMEBUFFER, environment_fbo.get());
+    glViewport(0, 0, kEnvironmentSize, kEnvironmentSize);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    sky.use();
+    set_sky(sky);
+    glBindVertexArray(empty_vao.get());
+    for (int face = 0; face < 6; ++face) {
+      glNamedFramebufferTextureLayer(environment_fbo.get(), GL_COLOR_ATTACHMENT0, environment.get(), 0, face);
+      const auto& [forward, up] = kFaces[static_cast<std::size_t>(face)];
+      sky.set("u_inv_view_proj", glm::inverse(projection * glm::lookAt(glm::vec3(0.0f), forward, up)));
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glEnable(GL_DEPTH_TEST);
+  }
   int opaque_w = 0, opaque_h = 0;
   DisplayOptions display_options;  // the last frame's
   // The frame's log luminance with its mip chain (auto exposure).
@@ -455,7 +495,12 @@ Status Renderer::render(const FrameParams& f) {
   if (!s.sky_sh_of || *s.sky_sh_of != std::pair{sky_model, sun_on_floor}) {
     s.sky_sh = sky_harmonics(sky_model, sun_on_floor);
     s.sky_sh_of = std::pair{sky_model, sun_on_floor};
+    if (sky_model.analytic) s.draw_environment();
   }
+  // The glass sees the analytic sky where its rays leave the scene (the
+  // flat sky is draw_glass's own colour), unless the caller gave its own.
+  GlassViewOptions glass_view = f.glass_view;
+  if (glass_view.environment == 0 && sky_model.analytic) glass_view.environment = s.environment.get();
   const WaterMedium medium = s.engine->water_medium(view, look);
 
   PassView main{s.hdr.fbo.get(), width, height, view_proj, std::nullopt, false, false, view.eye(), sky};
@@ -478,7 +523,7 @@ Status Renderer::render(const FrameParams& f) {
     }
     glCopyImageSubData(s.hdr.depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.opaque_depth.get(), GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
   }
-  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky, f.glass_view));
+  CAUSTIX_RETURN_IF_ERROR(s.engine->draw_glass(view, s.hdr.color.get(), s.hdr.depth.get(), sky, glass_view));
   s.stamp(3);
   if (scene.water) {
     Status inner = Status::success();

@@ -25,6 +25,7 @@
 #include <fstream>
 #include <vector>
 
+#include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "bake_fixture.h"
@@ -425,6 +426,64 @@ TEST_F(GlassView, AThinPaneShowsWhatIsBehindItStraightThroughScaledByItsSheet) {
       EXPECT_NEAR(through, sheet, 0.002 * sheet);
     }
   }
+}
+
+// The caller's environment (GlassViewOptions::environment): a black pane
+// (tint 0: nothing through it) shows only what it reflects, the sheet's
+// 2r / (1 + r) = 1 - T_sheet of the environment in the reflected
+// direction; a uniform cube map of colour C gives exactly that times C
+// (the flat sky instead is brighter upward). A texture that is not a cube
+// map is refused, naming it.
+TEST_F(GlassView, APaneReflectsTheCallersEnvironment) {
+  nlohmann::json j = slab_scene();
+  const auto pane = std::filesystem::temp_directory_path() / "caustix_glass_view_pane.obj";
+  std::ofstream(pane) << "v -1 0 1\nv 1 0 1\nv 1 1.4 1\nv -1 1.4 1\nf 1 2 3\nf 1 3 4\n";
+  j["objects"][2]["mesh"] = pane.string();
+  j["objects"][2]["material"] = {{"transparent", true}, {"ior", kIor}, {"tint", 0.0}};
+  const auto baked = test::bake_and_load(test::write_scene(j, "glass_view_environment"));
+  ASSERT_TRUE(baked);
+  auto r = sample::Renderer::create(*baked);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const float colour[4] = {0.3f, 0.7f, 1.9f, 1.0f};
+  GLuint cube = 0, flat = 0;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &cube);
+  glTextureStorage2D(cube, 1, GL_RGBA32F, 1, 1);
+  for (int face = 0; face < 6; ++face) glTextureSubImage3D(cube, 0, 0, 0, face, 1, 1, 1, GL_RGBA, GL_FLOAT, colour);
+  glCreateTextures(GL_TEXTURE_2D, 1, &flat);
+  glTextureStorage2D(flat, 1, GL_RGBA32F, 1, 1);
+  runtime::GlassViewOptions o;
+  const glm::mat4 vp = glm::perspective(glm::radians(45.0f), 1.0f, 0.05f, 100.0f) * glm::lookAt(kEye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  for (const auto method : {runtime::GlassView::kTable, runtime::GlassView::kNearby}) {
+    o.method = method;
+    o.environment = cube;
+    ASSERT_TRUE((*r)->render(frame(o)).ok());
+    const std::vector<float> hdr = (*r)->read_hdr();
+    double seen[3] = {}, reflected = 0;
+    for (int row = kSize / 2 - 4; row <= kSize / 2 + 4; ++row) {
+      for (int col = kSize / 2 - 4; col <= kSize / 2 + 4; ++col) {
+        const glm::vec4 ndc(2.0f * (static_cast<float>(col) + 0.5f) / kSize - 1, 2.0f * (static_cast<float>(row) + 0.5f) / kSize - 1, 1, 1);
+        const glm::vec4 far = glm::inverse(vp) * ndc;
+        const glm::vec3 d = glm::normalize(glm::vec3(far) / far.w - kEye);
+        const double rf = 1 - test::fresnel_t(std::fabs(d.z), kIor);
+        reflected += 2 * rf / (1 + rf) / 81.0;
+        const std::size_t i = (static_cast<std::size_t>(kSize - 1 - row) * kSize + col) * 4;
+        for (int c = 0; c < 3; ++c) seen[c] += hdr[i + c] / 81.0;
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      std::printf("[environment, %s view] channel %d: %.5f (2r/(1+r) C = %.5f)\n", method == runtime::GlassView::kTable ? "table" : "nearby",
+                  c, seen[c], reflected * colour[c]);
+      EXPECT_NEAR(seen[c], reflected * colour[c], 0.005 * reflected * colour[c]);
+    }
+    o.environment = flat;
+    const Status refused = (*r)->render(frame(o));
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, ErrorCode::kUsage);
+    EXPECT_NE(refused.error().message.find("environment " + std::to_string(flat) + " is not a cube-map texture"), std::string::npos)
+        << refused.error().message;
+  }
+  glDeleteTextures(1, &cube);
+  glDeleteTextures(1, &flat);
 }
 
 }  // namespace

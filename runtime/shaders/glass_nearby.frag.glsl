@@ -1,5 +1,6 @@
 // Nearby-geometry refraction for the view through glass (prefixed with
-// #version and caustix.glsl's optics; GlassView::kNearby). timofy 2009's
+// #version, caustix.glsl's optics and glass_environment.glsl;
+// GlassView::kNearby). timofy 2009's
 // image-space method for the camera's rays (Shah, Konttinen & Pattanaik
 // 2007, "Caustics mapping: an image-space technique for real-time
 // caustics", §3: the refracted ray's intersection with nearby geometry is
@@ -36,7 +37,6 @@ uniform vec4 u_back_window;
 uniform mat4 u_view_proj;
 uniform mat4 u_inv_view_proj;
 uniform vec3 u_eye;
-uniform vec3 u_sky;
 uniform int u_wave_count;
 uniform vec4 u_waves[32];  // xyz the sample's RGB weight, w the glass's index at its wavelength
 uniform vec3 u_glass_absorption;
@@ -68,13 +68,13 @@ bool scene_position(vec2 uv, out vec3 p) {
 vec3 scene_along(vec3 x, vec3 d) {
   vec2 uv;
   vec3 p;
-  if (!to_screen(x, uv) || !scene_position(uv, p)) return u_sky;
+  if (!to_screen(x, uv) || !scene_position(uv, p)) return glass_sky(d);
   float t = length(p - x);
   for (int k = 0; k < u_iterations; ++k) {
-    if (!to_screen(x + t * d, uv) || !scene_position(uv, p)) return u_sky;
+    if (!to_screen(x + t * d, uv) || !scene_position(uv, p)) return glass_sky(d);
     t = length(p - x);
   }
-  return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : u_sky;
+  return to_screen(x + t * d, uv) ? texture(u_scene_color, uv).rgb : glass_sky(d);
 }
 
 // The back face behind frame coordinate uv (w 0: none).
@@ -133,7 +133,7 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 view = normalize(v_world - u_eye);
   if (dot(n, view) > 0.0) n = -n;
-  vec3 sky_reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));  // the same at every wavelength
+  vec3 sky_reflected = glass_sky_reflected(reflect(view, n));  // the same at every wavelength
   vec3 c = vec3(0.0);
   for (int k = 0; k < u_wave_count; ++k) c += u_waves[k].xyz * shade(n, view, u_waves[k].w, sky_reflected);
   o_color = vec4(c, 1.0);

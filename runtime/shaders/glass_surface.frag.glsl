@@ -1,4 +1,5 @@
-// The glass's colour (prefixed with #version and caustix.glsl's optics): Fresnel
+// The glass's colour (prefixed with #version, caustix.glsl's optics and
+// glass_environment.glsl): Fresnel
 // reflection of the sky plus the transmitted view ray's scene colour. The
 // exit ray from the table is marched through the opaque scene's depth
 // buffer in screen space (the first sample behind the stored depth is the
@@ -14,7 +15,6 @@ layout(binding = 0) uniform sampler2D u_scene_color;
 layout(binding = 1) uniform sampler2D u_scene_depth;
 uniform mat4 u_view_proj;
 uniform vec3 u_eye;
-uniform vec3 u_sky;
 uniform float u_ior;
 uniform float u_march_length;
 
@@ -41,7 +41,7 @@ vec3 scene_along(vec3 o, vec3 d) {
     float depth = texture(u_scene_depth, uv).r;
     if (depth < 1.0 && depth >= start && ndc.z * 0.5 + 0.5 >= depth) return texture(u_scene_color, uv).rgb;
   }
-  return u_sky;
+  return glass_sky(d);
 }
 
 void main() {
@@ -49,6 +49,6 @@ void main() {
   vec3 view = normalize(v_world - u_eye);
   if (dot(n, view) > 0.0) n = -n;
   float r = 1.0 - caustix_fresnel_transmittance(max(dot(-view, n), 0.0), u_ior);
-  vec3 reflected = u_sky * (0.6 + 0.4 * max(reflect(view, n).y, 0.0));
+  vec3 reflected = glass_sky_reflected(reflect(view, n));
   o_color = vec4(r * reflected + v_transmitted * scene_along(v_exit, normalize(v_exit_dir)), 1.0);
 }

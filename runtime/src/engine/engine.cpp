@@ -803,6 +803,13 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
     if (value < 1 || value > 64) return usage(std::string("draw_glass: ") + name + " must be 1..64, got " + std::to_string(value));
   }
   if (!s.glass) return Status::success();
+  if (options.environment != 0) {
+    GLint target = 0;
+    if (glIsTexture(options.environment)) glGetTextureParameteriv(options.environment, GL_TEXTURE_TARGET, &target);
+    if (target != GL_TEXTURE_CUBE_MAP) {
+      return usage("draw_glass: environment " + std::to_string(options.environment) + " is not a cube-map texture");
+    }
+  }
   gl::SceneTexture color, depth;
   CAUSTIX_ASSIGN_OR_RETURN(color, gl::describe_scene_texture("draw_glass", scene_color, gl::SceneTextureKind::kColor, "scene colour"));
   CAUSTIX_ASSIGN_OR_RETURN(depth, gl::describe_scene_texture("draw_glass", scene_depth, gl::SceneTextureKind::kDepth, "scene depth"));

@@ -248,9 +248,10 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string rays_src =
       insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_transport_glsl + shaders::k_glass_rays_comp_glsl;
   const std::string surface_vs = version + shaders::k_transport_glsl + shaders::k_glass_surface_vert_glsl;
-  const std::string surface_fs = with_optics(shaders::k_glass_surface_frag_glsl);
-  const std::string nearby_fs = with_optics(shaders::k_glass_nearby_frag_glsl);
-  const std::string thin_fs = with_optics(shaders::k_glass_thin_frag_glsl);
+  const std::string environment = shaders::k_glass_environment_glsl;
+  const std::string surface_fs = with_optics((environment + shaders::k_glass_surface_frag_glsl).c_str());
+  const std::string nearby_fs = with_optics((environment + shaders::k_glass_nearby_frag_glsl).c_str());
+  const std::string thin_fs = with_optics((environment + shaders::k_glass_thin_frag_glsl).c_str());
   const std::string stride = "#define PRIM_STRIDE 6\n#define TEXEL_MAP\n";
   const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + shaders::k_glass_window_split_glsl);
   const std::string wide_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_wide_frag_glsl;

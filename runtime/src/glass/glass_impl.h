@@ -230,7 +230,7 @@ struct GlassEngine::Impl {
   // as colour + destination x transmittance (glass_thin.frag), so that a
   // closed shade scales what is behind it twice.
   void draw_thin(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, const glm::vec3& eye,
-                 const glm::vec3& sky) const;
+                 const glm::vec3& sky, unsigned environment) const;
   // The glass's rectangle in the frame's pixels (x0, y0, x1, y1: what its
   // objects' world boxes project to, a pixel wider), or nothing when none
   // of it is in view. All of the frame when a box reaches behind the eye.

@@ -65,13 +65,14 @@ void GlassEngine::Impl::draw_back_faces(const SceneDesc& scene, const glm::mat4&
 }
 
 void GlassEngine::Impl::draw_thin(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec4& ndc_window, const glm::vec3& eye,
-               const glm::vec3& sky) const {
+               const glm::vec3& sky, unsigned environment) const {
   thin_view.use();
   thin_view.set("u_view_proj", view_proj);
   thin_view.set("u_ndc_window", ndc_window);
   thin_view.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
   thin_view.set("u_eye", eye);
   thin_view.set("u_sky", sky);
+  thin_view.set("u_has_environment", environment != 0 ? 1 : 0);
   glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_SRC1_COLOR);
@@ -163,6 +164,8 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
   p.set("u_ndc_window", ndc_window);
   p.set("u_eye", eye);
   p.set("u_sky", sky);
+  p.set("u_has_environment", options.environment != 0 ? 1 : 0);
+  glBindTextureUnit(4, options.environment);  // sampled only with u_has_environment
   glBindTextureUnit(0, color_read);
   glBindTextureUnit(1, depth_read);
   glBindSampler(0, s.nearest.get());
@@ -197,7 +200,7 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
     }
     g.mesh->draw();
   }
-  if (!s.thin.empty()) s.draw_thin(scene, view_proj, ndc_window, eye, sky);
+  if (!s.thin.empty()) s.draw_thin(scene, view_proj, ndc_window, eye, sky, options.environment);
   glDisable(GL_CULL_FACE);
   glBindSampler(0, 0);
   glBindSampler(1, 0);

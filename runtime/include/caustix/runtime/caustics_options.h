@@ -90,6 +90,14 @@ struct GlassViewOptions {
   GlassView method = GlassView::kTable;
   std::uint32_t iterations = 10;      // nearby: landing iterations against the scene's depth (1..64)
   std::uint32_t exit_iterations = 4;  // nearby: exit-point iterations against the back faces (1..64)
+  // What the view through glass, and its reflection, see where their rays
+  // leave the scene: the name of the application's GL_TEXTURE_CUBE_MAP (its
+  // sky or environment, linear colour, sampled with the texture's own
+  // filtering; Engine::draw_glass binds it at texture unit 4 and puts the
+  // unit back), so that the glass shows the sky the application draws
+  // behind it. 0: draw_glass's flat `sky` colour (seen by reflection,
+  // brighter upward).
+  unsigned environment = 0;
   bool operator==(const GlassViewOptions&) const = default;
 };
 

@@ -62,9 +62,12 @@
 // view refracts at n_d. Thin-walled glass (Role::kThin) is
 // drawn in either view as sheets seen straight through (what is behind
 // them times each sheet's transmittance and tint, plus the sky it
-// reflects), after the solid glass, without writing depth. Writes colour
-// and depth (solid glass's depth only). No-op without transparent
-// objects; kUsage for options out of range (naming the knob).
+// reflects), after the solid glass, without writing depth. Rays that
+// leave the scene (and reflections) see `options.environment`, the
+// caller's cube map of its sky, where given, else the flat `sky`. Writes
+// colour and depth (solid glass's depth only). No-op without transparent
+// objects; kUsage for options out of range (naming the knob) and for an
+// environment that is not a cube-map texture.
 //
 // Engine::draw_media(view_proj, scene_color, scene_depth, scale): single
 // scattering in the media (Pfeuti "Viewing Pass"), seen through
