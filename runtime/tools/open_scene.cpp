@@ -10,6 +10,10 @@
 namespace caustix::tools {
 
 void add_open_options(CLI::App& app, OpenOptions& o) {
+  app.add_option("scene", o.path,
+                 "baked scene (.cxb), or a scene.json or glTF file (.gltf, .glb), baked first into a cache and reused "
+                 "(docs/tools.md, \"Opening a scene or glTF file\")")
+      ->required();
   std::vector<std::string> names;
   for (const auto& p : bake::presets()) names.emplace_back(p.name);
   app.add_option("--bake-preset", o.cache.preset,
@@ -25,7 +29,8 @@ void add_open_options(CLI::App& app, OpenOptions& o) {
       "shoulder and the daylight sky)");
 }
 
-Result<runtime::RuntimeScene> open_scene(const std::string& tool, const std::string& path, const OpenOptions& o) {
+Result<runtime::RuntimeScene> open_scene(const std::string& tool, const OpenOptions& o) {
+  const std::string& path = o.path;
   if (bake::is_baked_path(path)) return runtime::load_scene_file(path);
   bake::ConsoleProgress progress(tool, o.quiet, o.verbose);
   const auto start = std::chrono::steady_clock::now();

@@ -14,14 +14,16 @@
 namespace caustix::tools {
 
 struct OpenOptions {
+  std::string path;  // the scene to open
   bake::CacheRequest cache;
   bool quiet = false, verbose = false;
 };
 
-// --bake-preset, --cache and --no-default-light.
+// The required positional `scene`, then --bake-preset, --cache and
+// --no-default-light.
 void add_open_options(CLI::App& app, OpenOptions& options);
 
-// `tool` prefixes what is said on stderr.
-Result<runtime::RuntimeScene> open_scene(const std::string& tool, const std::string& path, const OpenOptions& options);
+// options.path; `tool` prefixes what is said on stderr.
+Result<runtime::RuntimeScene> open_scene(const std::string& tool, const OpenOptions& options);
 
 }  // namespace caustix::tools

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   using namespace caustix;
   using namespace caustix::runtime;
   using namespace caustix::sample;
-  std::string in_path, out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
+  std::string out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
   float time = 0.0f, epsilon = 0.0f;
   std::uint32_t planes = 0, caustics_size = 0;
   bool quiet = false, verbose = false, no_cull = false;
@@ -32,10 +32,6 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input file unreadable (or a scene.json, glTF or mesh that\n"
       "            does not bake), 4 invalid .cxb, 5 image (or the bake cache) could not be written,\n"
       "            6 no usable OpenGL 4.5 context.");
-  app.add_option("scene", in_path,
-                 "baked scene (.cxb), or a scene.json or glTF file (.gltf, .glb), baked first into a cache and reused "
-                 "(docs/tools.md, \"Opening a scene or glTF file\")")
-      ->required();
   tools::OpenOptions open_options;
   tools::add_open_options(app, open_options);
   app.add_option("-o,--output", out_path, "output image (.png, .exr, ...)")->required();
@@ -269,7 +265,7 @@ int main(int argc, char** argv) {
 
   open_options.quiet = quiet;
   open_options.verbose = verbose;
-  auto scene = tools::open_scene("caustix-render", in_path, open_options);
+  auto scene = tools::open_scene("caustix-render", open_options);
   if (!scene) return fail(scene.error());
   auto context = HeadlessContext::create();
   if (!context) return fail(context.error());

@@ -374,7 +374,7 @@ int main(int argc, char** argv) {
   using namespace caustix;
   using namespace caustix::runtime;
   using namespace caustix::sample;
-  std::string in_path, size = "1280x720", screenshot;
+  std::string size = "1280x720", screenshot;
   int frames = 0;
   CLI::App app{"caustix-view: interactive viewer for a scene: a baked .cxb, or a scene.json or glTF file"};
   app.footer(
@@ -386,10 +386,6 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal, 2 usage, 3 input unreadable (or a scene.json, glTF or mesh that does\n"
       "            not bake), 4 invalid .cxb, 5 screenshot (or the bake cache) not written, 6 no window or\n"
       "            OpenGL 4.5 context (needs a display; try xvfb-run -a).");
-  app.add_option("scene", in_path,
-                 "baked scene (.cxb), or a scene.json or glTF file (.gltf, .glb), baked first into a cache and reused "
-                 "(docs/tools.md, \"Opening a scene or glTF file\")")
-      ->required();
   tools::OpenOptions open_options;
   tools::add_open_options(app, open_options);
   cli::add_size_option(app, "--size", size, "window size");
@@ -416,7 +412,7 @@ int main(int argc, char** argv) {
     start_ripples.emplace_back(x, z);
   }
 
-  auto scene = tools::open_scene("caustix-view", in_path, open_options);
+  auto scene = tools::open_scene("caustix-view", open_options);
   if (!scene) return fail(scene.error());
 
   glfwSetErrorCallback([](int code, const char* msg) { std::cerr << "caustix-view: GLFW error " << code << ": " << msg << "\n"; });
