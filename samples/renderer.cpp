@@ -299,12 +299,49 @@ struct Renderer::Impl {
     p.set("u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
   }
 
-  // `textured`: p is the receiver program, which takes albedo textures.
+  // Units of the receiver program's maps (receiver.frag.glsl): 1..3 and,
+  // for the emissive map, 16 where the context has more than the 16 units
+  // GL 4.5 guarantees (4..15 are caustix's); -1 where it has not, and the
+  // emission is then its factor alone.
+  int emissive_unit = -1;
+  bool blended(std::uint32_t i) const {
+    const auto& m = scene().objects[i].material.maps;
+    return m && m->alpha_mode == AlphaMode::kBlend;
+  }
+  // Receiver i's maps and alpha into the receiver program.
+  void set_maps(const gl::Program& p, std::uint32_t i) const {
+    const std::optional<SurfaceMapBindings> m = engine->surface_maps(i);
+    int bits = 0;
+    if (m) {
+      const std::array<const SurfaceMapBindings::Map*, 4> maps{&m->metallic_roughness, &m->normal, &m->occlusion, &m->emissive};
+      for (std::size_t k = 0; k < maps.size(); ++k) {
+        const int unit = k < 3 ? static_cast<int>(k) + 1 : emissive_unit;
+        if (maps[k]->texture == 0 || unit < 0) continue;
+        bits |= 1 << k;
+        const auto& t = maps[k]->transform;
+        p.set(("u_map_projection[" + std::to_string(k) + "]").c_str(), static_cast<int>(maps[k]->projection));
+        p.set(("u_map_rows[" + std::to_string(2 * k) + "]").c_str(), glm::vec3(t[0], t[1], t[2]));
+        p.set(("u_map_rows[" + std::to_string(2 * k + 1) + "]").c_str(), glm::vec3(t[3], t[4], t[5]));
+        glBindTextureUnit(static_cast<GLuint>(unit), maps[k]->texture);
+      }
+    }
+    p.set("u_maps", bits);
+    p.set("u_normal_scale", m ? m->normal_scale : 1.0f);
+    p.set("u_occlusion_strength", m ? m->occlusion_strength : 1.0f);
+    p.set("u_alpha_mode", m ? static_cast<int>(m->alpha_mode) : 0);
+    p.set("u_alpha", m ? m->alpha : 1.0f);
+    p.set("u_alpha_cutoff", m ? m->alpha_cutoff : 0.5f);
+  }
+
+  // `textured`: p is the receiver program, which takes textures; it then
+  // draws the blended receivers only when `only` names one (draw_lit_view
+  // composites them last).
   Status draw_receivers(const gl::Program& p, int pass, std::uint32_t li, std::optional<std::uint32_t> only,
                         bool cull_closed = false, bool textured = false) const {
     for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
       if (only && *only != i) continue;
       if (transmits(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)
+      if (textured && !only && blended(i)) continue;
       if (cull_closed && closed[scene().objects[i].mesh_index]) {
         glEnable(GL_CULL_FACE);
       } else {
@@ -331,6 +368,7 @@ struct Renderer::Impl {
           p.set("u_albedo_rows[1]", glm::vec3(map->transform[3], map->transform[4], map->transform[5]));
           glBindTextureUnit(0, map->texture);
         }
+        set_maps(p, i);
       }
       if (pass != 0) CAUSTIX_RETURN_IF_ERROR(engine->bind(i, li));
       CAUSTIX_RETURN_IF_ERROR(engine->draw_object(i));
@@ -339,12 +377,20 @@ struct Renderer::Impl {
   }
 
   // Receivers into one view: pass 0 clears and lays down ambient and depth,
-  // pass 1 adds light `li` (eq. 4-19, 4-20).
-  Status draw_view(const PassView& v, int pass, std::uint32_t li, const WaterMedium& medium) const {
+  // pass 1 adds light `li` (eq. 4-19, 4-20). With `only`, that blended
+  // receiver over what is there: pass 0 composites its ambient by its alpha
+  // (and writes its depth), pass 1 adds alpha times its light.
+  Status draw_view(const PassView& v, int pass, std::uint32_t li, const WaterMedium& medium, std::optional<std::uint32_t> only = std::nullopt) const {
     glBindFramebuffer(GL_FRAMEBUFFER, v.fbo);
     glViewport(0, 0, v.width, v.height);
     glEnable(GL_DEPTH_TEST);
-    if (pass == 0) {
+    if (only) {
+      glEnable(GL_BLEND);
+      if (pass == 0) glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      else glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE, GL_ZERO, GL_ONE);
+      glDepthMask(pass == 0 ? GL_TRUE : GL_FALSE);
+      glDepthFunc(GL_LEQUAL);
+    } else if (pass == 0) {
       if (!v.cleared) {
         const float clear[4] = {v.clear.r, v.clear.g, v.clear.b, 0.0f};
         glClearNamedFramebufferfv(v.fbo, GL_COLOR, 0, clear);
@@ -375,9 +421,10 @@ struct Renderer::Impl {
     p.set("u_fog_eye", v.fog_eye);
     p.set("u_fog_k", medium.k);
     p.set("u_water_color", medium.color);
-    const Status st = draw_receivers(p, pass, li, std::nullopt, v.clip.has_value(), /*textured=*/true);
+    const Status st = draw_receivers(p, pass, li, only, v.clip.has_value(), /*textured=*/true);
     glDisable(GL_CLIP_DISTANCE0);
-    if (pass == 0 && sky_model.analytic && !v.fog) draw_sky(v);
+    if (only) glBlendFunc(GL_ONE, GL_ONE);
+    if (pass == 0 && !only && sky_model.analytic && !v.fog) draw_sky(v);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     return st;
@@ -397,10 +444,25 @@ struct Renderer::Impl {
     glDepthFunc(GL_LESS);
   }
 
-  // Ambient, then one additive pass per light.
+  // Ambient, then one additive pass per light; then the blended receivers,
+  // farthest first (by their bounds' centres), each composited whole.
   Status draw_lit_view(const PassView& v, const WaterMedium& medium) const {
     CAUSTIX_RETURN_IF_ERROR(draw_view(v, 0, 0, medium));
     for (std::uint32_t li = 0; li < scene().lights.size(); ++li) CAUSTIX_RETURN_IF_ERROR(draw_view(v, 1, li, medium));
+    std::vector<std::pair<float, std::uint32_t>> order;
+    for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
+      if (!blended(i) || transmits(scene().objects[i].role)) continue;
+      const Object& o = scene().objects[i];
+      const MeshInfo& m = scene().meshes[o.mesh_index];
+      const glm::vec3 centre = 0.5f * (to_glm(m.bounds_min) + to_glm(m.bounds_max));
+      const glm::vec3 world = glm::make_mat4(o.transform.data()) * glm::vec4(centre, 1.0f);
+      order.emplace_back(-glm::distance(world, v.fog_eye), i);
+    }
+    std::sort(order.begin(), order.end());
+    for (const auto& [d, i] : order) {
+      CAUSTIX_RETURN_IF_ERROR(draw_view(v, 0, 0, medium, i));
+      for (std::uint32_t li = 0; li < scene().lights.size(); ++li) CAUSTIX_RETURN_IF_ERROR(draw_view(v, 1, li, medium, i));
+    }
     return Status::success();
   }
 };
@@ -426,6 +488,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
                           {&s.sky, "sky", shaders::k_fullscreen_vert_glsl, sky_fs.c_str()},
                           {&s.luminance, "luminance", shaders::k_fullscreen_vert_glsl, shaders::k_luminance_frag_glsl},
                           {&s.downsample, "downsample", shaders::k_fullscreen_vert_glsl, shaders::k_downsample_frag_glsl}}));
+  GLint units = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+  s.emissive_unit = units > 16 ? 16 : -1;
+  s.receiver.use();
+  s.receiver.set("u_emissive_map", std::max(s.emissive_unit, 1));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
@@ -616,7 +683,7 @@ Result<InscatterImage> Renderer::render_inscatter(const InscatterRequest& q) {
   p.set("u_clip_plane", glm::vec4(0.0f));
   p.set("u_pass", 0);
   p.set("u_fog", 0);
-  CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(p, 0, 0, std::nullopt));
+  CAUSTIX_RETURN_IF_ERROR(s.draw_receivers(p, 0, 0, std::nullopt, false, /*textured=*/true));
   glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
   CAUSTIX_RETURN_IF_ERROR(s.engine->draw_media(view_proj, 0, s.inscatter_target.depth.get(), 1.0f / img.e0));
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("in-scatter"));

@@ -279,7 +279,7 @@ TEST_F(GltfCorpus, ExportsBakeOrAreRefusedByNode) {
          g.doc["textures"] = json::array({{{"source", 0}}});
          g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {4, 4}}}}}}};
        },
-       {"no TEXCOORD_0 for its material's baseColorTexture; drawn with the base colour factor"}, true,
+       {"no TEXCOORD_0 for its material's textures; drawn with its factors alone"}, true,
        [](const bake::BakeResult& r) { EXPECT_FALSE(named(r.scene, "Floor")->material.albedo_texture); }},
       {"textured_floor_embedded_png",  // a GLB's image in a buffer view, a repeating sampler, KHR_texture_transform required
        [](GltfBuilder& g) { textured_floor(g, false); },

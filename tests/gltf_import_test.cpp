@@ -15,6 +15,7 @@
 #include "caustix/bake/mesh_compress.h"
 #include "caustix/bake/scene_json.h"
 #include "caustix/formats/container.h"
+#include "caustix/formats/mesh_decode.h"
 #include "caustix/formats/scene.h"
 #include "gltf_fixture.h"
 
@@ -533,6 +534,57 @@ TEST(GltfScene, AMaterialSheetKeepsSurfacesEmissionAndVolume) {
   EXPECT_NEAR(amber->material.absorption[2], -std::log(0.15) / 0.3, 1e-4);
   ASSERT_EQ(doc->scene.lights.size(), 1u);
   EXPECT_EQ(doc->scene.lights[0].name, "default sun");
+}
+
+// textured.gltf's materials as an exporter writes them (assets/gltf/
+// generate.py): every texture slot reaches the .cxb, an ORM image used as
+// metallic-roughness and occlusion is stored once, a masking base colour
+// keeps its alpha, and nothing is said to be ignored.
+TEST(GltfScene, TexturedMaterialsKeepTheirMapsAndAlpha) {
+  const std::string path = std::string(CAUSTIX_SOURCE_DIR) + "/assets/gltf/textured.gltf";
+  auto baked = bake::bake_scene(path, {});
+  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  for (const auto& w : baked->warnings) EXPECT_EQ(w.find("ignored"), std::string::npos) << w;
+  auto c = cxb::read_container(baked->cxb.data(), baked->cxb.size());
+  ASSERT_TRUE(c.ok());
+  auto d = decode_scene(*c);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  const SceneDesc& s = d->scene;
+  const auto maps = [&](const char* name) -> const Material& {
+    const Object* o = find(s, name);
+    EXPECT_TRUE(o && o->role == Role::kReceiver) << name;
+    static const Material none;
+    return o ? o->material : none;
+  };
+  const Material& floor = maps("floor");
+  ASSERT_TRUE(floor.albedo_texture && floor.maps);
+  ASSERT_TRUE(floor.maps->metallic_roughness && floor.maps->normal && floor.maps->occlusion);
+  EXPECT_FALSE(floor.maps->emissive);
+  EXPECT_EQ(floor.maps->metallic_roughness->image, floor.maps->occlusion->image);  // the ORM image, once
+  EXPECT_NE(floor.albedo_texture->image, floor.maps->normal->image);
+  EXPECT_EQ(floor.maps->normal->transform, texture_transform({0, 0}, 0, {2, 2}));
+  EXPECT_EQ(floor.maps->alpha_mode, AlphaMode::kOpaque);
+  const Object* floor_object = find(s, "floor");
+  ASSERT_TRUE(floor_object);
+  auto mesh = decode_draco(d->draco_meshes[floor_object->mesh_index], s.meshes[floor_object->mesh_index]);
+  ASSERT_TRUE(mesh.ok());
+  EXPECT_EQ(mesh->uvs.size(), mesh->positions.size());  // the maps' coordinates travel
+  ASSERT_TRUE(maps("sign").maps && maps("sign").maps->emissive);
+  const Material& fence = maps("fence");
+  ASSERT_TRUE(fence.maps && fence.albedo_texture);
+  EXPECT_EQ(fence.maps->alpha_mode, AlphaMode::kMask);
+  EXPECT_EQ(fence.maps->alpha_cutoff, 0.5f);
+  EXPECT_EQ(s.images[fence.albedo_texture->image].alpha.size(), std::size_t{64} * 64);
+  EXPECT_TRUE(s.images[floor.albedo_texture->image].alpha.empty());  // an opaque base colour keeps none
+  ASSERT_TRUE(maps("plate").maps && maps("plate").maps->metallic_roughness);
+  const Material& pane = maps("pane");
+  ASSERT_TRUE(pane.maps);
+  EXPECT_EQ(pane.maps->alpha_mode, AlphaMode::kBlend);
+  EXPECT_NEAR(pane.maps->alpha, 0.35f, 1e-6);
+  const Object* ball = find(s, "ball");
+  ASSERT_TRUE(ball);
+  EXPECT_EQ(ball->role, Role::kTransparent);
+  EXPECT_FALSE(ball->material.maps);
 }
 
 TEST_F(Gltf, MalformedFilesAreRefusedWithThePointer) {

@@ -314,5 +314,102 @@ TEST(Render, SurfacesShadeAsTheMetallicRoughnessModelAtNormalIncidence) {
   expect_near(centre(metal, down, 1.0) - centre(metal, down, 0.0), glm::dvec3(0.5 / (4.0 * alpha * alpha)), "sun on metal");
 }
 
+// The maps and alpha of glTF's material (SurfaceMaps) against closed forms,
+// each a floor seen from above at normal incidence (box-projected solid
+// textures from scene.json, so that only the map's meaning is tested):
+// - an emissive texture multiplies the emission by its linear colour;
+// - an occlusion texture of R scales the ambient light by R;
+// - a metallic-roughness texture of (G 1, B 0) on metallic 1 roughness 1
+//   gives the white rough dielectric sky(1 + 0.04 A);
+// - a normal map tilting the normal 45 degrees towards a sun 45 degrees
+//   high turns the sun's part of the Lambertian floor, E0 cos 45, into E0
+//   (and away from it, into 0), along the texture's s (T) and along N x T (the map's +y, up
+//   the image): the glTF convention, measured in both axes;
+// - a masked floor (alpha 0 on its left half) shows the emissive floor
+//   below it there, a blended one (alpha 0.25) alpha of itself over the
+//   rest.
+TEST(Render, MapsAndAlphaShadeAsTheirClosedForms) {
+  const auto solid = [](const std::string& tag, std::vector<std::uint8_t> texel, bool left_clear = false) {
+    const int channels = static_cast<int>(texel.size());
+    std::vector<std::uint8_t> px;
+    for (int y = 0; y < 16; ++y) {
+      for (int x = 0; x < 16; ++x) {
+        for (int c = 0; c < channels; ++c) px.push_back(c == 3 && left_clear && x < 8 ? 0 : texel[static_cast<std::size_t>(c)]);
+      }
+    }
+    const std::string path = (std::filesystem::temp_directory_path() / ("caustix_map_" + tag + ".png")).string();
+    EXPECT_TRUE(sample::write_u8_image(path, 16, 16, channels, px).ok());
+    return path;
+  };
+  const auto box = [](const std::string& file) { return nlohmann::json{{"file", file}, {"projection", "box"}, {"scale", 1.0 / 3.0}, {"offset", {0.5, 0.5}}}; };
+  const std::string plane = std::string(CAUSTIX_SOURCE_DIR) + "/assets/meshes/plane.obj";
+  const auto render = [&](nlohmann::json material, const std::vector<double>& sun, nlohmann::json below = nullptr) {
+    nlohmann::json j = top_down_scene();
+    j["lights"] = {{{"type", "directional"}, {"direction", sun}, {"irradiance", 1.0}}};
+    j["objects"] = {{{"name", "floor"}, {"mesh", plane}, {"material", material}, {"transform", {{"scale", {3, 1, 3}}}}}};
+    if (!below.is_null()) {
+      j["objects"].push_back({{"name", "below"}, {"mesh", plane}, {"material", below}, {"transform", {{"translate", {0, -0.5, 0}}, {"scale", {6, 1, 6}}}}});
+    }
+    return render_file(test::write_scene(j, "maps"), 64, 64);
+  };
+  const auto at = [](const Image& img, int row, int col) {
+    glm::dvec3 c(0.0);
+    for (int k = 0; k < 4; ++k) {
+      const float* p = img.at(row + k / 2, col + k % 2);
+      c += 0.25 * glm::dvec3(p[0], p[1], p[2]);
+    }
+    return c;
+  };
+  const auto centre = [&](const Image& img) { return at(img, 31, 31); };
+  const auto expect_near = [](const glm::dvec3& got, const glm::dvec3& want, const char* what) {
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 0.01 * want[k] + 2e-3) << what << ", channel " << k;
+    std::printf("[maps] %s: %.4f %.4f %.4f (closed form %.4f %.4f %.4f)\n", what, got.x, got.y, got.z, want.x, want.y, want.z);
+  };
+  const std::vector<double> up{0, 1, 0};
+  const glm::dvec3 sky(sample::kSkyColor[0], sample::kSkyColor[1], sample::kSkyColor[2]);
+  const nlohmann::json glowing{{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", 1.0}};
+
+  nlohmann::json emissive = glowing;
+  emissive["emissive_texture"] = box(solid("emissive", {188, 128, 64}));
+  expect_near(centre(render(emissive, up)), {srgb_to_linear(188), srgb_to_linear(128), srgb_to_linear(64)}, "emissive texture");
+
+  const glm::dvec3 white_dielectric = sky * (1.0 + 0.04 * 0.452);
+  expect_near(centre(render({{"albedo", 1.0}, {"roughness", 1.0}, {"occlusion_texture", box(solid("occlusion", {128, 255, 255}))}}, up)),
+              white_dielectric * (128.0 / 255.0), "occlusion 128/255");
+  expect_near(centre(render({{"albedo", 1.0}, {"metallic", 1.0}, {"roughness", 1.0}, {"metallic_roughness_texture", box(solid("mr", {0, 255, 0}))}}, up)),
+              white_dielectric, "metallic-roughness (G 1, B 0) on a metal");
+
+  // Tangent-space normals 45 degrees off the surface's, 8-bit encoded.
+  const auto tilted = [&](const std::string& tag, std::uint8_t x, std::uint8_t y) {
+    return nlohmann::json{{"albedo", 1.0}, {"normal_texture", box(solid(tag, {x, y, 218}))}};
+  };
+  const double s = std::sqrt(0.5), c45 = (218.0 / 255.0 * 2.0 - 1.0);
+  const auto lambert = [&](double tx, double ty, const glm::dvec3& to_sun) {
+    // N (0, 1, 0), T +x (box projection: s along world x), B = N x T = -z.
+    const glm::dvec3 n = glm::normalize(glm::dvec3(tx, c45, -ty));
+    return glm::dvec3(std::max(glm::dot(n, glm::normalize(to_sun)), 0.0));
+  };
+  const double plus = 218.0 / 255.0 * 2.0 - 1.0, minus = 37.0 / 255.0 * 2.0 - 1.0, zero = 128.0 / 255.0 * 2.0 - 1.0;
+  const std::vector<double> from_plus_x{-s, -s, 0}, from_minus_z{0, -s, s};
+  // The sun's part: the render less the same floor's ambient alone.
+  const auto sunlit = [&](const nlohmann::json& material, const std::vector<double>& sun) {
+    return centre(render(material, sun)) - centre(render(material, up));
+  };
+  expect_near(sunlit({{"albedo", 1.0}}, from_plus_x), glm::dvec3(s), "flat, sun 45 degrees high");
+  expect_near(sunlit(tilted("nx", 218, 128), from_plus_x), lambert(plus, zero, {1, 1, 0}), "normal tilted along +T towards the sun");
+  expect_near(sunlit(tilted("nx_away", 37, 128), from_plus_x), lambert(minus, zero, {1, 1, 0}), "normal tilted along -T, away");
+  expect_near(sunlit(tilted("ny", 128, 218), from_minus_z), lambert(zero, plus, {0, 1, -1}), "normal tilted along +B (up the image) towards the sun");
+
+  // Alpha: the floor below glows red, the floor on top blue.
+  const nlohmann::json red{{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", {1.0, 0.0, 0.0}}};
+  nlohmann::json mask{{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", {0.0, 0.0, 1.0}}, {"alpha_mode", "mask"},
+                      {"albedo_texture", box(solid("alpha", {255, 255, 255, 255}, true))}};
+  const Image masked = render(mask, up, red);
+  expect_near(at(masked, 31, 12), {1.0, 0.0, 0.0}, "masked: the floor below through the clear half");
+  expect_near(at(masked, 31, 50), {0.0, 0.0, 1.0}, "masked: the opaque half");
+  nlohmann::json blend{{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", {0.0, 0.0, 1.0}}, {"alpha_mode", "blend"}, {"alpha", 0.25}};
+  expect_near(centre(render(blend, up, red)), {0.75, 0.0, 0.25}, "blended at alpha 0.25 over the floor below");
+}
+
 }  // namespace
 }  // namespace caustix

@@ -653,6 +653,84 @@ TEST(SceneCodec, SurfacesAreStoredAndValidated) {
   EXPECT_TRUE(pc->find(cxb::kTagSurfaces).empty());
 }
 
+// A receiver's maps and alpha (TEXM, optional): every field survives, the
+// base colour's alpha plane too; maps on glass, a bad mode or factor, an
+// image out of range and an alpha plane of the wrong size are refused by
+// the field's name; a scene without maps has no TEXM.
+TEST(SceneCodec, SurfaceMapsAreStoredAndValidated) {
+  SceneDesc s = full_scene();
+  TextureImage im;
+  im.source = "leaf.png";
+  im.width = 2;
+  im.height = 2;
+  im.rgb.assign(12, 200);
+  im.alpha = {0, 255, 128, 7};
+  TextureImage data = im;
+  data.source = "orm.png";
+  data.alpha.clear();
+  s.images = {im, data};
+  Material& m = s.objects[0].material;
+  m.albedo_texture = AlbedoTexture{};
+  SurfaceMaps& maps = m.maps.emplace();
+  maps.metallic_roughness = MapTexture{1, TextureProjection::kUv, TextureWrap::kClamp, TextureWrap::kRepeat, texture_transform({0.5f, 0.0f}, 0.0f, {4.0f, 4.0f})};
+  maps.occlusion = MapTexture{1, TextureProjection::kUv};
+  maps.emissive = MapTexture{0, TextureProjection::kBox};
+  maps.normal_scale = -0.5f;
+  maps.occlusion_strength = 0.75f;
+  maps.alpha_mode = AlphaMode::kMask;
+  maps.alpha = 0.8f;
+  maps.alpha_cutoff = 0.3f;
+  auto b = encode_scene(s, {{0}});
+  auto d = decode(b);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->scene.images[0].alpha, im.alpha);
+  EXPECT_TRUE(d->scene.images[1].alpha.empty());
+  ASSERT_TRUE(d->scene.objects[0].material.maps);
+  const SurfaceMaps& r = *d->scene.objects[0].material.maps;
+  ASSERT_TRUE(r.metallic_roughness && r.occlusion && r.emissive);
+  EXPECT_FALSE(r.normal);
+  EXPECT_EQ(r.metallic_roughness->image, 1u);
+  EXPECT_EQ(r.metallic_roughness->wrap_s, TextureWrap::kClamp);
+  EXPECT_EQ(r.metallic_roughness->transform, maps.metallic_roughness->transform);
+  EXPECT_EQ(r.emissive->projection, TextureProjection::kBox);
+  EXPECT_EQ(r.normal_scale, -0.5f);
+  EXPECT_EQ(r.occlusion_strength, 0.75f);
+  EXPECT_EQ(r.alpha_mode, AlphaMode::kMask);
+  EXPECT_EQ(r.alpha, 0.8f);
+  EXPECT_EQ(r.alpha_cutoff, 0.3f);
+  auto c = cxb::read_container(b.data(), b.size());
+  ASSERT_TRUE(c.ok());
+  ASSERT_EQ(c->find(cxb::kTagSurfaceMaps).size(), 1u);
+  EXPECT_FALSE(c->chunks()[c->find(cxb::kTagSurfaceMaps).at(0)].flags & cxb::kChunkRequired);  // a reader without it draws opaque and unmapped
+
+  for (const auto& [change, says] : std::vector<std::pair<std::function<void(SceneDesc&)>, std::string>>{
+           {[](SceneDesc& x) { x.objects[0].material.maps->alpha_mode = static_cast<AlphaMode>(3); }, "alpha mode 3"},
+           {[](SceneDesc& x) { x.objects[0].material.maps->alpha = 1.5f; }, "/objects/0/material/alpha"},
+           {[](SceneDesc& x) { x.objects[0].material.maps->alpha_cutoff = std::nanf(""); }, "/objects/0/material/alpha_cutoff"},
+           {[](SceneDesc& x) { x.objects[0].material.maps->occlusion_strength = 2.0f; }, "/objects/0/material/occlusion_strength"},
+           {[](SceneDesc& x) { x.objects[0].material.maps->normal_scale = 1e9f; }, "/objects/0/material/normal_scale"},
+           {[](SceneDesc& x) { x.objects[0].material.maps->occlusion->image = 2; }, "/objects/0/material/occlusion_texture: image 2 is out of range"},
+           {[](SceneDesc& x) { x.objects[0].role = Role::kBoth; }, "not a receiver"}}) {
+    SceneDesc bad = s;
+    change(bad);
+    d = decode(encode_scene(bad, {{0}}));
+    ASSERT_FALSE(d.ok()) << says;
+    EXPECT_NE(d.error().message.find(says), std::string::npos) << d.error().message;
+  }
+  // An alpha plane must hold width x height bytes.
+  SceneDesc short_alpha = s;
+  short_alpha.images[0].alpha.pop_back();
+  d = decode(encode_scene(short_alpha, {{0}}));
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("'TEXM'"), std::string::npos) << d.error().message;
+  EXPECT_NE(d.error().message.find("4 alpha texels"), std::string::npos) << d.error().message;
+
+  auto plain = encode_scene(full_scene(), {{0}});
+  auto pc = cxb::read_container(plain.data(), plain.size());
+  ASSERT_TRUE(pc.ok());
+  EXPECT_TRUE(pc->find(cxb::kTagSurfaceMaps).empty());
+}
+
 // Thin-walled glass: role 5 in OBJS, no light-transport table,
 // tinted through TINT; a bad tint, or a table for it, is refused.
 TEST(SceneCodec, ThinWalledObjectsAreStoredAndValidated) {

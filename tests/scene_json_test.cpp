@@ -210,6 +210,41 @@ TEST(SceneJson, AlbedoTextures) {
   EXPECT_NE(msg.find("/objects/0/material/albedo_texture: only a receiver takes an albedo texture"), std::string::npos) << msg;
 }
 
+// glTF's maps and alpha in scene.json (formats/scene.h SurfaceMaps): each
+// texture key as "albedo_texture"'s; one file read as colour and as data
+// is two images; a masking base colour keeps its alpha; a bad mode is
+// named with its place.
+TEST(SceneJson, MapsAndAlpha) {
+  auto r = parse_scene_json(R"({"objects": [
+      {"name": "a", "mesh": "m.obj", "material": {"albedo_texture": "t.png", "normal_texture": {"file": "n.png", "projection": "box"},
+        "metallic_roughness_texture": "orm.png", "occlusion_texture": "orm.png", "emissive_texture": "t.png",
+        "normal_scale": 0.5, "occlusion_strength": 0.25, "alpha_mode": "mask", "alpha_cutoff": 0.4, "alpha": 0.9}},
+      {"name": "b", "mesh": "m.obj", "material": {"alpha_mode": "blend"}}]})", "scene.json");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Material& a = r->scene.objects[0].material;
+  ASSERT_TRUE(a.maps && a.albedo_texture && a.maps->normal && a.maps->metallic_roughness && a.maps->occlusion && a.maps->emissive);
+  EXPECT_EQ(a.maps->normal->projection, TextureProjection::kBox);
+  EXPECT_EQ(a.maps->metallic_roughness->image, a.maps->occlusion->image);
+  EXPECT_EQ(a.albedo_texture->image, a.maps->emissive->image);
+  ASSERT_EQ(r->images.size(), 3u);  // t.png (colour), n.png and orm.png (data)
+  EXPECT_TRUE(r->images[a.albedo_texture->image].keep_alpha);
+  EXPECT_FALSE(r->images[a.albedo_texture->image].data);
+  EXPECT_TRUE(r->images[a.maps->normal->image].data);
+  EXPECT_EQ(a.maps->normal_scale, 0.5f);
+  EXPECT_EQ(a.maps->occlusion_strength, 0.25f);
+  EXPECT_EQ(a.maps->alpha_mode, AlphaMode::kMask);
+  EXPECT_EQ(a.maps->alpha_cutoff, 0.4f);
+  EXPECT_EQ(a.maps->alpha, 0.9f);
+  ASSERT_TRUE(r->scene.objects[1].material.maps);
+  EXPECT_EQ(r->scene.objects[1].material.maps->alpha_mode, AlphaMode::kBlend);
+  EXPECT_FALSE(r->scene.objects[1].material.maps->any_map());
+
+  std::string msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj", "material": {"alpha_mode": "glass"}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/alpha_mode: expected \"opaque\", \"mask\" or \"blend\""), std::string::npos) << msg;
+  msg = error_of(R"({"objects": [{"name": "a", "mesh": "m.obj", "material": {"occlusion_strength": 3}}]})");
+  EXPECT_NE(msg.find("/objects/0/material/occlusion_strength: must be in [0, 1]"), std::string::npos) << msg;
+}
+
 // What the baker says of a texture it cannot use: a file that is not there
 // (named with the scene's line and column, nothing written), and a mesh
 // without texture coordinates under "uv" (the fix named).
@@ -230,7 +265,7 @@ TEST(SceneJson, TextureErrorsAtBakeNameThePlace) {
   EXPECT_NE(baked.error().message.find("nowhere.png': cannot be read"), std::string::npos) << baked.error().message;
   baked = bake_scene(write(R"({"albedo_texture": ")" + std::string(CAUSTIX_SOURCE_DIR) + R"(/assets/textures/pool_tiles.png"})"), BakeOptions{});
   ASSERT_FALSE(baked.ok());
-  EXPECT_NE(baked.error().message.find("plane.obj: the mesh has no texture coordinates for its albedo texture; give the texture \"projection\": \"box\""),
+  EXPECT_NE(baked.error().message.find("plane.obj: the mesh has no texture coordinates for its textures; give the textures \"projection\": \"box\""),
             std::string::npos) << baked.error().message;
   std::filesystem::remove_all(dir);
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Writes glass_ball.gltf and materials.gltf in this folder (committed; re-run
-to regenerate).
+"""Writes glass_ball.gltf, materials.gltf and textured.gltf in this folder
+(committed; re-run to regenerate).
 
 glass_ball.gltf:
 the canonical glass_ball scene (assets/scenes/glass_ball.json) as a glTF 2.0
@@ -32,6 +32,26 @@ its default rig), for the gallery (docs/gallery.md) and the tools' tests:
            emissiveFactor (1, 0.6, 0.3) x KHR_materials_emissive_strength 2
   camera   perspective, 40 deg, at (0.4, 2.6, 4.4) looking at (0, 0.25, -0.2)
 
+textured.gltf: glTF's textures as an exporter writes them (PNG images in
+buffer views, one TEXCOORD_0 set, an ORM texture shared by the
+metallic-roughness and occlusion slots), with no lights:
+
+  floor    a 4 x 4 m quad of 8 x 8 tiles (KHR_texture_transform scale 2):
+           base colour, tangent-space normal map (bevelled tile edges) and
+           ORM (occlusion and roughness in the grout, roughness 0.35 on
+           the tiles)
+  sign     an upright 1.6 x 0.8 m quad at the back, black, its emissive
+           texture an orange ring (emissiveFactor 1)
+  fence    an upright 1.2 x 1.2 m quad on the left, alphaMode MASK
+           (cut-off 0.5): a green lattice with round holes in its alpha
+  plate    an upright 1 x 1 m quad on the right, metallic 1, roughness 1,
+           its metallic-roughness texture half polished metal, half
+           rough paint
+  pane     an upright 1 x 0.8 m quad in front, alphaMode BLEND, blue at
+           alpha 0.35
+  ball     a solid glass ball (radius 0.35) on the tiles, for its caustic
+  camera   perspective, 45 deg, at (0, 2.2, 4.2) looking at (0, 0.4, 0)
+
 Buffers are embedded as base64 data URIs; vertices are the OBJ's (v, vn)
 pairs in order of first use, so the meshes are the OBJ importer's.
 """
@@ -40,6 +60,7 @@ import json
 import math
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -196,6 +217,134 @@ def materials():
     g.write(os.path.join(HERE, "materials.gltf"))
 
 
+def png(width, height, pixel):
+    """An 8-bit RGB or RGBA PNG of pixel(x, y) -> tuple of 0..1 floats (y = 0
+    the top row)."""
+    channels = len(pixel(0, 0))
+    rows = bytearray()
+    for y in range(height):
+        rows.append(0)  # filter: none
+        for x in range(width):
+            rows += bytes(max(0, min(255, round(c * 255))) for c in pixel(x, y))
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+    header = struct.pack(">IIBBBBB", width, height, 8, 6 if channels == 4 else 2, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(bytes(rows), 9)) + chunk(b"IEND", b"")
+
+
+def textured():
+    g = Gltf()
+    for ext in ("KHR_texture_transform", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"):
+        g.doc.setdefault("extensionsUsed", []).append(ext)
+
+    def image(name, data):
+        while len(g.bin) % 4:
+            g.bin.append(0)
+        view = g.push("bufferViews", {"buffer": 0, "byteOffset": len(g.bin), "byteLength": len(data)})
+        g.bin += data
+        return g.push("textures", {"source": g.push("images", {"name": name, "bufferView": view, "mimeType": "image/png"}), "sampler": 0})
+    g.doc["samplers"] = [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]
+
+    def quad(material, upright=False):
+        """A unit quad, centred, facing +y (upright: facing +z), UV (0, 0) at
+        its far (upright: top) left corner."""
+        corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+        pos = [(x, -z, 0.0) if upright else (x, 0.0, z) for x, z in corners]
+        nrm = [(0.0, 0.0, 1.0) if upright else (0.0, 1.0, 0.0)] * 4
+        uv = [(x + 0.5, z + 0.5) for x, z in corners]
+        attrs = {"POSITION": g.accessor("f", [c for p in pos for c in p], 5126, "VEC3", 4,
+                                        {"min": [min(p[k] for p in pos) for k in range(3)], "max": [max(p[k] for p in pos) for k in range(3)]}),
+                 "NORMAL": g.accessor("f", [c for n in nrm for c in n], 5126, "VEC3", 4),
+                 "TEXCOORD_0": g.accessor("f", [c for t in uv for c in t], 5126, "VEC2", 4)}
+        ind = g.accessor("H", [0, 2, 1, 0, 3, 2], 5123, "SCALAR", 6)
+        return g.push("meshes", {"primitives": [{"attributes": attrs, "indices": ind, "material": material}]})
+
+    n = 128
+    tile = n // 4  # 4 x 4 tiles an image
+    grout, bevel = 2, 5
+
+    def in_tile(x, y):
+        """Position within its tile from the grout's edge, and the distance to
+        the nearest grout."""
+        u, v = x % tile - grout, y % tile - grout
+        size = tile - 2 * grout
+        return u, v, size, min(u, v, size - 1 - u, size - 1 - v)
+
+    def tiles_colour(x, y):
+        u, v, size, d = in_tile(x, y)
+        if d < 0:
+            return (0.35, 0.33, 0.3)
+        return (0.72, 0.36, 0.22) if (x // tile + y // tile) % 2 else (0.86, 0.8, 0.68)
+
+    def tiles_normal(x, y):
+        u, v, size, d = in_tile(x, y)
+        tx = ty = 0.0
+        if 0 <= d < bevel:  # the tile's edge slopes down to the grout at 45 degrees
+            if d == u:
+                tx = -0.7
+            elif d == size - 1 - u:
+                tx = 0.7
+            elif d == v:
+                ty = 0.7   # +y of the map is up the image (decreasing v)
+            else:
+                ty = -0.7
+        tz = math.sqrt(max(0.0, 1 - tx * tx - ty * ty))
+        return (0.5 + 0.5 * tx, 0.5 + 0.5 * ty, 0.5 + 0.5 * tz)
+
+    def tiles_orm(x, y):
+        u, v, size, d = in_tile(x, y)
+        return (0.45, 0.9, 0.0) if d < 0 else (1.0, 0.35, 0.0)
+
+    def ring(x, y):
+        r = math.hypot(x - 63.5, (y - 31.5) * 2)
+        return (1.0, 0.55, 0.15) if 34 < r < 48 else (0.0, 0.0, 0.0)
+
+    def lattice(x, y):
+        hole = math.hypot(x % 32 - 15.5, y % 32 - 15.5) < 11
+        return (0.25, 0.55, 0.2, 0.0 if hole else 1.0)
+
+    def plate(x, y):
+        metal = x < 64
+        return (1.0, 0.15 if metal else 0.8, 1.0 if metal else 0.0)
+
+    t_colour, t_normal, t_orm = image("tiles_colour", png(n, n, tiles_colour)), image("tiles_normal", png(n, n, tiles_normal)), image("tiles_orm", png(n, n, tiles_orm))
+    scale2 = {"KHR_texture_transform": {"scale": [2, 2]}}
+    floor = g.push("materials", {"name": "tiles", "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": t_colour, "extensions": scale2}, "metallicFactor": 1.0, "roughnessFactor": 1.0,
+        "metallicRoughnessTexture": {"index": t_orm, "extensions": scale2}},
+        "normalTexture": {"index": t_normal, "extensions": scale2}, "occlusionTexture": {"index": t_orm, "extensions": scale2}})
+    sign = g.push("materials", {"name": "sign", "pbrMetallicRoughness": {"baseColorFactor": [0.02, 0.02, 0.02, 1], "metallicFactor": 0.0},
+                                "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": image("sign_emissive", png(n, 64, ring))}})
+    fence = g.push("materials", {"name": "fence", "alphaMode": "MASK", "doubleSided": True,
+                                 "pbrMetallicRoughness": {"baseColorTexture": {"index": image("fence", png(64, 64, lattice))}, "metallicFactor": 0.0}})
+    plate_m = g.push("materials", {"name": "plate", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.92, 1], "metallicFactor": 1.0, "roughnessFactor": 1.0,
+                                                                           "metallicRoughnessTexture": {"index": image("plate_mr", png(n, n, plate))}}})
+    pane = g.push("materials", {"name": "pane", "alphaMode": "BLEND", "doubleSided": True,
+                                "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 1.0, 0.35], "metallicFactor": 0.0, "roughnessFactor": 0.2}})
+    glass = g.push("materials", {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0},
+                                 "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.5},
+                                                "KHR_materials_volume": {"thicknessFactor": 0.7}}})
+    sphere_obj = os.path.join(HERE, "..", "meshes", "sphere.obj")
+    nodes = [
+        g.push("nodes", {"name": "floor", "mesh": quad(floor), "scale": [4, 1, 4]}),
+        g.push("nodes", {"name": "sign", "mesh": quad(sign, True), "translation": [0, 0.6, -1.6], "scale": [1.6, 0.8, 1]}),
+        g.push("nodes", {"name": "fence", "mesh": quad(fence, True), "translation": [-1.4, 0.6, -0.4], "scale": [1.2, 1.2, 1],
+                         "rotation": [0, math.sin(math.radians(20)), 0, math.cos(math.radians(20))]}),
+        g.push("nodes", {"name": "plate", "mesh": quad(plate_m, True), "translation": [1.4, 0.55, -0.4], "scale": [1, 1, 1],
+                         "rotation": [0, -math.sin(math.radians(20)), 0, math.cos(math.radians(20))]}),
+        g.push("nodes", {"name": "pane", "mesh": quad(pane, True), "translation": [-0.6, 0.4, 1.0], "scale": [1, 0.8, 1]}),
+        g.push("nodes", {"name": "ball", "mesh": g.mesh(sphere_obj, glass), "translation": [0.35, 0.35, 0.1], "scale": [0.35] * 3}),
+    ]
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": math.radians(45), "znear": 0.05, "zfar": 100.0}}]
+    nodes.append(g.push("nodes", {"name": "camera", "camera": 0, "translation": [0, 2.2, 4.2],
+                                  "rotation": look_at_quaternion([0, 2.2, 4.2], [0, 0.4, 0])}))
+    g.doc["scenes"] = [{"name": "textured", "nodes": nodes}]
+    g.doc["scene"] = 0
+    g.write(os.path.join(HERE, "textured.gltf"))
+
+
 if __name__ == "__main__":
     main()
     materials()
+    textured()

@@ -329,12 +329,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     out.notes.push_back(note);
   }
 
-  // Albedo textures' images, each read once (formats/scene.h TextureImage).
+  // Receivers' textures' images, each read once (formats/scene.h TextureImage).
   std::vector<std::optional<std::uint32_t>> image_index(doc->images.size());
   std::vector<bool> used(doc->images.size(), false);
-  for (const Object& o : scene.objects) {
-    if (o.material.albedo_texture) used[o.material.albedo_texture->image] = true;
-  }
+  for (const Object& o : scene.objects) for_each_texture(o.material, [&](const MapTexture& t) { used[t.image] = true; });
   for (std::size_t i = 0; i < doc->images.size(); ++i) {
     const ImageSource& src = doc->images[i];
     if (!used[i]) continue;
@@ -349,10 +347,10 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     scene.images.push_back(std::move(*image));
   }
   for (Object& o : scene.objects) {
-    auto& t = o.material.albedo_texture;
-    if (!t) continue;
-    if (image_index[t->image]) t->image = *image_index[t->image];
-    else t.reset();
+    for_each_texture_slot(o.material, [&](std::optional<MapTexture>& t) {
+      if (t && image_index[t->image]) t->image = *image_index[t->image];
+      else t.reset();
+    });
   }
 
   if (!voice.progress("scene", scene_path, 1.0)) return voice.error();  // read, with its textures
@@ -395,11 +393,13 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
     // Texture coordinates travel only for receivers textured through them;
     // everything else pays nothing for them.
     const bool wants_uvs = std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) {
-      return o.mesh_index == i && o.material.albedo_texture && o.material.albedo_texture->projection == TextureProjection::kUv;
+      bool uv = false;
+      for_each_texture(o.material, [&](const MapTexture& t) { uv = uv || t.projection == TextureProjection::kUv; });
+      return o.mesh_index == i && uv;
     });
     if (!wants_uvs) mesh.uvs.clear();
     if (wants_uvs && mesh.uvs.size() != mesh.positions.size()) {
-      return make_error(ErrorCode::kInput, path + ": the mesh has no texture coordinates for its albedo texture; give the texture "
+      return make_error(ErrorCode::kInput, path + ": the mesh has no texture coordinates for its textures; give the textures "
                                                  "\"projection\": \"box\" (tiles in metres) or export the mesh with UVs (glTF TEXCOORD_0)");
     }
     t0 = Clock::now();

@@ -394,7 +394,7 @@ struct GltfFile::Impl {
     if (texcoord >= 0) {
       const std::string name = "TEXCOORD_" + std::to_string(texcoord);
       const auto it = prim.attributes.find(name);
-      if (it == prim.attributes.end()) return fail(pp + "/attributes", "no " + name + " for its material's baseColorTexture");
+      if (it == prim.attributes.end()) return fail(pp + "/attributes", "no " + name + " for its material's textures");
       auto uv = read_accessor(it->second, pp + "/attributes/" + name, TINYGLTF_TYPE_VEC2, any_type);
       if (!uv) return uv.error();
       if (uv->size() != 2 * n) return fail(pp + "/attributes/" + name, "count differs from POSITION's " + std::to_string(n));
@@ -530,27 +530,28 @@ struct GltfFile::Impl {
     return model.nodes[i].name.empty() ? "node" + std::to_string(i) : model.nodes[i].name;
   }
 
-  // The base-colour texture of receiver material `index` (glTF 2.0
-  // §3.9.2: sRGB, TEXCOORD_n, the sampler's wraps; KHR_texture_transform),
-  // with the texture-coordinate set it reads; nullopt when it has none or
-  // caustix cannot read its image (said in a warning). Images are listed
-  // once each in `images` (image_of: glTF image -> index there).
-  Result<std::optional<std::pair<AlbedoTexture, int>>> albedo_texture(int index, std::vector<ImageSource>& images,
-                                                                     std::map<int, std::uint32_t>& image_of,
-                                                                     std::vector<std::string>& warns) const {
-    const tinygltf::TextureInfo& ti = model.materials[static_cast<std::size_t>(index)].pbrMetallicRoughness.baseColorTexture;
-    if (ti.index < 0) return std::optional<std::pair<AlbedoTexture, int>>{};
-    const std::string tp = "/materials/" + std::to_string(index) + "/pbrMetallicRoughness/baseColorTexture";
-    if (auto e = check_index(ti.index, model.textures, "texture", tp + "/index")) return *e;
-    const tinygltf::Texture& t = model.textures[static_cast<std::size_t>(ti.index)];
-    const std::string xp = "/textures/" + std::to_string(ti.index);
+  // A texture of a receiver's material (glTF 2.0 §3.9.6: the texture's
+  // image, TEXCOORD_n, the sampler's wraps; KHR_texture_transform) at
+  // `tp`, with the texture-coordinate set it reads; nullopt when caustix
+  // cannot read its image (said in a warning). `data`: a normal,
+  // metallic-roughness or occlusion texture (linear values); `keep_alpha`:
+  // the base colour of a material that masks or blends. Images are listed
+  // once each per use as colour or data in `images` (image_of: (glTF
+  // image, data) -> index there).
+  Result<std::optional<std::pair<MapTexture, int>>> texture(int tex, int tex_coord, const tinygltf::ExtensionMap& extensions, const std::string& tp,
+                                                           bool data, bool keep_alpha, std::vector<ImageSource>& images,
+                                                           std::map<std::pair<int, bool>, std::uint32_t>& image_of,
+                                                           std::vector<std::string>& warns) const {
+    if (auto e = check_index(tex, model.textures, "texture", tp + "/index")) return *e;
+    const tinygltf::Texture& t = model.textures[static_cast<std::size_t>(tex)];
+    const std::string xp = "/textures/" + std::to_string(tex);
     if (t.source < 0) {
-      warn(xp + ": no PNG or JPEG source (a KHR_texture_basisu, EXT_texture_webp or EXT_texture_avif image only); the base colour factor is used", warns);
-      return std::optional<std::pair<AlbedoTexture, int>>{};
+      warn(xp + ": no PNG or JPEG source (a KHR_texture_basisu, EXT_texture_webp or EXT_texture_avif image only); " + tp + " is not used", warns);
+      return std::optional<std::pair<MapTexture, int>>{};
     }
     if (auto e = check_index(t.source, model.images, "image", xp + "/source")) return *e;
-    AlbedoTexture a;
-    int texcoord = ti.texCoord;
+    MapTexture a;
+    int texcoord = tex_coord;
     if (t.sampler >= 0) {
       if (auto e = check_index(t.sampler, model.samplers, "sampler", xp + "/sampler")) return *e;
       const tinygltf::Sampler& smp = model.samplers[static_cast<std::size_t>(t.sampler)];
@@ -561,7 +562,7 @@ struct GltfFile::Impl {
       a.wrap_s = wrap(smp.wrapS);
       a.wrap_t = wrap(smp.wrapT);
     }
-    if (const tinygltf::Value* tt = extension(ti.extensions, "KHR_texture_transform")) {
+    if (const tinygltf::Value* tt = extension(extensions, "KHR_texture_transform")) {
       const std::string ep = tp + "/extensions/KHR_texture_transform";
       std::array<float, 2> offset{0, 0}, scale{1, 1};
       float rotation = 0;
@@ -585,13 +586,14 @@ struct GltfFile::Impl {
       }
       a.transform = texture_transform(offset, rotation, scale);
     }
-    const auto [at, added] = image_of.emplace(t.source, static_cast<std::uint32_t>(images.size()));
+    const auto [at, added] = image_of.emplace(std::pair{t.source, data}, static_cast<std::uint32_t>(images.size()));
     if (added) {
       const tinygltf::Image& gi = model.images[static_cast<std::size_t>(t.source)];
       const std::string ip = "/images/" + std::to_string(t.source);
       ImageSource src;
       src.where = path + ": " + ip;
       src.fall_back = true;
+      src.data = data;
       if (!gi.uri.empty()) {
         src.path = (std::filesystem::path(path).parent_path() / percent_decoded(gi.uri)).lexically_normal().string();
         src.name = percent_decoded(gi.uri);  // as the file names it (TEXR records it)
@@ -610,8 +612,50 @@ struct GltfFile::Impl {
       }
       images.push_back(std::move(src));
     }
+    if (keep_alpha) images[at->second].keep_alpha = true;
     a.image = at->second;
     return std::optional{std::pair{a, texcoord}};
+  }
+
+  // The textures of receiver material `index` into `mat` (its albedo
+  // texture and SurfaceMaps), and the texture-coordinate set they read
+  // (-1: none). caustix's meshes carry one set: a map on another set than
+  // the first one read is named in a warning and left out.
+  Result<int> material_textures(int index, Material& mat, std::vector<ImageSource>& images, std::map<std::pair<int, bool>, std::uint32_t>& image_of,
+                                std::vector<std::string>& warns) const {
+    const tinygltf::Material& gm = model.materials[static_cast<std::size_t>(index)];
+    const std::string mp = "/materials/" + std::to_string(index);
+    int texcoord = -1;
+    const auto take = [&](int tex, int tex_coord, const tinygltf::ExtensionMap& ext, const std::string& tp, bool data, bool keep_alpha,
+                          std::optional<MapTexture>& out) -> Status {
+      if (tex < 0) return Status::success();
+      auto t = texture(tex, tex_coord, ext, tp, data, keep_alpha, images, image_of, warns);
+      if (!t) return t.error();
+      if (!*t) return Status::success();
+      if (texcoord >= 0 && (*t)->second != texcoord) {
+        warn(tp + " reads TEXCOORD_" + std::to_string((*t)->second) + ", the material's other textures TEXCOORD_" + std::to_string(texcoord) +
+                 "; caustix keeps one set, so this texture is not used",
+             warns);
+        return Status::success();
+      }
+      texcoord = (*t)->second;
+      out = (*t)->first;
+      return Status::success();
+    };
+    const auto& pbr = gm.pbrMetallicRoughness;
+    const bool blends = mat.maps && mat.maps->alpha_mode != AlphaMode::kOpaque;
+    CAUSTIX_RETURN_IF_ERROR(take(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
+                                 mp + "/pbrMetallicRoughness/baseColorTexture", false, blends, mat.albedo_texture));
+    SurfaceMaps maps = mat.maps.value_or(SurfaceMaps{});
+    CAUSTIX_RETURN_IF_ERROR(take(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions,
+                                 mp + "/pbrMetallicRoughness/metallicRoughnessTexture", true, false, maps.metallic_roughness));
+    CAUSTIX_RETURN_IF_ERROR(take(gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions, mp + "/normalTexture", true, false, maps.normal));
+    CAUSTIX_RETURN_IF_ERROR(take(gm.occlusionTexture.index, gm.occlusionTexture.texCoord, gm.occlusionTexture.extensions, mp + "/occlusionTexture", true,
+                                 false, maps.occlusion));
+    CAUSTIX_RETURN_IF_ERROR(take(gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions, mp + "/emissiveTexture", false,
+                                 false, maps.emissive));
+    if (maps.any_map() || mat.maps) mat.maps = maps;
+    return texcoord;
   }
 
   // Which of the model's materials maps to what (docs/scene-format.md).
@@ -631,11 +675,6 @@ struct GltfFile::Impl {
       base[k] = static_cast<float>(c);
     }
     std::vector<std::string> ignored;
-    if (pbr.metallicRoughnessTexture.index >= 0) ignored.push_back("metallicRoughnessTexture (the factors are used)");
-    if (gm.normalTexture.index >= 0) ignored.push_back("normalTexture");
-    if (gm.occlusionTexture.index >= 0) ignored.push_back("occlusionTexture");
-    if (gm.emissiveTexture.index >= 0) ignored.push_back("emissiveTexture (the emissive factor is used)");
-    if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) ignored.push_back("alphaMode " + gm.alphaMode);
     for (const auto& [name, value] : gm.extensions) {
       if (!kSupported.count(name)) ignored.push_back(name);
     }
@@ -763,10 +802,35 @@ struct GltfFile::Impl {
           sf.emissive[k] = static_cast<float>(std::min(e * strength, 1e6));
         }
       }
+      // glTF 2.0 §3.9.4 alpha; the factors of the normal and occlusion
+      // textures (material_textures() reads the textures themselves).
+      SurfaceMaps maps;
+      if (gm.alphaMode == "MASK") maps.alpha_mode = AlphaMode::kMask;
+      else if (gm.alphaMode == "BLEND") maps.alpha_mode = AlphaMode::kBlend;
+      else if (!gm.alphaMode.empty() && gm.alphaMode != "OPAQUE") return fail(mp + "/alphaMode", "must be OPAQUE, MASK or BLEND");
+      const double a = pbr.baseColorFactor[3], cutoff = gm.alphaCutoff;
+      if (!(a >= 0 && a <= 1)) return fail(mp + "/pbrMetallicRoughness/baseColorFactor/3", "must be in [0, 1]");
+      if (!(cutoff >= 0 && cutoff <= 1)) return fail(mp + "/alphaCutoff", "must be in [0, 1]");
+      const double scale = gm.normalTexture.scale, occlusion = gm.occlusionTexture.strength;
+      if (!(std::fabs(scale) <= 1000)) return fail(mp + "/normalTexture/scale", "must be a number in [-1000, 1000]");
+      if (!(occlusion >= 0 && occlusion <= 1)) return fail(mp + "/occlusionTexture/strength", "must be in [0, 1]");
+      maps.alpha = static_cast<float>(a);
+      maps.alpha_cutoff = static_cast<float>(cutoff);
+      maps.normal_scale = static_cast<float>(scale);
+      maps.occlusion_strength = static_cast<float>(occlusion);
+      if (maps.alpha_mode != AlphaMode::kOpaque) mat.maps = maps;
+      else if (gm.normalTexture.index >= 0 || gm.occlusionTexture.index >= 0) mat.maps = maps;  // the textures follow
     }
-    if (pbr.baseColorTexture.index >= 0 && role != Role::kReceiver) {
-      ignored.push_back(std::string("baseColorTexture (the base colour factor is used: ") +
-                        (role == Role::kMirror ? "a mirror's reflectance" : "glass is not textured") + ")");
+    if (role != Role::kReceiver) {
+      const char* why = role == Role::kMirror ? "a mirror's reflectance is its base colour factor" : "glass is not textured";
+      for (const auto& [used, name] : {std::pair{pbr.baseColorTexture.index >= 0, "baseColorTexture"},
+                                       std::pair{pbr.metallicRoughnessTexture.index >= 0, "metallicRoughnessTexture"},
+                                       std::pair{gm.normalTexture.index >= 0, "normalTexture"},
+                                       std::pair{gm.occlusionTexture.index >= 0, "occlusionTexture"},
+                                       std::pair{gm.emissiveTexture.index >= 0, "emissiveTexture"}}) {
+        if (used) ignored.push_back(std::string(name) + " (" + why + ")");
+      }
+      if (!gm.alphaMode.empty() && gm.alphaMode != "OPAQUE") ignored.push_back("alphaMode " + gm.alphaMode + " (" + why + ")");
     }
     if (!ignored.empty()) {
       std::string list;
@@ -963,7 +1027,7 @@ Result<GltfScene> GltfFile::scene() const {
   std::map<std::tuple<std::size_t, std::size_t, bool, int>, std::uint32_t> mesh_of;  // (mesh, primitive, weld, texcoord) -> index
   std::map<int, std::pair<Role, Material>> materials;
   std::map<int, int> texcoord_of;  // textured material -> its TEXCOORD set
-  std::map<int, std::uint32_t> image_of;
+  std::map<std::pair<int, bool>, std::uint32_t> image_of;
   std::set<std::string> names;
   bool camera_taken = false;
   for (const Visit& v : order) {
@@ -982,12 +1046,9 @@ Result<GltfScene> GltfFile::scene() const {
           auto read = im.material(prims[k].material, pp + "/material", out.warnings);
           if (!read) return read.error();
           if (read->first == Role::kReceiver && prims[k].material >= 0) {
-            auto tex = im.albedo_texture(prims[k].material, out.images, image_of, out.warnings);
-            if (!tex) return tex.error();
-            if (*tex) {
-              read->second.albedo_texture = (*tex)->first;
-              texcoord_of[prims[k].material] = (*tex)->second;
-            }
+            auto set = im.material_textures(prims[k].material, read->second, out.images, image_of, out.warnings);
+            if (!set) return set.error();
+            if (*set >= 0) texcoord_of[prims[k].material] = *set;
           }
           cached = materials.emplace(prims[k].material, *read).first;
         }
@@ -997,7 +1058,7 @@ Result<GltfScene> GltfFile::scene() const {
         if (const auto tc = texcoord_of.find(prims[k].material); tc != texcoord_of.end()) {
           texcoord = tc->second;
           if (!prims[k].attributes.count("TEXCOORD_" + std::to_string(texcoord))) {
-            im.warn(pp + ": no TEXCOORD_" + std::to_string(texcoord) + " for its material's baseColorTexture; drawn with the base colour factor", out.warnings);
+            im.warn(pp + ": no TEXCOORD_" + std::to_string(texcoord) + " for its material's textures; drawn with its factors alone", out.warnings);
             texcoord = -1;
           }
         }
@@ -1034,7 +1095,7 @@ Result<GltfScene> GltfFile::scene() const {
         o.mesh_index = found->second;
         o.role = mat->first;
         o.material = mat->second;
-        if (texcoord < 0) o.material.albedo_texture.reset();
+        if (texcoord < 0) for_each_texture_slot(o.material, [](std::optional<MapTexture>& t) { t.reset(); });
         for (std::size_t c = 0; c < 16; ++c) o.transform[c] = static_cast<float>(v.world[c]);
         out.scene.objects.push_back(o);
         where.objects.push_back(np + " ('" + im.node_name(v.node) + "')");

@@ -251,14 +251,59 @@ bool parse_albedo_texture(Walker& w, const json& v, const std::string& ptr, Albe
   return true;
 }
 
-bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::string& texture_file, bool& thin) {
+// A material's texture slots in scene.json (formats/scene.h Material and
+// SurfaceMaps): the key, whether its image holds data rather than colour,
+// and the slot.
+struct TextureKey {
+  const char* key;
+  bool data;
+  std::optional<MapTexture>& (*slot)(Material&);
+};
+const TextureKey kTextureKeys[] = {
+    {"albedo_texture", false, [](Material& m) -> std::optional<MapTexture>& { return m.albedo_texture; }},
+    {"metallic_roughness_texture", true, [](Material& m) -> std::optional<MapTexture>& { return m.maps.value().metallic_roughness; }},
+    {"normal_texture", true, [](Material& m) -> std::optional<MapTexture>& { return m.maps.value().normal; }},
+    {"occlusion_texture", true, [](Material& m) -> std::optional<MapTexture>& { return m.maps.value().occlusion; }},
+    {"emissive_texture", false, [](Material& m) -> std::optional<MapTexture>& { return m.maps.value().emissive; }},
+};
+// A texture file a material names, in kTextureKeys' order.
+struct NamedTexture {
+  const TextureKey* key;
+  std::string file;
+};
+
+bool parse_material(Walker& w, const json& v, const std::string& ptr, Material& out, std::vector<NamedTexture>& textures, bool& thin) {
   if (!w.object(v, ptr)) return false;
   w.check_fields(v, ptr, {"albedo", "albedo_texture", "transparent", "thin", "ior", "dispersion", "absorption", "tint", "scattering", "phase", "anisotropy", "reflectance",
-                          "metallic", "roughness", "emissive"});
-  if (const json* j = Walker::optional_member(v, "albedo_texture")) {
-    out.albedo_texture.emplace();
-    if (!parse_albedo_texture(w, *j, ptr + "/albedo_texture", *out.albedo_texture, texture_file)) return false;
-    out.albedo = {1, 1, 1};  // the texture alone, unless "albedo" tints it
+                          "metallic", "roughness", "emissive", "metallic_roughness_texture", "normal_texture", "occlusion_texture", "emissive_texture",
+                          "normal_scale", "occlusion_strength", "alpha_mode", "alpha", "alpha_cutoff"});
+  // Maps and alpha (formats/scene.h SurfaceMaps): any of their keys gives
+  // the material maps, the others at their defaults.
+  for (const char* key : {"metallic_roughness_texture", "normal_texture", "occlusion_texture", "emissive_texture", "normal_scale",
+                          "occlusion_strength", "alpha_mode", "alpha", "alpha_cutoff"}) {
+    if (v.contains(key) && !out.maps) out.maps.emplace();
+  }
+  for (const TextureKey& k : kTextureKeys) {
+    const json* j = Walker::optional_member(v, k.key);
+    if (!j) continue;
+    NamedTexture& t = textures.emplace_back(NamedTexture{&k, {}});
+    if (!parse_albedo_texture(w, *j, ptr + "/" + k.key, k.slot(out).emplace(), t.file)) return false;
+  }
+  if (out.albedo_texture) out.albedo = {1, 1, 1};  // the texture alone, unless "albedo" tints it
+  if (out.maps) {
+    SurfaceMaps& m = *out.maps;
+    if (const json* j = Walker::optional_member(v, "alpha_mode")) {
+      std::string mode;
+      if (!w.string(*j, ptr + "/alpha_mode", mode)) return false;
+      if (mode == "opaque") m.alpha_mode = AlphaMode::kOpaque;
+      else if (mode == "mask") m.alpha_mode = AlphaMode::kMask;
+      else if (mode == "blend") m.alpha_mode = AlphaMode::kBlend;
+      else return w.fail(ptr + "/alpha_mode", "expected \"opaque\", \"mask\" or \"blend\", got \"" + mode + "\"");
+    }
+    for (const auto& [key, value] : {std::pair{"alpha", &m.alpha}, std::pair{"alpha_cutoff", &m.alpha_cutoff}, std::pair{"normal_scale", &m.normal_scale},
+                                     std::pair{"occlusion_strength", &m.occlusion_strength}}) {
+      if (const json* j = Walker::optional_member(v, key); j && !w.number(*j, ptr + "/" + key, *value)) return false;
+    }
   }
   if (const json* j = Walker::optional_member(v, "albedo"); j && !w.scalar_or_vec3(*j, ptr + "/albedo", out.albedo)) return false;
   if (const json* j = Walker::optional_member(v, "transparent"); j && !w.boolean(*j, ptr + "/transparent", out.transparent)) return false;
@@ -344,7 +389,7 @@ bool parse_gltf(Walker& w, const json& root, SceneDocument& doc, const std::file
   const auto image_offset = static_cast<std::uint32_t>(doc.images.size());
   for (Object o : gs->scene.objects) {
     o.mesh_index += offset;
-    if (o.material.albedo_texture) o.material.albedo_texture->image += image_offset;
+    for_each_texture(o.material, [&](MapTexture& t) { t.image += image_offset; });
     doc.scene.objects.push_back(std::move(o));
   }
   for (auto& im : gs->images) doc.images.push_back(std::move(im));
@@ -366,7 +411,7 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
   if (!objs) return false;
   if (!objs->is_array()) return w.fail("/objects", "expected an array of objects, got " + Walker::type_of(*objs));
   std::map<std::pair<std::string, bool>, std::uint32_t> mesh_by_path;  // (resolved source, welded)
-  std::map<std::string, std::uint32_t> image_by_path;
+  std::map<std::pair<std::string, bool>, std::uint32_t> image_by_path;  // (file, data) -> image
   for (std::size_t i = 0; i < objs->size(); ++i) {
     const json& o = (*objs)[i];
     const std::string ptr = "/objects/" + std::to_string(i);
@@ -388,26 +433,31 @@ bool parse_objects(Walker& w, const json& root, SceneDocument& doc, const std::f
       else if (role == "mirror") obj.role = Role::kMirror;
       else return w.fail(ptr + "/role", "expected \"receiver\", \"transparent\", \"both\" or \"mirror\", got \"" + role + "\"");
     }
-    std::string texture_file;
+    std::vector<NamedTexture> textures;
     bool thin = false;
-    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, texture_file, thin)) {
+    if (const json* j = Walker::optional_member(o, "material"); j && !parse_material(w, *j, ptr + "/material", obj.material, textures, thin)) {
       return false;
     }
     // A thin-walled surface: its own kind of object, not a solid.
     if (thin && obj.role == Role::kTransparent) obj.role = Role::kThin;
     else if (thin) return w.fail(ptr + "/material/thin", "a thin-walled material needs \"role\": \"transparent\" (a thin wall is not a receiver)");
-    if (!texture_file.empty()) {
-      // One image per distinct resolved file.
-      const std::string file = (base / texture_file).lexically_normal().string();
-      const auto [at, added] = image_by_path.emplace(file, static_cast<std::uint32_t>(doc.images.size()));
+    for (const NamedTexture& t : textures) {
+      // One image per distinct resolved file, as colour or as data.
+      const std::string file = (base / t.file).lexically_normal().string();
+      const std::string kp = ptr + "/material/" + t.key->key;
+      const auto [at, added] = image_by_path.emplace(std::pair{file, t.key->data}, static_cast<std::uint32_t>(doc.images.size()));
       if (added) {
         ImageSource src;
-        src.name = texture_file;  // as the scene names it: the .cxb records it (TEXR), whatever the directory the bake runs in
+        src.name = t.file;  // as the scene names it: the .cxb records it (TEXR), whatever the directory the bake runs in
         src.path = file;
-        src.where = w.where(ptr + "/material/albedo_texture") + ": " + ptr + "/material/albedo_texture";
+        src.where = w.where(kp) + ": " + kp;
+        src.data = t.key->data;
         doc.images.push_back(std::move(src));
       }
-      obj.material.albedo_texture->image = at->second;
+      // A base colour that masks or blends keeps its image's alpha.
+      const auto& m = obj.material.maps;
+      if (t.key == &kTextureKeys[0] && m && m->alpha_mode != AlphaMode::kOpaque) doc.images[at->second].keep_alpha = true;
+      t.key->slot(obj.material)->image = at->second;
     }
     if (const json* j = Walker::optional_member(o, "transform"); j && !parse_transform(w, *j, ptr + "/transform", obj.transform)) return false;
     if (!is_mirror(obj.role) && o.contains("material") && o["material"].contains("reflectance")) {

@@ -43,14 +43,17 @@ Result<TextureImage> read_texture(const ImageSource& src, std::uint32_t max_size
   if (spec.width > 16384 || spec.height > 16384) {
     return fail("is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels; at most 16384 a side is read");
   }
-  const bool linear = spec.format.is_floating_point();
+  const bool linear = spec.format.is_floating_point() && !src.data;
   if (!in.read(0, 0, /*force=*/true)) return fail("cannot be decoded: " + in.geterror());
 
-  // RGB (grey replicated, alpha and further channels dropped), then fitted
-  // to max_size.
+  // RGB (grey replicated), then alpha where asked and present (OpenImageIO
+  // names it: the 4th of RGBA, the 2nd of grey-alpha), further channels
+  // dropped; then fitted to max_size.
   const int grey = spec.nchannels < 3 ? 0 : 1;
-  const int order[3] = {0, grey, 2 * grey};
-  OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(in, 3, order);
+  const int alpha = src.keep_alpha ? spec.alpha_channel : -1;
+  const int channels = alpha >= 0 ? 4 : 3;
+  const int order[4] = {0, grey, 2 * grey, alpha};
+  OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(in, channels, order);
   if (rgb.has_error()) return fail("cannot be converted: " + rgb.geterror());
   int w = spec.width, h = spec.height;
   const int limit = static_cast<int>(std::clamp<std::uint32_t>(max_size, 1, kMaxTextureSize));
@@ -59,25 +62,32 @@ Result<TextureImage> read_texture(const ImageSource& src, std::uint32_t max_size
     w = std::max(1, static_cast<int>(std::lround(w * f)));
     h = std::max(1, static_cast<int>(std::lround(h * f)));
     OIIO::ImageBuf fitted;
-    if (!OIIO::ImageBufAlgo::resize(fitted, rgb, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, 3))) {
+    if (!OIIO::ImageBufAlgo::resize(fitted, rgb, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, channels))) {
       return fail("cannot be resized: " + fitted.geterror());
     }
     rgb = std::move(fitted);
   }
-  std::vector<float> values(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
-  if (!rgb.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, values.data())) return fail("cannot be converted");
+  const auto c = static_cast<std::size_t>(channels);
+  std::vector<float> values(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * c);
+  if (!rgb.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, channels), OIIO::TypeDesc::FLOAT, values.data())) return fail("cannot be converted");
 
   TextureImage out;
   out.source = src.name;
   out.width = static_cast<std::uint32_t>(w);
   out.height = static_cast<std::uint32_t>(h);
-  out.rgb.resize(values.size());
+  const std::size_t texels = values.size() / c;
+  out.rgb.resize(texels * 3);
+  if (alpha >= 0) out.alpha.resize(texels);
+  const auto byte = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   for (std::size_t i = 0; i < values.size(); ++i) {
-    float v = values[i];
+    const float v = values[i];
     if (!std::isfinite(v)) return fail("holds a value that is not a finite number");
-    if (linear) v = linear_to_srgb(v);
-    out.rgb[i] = static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+    const std::size_t p = i / c, k = i % c;
+    if (k == 3) out.alpha[p] = byte(v);  // alpha is linear whatever the colour's encoding
+    else out.rgb[3 * p + k] = byte(linear ? linear_to_srgb(v) : v);
   }
+  // An alpha channel that is everywhere 1 changes nothing.
+  if (std::all_of(out.alpha.begin(), out.alpha.end(), [](std::uint8_t a) { return a == 255; })) out.alpha.clear();
   return out;
 }
 

@@ -223,8 +223,16 @@ std::vector<std::uint8_t> encode_surfaces(const SceneDesc& s) {
 // object order: u32 object index, u32 image index, u8 projection, u8 wrap
 // s, u8 wrap t, u8 zero, 6 x f32 transform.
 constexpr int kTextureZstdLevel = 3;
+void encode_texture_ref(ByteWriter& w, const AlbedoTexture& t) {
+  w.u32(t.image);
+  w.u8(static_cast<std::uint8_t>(t.projection));
+  w.u8(static_cast<std::uint8_t>(t.wrap_s));
+  w.u8(static_cast<std::uint8_t>(t.wrap_t));
+  w.u8(0);
+  for (float f : t.transform) w.f32(f);
+}
 bool has_textures(const SceneDesc& s) {
-  return std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.albedo_texture.has_value(); });
+  return !s.images.empty() || std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.albedo_texture.has_value(); });
 }
 std::vector<std::uint8_t> encode_textures(const SceneDesc& s) {
   ByteWriter w;
@@ -240,12 +248,48 @@ std::vector<std::uint8_t> encode_textures(const SceneDesc& s) {
     const auto& t = s.objects[i].material.albedo_texture;
     if (!t) continue;
     w.u32(i);
-    w.u32(t->image);
-    w.u8(static_cast<std::uint8_t>(t->projection));
-    w.u8(static_cast<std::uint8_t>(t->wrap_s));
-    w.u8(static_cast<std::uint8_t>(t->wrap_t));
-    w.u8(0);
-    for (float f : t->transform) w.f32(f);
+    encode_texture_ref(w, *t);
+  }
+  return w.take();
+}
+
+// TEXM: u32 alpha-plane count; per image with alpha, in image order: u32
+// image index, u32 data size, one zstd frame of width * height bytes;
+// u32 count; per receiver with SurfaceMaps, in object order: u32 object
+// index, u8 alpha mode, u8 map mask (bit 0 metallic-roughness, 1 normal,
+// 2 occlusion, 3 emissive), u16 zero, f32 alpha, f32 alpha cut-off, f32
+// normal scale, f32 occlusion strength, then per map in bit order a
+// texture record as TEXR's.
+bool has_surface_maps(const SceneDesc& s) {
+  return std::any_of(s.images.begin(), s.images.end(), [](const TextureImage& im) { return !im.alpha.empty(); }) ||
+         std::any_of(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.maps.has_value(); });
+}
+std::vector<std::uint8_t> encode_surface_maps(const SceneDesc& s) {
+  ByteWriter w;
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.images.begin(), s.images.end(), [](const TextureImage& im) { return !im.alpha.empty(); })));
+  for (std::uint32_t i = 0; i < s.images.size(); ++i) {
+    if (s.images[i].alpha.empty()) continue;
+    w.u32(i);
+    cxb::detail::write_zstd_frame(w, s.images[i].alpha, kTextureZstdLevel);
+  }
+  w.u32(static_cast<std::uint32_t>(std::count_if(s.objects.begin(), s.objects.end(), [](const Object& o) { return o.material.maps.has_value(); })));
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    const auto& m = s.objects[i].material.maps;
+    if (!m) continue;
+    w.u32(i);
+    w.u8(static_cast<std::uint8_t>(m->alpha_mode));
+    const std::array<const std::optional<MapTexture>*, 4> slots{&m->metallic_roughness, &m->normal, &m->occlusion, &m->emissive};
+    std::uint8_t mask = 0;
+    for (std::size_t k = 0; k < slots.size(); ++k) mask |= static_cast<std::uint8_t>(slots[k]->has_value() ? 1u << k : 0u);
+    w.u8(mask);
+    w.u16(0);
+    w.f32(m->alpha);
+    w.f32(m->alpha_cutoff);
+    w.f32(m->normal_scale);
+    w.f32(m->occlusion_strength);
+    for (const auto* t : slots) {
+      if (*t) encode_texture_ref(w, **t);
+    }
   }
   return w.take();
 }
@@ -543,6 +587,23 @@ bool decode_table_sharing(ChunkDecoder& d, SceneDesc& s) {
          d.finish();
 }
 
+// A texture record of TEXR and TEXM: u32 image index, u8 projection, u8
+// wrap s, u8 wrap t, u8 zero, 6 x f32 transform.
+bool decode_texture_ref(ChunkDecoder& d, AlbedoTexture& t) {
+  std::uint8_t projection = 0, wrap_s = 0, wrap_t = 0, zero = 0;
+  if (!d.u32(t.image, "texture image index") || !d.u8(projection, "texture projection") || !d.u8(wrap_s, "texture wrap s") ||
+      !d.u8(wrap_t, "texture wrap t") || !d.u8(zero, "texture reserved byte")) {
+    return false;
+  }
+  t.projection = static_cast<TextureProjection>(projection);
+  t.wrap_s = static_cast<TextureWrap>(wrap_s);
+  t.wrap_t = static_cast<TextureWrap>(wrap_t);
+  for (float& f : t.transform) {
+    if (!d.f32(f, "texture transform")) return false;
+  }
+  return true;
+}
+
 bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
   std::uint32_t n = 0;
   if (!d.count(n, 65536, 16, "texture image")) return false;
@@ -564,25 +625,59 @@ bool decode_textures(ChunkDecoder& d, SceneDesc& s) {
   for (std::uint32_t k = 0, prev = 0; k < m; ++k) {
     std::uint32_t obj = 0;
     AlbedoTexture t;
-    std::uint8_t projection = 0, wrap_s = 0, wrap_t = 0, zero = 0;
     if (!d.u32(obj, "textured object index")) return false;
     if (obj >= s.objects.size() || (k > 0 && obj <= prev)) {
       return d.fail("textured object index " + std::to_string(obj) + " is out of range or out of order");
     }
     prev = obj;
-    if (!d.u32(t.image, "texture image index") || !d.u8(projection, "texture projection") || !d.u8(wrap_s, "texture wrap s") ||
-        !d.u8(wrap_t, "texture wrap t") || !d.u8(zero, "texture reserved byte")) {
-      return false;
-    }
-    t.projection = static_cast<TextureProjection>(projection);
-    t.wrap_s = static_cast<TextureWrap>(wrap_s);
-    t.wrap_t = static_cast<TextureWrap>(wrap_t);
-    for (float& f : t.transform) {
-      if (!d.f32(f, "texture transform")) return false;
-    }
+    if (!decode_texture_ref(d, t)) return false;
     s.objects[obj].material.albedo_texture = t;  // values checked by validate_scene
   }
   return d.finish();
+}
+
+bool decode_surface_maps(ChunkDecoder& d, SceneDesc& s) {
+  std::uint32_t n = 0;
+  if (!d.count(n, s.images.size(), 8, "image alpha plane")) return false;
+  for (std::uint32_t k = 0, prev = 0; k < n; ++k) {
+    std::uint32_t i = 0, packed_size = 0;
+    std::span<const std::uint8_t> packed;
+    if (!d.u32(i, "alpha plane's image index")) return false;
+    if (i >= s.images.size() || (k > 0 && i <= prev)) {
+      return d.fail("alpha plane's image index " + std::to_string(i) + " is out of range or out of order (a 'TEXR' chunk lists " +
+                    std::to_string(s.images.size()) + " images)");
+    }
+    prev = i;
+    TextureImage& im = s.images[i];
+    if (!d.u32(packed_size, "alpha data size") || !d.span(packed, packed_size, "alpha data")) return false;
+    const std::size_t texels = std::size_t{im.width} * im.height;
+    if (!cxb::detail::zstd_decompress_exact(d, packed, texels, "alpha data", std::to_string(texels) + " alpha texels", im.alpha)) return false;
+  }
+  std::uint32_t m = 0;
+  if (!d.count(m, s.objects.size(), 24, "object with maps")) return false;
+  if (n == 0 && m == 0) return d.fail("a 'TEXM' chunk lists no alpha plane and no object");
+  return per_object(d, s, m, "maps' object index", [](Role r) { return r == Role::kReceiver; }, "a receiver",
+                    [&](Object& o) {
+                      SurfaceMaps& sm = o.material.maps.emplace();
+                      std::uint8_t mode = 0, mask = 0;
+                      std::uint16_t zero = 0;
+                      if (!d.u8(mode, "alpha mode") || !d.u8(mask, "map mask") || !d.u16(zero, "maps' reserved bytes") ||
+                          !d.f32(sm.alpha, "alpha") || !d.f32(sm.alpha_cutoff, "alpha cut-off") || !d.f32(sm.normal_scale, "normal scale") ||
+                          !d.f32(sm.occlusion_strength, "occlusion strength")) {
+                        return false;
+                      }
+                      if (mode > 2) return d.fail("alpha mode " + std::to_string(mode) + " (0 opaque, 1 mask, 2 blend)");
+                      if (mask > 15) return d.fail("map mask " + std::to_string(mask) + " sets bits above 3");
+                      if (zero != 0) return d.fail("maps' reserved bytes are not zero");
+                      sm.alpha_mode = static_cast<AlphaMode>(mode);
+                      const std::array<std::optional<MapTexture>*, 4> slots{&sm.metallic_roughness, &sm.normal, &sm.occlusion, &sm.emissive};
+                      for (std::size_t k = 0; k < slots.size(); ++k) {
+                        if (!(mask & (1u << k))) continue;
+                        if (!decode_texture_ref(d, slots[k]->emplace())) return false;
+                      }
+                      return true;  // values checked by validate_scene
+                    }) &&
+         d.finish();
 }
 
 bool decode_dispersion(ChunkDecoder& d, SceneDesc& s) {
@@ -626,6 +721,9 @@ std::vector<std::uint8_t> encode_scene(const SceneDesc& scene,
   if (has_textures(scene)) w.add_chunk(cxb::kTagTextures, 0, encode_textures(scene));
   // Optional: a reader that predates it draws the receivers Lambertian.
   if (has_surfaces(scene)) w.add_chunk(cxb::kTagSurfaces, 0, encode_surfaces(scene));
+  // Optional: a reader that predates it draws the receivers without their
+  // maps, opaque.
+  if (has_surface_maps(scene)) w.add_chunk(cxb::kTagSurfaceMaps, 0, encode_surface_maps(scene));
   if (scene.camera) w.add_chunk(cxb::kTagCamera, 0, encode_camera(*scene.camera));
   if (scene.render) w.add_chunk(cxb::kTagRender, 0, encode_render(*scene.render));
   for (const auto& m : draco_meshes) w.add_chunk(cxb::kTagMesh, cxb::kChunkRequired, m);
@@ -723,6 +821,11 @@ Result<DecodedScene> decode_scene(const cxb::Container& c) {
   if (!surf) return surf.error();
   if (*surf) {
     CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSurfaces, **surf, [&](ChunkDecoder& d) { return decode_surfaces(d, s); }));
+  }
+  auto texm = single(cxb::kTagSurfaceMaps, false);
+  if (!texm) return texm.error();
+  if (*texm) {
+    CAUSTIX_RETURN_IF_ERROR(run(cxb::kTagSurfaceMaps, **texm, [&](ChunkDecoder& d) { return decode_surface_maps(d, s); }));
   }
   auto camr = single(cxb::kTagCamera, false);
   if (!camr) return camr.error();

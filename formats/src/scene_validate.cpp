@@ -104,7 +104,20 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     c.expect(im.width >= 1 && im.width <= kMaxTextureSize && im.height >= 1 && im.height <= kMaxTextureSize, p,
              "must be 1.." + std::to_string(kMaxTextureSize) + " texels a side");
     c.expect(im.rgb.size() == std::size_t{im.width} * im.height * 3, p, "holds " + std::to_string(im.rgb.size()) + " bytes, not width x height x 3");
+    c.expect(im.alpha.empty() || im.alpha.size() == std::size_t{im.width} * im.height, p + "/alpha",
+             "holds " + std::to_string(im.alpha.size()) + " bytes, not width x height");
   }
+  // A texture record (TEXR's and TEXM's).
+  const auto check_texture = [&](const MapTexture& t, const std::string& tp) {
+    c.expect(!check_meshes || t.image < s.images.size(), tp, "image " + std::to_string(t.image) + " is out of range");
+    c.expect(t.projection == TextureProjection::kUv || t.projection == TextureProjection::kBox, tp + "/projection", "must be uv or box");
+    for (TextureWrap w : {t.wrap_s, t.wrap_t}) {
+      c.expect(w == TextureWrap::kRepeat || w == TextureWrap::kClamp || w == TextureWrap::kMirror, tp + "/wrap", "must be repeat, clamp or mirror");
+    }
+    bool finite_transform = true;
+    for (float f : t.transform) finite_transform = finite_transform && finite(f) && std::fabs(f) < 1e6f;
+    c.expect(finite_transform, tp + "/transform", "must be finite numbers below 1e6 in magnitude");
+  };
 
   std::set<std::string> names;
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
@@ -136,14 +149,21 @@ std::optional<ValidationIssue> validate_scene(const SceneDesc& s, bool check_mes
     if (const auto& t = o.material.albedo_texture) {
       const std::string tp = p + "/material/albedo_texture";
       c.expect(o.role == Role::kReceiver, tp, "only a receiver takes an albedo texture");
-      c.expect(!check_meshes || t->image < s.images.size(), tp, "image " + std::to_string(t->image) + " is out of range");
-      c.expect(t->projection == TextureProjection::kUv || t->projection == TextureProjection::kBox, tp + "/projection", "must be uv or box");
-      for (TextureWrap w : {t->wrap_s, t->wrap_t}) {
-        c.expect(w == TextureWrap::kRepeat || w == TextureWrap::kClamp || w == TextureWrap::kMirror, tp + "/wrap", "must be repeat, clamp or mirror");
+      check_texture(*t, tp);
+    }
+    if (const auto& m = o.material.maps) {
+      const std::string mp = p + "/material";
+      c.expect(o.role == Role::kReceiver, mp, "only a receiver has maps or an alpha mode");
+      c.expect(m->alpha_mode == AlphaMode::kOpaque || m->alpha_mode == AlphaMode::kMask || m->alpha_mode == AlphaMode::kBlend,
+               mp + "/alpha_mode", "must be opaque, mask or blend");
+      c.range(m->alpha, 0.0f, 1.0f, mp + "/alpha", "must be in [0, 1]");
+      c.range(m->alpha_cutoff, 0.0f, 1.0f, mp + "/alpha_cutoff", "must be in [0, 1]");
+      c.range(m->normal_scale, -1000.0f, 1000.0f, mp + "/normal_scale", "must be in [-1000, 1000]");
+      c.range(m->occlusion_strength, 0.0f, 1.0f, mp + "/occlusion_strength", "must be in [0, 1]");
+      for (const auto& [slot, name] : {std::pair{&m->metallic_roughness, "metallic_roughness_texture"}, std::pair{&m->normal, "normal_texture"},
+                                       std::pair{&m->occlusion, "occlusion_texture"}, std::pair{&m->emissive, "emissive_texture"}}) {
+        if (*slot) check_texture(**slot, mp + "/" + name);
       }
-      bool finite_transform = true;
-      for (float f : t->transform) finite_transform = finite_transform && finite(f) && std::fabs(f) < 1e6f;
-      c.expect(finite_transform, tp + "/transform", "must be finite numbers below 1e6 in magnitude");
     }
     if (o.material.transparent || transmits(o.role)) {
       c.range(o.material.ior, 1.0f, kMaxIor, p + "/material/ior", "must be in [1, 10]");

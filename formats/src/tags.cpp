@@ -20,7 +20,7 @@ std::string Tag::str() const {
 }
 
 bool is_known_tag(Tag tag) {
-  for (Tag known : {kTagScene, kTagObjects, kTagLights, kTagWater, kTagCamera, kTagRender, kTagMesh, kTagMedia, kTagMirrors, kTagDispersion, kTagSpots, kTagTint, kTagTextures, kTagLevelMap, kTagObjectBoxes, kTagTransport, kTagSpectralTransport, kTagTransportShared, kTagTransportSwitches, kTagIndexGrid}) {
+  for (Tag known : {kTagScene, kTagObjects, kTagLights, kTagWater, kTagCamera, kTagRender, kTagMesh, kTagMedia, kTagMirrors, kTagDispersion, kTagSpots, kTagTint, kTagTextures, kTagSurfaces, kTagSurfaceMaps, kTagLevelMap, kTagObjectBoxes, kTagTransport, kTagSpectralTransport, kTagTransportShared, kTagTransportSwitches, kTagIndexGrid}) {
     if (tag == known) return true;
   }
   return false;

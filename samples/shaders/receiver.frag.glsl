@@ -23,6 +23,17 @@
 // irradiance as the lobe widens, times F0 A + B (Karis 2014's analytic
 // fit of the split-sum's terms); plus the emission. docs/display.md,
 // "Surfaces".
+//
+// Its maps (u_maps, Engine::surface_maps; glTF 2.0 §3.9.3-3.9.5): the
+// metallic-roughness texture scales metallic by B and roughness by G; the
+// normal texture tilts the normal in the tangent frame the texture
+// coordinates' screen derivatives give (T along increasing s, B = N x T:
+// the Khronos sample viewer's frame for meshes without tangents); the
+// occlusion texture scales the ambient light by 1 + strength (R - 1); the
+// emissive texture multiplies the emission. Alpha (the base colour
+// factor's times its texture's): a masked surface is discarded below its
+// cut-off; a blended one writes its alpha for the renderer's
+// SRC_ALPHA blending.
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -43,6 +54,18 @@ uniform float u_roughness;
 uniform vec3 u_emissive;   // times the reference irradiance, as drawn
 uniform vec3 u_eye;
 uniform vec3 u_sky_sh[9];  // the sky's irradiance over pi, order-2 spherical harmonics
+uniform int u_maps;        // bits: 1 metallic-roughness, 2 normal, 4 occlusion, 8 emission
+uniform int u_map_projection[4];  // per map, in bit order: AlbedoMap::projection
+uniform vec3 u_map_rows[8];       // per map: its transform's two rows
+layout(binding = 1) uniform sampler2D u_metallic_roughness_map;
+layout(binding = 2) uniform sampler2D u_normal_map;
+layout(binding = 3) uniform sampler2D u_occlusion_map;
+uniform sampler2D u_emissive_map;  // its unit set by the renderer (units 4..15 are caustix's)
+uniform float u_normal_scale;
+uniform float u_occlusion_strength;
+uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
+uniform float u_alpha;
+uniform float u_alpha_cutoff;
 
 out vec4 o_color;
 
@@ -59,46 +82,84 @@ vec3 sky_irradiance(vec3 n) {
 
 vec3 fresnel_schlick(vec3 f0, float cos_theta) { return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0); }
 
-vec3 surface_ambient(vec3 c, vec3 n, vec3 v) {
+// One point of a surface: base colour, metallic, roughness, ambient
+// occlusion and emission.
+struct Point {
+  vec3 c;
+  float metallic;
+  float roughness;
+  float occlusion;
+  vec3 emission;
+};
+
+vec3 surface_ambient(Point p, vec3 n, vec3 v) {
   float nv = max(dot(n, v), 1e-4);
-  vec3 f0 = mix(vec3(0.04), c, u_metallic);
+  vec3 f0 = mix(vec3(0.04), p.c, p.metallic);
   // Karis 2014, "Physically Based Shading on Mobile": A, B of the split sum.
   const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022), c1 = vec4(1.0, 0.0425, 1.04, -0.04);
-  vec4 k = u_roughness * c0 + c1;
+  vec4 k = p.roughness * c0 + c1;
   float a004 = min(k.x * k.x, exp2(-9.28 * nv)) * k.x + k.y;
   vec2 ab = max(vec2(-1.04, 1.04) * a004 + k.zw, vec2(0.0));
   vec3 r = reflect(-v, n);
-  float alpha = u_roughness * u_roughness;
+  float alpha = p.roughness * p.roughness;
   vec3 prefiltered = mix(sky_radiance(r), sky_irradiance(r), alpha);
-  return (1.0 - u_metallic) * c * sky_irradiance(n) + prefiltered * (f0 * ab.x + ab.y) + u_emissive;
+  return p.occlusion * ((1.0 - p.metallic) * p.c * sky_irradiance(n) + prefiltered * (f0 * ab.x + ab.y)) + p.emission;
 }
 
-vec3 surface_direct(vec3 c, vec3 n, vec3 v, vec3 l, vec3 e) {
+vec3 surface_direct(Point p, vec3 n, vec3 v, vec3 l, vec3 e) {
   vec3 h = normalize(l + v);
   float nl = max(dot(n, l), 0.0), nv = max(dot(n, v), 1e-4), nh = max(dot(n, h), 0.0);
-  float alpha = max(u_roughness * u_roughness, 2e-3), a2 = alpha * alpha;
-  vec3 f = fresnel_schlick(mix(vec3(0.04), c, u_metallic), dot(v, h));
+  float alpha = max(p.roughness * p.roughness, 2e-3), a2 = alpha * alpha;
+  vec3 f = fresnel_schlick(mix(vec3(0.04), p.c, p.metallic), dot(v, h));
   float denom = nh * nh * (a2 - 1.0) + 1.0;
   float d = a2 / (kPi * denom * denom);
   float vis = 0.5 / max(nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2), 1e-6);
-  return ((1.0 - u_metallic) * (1.0 - f) * c + kPi * d * vis * f) * e;
+  return ((1.0 - p.metallic) * (1.0 - f) * p.c + kPi * d * vis * f) * e;
 }
+
+vec2 map_coords(int k, vec3 n) { return caustix_texture_coords(u_map_projection[k], u_map_rows[2 * k], u_map_rows[2 * k + 1], v_uv, v_world, n); }
 
 void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;  // open meshes are lit from either side
-  vec3 albedo = u_albedo;
+  vec3 ng = n;  // the geometric normal: where box-projected maps are looked up
+  // The normal map's frame, from derivatives taken before anything discards.
+  vec2 normal_st = map_coords(1, ng);
+  vec3 dp_dx = dFdx(v_world), dp_dy = dFdy(v_world);
+  vec2 dst_dx = dFdx(normal_st), dst_dy = dFdy(normal_st);
+  vec4 base = vec4(u_albedo, u_alpha);
   if (u_albedo_projection != 0) {
-    albedo *= texture(u_albedo_map, caustix_texture_coords(u_albedo_projection, u_albedo_rows[0], u_albedo_rows[1], v_uv, v_world, n)).rgb;
+    base *= texture(u_albedo_map, caustix_texture_coords(u_albedo_projection, u_albedo_rows[0], u_albedo_rows[1], v_uv, v_world, n));
   }
+  if (u_alpha_mode == 1 && base.a < u_alpha_cutoff) discard;
+  float alpha = u_alpha_mode == 2 ? base.a : 1.0;
+  Point p = Point(base.rgb, u_metallic, u_roughness, 1.0, u_emissive);
+  if ((u_maps & 1) != 0) {
+    vec3 mr = texture(u_metallic_roughness_map, map_coords(0, ng)).rgb;
+    p.metallic *= mr.b;
+    p.roughness *= mr.g;
+  }
+  if ((u_maps & 2) != 0) {
+    float det = dst_dx.x * dst_dy.y - dst_dy.x * dst_dx.y;
+    vec3 t = (dst_dy.y * dp_dx - dst_dx.y * dp_dy) * (det < 0.0 ? -1.0 : 1.0);
+    t -= n * dot(n, t);
+    if (dot(t, t) > 1e-20) {
+      t = normalize(t);
+      vec3 tn = texture(u_normal_map, normal_st).rgb * 2.0 - 1.0;
+      tn.xy *= u_normal_scale;
+      n = normalize(mat3(t, cross(n, t), n) * tn);
+    }
+  }
+  if ((u_maps & 4) != 0) p.occlusion = 1.0 + u_occlusion_strength * (texture(u_occlusion_map, map_coords(2, ng)).r - 1.0);
+  if ((u_maps & 8) != 0) p.emission *= texture(u_emissive_map, map_coords(3, ng)).rgb;
   vec3 a = u_fog != 0 ? exp(-u_fog_k * length(v_world - u_fog_eye)) : vec3(1.0);
   vec3 v = normalize(u_eye - v_world);
   if (u_pass == 0) {
-    vec3 ambient = u_surface != 0 ? surface_ambient(albedo, n, v) : albedo * u_ambient;
-    o_color = vec4(a * ambient + (1.0 - a) * u_water_color, 1.0);
+    vec3 ambient = u_surface != 0 ? surface_ambient(p, n, v) : p.c * u_ambient;
+    o_color = vec4(a * ambient + (1.0 - a) * u_water_color, alpha);
     return;
   }
   vec3 e = caustix_irradiance(v_world, n);
-  vec3 lit = u_surface != 0 ? surface_direct(albedo, n, v, -caustix_light_travel(v_world), e) : albedo * e;
-  o_color = vec4(a * lit, 0.0);
+  vec3 lit = u_surface != 0 ? surface_direct(p, n, v, -caustix_light_travel(v_world), e) : p.c * e;
+  o_color = vec4(a * lit, u_alpha_mode == 2 ? alpha : 0.0);  // blended: SRC_ALPHA weighs it; opaque: alpha stays
 }

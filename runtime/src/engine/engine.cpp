@@ -23,7 +23,7 @@
 #include "causticmap_effect.h"
 #include "glass.h"
 #include "glass_effect.h"
-#include "albedo_textures.h"
+#include "surface_textures.h"
 #include "gpu_mesh.h"
 #include "light_effect.h"
 #include "shader_text.h"
@@ -78,7 +78,7 @@ struct Engine::Impl {
   std::vector<std::vector<std::array<double, 3>>> world_vertices;  // per object, for re-deriving frames
   std::vector<TriangleMesh> cpu_meshes;                             // object space, for moving objects
   std::vector<GpuMesh> meshes;
-  AlbedoTextures albedo;  // receivers' base-colour textures
+  SurfaceTextures textures;  // receivers' textures
   std::vector<float> object_min_y;  // world
   glm::vec3 lo{0}, hi{0};
 
@@ -299,7 +299,7 @@ struct Engine::Impl {
     GpuMemory m;
     for (const auto& e : effects) e->memory(m);  // shadow maps, level maps, glass, caustic maps, media
     for (const GpuMesh& mesh : meshes) m.meshes += mesh.gpu_bytes();
-    m.meshes += albedo.gpu_bytes;
+    m.meshes += textures.gpu_bytes;
     if (water) m.water = water->gpu_bytes();
     if (glass) m.views += glass->view_bytes();
     if (water_view) m.views += water_view->gpu_bytes();  // refraction, reflection, glow targets
@@ -458,7 +458,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
   const gl::StateGuard guard = s.guard();
 
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
-  s.albedo = upload_albedo_textures(s.scene);
+  s.textures = upload_surface_textures(s.scene);
   for (TextureImage& im : s.scene.images) std::vector<std::uint8_t>().swap(im.rgb);  // on the GPU now
   s.cpu_meshes = scene.meshes;
   for (const Object& o : s.scene.objects) s.world_vertices.push_back(world_points(o.transform, scene.meshes[o.mesh_index].positions));
@@ -858,9 +858,28 @@ VolumeStats Engine::volume_stats(bool wait) {
 
 std::optional<AlbedoMap> Engine::albedo_map(std::uint32_t index) const {
   const Impl& s = *impl_;
-  if (index >= s.scene.objects.size() || s.albedo.of_object[index] == 0) return std::nullopt;
+  if (index >= s.scene.objects.size() || s.textures.albedo[index] == 0) return std::nullopt;
   const AlbedoTexture& t = *s.scene.objects[index].material.albedo_texture;
-  return AlbedoMap{s.albedo.of_object[index], t.projection, t.transform};
+  return AlbedoMap{s.textures.albedo[index], t.projection, t.transform};
+}
+
+std::optional<SurfaceMapBindings> Engine::surface_maps(std::uint32_t index) const {
+  const Impl& s = *impl_;
+  if (index >= s.scene.objects.size() || !s.scene.objects[index].material.maps) return std::nullopt;
+  const SurfaceMaps& m = *s.scene.objects[index].material.maps;
+  SurfaceMapBindings b;
+  const std::array<std::pair<const std::optional<MapTexture>*, SurfaceMapBindings::Map*>, 4> slots{
+      {{&m.metallic_roughness, &b.metallic_roughness}, {&m.normal, &b.normal}, {&m.occlusion, &b.occlusion}, {&m.emissive, &b.emissive}}};
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    const auto& [map, out] = slots[k];
+    if (*map && s.textures.maps[index][k] != 0) *out = {s.textures.maps[index][k], (*map)->projection, (*map)->transform};
+  }
+  b.normal_scale = m.normal_scale;
+  b.occlusion_strength = m.occlusion_strength;
+  b.alpha_mode = m.alpha_mode;
+  b.alpha = m.alpha;
+  b.alpha_cutoff = m.alpha_cutoff;
+  return b;
 }
 
 Status Engine::draw_object(std::uint32_t index) const {

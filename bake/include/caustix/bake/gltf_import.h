@@ -42,8 +42,8 @@ struct GltfScene {
   // ("file.glb#/meshes/0/primitives/1") and meshes[i] holds it.
   SceneDesc scene;
   std::vector<ImportedMesh> meshes;
-  // Receivers' base-colour textures' images, not yet read:
-  // AlbedoTexture::image indexes this list (scene.images is empty).
+  // Receivers' textures' images, not yet read: every MapTexture::image
+  // (for_each_texture) indexes this list (scene.images is empty).
   std::vector<ImageSource> images;
   std::vector<std::string> warnings;  // each starts with the file's path (load's own are in GltfFile::warnings())
 };

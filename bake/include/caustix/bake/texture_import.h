@@ -1,5 +1,5 @@
 #pragma once
-// Base-colour textures for receivers: image files or glTF
+// Receivers' textures (base colour and glTF's other maps): image files or glTF
 // images read through OpenImageIO into what the .cxb stores (8-bit
 // sRGB-encoded RGB, top row first; formats/scene.h TextureImage).
 //
@@ -7,8 +7,10 @@
 //    baseColorTexture is sRGB by definition, and so are the PNGs and JPEGs
 //    artists paint); float images (EXR, HDR) hold linear values and are
 //    encoded to sRGB.
-//  - Grey images give equal RGB; alpha and further channels are dropped
-//    (a receiver is opaque).
+//  - Grey images give equal RGB; alpha is kept where asked
+//    (ImageSource::keep_alpha), further channels are dropped.
+//  - Data images (ImageSource::data: normals, roughness, occlusion) keep
+//    their values, float ones too.
 //  - An image larger than `max_size` texels a side is filtered down to fit
 //    (aspect ratio kept; OpenImageIO's resize with its default filter).
 //  - Images over 16384 texels a side are refused: their pixels are held in
@@ -35,6 +37,12 @@ struct ImageSource {
   // its receivers keep their base colour factor (a texture changes a
   // receiver's colour, never the light). One scene.json names is an error.
   bool fall_back = false;
+  // Data, not colour (glTF's metallic-roughness, normal and occlusion
+  // textures): float images are stored as their values, not sRGB-encoded.
+  bool data = false;
+  // Keep the image's alpha (TextureImage::alpha; a base colour that masks
+  // or blends): images without an alpha channel get none.
+  bool keep_alpha = false;
 };
 
 inline constexpr std::uint32_t kDefaultMaxTextureSize = 2048;

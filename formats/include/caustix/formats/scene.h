@@ -105,6 +105,10 @@ struct TextureImage {
   std::string source;  // the file or glTF image it came from, for messages
   std::uint32_t width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // width * height * 3
+  // Empty: opaque. Else width * height bytes, the image's alpha (linear,
+  // top row first), kept where a material masks or blends with its base
+  // colour's alpha (SurfaceMaps::alpha_mode; the TEXM chunk).
+  std::vector<std::uint8_t> alpha;
 };
 
 // A receiver's surface beyond Lambert's, as glTF's metallic-roughness
@@ -120,6 +124,37 @@ struct Surface {
   // sun's E0; docs/display.md), as glTF viewers draw emissiveFactor 1.
   Vec3f emissive{0, 0, 0};
   bool operator==(const Surface&) const = default;
+};
+
+// glTF 2.0 §3.9.4's alpha modes: kMask draws the surface where its alpha
+// reaches the cut-off and nothing elsewhere; kBlend composites it over
+// what is behind by its alpha.
+enum class AlphaMode : std::uint8_t { kOpaque = 0, kMask = 1, kBlend = 2 };
+
+// A receiver's textures beyond its base colour, and its alpha, as glTF's
+// metallic-roughness material has them (glTF 2.0 §3.9; the TEXM chunk).
+// Shading only, like Surface: the light the engine computes is the same
+// (an alpha-masked leaf still casts its whole shadow). Each map is looked
+// up as an albedo texture is, through its own projection, wrap and
+// transform (glTF's are kUv: the mesh carries one coordinate set, the base
+// colour's, or the maps' where the base colour has no texture).
+using MapTexture = AlbedoTexture;
+struct SurfaceMaps {
+  std::optional<MapTexture> metallic_roughness;  // linear; G multiplies Surface::roughness, B Surface::metallic
+  // Linear; the tangent-space normal 2 rgb - 1 (x along increasing u, y
+  // along the normal crossed with it, z the surface normal), its x and y
+  // times normal_scale.
+  std::optional<MapTexture> normal;
+  // Linear; R is the fraction of the ambient (sky) light a point receives,
+  // applied as 1 + occlusion_strength (R - 1).
+  std::optional<MapTexture> occlusion;
+  std::optional<MapTexture> emissive;  // sRGB; multiplies Surface::emissive
+  float normal_scale = 1.0f;        // finite, |.| <= 1000
+  float occlusion_strength = 1.0f;  // [0, 1]
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha = 1.0f;         // [0, 1], glTF's base colour factor's alpha; times the albedo texture's (TextureImage::alpha)
+  float alpha_cutoff = 0.5f;  // [0, 1]; kMask draws where alpha >= alpha_cutoff
+  bool any_map() const { return metallic_roughness || normal || occlusion || emissive; }
 };
 
 struct Material {
@@ -148,7 +183,27 @@ struct Material {
   // without "metallic", "roughness" or "emissive"); glTF materials always
   // have one.
   std::optional<Surface> surface;
+  // Receivers only: absent, no maps and opaque.
+  std::optional<SurfaceMaps> maps;
 };
+
+// Calls f(std::optional<MapTexture>&) for each texture slot of material
+// `m` (its albedo texture, then its maps' if it has maps), and f(MapTexture&)
+// for every texture it reads: for code that renumbers, gathers or drops
+// images.
+template <class M, class F>
+void for_each_texture_slot(M& m, F f) {
+  f(m.albedo_texture);
+  if (m.maps) {
+    for (auto* t : {&m.maps->metallic_roughness, &m.maps->normal, &m.maps->occlusion, &m.maps->emissive}) f(*t);
+  }
+}
+template <class M, class F>
+void for_each_texture(M& m, F f) {
+  for_each_texture_slot(m, [&](auto& slot) {
+    if (slot) f(*slot);
+  });
+}
 
 inline bool is_tinted(const Material& m) { return m.tint[0] != 1 || m.tint[1] != 1 || m.tint[2] != 1; }
 
@@ -306,7 +361,7 @@ struct SceneDesc {
   std::optional<Medium> medium;
   std::optional<Camera> camera;
   std::optional<RenderDefaults> render;
-  std::vector<TextureImage> images;  // the albedo textures' images (TEXR)
+  std::vector<TextureImage> images;  // the receivers' textures' images (TEXR; their alpha in TEXM)
 };
 
 // Limits that keep hostile or absurd inputs bounded (also documented in

@@ -33,6 +33,7 @@ inline constexpr Tag kTagSpots = make_tag("SPOT");       // required if present,
 inline constexpr Tag kTagTint = make_tag("TINT");        // required if present, at most once: transparent objects' tints
 inline constexpr Tag kTagTextures = make_tag("TEXR");    // optional, at most once: receivers' albedo textures
 inline constexpr Tag kTagSurfaces = make_tag("SURF");    // optional, at most once: receivers' metallic, roughness, emission
+inline constexpr Tag kTagSurfaceMaps = make_tag("TEXM");  // optional, at most once: receivers' maps beyond the base colour, alpha modes and images' alpha
 // Level maps (formats/level_map.h).
 inline constexpr Tag kTagLevelMap = make_tag("LMAP");     // required, one per (receiver, light) baked
 inline constexpr Tag kTagObjectBoxes = make_tag("OBBS");  // optional (culling), at most once

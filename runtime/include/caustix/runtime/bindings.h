@@ -162,14 +162,40 @@ struct ReceiverLighting {
 // A receiver's base-colour texture (Engine::albedo_map).
 struct AlbedoMap {
   // GL_TEXTURE_2D, GL_SRGB8_ALPHA8 with a full mip chain (sampling returns
-  // linear colour); wrap and trilinear filtering are set on the texture, so
-  // bind it with no sampler object.
+  // linear colour; alpha is the image's where the material masks or blends
+  // with it, else 1); wrap and trilinear filtering are set on the texture,
+  // so bind it with no sampler object.
   unsigned texture = 0;
   // kUv: the mesh's texture coordinates (draw_object's attribute 2); kBox:
   // world metres on the axis plane the surface faces most (formats/scene.h).
   TextureProjection projection = TextureProjection::kUv;
   // Row-major 2 x 3: (s, t) = (m0 u + m1 v + m2, m3 u + m4 v + m5).
   std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
+};
+
+// A receiver's textures beyond its base colour and its alpha (glTF's
+// metallic-roughness material; formats/scene.h SurfaceMaps): for
+// applications that shade it with the standard PBR model, as the sample
+// renderer does (docs/display.md, "Surfaces"). Each map is looked up as an
+// AlbedoMap is, through its own projection and transform
+// (caustix_texture_coords()).
+struct SurfaceMapBindings {
+  struct Map {
+    // GL_TEXTURE_2D with a full mip chain, wrap and filtering set on it (as
+    // AlbedoMap's); 0 where the material has no such map.
+    unsigned texture = 0;
+    TextureProjection projection = TextureProjection::kUv;
+    std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
+  };
+  Map metallic_roughness;  // GL_RGBA8: G multiplies the roughness, B the metallic factor
+  Map normal;              // GL_RGBA8: tangent-space normal 2 rgb - 1 (SurfaceMaps::normal)
+  Map occlusion;           // GL_RGBA8: R, the ambient light kept
+  Map emissive;            // GL_SRGB8_ALPHA8: multiplies Surface::emissive
+  float normal_scale = 1.0f;
+  float occlusion_strength = 1.0f;
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha = 1.0f;         // times the albedo texture's alpha
+  float alpha_cutoff = 0.5f;  // kMask: drawn where alpha >= alpha_cutoff
 };
 
 }  // namespace caustix::runtime

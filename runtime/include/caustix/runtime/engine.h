@@ -219,6 +219,10 @@ class Engine {
   // diffuse reflectance is material.albedo times the texture's colour at
   // caustix_texture_coords() (caustix.glsl).
   std::optional<AlbedoMap> albedo_map(std::uint32_t index) const;
+  // Receiver `index`'s maps and alpha (glTF's metallic-roughness, normal,
+  // occlusion and emissive textures, alpha mode), nullopt for a receiver
+  // without (opaque, shaded by its factors alone).
+  std::optional<SurfaceMapBindings> surface_maps(std::uint32_t index) const;
 
   // What the current frame did and costs: the caustics passes' counts,
   // the GL calls (GlCalls: none synchronise in a steady frame), GPU memory.

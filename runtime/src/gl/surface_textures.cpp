@@ -1,4 +1,4 @@
-#include "albedo_textures.h"
+#include "surface_textures.h"
 
 #include <algorithm>
 #include <bit>
@@ -17,9 +17,10 @@ GLint gl_wrap(TextureWrap w) {
 
 }  // namespace
 
-AlbedoTextures upload_albedo_textures(const SceneDesc& scene) {
-  AlbedoTextures out;
-  out.of_object.assign(scene.objects.size(), 0);
+SurfaceTextures upload_surface_textures(const SceneDesc& scene) {
+  SurfaceTextures out;
+  out.albedo.assign(scene.objects.size(), 0);
+  out.maps.assign(scene.objects.size(), {0, 0, 0, 0});
   // Rows of 4-byte texels from the start of client memory, whatever the
   // application left in the unpack state.
   GLint saved[5] = {};
@@ -34,27 +35,27 @@ AlbedoTextures upload_albedo_textures(const SceneDesc& scene) {
                            epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic");
 
   std::vector<std::uint8_t> rgba;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const auto& t = scene.objects[i].material.albedo_texture;
-    if (!t || t->image >= scene.images.size()) continue;
-    const auto key = std::tuple{t->image, t->wrap_s, t->wrap_t};
+  const auto upload = [&](const MapTexture& t, bool data) -> GLuint {
+    if (t.image >= scene.images.size()) return 0;
+    const auto key = std::tuple{t.image, data, t.wrap_s, t.wrap_t};
     auto it = out.textures.find(key);
     if (it == out.textures.end()) {
-      const TextureImage& im = scene.images[t->image];
+      const TextureImage& im = scene.images[t.image];
       const auto w = static_cast<GLsizei>(im.width), h = static_cast<GLsizei>(im.height);
       const GLsizei levels = static_cast<GLsizei>(std::bit_width(static_cast<std::uint32_t>(std::max(w, h))));
       rgba.resize(std::size_t{im.width} * im.height * 4);
+      const bool alpha = !data && im.alpha.size() == rgba.size() / 4;
       for (std::size_t p = 0; p < rgba.size() / 4; ++p) {
         std::copy_n(im.rgb.data() + 3 * p, 3, rgba.data() + 4 * p);
-        rgba[4 * p + 3] = 255;
+        rgba[4 * p + 3] = alpha ? im.alpha[p] : 255;
       }
       gl::Texture tex = gl::make_texture(GL_TEXTURE_2D);
       const GLuint id = tex.get();
-      glTextureStorage2D(id, levels, GL_SRGB8_ALPHA8, w, h);
+      glTextureStorage2D(id, levels, data ? GL_RGBA8 : GL_SRGB8_ALPHA8, w, h);
       glTextureSubImage2D(id, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
       glGenerateTextureMipmap(id);
-      glTextureParameteri(id, GL_TEXTURE_WRAP_S, gl_wrap(t->wrap_s));
-      glTextureParameteri(id, GL_TEXTURE_WRAP_T, gl_wrap(t->wrap_t));
+      glTextureParameteri(id, GL_TEXTURE_WRAP_S, gl_wrap(t.wrap_s));
+      glTextureParameteri(id, GL_TEXTURE_WRAP_T, gl_wrap(t.wrap_t));
       glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
       glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       if (anisotropic) glTextureParameterf(id, GL_TEXTURE_MAX_ANISOTROPY, 8.0f);
@@ -62,7 +63,17 @@ AlbedoTextures upload_albedo_textures(const SceneDesc& scene) {
       out.gpu_bytes += std::uint64_t{im.width} * im.height * 4 * 4 / 3;
       it = out.textures.emplace(key, std::move(tex)).first;
     }
-    out.of_object[i] = it->second.get();
+    return it->second.get();
+  };
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const Material& m = scene.objects[i].material;
+    if (m.albedo_texture) out.albedo[i] = upload(*m.albedo_texture, false);
+    if (!m.maps) continue;
+    const std::array<std::pair<const std::optional<MapTexture>*, bool>, 4> slots{
+        {{&m.maps->metallic_roughness, true}, {&m.maps->normal, true}, {&m.maps->occlusion, true}, {&m.maps->emissive, false}}};
+    for (std::size_t k = 0; k < slots.size(); ++k) {
+      if (*slots[k].first) out.maps[i][k] = upload(**slots[k].first, slots[k].second);
+    }
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, saved[0]);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, saved[1]);
