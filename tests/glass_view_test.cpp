@@ -11,7 +11,9 @@
 // puts the edge where Snell puts it at each wavelength's index, and the
 // RGB image is the wavelengths' images times their weights. A tinted slab
 // darkens the floor seen through it by tint^2; a thin-walled pane
-// shows it straight through, scaled by its sheet's transmittance and tint.
+// shows it straight through, scaled by its sheet's transmittance and tint;
+// a glowing box inside an absorbing slab is seen through the entry alone,
+// attenuated as Beer-Lambert says over the depth it lies at.
 
 #include <gtest/gtest.h>
 
@@ -304,6 +306,51 @@ TEST_F(GlassView, AnObjectInsideTheGlassDoesNotBlackenTheTableView) {
   const double inside = ball_mean(j, "glass_view_insect");
   std::printf("[glass view] ball's mean radiance with an object inside / without: %.3f\n", inside / clear);
   EXPECT_GT(inside / clear, 0.9);
+}
+
+// What is inside the glass, seen through either view with Beer-Lambert as
+// the oracle: a glowing box inside the slab (its top 5 cm below the
+// slab's), seen straight down through glass absorbing sigma = (0, 4, 8)
+// per metre. The box's own radiance is the image with it glowing less the
+// image with it black, and through the slab it is the entry's Fresnel
+// transmittance at normal incidence, 1 - ((n - 1)/(n + 1))^2, times
+// e^(-sigma 0.05) per channel.
+TEST_F(GlassView, BothViewsSeeWhatIsInsideThroughBeerLambert) {
+  const double depth = kSlabTop - 0.45;
+  const auto centre = [&](double glow, runtime::GlassView view) {
+    nlohmann::json j{{"name", "inside"},
+                     {"objects", {{{"name", "floor"}, {"mesh", test::kScenes + "../meshes/plane.obj"}, {"material", {{"albedo", 0.5}}},
+                                   {"transform", {{"scale", {4, 1, 4}}}}},
+                                  {{"name", "slab"}, {"mesh", write_slab()}, {"role", "transparent"},
+                                   {"material", {{"transparent", true}, {"ior", kIor}, {"absorption", {0.0, 4.0, 8.0}}}}},
+                                  {{"name", "insect"}, {"mesh", test::kScenes + "../meshes/box.obj"},
+                                   {"material", {{"albedo", 0.0}, {"metallic", 1.0}, {"emissive", glow}}},
+                                   {"transform", {{"translate", {0, 0.4, 0}}, {"scale", 0.1}}}}}},
+                     {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1.0}}}},
+                     {"camera", {{"position", {0, 3, 0}}, {"target", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov_y_deg", 20}}}};
+    bake::BakeOptions opt;
+    opt.transport.resolution = 8;
+    auto loaded = test::bake_and_load(test::write_scene(j, glow > 0 ? "inside_glowing" : "inside_black"), opt);
+    EXPECT_TRUE(loaded);
+    auto r = sample::Renderer::create(*loaded);
+    EXPECT_TRUE(r.ok());
+    sample::FrameParams f;
+    f.camera = (*r)->default_camera();
+    f.width = f.height = 65;  // the middle pixel's centre on the axis
+    f.glass_view.method = view;
+    EXPECT_TRUE((*r)->render(f).ok());
+    const std::vector<float> hdr = (*r)->read_hdr();
+    const std::size_t i = (32u * 65u + 32u) * 4u;
+    return glm::dvec3(hdr[i], hdr[i + 1], hdr[i + 2]);
+  };
+  const double t = 1.0 - std::pow((kIor - 1.0) / (kIor + 1.0), 2.0);
+  const glm::dvec3 want(t, t * std::exp(-4.0 * depth), t * std::exp(-8.0 * depth));
+  for (const auto view : {runtime::GlassView::kTable, runtime::GlassView::kNearby}) {
+    const glm::dvec3 seen = centre(1.0, view) - centre(0.0, view);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(seen[k], want[k], 0.01 * want[k]) << "channel " << k << ", view " << static_cast<int>(view);
+    std::printf("[glass view] inside the slab, 5 cm deep, %s view: %.4f %.4f %.4f (Beer-Lambert %.4f %.4f %.4f)\n",
+                view == runtime::GlassView::kTable ? "table" : "nearby", seen.x, seen.y, seen.z, want.x, want.y, want.z);
+  }
 }
 
 // The floor seen through a tinted slab. A low sun (10 degrees,

@@ -21,6 +21,11 @@
 //     u_iterations times from the scene point behind the exit; rays that
 //     leave the screen or meet only sky see the sky.
 // Absorption along the path inside, exp(-sigma_a l).
+// What is inside the glass (an insect in amber): where the opaque scene
+// behind the pixel lies nearer than the exit point, step 4's iteration
+// runs from the entry point along the refracted ray instead, and what it
+// lands on within the glass is seen through the entry alone (its Fresnel
+// transmittance, the tint once, exp(-sigma_a d) over the distance d to it).
 // Dispersion: steps 1-4 run once per wavelength sample at the
 // glass's index there, and the pixel is the sum of each sample's colour
 // times its bin's RGB weight (one sample (1, 1, 1) at n_d without).
@@ -114,6 +119,19 @@ vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
     if (dn < 1e-3) break;  // the back face must face away from the ray
     ne = nb;
     t = max(dot(bp.xyz - x, nb) / dn, 0.0);
+  }
+  // Something inside, nearer than the exit.
+  vec3 p_in;
+  if (to_screen(x, uv) && scene_position(uv, p_in) && length(p_in - x) < t) {
+    float d = length(p_in - x);
+    bool lands = true;
+    for (int k = 0; k < u_iterations && lands; ++k) {
+      lands = to_screen(x + d * t1, uv) && scene_position(uv, p_in);
+      if (lands) d = length(p_in - x);
+    }
+    if (lands && d < t && to_screen(x + d * t1, uv)) {
+      return reflectance * sky_reflected + transmitted * sqrt(u_glass_transmit) * exp(-u_glass_absorption * d) * texture(u_scene_color, uv).rgb;
+    }
   }
   vec3 exit_point = x + t * t1;
   transmitted *= exp(-u_glass_absorption * t) * u_glass_transmit;

@@ -817,7 +817,7 @@ Status Engine::draw_glass(const View& view, unsigned scene_color, unsigned scene
   const auto scope = s.count_frame();
   const gl::StateGuard guard = s.guard();
   CAUSTIX_RETURN_IF_ERROR(s.glass->draw_glass(s.scene, view.projection() * view.view, view.eye(), sky, color, depth, s.scene_reader,
-                                              2.0f * s.scene_radius(), options, s.view_spectrum));
+                                              2.0f * s.scene_radius(), options, s.view_spectrum, s.object_boxes));
   return gl::check_gl("glass surface");
 }
 

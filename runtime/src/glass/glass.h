@@ -90,9 +90,12 @@ class GlassEngine {
   // latter once per wavelength of `spectrum` for dispersive glass.
   // `scene_color` and `scene_depth` in any format gl/scene_inputs.h
   // accepts; `reader` resolves them where they are multisampled.
+  // `object_boxes`: every object's world box, for the table view to look
+  // for receivers inside a glass object.
   Status draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
                     const gl::SceneTexture& scene_color, const gl::SceneTexture& scene_depth, gl::SceneReader& reader,
-                    float march_length, const GlassViewOptions& options, const ViewSpectrum& spectrum);
+                    float march_length, const GlassViewOptions& options, const ViewSpectrum& spectrum,
+                    const std::vector<std::array<glm::vec3, 2>>& object_boxes);
 
   // The light side's GPU memory: tables, rays, one-rings, targets,
   // illumination textures, primitives.

@@ -121,7 +121,8 @@ auto GlassEngine::Impl::window_of(const SceneDesc& scene, const glm::mat4& view_
 
 Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_proj, const glm::vec3& eye, const glm::vec3& sky,
                                const gl::SceneTexture& scene_color, const gl::SceneTexture& scene_depth, gl::SceneReader& reader,
-                               float march_length, const GlassViewOptions& options, const ViewSpectrum& spectrum) {
+                               float march_length, const GlassViewOptions& options, const ViewSpectrum& spectrum,
+                               const std::vector<std::array<glm::vec3, 2>>& object_boxes) {
   Impl& s = *impl_;
   const gl::TimedPass timed("glass: view", gl::PassKind::kRaster);
   GLint caller_fbo = 0, vp[4] = {0, 0, 0, 0};
@@ -197,6 +198,15 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
       Impl::set_table(p, g.shared->tables[g.shared->base]);  // the table view refracts at n_d (per vertex; docs/dispersion.md)
       s.set_pose(p, scene, g);
       p.set("u_ior", m.ior);
+      // Whether a receiver's box meets the glass's: only then does the
+      // surface look for what is inside it (glass_surface.frag).
+      const auto& gb = object_boxes[g.object];
+      bool holds = false;
+      for (std::size_t oi = 0; oi < scene.objects.size() && !holds; ++oi) {
+        const auto& b = object_boxes[oi];
+        holds = !transmits(scene.objects[oi].role) && glm::all(glm::lessThanEqual(b[0], gb[1])) && glm::all(glm::lessThanEqual(gb[0], b[1]));
+      }
+      p.set("u_inside", holds ? 1 : 0);
     }
     g.mesh->draw();
   }
