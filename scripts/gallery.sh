@@ -46,7 +46,7 @@ for json in assets/demo/*.json; do
 done
 # glTF files opened in one step (no bake command: caustix-render bakes them
 # into a cache); neither has lights, so both show the default rig.
-for gltf in assets/gltf/materials.gltf; do
+for gltf in assets/gltf/materials.gltf assets/gltf/textured.gltf; do
   s=$(basename "$gltf" .gltf)
   $B/runtime/caustix-render "$gltf" -o "docs/gallery/${s}_gltf.png" --size 640x400 --cache "$T/cache" -q
 done

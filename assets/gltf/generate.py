@@ -28,6 +28,7 @@ its default rig), for the gallery (docs/gallery.md) and the tools' tests:
   amber    a solid glass ball (radius 0.4) at (0.4, 0.4, -1) with
            KHR_materials_volume attenuationColor (1, 0.55, 0.15) over
            0.3 m: orange through its volume, casting an orange caustic
+  insect   a dark brown box (0.22 x 0.05 x 0.08 m) inside the amber
   panel    an upright 1.2 x 0.6 m quad at (-1.2, 0.5, -1.2) facing +z,
            emissiveFactor (1, 0.6, 0.3) x KHR_materials_emissive_strength 2
   camera   perspective, 40 deg, at (0.4, 2.6, 4.4) looking at (0, 0.25, -0.2)
@@ -204,6 +205,10 @@ def materials():
                                      "KHR_materials_volume": {"thicknessFactor": 0.8, "attenuationDistance": 0.3,
                                                               "attenuationColor": [1.0, 0.55, 0.15]}}})
     nodes.append(g.push("nodes", {"name": "amber", "mesh": g.mesh(sphere_obj, amber), "translation": [0.4, 0.4, -1.0], "scale": [0.4] * 3}))
+    insect = material("insect", (0.12, 0.06, 0.02), 0.0, 0.5)
+    nodes.append(g.push("nodes", {"name": "insect", "mesh": g.mesh(os.path.join(HERE, "..", "meshes", "box.obj"), insect),
+                                  "translation": [0.4, 0.42, -1.0], "scale": [0.22, 0.05, 0.08],
+                                  "rotation": [0, math.sin(math.radians(15)), 0, math.cos(math.radians(15))]}))
     panel = material("panel", (0.0, 0.0, 0.0), 0.0, 1.0,
                      {"emissiveFactor": [1.0, 0.6, 0.3], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2.0}}})
     s = math.sqrt(0.5)

@@ -48,6 +48,7 @@ uniform vec3 u_glass_absorption;
 uniform vec3 u_glass_transmit = vec3(1.0);  // the surface's tint at the two crossings (Material::tint^2)
 uniform int u_iterations;
 uniform int u_exit_iterations;
+uniform float u_march_length;  // how far scene_along marches for a start beyond the exit
 
 out vec4 o_color;
 
@@ -75,6 +76,26 @@ vec3 scene_along(vec3 x, vec3 d) {
   vec3 p;
   if (!to_screen(x, uv) || !scene_position(uv, p)) return glass_sky(d);
   float t = length(p - x);
+  if (distance(p, u_eye) < distance(x, u_eye)) {
+    // The surface behind x's pixel is in front of x (something inside the
+    // glass, or in front of its far side): the iteration would start on
+    // it. Start instead where a march through the depth buffer first
+    // passes behind a surface beyond x (the table view's march).
+    vec4 cs = u_view_proj * vec4(x, 1.0);
+    float start = cs.z / cs.w * 0.5 + 0.5;
+    const int kSteps = 32;
+    t = -1.0;
+    for (int k = 1; k <= kSteps && t < 0.0; ++k) {
+      float s = u_march_length * float(k * k) / float(kSteps * kSteps);
+      vec4 c = u_view_proj * vec4(x + d * s, 1.0);
+      if (c.w <= 0.0) break;
+      vec3 ndc = c.xyz / c.w;
+      if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) break;
+      float depth = texture(u_scene_depth, ndc.xy * 0.5 + 0.5).r;
+      if (depth < 1.0 && depth >= start && ndc.z * 0.5 + 0.5 >= depth) t = s;
+    }
+    if (t < 0.0) return glass_sky(d);
+  }
   for (int k = 0; k < u_iterations; ++k) {
     if (!to_screen(x + t * d, uv) || !scene_position(uv, p)) return glass_sky(d);
     t = length(p - x);
@@ -129,6 +150,9 @@ vec3 shade(vec3 n, vec3 view, float ior, vec3 sky_reflected) {
       lands = to_screen(x + d * t1, uv) && scene_position(uv, p_in);
       if (lands) d = length(p_in - x);
     }
+    // Landed on the ray (not on a surface only behind it on screen, the
+    // floor under a ball), within the glass.
+    lands = lands && length(p_in - (x + d * t1)) < 0.02 * t + 1e-4;
     if (lands && d < t && to_screen(x + d * t1, uv)) {
       return reflectance * sky_reflected + transmitted * sqrt(u_glass_transmit) * exp(-u_glass_absorption * d) * texture(u_scene_color, uv).rgb;
     }

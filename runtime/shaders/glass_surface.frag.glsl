@@ -23,6 +23,7 @@ in vec3 v_transmitted;
 layout(binding = 0) uniform sampler2D u_scene_color;
 layout(binding = 1) uniform sampler2D u_scene_depth;
 uniform mat4 u_view_proj;
+uniform mat4 u_inv_view_proj;
 uniform vec3 u_eye;
 uniform float u_ior;
 uniform float u_march_length;
@@ -55,14 +56,19 @@ vec3 scene_along(vec3 o, vec3 d) {
   return glass_sky(d);
 }
 
-// Whether the point p lies behind the opaque scene (and that surface lies
-// beyond `start`, the entry point's depth), and where p falls on screen.
-bool behind_scene(vec3 p, float start, out vec2 uv) {
+// Whether the point p lies behind the opaque scene by at most `thickness`
+// (metres along the view ray; that surface beyond `start`, the entry
+// point's depth), and where p falls on screen. The thickness keeps a ray
+// that merely passes behind an object, in its shadow from the camera, from
+// taking it for a hit.
+bool behind_scene(vec3 p, float start, float thickness, out vec2 uv) {
   vec4 c = u_view_proj * vec4(p, 1.0);
   vec3 ndc = c.xyz / max(c.w, 1e-9);
   uv = ndc.xy * 0.5 + 0.5;
   float depth = texture(u_scene_depth, uv).r;
-  return c.w > 0.0 && all(lessThanEqual(abs(ndc.xy), vec2(1.0))) && depth < 1.0 && depth > start && ndc.z * 0.5 + 0.5 >= depth;
+  if (c.w <= 0.0 || any(greaterThan(abs(ndc.xy), vec2(1.0))) || depth >= 1.0 || depth <= start || ndc.z * 0.5 + 0.5 < depth) return false;
+  vec4 s = u_inv_view_proj * vec4(vec3(uv, depth) * 2.0 - 1.0, 1.0);
+  return distance(p, u_eye) - distance(s.xyz / s.w, u_eye) <= thickness;
 }
 
 // The first opaque surface the ray o + d t passes behind for 0 < t <= len,
@@ -72,15 +78,16 @@ vec4 scene_inside(vec3 o, vec3 d, float len) {
   const int kSteps = 24;
   vec4 cs = u_view_proj * vec4(o, 1.0);
   float start = cs.z / cs.w * 0.5 + 0.5;
+  float thickness = 1.5 * len / float(kSteps);
   vec2 uv;
   for (int k = 1; k <= kSteps; ++k) {
     float t = len * float(k) / float(kSteps);
-    if (!behind_scene(o + d * t, start, uv)) continue;
+    if (!behind_scene(o + d * t, start, thickness, uv)) continue;
     float lo = t - len / float(kSteps), hi = t;
     vec2 at;
     for (int i = 0; i < 6; ++i) {
       float mid = 0.5 * (lo + hi);
-      if (behind_scene(o + d * mid, start, at)) {
+      if (behind_scene(o + d * mid, start, thickness, at)) {
         hi = mid;
         uv = at;
       } else {

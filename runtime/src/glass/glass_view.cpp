@@ -163,6 +163,7 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
   p.use();
   p.set("u_view_proj", view_proj);
   p.set("u_ndc_window", ndc_window);
+  p.set("u_inv_view_proj", glm::inverse(view_proj));
   p.set("u_eye", eye);
   p.set("u_sky", sky);
   p.set("u_has_environment", options.environment != 0 ? 1 : 0);
@@ -172,7 +173,6 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
   glBindSampler(0, s.nearest.get());
   glBindSampler(1, s.nearest.get());
   if (nearby) {
-    p.set("u_inv_view_proj", glm::inverse(view_proj));
     p.set("u_clip_plane", glm::vec4(0, 0, 0, 1));
     p.set("u_iterations", static_cast<int>(options.iterations));
     p.set("u_exit_iterations", static_cast<int>(options.exit_iterations));
@@ -183,9 +183,8 @@ Status GlassEngine::draw_glass(const SceneDesc& scene, const glm::mat4& view_pro
                                      static_cast<float>(s.back_h) / static_cast<float>(vp[3])));
     glBindTextureUnit(2, s.back_position.get());
     glBindTextureUnit(3, s.back_normal.get());
-  } else {
-    p.set("u_march_length", march_length);
   }
+  p.set("u_march_length", march_length);
   for (const Impl::Glass& g : s.glass) {
     const Material& m = scene.objects[g.object].material;
     p.set("u_glass_transmit", Impl::transmit(m));
