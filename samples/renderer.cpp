@@ -338,6 +338,7 @@ struct Renderer::Impl {
   // composites them last).
   Status draw_receivers(const gl::Program& p, int pass, std::uint32_t li, std::optional<std::uint32_t> only,
                         bool cull_closed = false, bool textured = false) const {
+    glVertexAttrib4f(3, 1.0f, 1.0f, 1.0f, 1.0f);  // the vertex colour of meshes without (attribute 3 disabled)
     for (std::uint32_t i = 0; i < scene().objects.size(); ++i) {
       if (only && *only != i) continue;
       if (transmits(scene().objects[i].role)) continue;  // drawn as glass (Engine::draw_glass)

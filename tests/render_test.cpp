@@ -314,6 +314,45 @@ TEST(Render, SurfacesShadeAsTheMetallicRoughnessModelAtNormalIncidence) {
   expect_near(centre(metal, down, 1.0) - centre(metal, down, 0.0), glm::dvec3(0.5 / (4.0 * alpha * alpha)), "sun on metal");
 }
 
+// glTF's COLOR_0 multiplies the base colour (glTF 2.0 §3.9.2): a white
+// rough dielectric quad whose vertices carry c = (0.5, 0.25, 1), as
+// normalised unsigned bytes, under the flat sky seen straight down shows
+// sky (c + 0.04 A), A = 0.452 (the specular layer does not take the
+// colour), against sky (1 + 0.04 A) without the colours.
+TEST(Render, VertexColoursMultiplyTheBaseColour) {
+  test::GltfBuilder b;
+  const int pos = b.positions({{-1.5f, 0, -1.5f}, {-1.5f, 0, 1.5f}, {1.5f, 0, 1.5f}, {1.5f, 0, -1.5f}});
+  const int nrm = b.normals({{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}});
+  std::vector<std::uint8_t> rgba;
+  for (int v = 0; v < 4; ++v) rgba.insert(rgba.end(), {128, 64, 255, 255});
+  const int col = b.accessor(rgba, 5121, "VEC4", 4, /*normalized=*/true);
+  const int idx = b.indices({0, 1, 2, 0, 2, 3});
+  const int mat = b.material({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
+  const auto render = [&](bool colours, const std::string& tag) {
+    test::GltfBuilder q = b;
+    nlohmann::json attributes{{"POSITION", pos}, {"NORMAL", nrm}};
+    if (colours) attributes["COLOR_0"] = col;
+    q.scene({q.node({{"name", "floor"}, {"mesh", q.mesh({{{"attributes", attributes}, {"indices", idx}, {"material", mat}}})}})});
+    const auto gltf = std::filesystem::temp_directory_path() / ("caustix_" + tag + ".gltf");
+    q.write_embedded(gltf);
+    nlohmann::json g = top_down_scene();
+    g["lights"] = {{{"type", "directional"}, {"direction", {0, 1, 0}}, {"irradiance", 1.0}}};  // lights nothing facing up
+    g["gltf"] = gltf.string();
+    const Image img = render_file(test::write_scene(g, tag), 64, 64);
+    const float* p = img.at(32, 32);
+    return glm::dvec3(p[0], p[1], p[2]);
+  };
+  const glm::dvec3 sky(sample::kSkyColor[0], sample::kSkyColor[1], sample::kSkyColor[2]);
+  const glm::dvec3 c(128.0 / 255.0, 64.0 / 255.0, 1.0);
+  const glm::dvec3 plain = render(false, "uncoloured_quad"), coloured = render(true, "coloured_quad");
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(plain[k], sky[k] * (1.0 + 0.04 * 0.452), 0.005 * sky[k]) << k;
+    EXPECT_NEAR(coloured[k], sky[k] * (c[k] + 0.04 * 0.452), 0.005 * sky[k]) << k;
+  }
+  std::printf("[vertex colours] %.4f %.4f %.4f (closed form %.4f %.4f %.4f)\n", coloured.x, coloured.y, coloured.z, sky.x * (c.x + 0.04 * 0.452),
+              sky.y * (c.y + 0.04 * 0.452), sky.z * (c.z + 0.04 * 0.452));
+}
+
 // The maps and alpha of glTF's material (SurfaceMaps) against closed forms,
 // each a floor seen from above at normal incidence (box-projected solid
 // textures from scene.json, so that only the map's meaning is tested):

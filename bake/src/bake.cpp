@@ -184,7 +184,7 @@ std::vector<std::string> merge_identical_meshes(SceneDesc& scene, std::vector<st
                                                 std::vector<std::vector<std::uint8_t>>& streams, std::vector<MeshStats>& stats) {
   const auto same = [&](std::size_t a, std::size_t b) {
     const TriangleMesh &x = meshes[a], &y = meshes[b];
-    return streams[a] == streams[b] && x.positions == y.positions && x.triangles == y.triangles && x.normals == y.normals && x.uvs == y.uvs;
+    return streams[a] == streams[b] && x.positions == y.positions && x.triangles == y.triangles && x.normals == y.normals && x.uvs == y.uvs && x.colors == y.colors;
   };
   std::vector<std::string> notes;
   std::vector<std::uint32_t> to(meshes.size());
@@ -398,6 +398,11 @@ Result<BakeResult> bake_scene(const std::string& scene_path, const BakeOptions& 
       return o.mesh_index == i && uv;
     });
     if (!wants_uvs) mesh.uvs.clear();
+    // Vertex colours likewise, for receivers only (they tint the base colour).
+    const bool wants_colors = std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) {
+      return o.mesh_index == i && o.role == Role::kReceiver;
+    });
+    if (!wants_colors) mesh.colors.clear();
     if (wants_uvs && mesh.uvs.size() != mesh.positions.size()) {
       return make_error(ErrorCode::kInput, path + ": the mesh has no texture coordinates for its textures; give the textures "
                                                  "\"projection\": \"box\" (tiles in metres) or export the mesh with UVs (glTF TEXCOORD_0)");

@@ -64,6 +64,12 @@ const std::set<std::string> kIgnorable{"KHR_texture_basisu",         "EXT_textur
                                        "KHR_materials_sheen",          "KHR_materials_specular",     "KHR_materials_iridescence",
                                        "KHR_materials_anisotropy",     "KHR_materials_variants",     "KHR_xmp_json_ld"};
 
+// A vertex colour clamped into [0, 1] (NaN to 1: no tint).
+std::array<float, 4> clamped_color(std::array<float, 4> c) {
+  for (float& x : c) x = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 1.0f;
+  return c;
+}
+
 // A URI's %XX escapes decoded (glTF 2.0 §3.2: URIs are RFC 3986; file
 // names with spaces arrive as %20).
 std::string percent_decoded(const std::string& uri) {
@@ -294,10 +300,11 @@ struct GltfFile::Impl {
     std::vector<V3> positions;
     std::vector<V3> normals;  // empty, or one per position
     std::vector<std::array<float, 2>> uvs;  // empty, or one per position (the base-colour texture's set)
+    std::vector<std::array<float, 4>> colors;  // empty, or one per position (COLOR_0, RGBA)
     std::vector<std::array<std::uint32_t, 3>> triangles;
   };
 
-  Result<Corners> decode_draco_primitive(const tinygltf::Value& ext, const std::string& pp, int texcoord) const {
+  Result<Corners> decode_draco_primitive(const tinygltf::Value& ext, const std::string& pp, int texcoord, bool colors) const {
     const std::string ep = pp + "/extensions/KHR_draco_mesh_compression";
     const tinygltf::Value* view = field(ext, "bufferView");
     const tinygltf::Value* attrs = field(ext, "attributes");
@@ -317,9 +324,10 @@ struct GltfFile::Impl {
       const tinygltf::Value* id = field(*attrs, name);
       if (!id) return static_cast<const draco::PointAttribute*>(nullptr);
       const draco::PointAttribute* a = id->IsInt() ? mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id->GetNumberAsInt())) : nullptr;
+      const bool color = std::string_view(name) == "COLOR_0";
       const int want = std::string_view(name).rfind("TEXCOORD_", 0) == 0 ? 2 : 3;
-      if (!a || a->num_components() != want) {
-        return fail(ep + "/attributes/" + name, "no " + std::to_string(want) + "-component Draco attribute with this id");
+      if (!a || (color ? a->num_components() != 3 && a->num_components() != 4 : a->num_components() != want)) {
+        return fail(ep + "/attributes/" + name, "no " + (color ? std::string("3- or 4") : std::to_string(want)) + "-component Draco attribute with this id");
       }
       return a;
     };
@@ -331,6 +339,8 @@ struct GltfFile::Impl {
     const std::string uv_name = "TEXCOORD_" + std::to_string(std::max(texcoord, 0));
     auto tex = texcoord >= 0 ? attribute(uv_name.c_str()) : Result<const draco::PointAttribute*>(static_cast<const draco::PointAttribute*>(nullptr));
     if (!tex) return tex.error();
+    auto col = colors ? attribute("COLOR_0") : Result<const draco::PointAttribute*>(static_cast<const draco::PointAttribute*>(nullptr));
+    if (!col) return col.error();
     if (mesh->num_points() > kMaxMeshVertices) return fail(ep, "more than " + std::to_string(kMaxMeshVertices) + " vertices");
     Corners c;
     c.positions.resize(mesh->num_points());
@@ -350,6 +360,13 @@ struct GltfFile::Impl {
         }
         c.uvs.push_back(uv);
       }
+      if (*col) {
+        std::array<float, 4> rgba{1, 1, 1, 1};
+        const bool read = (*col)->num_components() == 4 ? (*col)->ConvertValue<float, 4>((*col)->mapped_index(i), rgba.data())
+                                                        : (*col)->ConvertValue<float, 3>((*col)->mapped_index(i), rgba.data());
+        if (!read) return fail(ep, "cannot read the colour of Draco point " + std::to_string(i.value()));
+        c.colors.push_back(clamped_color(rgba));
+      }
     }
     for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
       const auto& face = mesh->face(f);
@@ -360,8 +377,9 @@ struct GltfFile::Impl {
 
   // The triangles of primitive k of mesh m (an empty result for points and
   // lines, with a warning).
-  // With `texcoord` >= 0, TEXCOORD_<texcoord> too (a textured receiver's).
-  Result<Corners> primitive_corners(std::size_t m, std::size_t k, std::vector<std::string>& warns, int texcoord = -1) const {
+  // With `texcoord` >= 0, TEXCOORD_<texcoord> too (a textured receiver's);
+  // with `colors`, COLOR_0 (a receiver's vertex colours).
+  Result<Corners> primitive_corners(std::size_t m, std::size_t k, std::vector<std::string>& warns, int texcoord = -1, bool colors = false) const {
     const tinygltf::Primitive& prim = model.meshes[m].primitives[k];
     const std::string pp = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k);
     const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
@@ -372,7 +390,7 @@ struct GltfFile::Impl {
     }
     if (!prim.targets.empty()) warn(pp + ": " + std::to_string(prim.targets.size()) + " morph target(s) ignored (the bake takes the base shape)", warns);
     if (const tinygltf::Value* draco = extension(prim.extensions, "KHR_draco_mesh_compression")) {
-      return decode_draco_primitive(*draco, pp, texcoord);
+      return decode_draco_primitive(*draco, pp, texcoord, colors);
     }
     const auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) return fail(pp + "/attributes", "no POSITION attribute");
@@ -399,6 +417,24 @@ struct GltfFile::Impl {
       if (!uv) return uv.error();
       if (uv->size() != 2 * n) return fail(pp + "/attributes/" + name, "count differs from POSITION's " + std::to_string(n));
       for (std::size_t i = 0; i < n; ++i) c.uvs.push_back({static_cast<float>((*uv)[2 * i]), static_cast<float>((*uv)[2 * i + 1])});
+    }
+    if (colors) {
+      // glTF 2.0 §3.7.2.1: COLOR_0 is VEC3 or VEC4, float or normalised
+      // unsigned byte or short, linear.
+      const auto it = prim.attributes.find("COLOR_0");
+      if (it == prim.attributes.end()) return fail(pp + "/attributes", "no COLOR_0");
+      if (auto e = check_index(it->second, model.accessors, "accessor", pp + "/attributes/COLOR_0")) return *e;
+      const int type = model.accessors[static_cast<std::size_t>(it->second)].type == TINYGLTF_TYPE_VEC3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
+      auto col = read_accessor(it->second, pp + "/attributes/COLOR_0", type,
+                               {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+      if (!col) return col.error();
+      const std::size_t comp = type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+      if (col->size() != comp * n) return fail(pp + "/attributes/COLOR_0", "count differs from POSITION's " + std::to_string(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        std::array<float, 4> rgba{1, 1, 1, 1};
+        for (std::size_t k2 = 0; k2 < comp; ++k2) rgba[k2] = static_cast<float>((*col)[comp * i + k2]);
+        c.colors.push_back(clamped_color(rgba));
+      }
     }
     std::vector<std::uint32_t> idx;
     if (prim.indices >= 0) {
@@ -443,17 +479,19 @@ struct GltfFile::Impl {
       for (V3& p : c.positions) p = all[i++];
     }
     PolygonSoup soup;
-    std::map<std::array<float, 8>, std::uint32_t> index;
+    std::map<std::array<float, 12>, std::uint32_t> index;
     const bool normals = std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.normals.empty(); });
     // Texture coordinates split vertices as normals do (a UV seam), unless welded.
     const bool uvs = !weld && std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.uvs.empty() && c.uvs.size() == c.positions.size(); });
+    // Vertex colours split vertices as texture coordinates do.
+    const bool colors = !weld && std::all_of(parts.begin(), parts.end(), [](const Corners& c) { return !c.colors.empty() && c.colors.size() == c.positions.size(); });
     std::vector<V3> normal_sum;
     for (const Corners& c : parts) {
       std::vector<std::uint32_t> remap(c.positions.size());
       for (std::size_t i = 0; i < c.positions.size(); ++i) {
         const V3& p = c.positions[i];
         const V3 n = normals ? c.normals[i] : V3{0, 0, 0};
-        std::array<float, 8> key{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]), 0, 0, 0, 0, 0};
+        std::array<float, 12> key{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]), 0, 0, 0, 0, 0, 0, 0, 0, 0};
         if (!weld) {
           for (std::size_t k = 0; k < 3; ++k) key[3 + k] = static_cast<float>(n[k]);
         }
@@ -461,11 +499,13 @@ struct GltfFile::Impl {
           key[6] = c.uvs[i][0];
           key[7] = c.uvs[i][1];
         }
+        if (colors) std::copy(c.colors[i].begin(), c.colors[i].end(), key.begin() + 8);
         const auto [it, inserted] = index.emplace(key, static_cast<std::uint32_t>(soup.points.size()));
         if (inserted) {
           soup.points.push_back(p);
           normal_sum.push_back({0, 0, 0});
           if (uvs) soup.uvs.push_back(c.uvs[i]);
+          if (colors) soup.colors.push_back(c.colors[i]);
         }
         if (normals) {
           const V3 u = normalized(n);
@@ -1024,7 +1064,7 @@ Result<GltfScene> GltfFile::scene() const {
       return "the imported scene's " + pointer;
     }
   } where;
-  std::map<std::tuple<std::size_t, std::size_t, bool, int>, std::uint32_t> mesh_of;  // (mesh, primitive, weld, texcoord) -> index
+  std::map<std::tuple<std::size_t, std::size_t, bool, int, bool>, std::uint32_t> mesh_of;  // (mesh, primitive, weld, texcoord, colours) -> index
   std::map<int, std::pair<Role, Material>> materials;
   std::map<int, int> texcoord_of;  // textured material -> its TEXCOORD set
   std::map<std::pair<int, bool>, std::uint32_t> image_of;
@@ -1065,11 +1105,14 @@ Result<GltfScene> GltfFile::scene() const {
         // A solid's mesh is welded for its topology; a transmissive surface
         // that bounds no solid is baked thin-walled (caustix-bake, naming it).
         const bool weld = is_transparent(mat->first);
-        const auto key = std::tuple{m, k, weld, texcoord};
+        // A receiver's vertex colours (glTF 2.0 §3.9.2: COLOR_0 multiplies
+        // the base colour).
+        const bool colors = mat->first == Role::kReceiver && prims[k].attributes.count("COLOR_0");
+        const auto key = std::tuple{m, k, weld, texcoord, colors};
         auto found = mesh_of.find(key);
         if (found == mesh_of.end()) {
           std::vector<std::string> warns;
-          auto c = im.primitive_corners(m, k, warns, texcoord);
+          auto c = im.primitive_corners(m, k, warns, texcoord, colors);
           if (!c) return c.error();
           for (auto& w : warns) out.warnings.push_back(std::move(w));
           if (c->triangles.empty()) continue;  // points or lines: warned

@@ -48,6 +48,7 @@ Result<std::vector<std::uint8_t>> encode_draco(const TriangleMesh& in, const Dra
   add(draco::GeometryAttribute::POSITION, in.positions);
   add(draco::GeometryAttribute::NORMAL, in.normals);
   if (!in.uvs.empty()) add(draco::GeometryAttribute::TEX_COORD, in.uvs);
+  if (!in.colors.empty()) add(draco::GeometryAttribute::COLOR, in.colors);
   for (const auto& t : in.triangles) {
     mesh.AddFace(draco::Mesh::Face{draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
   }
@@ -58,6 +59,8 @@ Result<std::vector<std::uint8_t>> encode_draco(const TriangleMesh& in, const Dra
   // Texture coordinates: 16 bits over their range (a 1/65535 step of a
   // 0..8 tiling range is 1/30 of a texel of a 1024 image).
   encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, 16);
+  // Vertex colours: 10 bits over their range, finer than an 8-bit colour.
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::COLOR, 10);
   encoder.SetSpeedOptions(opt.speed, opt.speed);
   encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
   draco::EncoderBuffer buffer;

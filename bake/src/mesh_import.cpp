@@ -201,6 +201,7 @@ Result<ImportedMesh> mesh_from_soup(PolygonSoup&& soup) {
         const P3& p = soup.points[i];
         tm.positions.push_back({static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
         if (soup.uvs.size() == soup.points.size()) tm.uvs.push_back(soup.uvs[i]);
+        if (soup.colors.size() == soup.points.size()) tm.colors.push_back(soup.colors[i]);
       }
     }
     tm.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});

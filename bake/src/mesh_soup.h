@@ -53,6 +53,7 @@ struct PolygonSoup {
   std::vector<std::array<double, 3>> points;
   std::vector<std::array<double, 3>> normals;  // empty, or one per point as the file gave them
   std::vector<std::array<float, 2>> uvs;       // empty, or one per point (glTF TEXCOORD_n)
+  std::vector<std::array<float, 4>> colors;    // empty, or one per point (glTF COLOR_0, linear RGBA)
   // Polygon i is corners[offsets[i] .. offsets[i + 1]) (point indices, not
   // yet range-checked); offsets.size() == polygons + 1.
   std::vector<std::uint32_t> corners;

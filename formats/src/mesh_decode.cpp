@@ -2,6 +2,7 @@
 
 #include <draco/compression/decode.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace caustix {
@@ -41,6 +42,9 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   // Texture coordinates are optional (receivers with a base-colour texture).
   const draco::PointAttribute* tex = mesh->GetNamedAttribute(draco::GeometryAttribute::TEX_COORD);
   if (tex && tex->num_components() != 2) return mesh_error(info, "texture coordinates with " + std::to_string(tex->num_components()) + " components (2 expected)");
+  // Vertex colours are optional too (receivers with glTF's COLOR_0).
+  const draco::PointAttribute* col = mesh->GetNamedAttribute(draco::GeometryAttribute::COLOR);
+  if (col && col->num_components() != 4) return mesh_error(info, "vertex colours with " + std::to_string(col->num_components()) + " components (4 expected)");
   // Edgebreaker keeps every triangle but may split non-manifold vertices, so
   // the triangle count must match exactly and the vertex count is bounded.
   if (mesh->num_faces() != info.triangle_count || mesh->num_points() == 0 ||
@@ -54,6 +58,7 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
   out.positions.resize(mesh->num_points());
   out.normals.resize(mesh->num_points());
   if (tex) out.uvs.resize(mesh->num_points());
+  if (col) out.colors.resize(mesh->num_points());
   // Decoded positions may sit up to half a quantisation step outside the
   // source bounds (8 bits: 0.2 % of the extent); allow 1.5 times that.
   const double slack = 1.5 * position_error_bound(info.bounds_min, info.bounds_max, info.position_bits);
@@ -76,6 +81,15 @@ Result<TriangleMesh> decode_draco(std::span<const std::uint8_t> stream, const Me
       auto& uv = out.uvs[i.value()];
       if (!tex->ConvertValue<float, 2>(tex->mapped_index(i), uv.data()) || !std::isfinite(uv[0]) || !std::isfinite(uv[1])) {
         return mesh_error(info, "vertex " + std::to_string(i.value()) + " has invalid texture coordinates");
+      }
+    }
+    if (col) {
+      // Quantisation may put a colour a step outside [0, 1]; clamped.
+      auto& c = out.colors[i.value()];
+      if (!col->ConvertValue<float, 4>(col->mapped_index(i), c.data())) return mesh_error(info, "cannot read the colour of vertex " + std::to_string(i.value()));
+      for (float& x : c) {
+        if (!std::isfinite(x) || x < -0.01f || x > 1.01f) return mesh_error(info, "vertex " + std::to_string(i.value()) + " has a colour outside [0, 1]");
+        x = std::clamp(x, 0.0f, 1.0f);
       }
     }
   }

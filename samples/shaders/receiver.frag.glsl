@@ -8,7 +8,8 @@
 // e^(-k d) (eq. 4); with additive passes, the ambient pass carries (1 - a)
 // C_w and every pass is scaled by a. A textured receiver's albedo is
 // u_albedo times its texture's linear colour (Engine::albedo_map,
-// caustix_texture_coords()).
+// caustix_texture_coords()), times its vertex colour where the mesh has
+// one (glTF COLOR_0).
 //
 // A receiver with a surface (u_surface 1: glTF's metallic-roughness
 // material, formats/scene.h Surface) is shaded as glTF 2.0's appendix B
@@ -37,6 +38,7 @@
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
+in vec4 v_color;  // the vertex colour (glTF COLOR_0), (1, 1, 1, 1) without
 
 uniform int u_pass;  // 0 ambient, 1 a light
 uniform vec3 u_albedo;
@@ -127,7 +129,7 @@ void main() {
   vec2 normal_st = map_coords(1, ng);
   vec3 dp_dx = dFdx(v_world), dp_dy = dFdy(v_world);
   vec2 dst_dx = dFdx(normal_st), dst_dy = dFdy(normal_st);
-  vec4 base = vec4(u_albedo, u_alpha);
+  vec4 base = vec4(u_albedo, u_alpha) * v_color;
   if (u_albedo_projection != 0) {
     base *= texture(u_albedo_map, caustix_texture_coords(u_albedo_projection, u_albedo_rows[0], u_albedo_rows[1], v_uv, v_world, n));
   }

@@ -39,6 +39,15 @@ GpuMesh upload_mesh(const TriangleMesh& m) {
     glVertexArrayAttribFormat(vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao, 2, 1);
   }
+  if (!m.colors.empty() && m.colors.size() == m.positions.size()) {
+    g.colors = gl::make_buffer();
+    g.has_colors = true;
+    glNamedBufferStorage(g.colors.get(), static_cast<GLsizeiptr>(m.colors.size() * 16), m.colors.data(), 0);
+    glVertexArrayVertexBuffer(vao, 2, g.colors.get(), 0, 4 * sizeof(float));
+    glEnableVertexArrayAttrib(vao, 3);
+    glVertexArrayAttribFormat(vao, 3, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 3, 2);
+  }
   g.closed = !m.triangles.empty() && census_edges(m).closed();
   return g;
 }

@@ -16,6 +16,10 @@ struct TriangleMesh {
   // texel, top-left): empty, or one per position. Only receivers with a
   // base-colour texture keep them.
   std::vector<std::array<float, 2>> uvs;
+  // Vertex colours (glTF's COLOR_0: linear RGBA, each in [0, 1]): empty, or
+  // one per position. Only receivers keep them; they multiply the base
+  // colour.
+  std::vector<std::array<float, 4>> colors;
   std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise = front
 };
 

@@ -210,7 +210,11 @@ class Engine {
 
   // Draws object `index`'s mesh (attribute 0: object-space position, 1:
   // normal, 2: texture coordinates where the mesh has them -- receivers
-  // whose albedo texture is mapped by them; GL_TRIANGLES, uint32 indices)
+  // whose albedo texture or maps are mapped by them; 3: linear RGBA vertex
+  // colours where the mesh has them -- receivers with glTF's COLOR_0, which
+  // multiply the base colour; a disabled attribute reads the context's
+  // current value, so set it to (1, 1, 1, 1) with glVertexAttrib4f for
+  // meshes without; GL_TRIANGLES, uint32 indices)
   // with whatever program the caller has bound: for applications that
   // draw the scene's own meshes.
   Status draw_object(std::uint32_t index) const;
