@@ -195,7 +195,7 @@ std::array<glm::vec3, 9> sky_harmonics(const SkyModelCpu& sky, float sun) {
 struct Renderer::Impl {
   std::unique_ptr<Engine> engine;
   std::vector<bool> closed;  // per mesh: closed and consistently wound
-  gl::Program receiver, irradiance, present, luminance, downsample, sky;
+  gl::Program receiver, irradiance, present, luminance, downsample, sky, prefilter;
   // This frame's sky (FrameParams::sky), drawn behind the receivers and
   // lighting those with a surface through its harmonics (sky_harmonics),
   // remade only when the sky or the sun on the ground changes.
@@ -224,13 +224,32 @@ struct Renderer::Impl {
   static constexpr int kEnvironmentSize = 64;
   gl::Texture environment;
   gl::Framebuffer environment_fbo;
+  // The environment prefiltered for the surfaces' glossy reflection
+  // (prefilter.frag): kPrefilteredLevels mips from kEnvironmentSize, level
+  // k for roughness k / (kPrefilteredLevels - 1); bound at
+  // prefiltered_unit (-1: the context has too few units, and the receivers
+  // blend the sky's radiance towards its irradiance instead).
+  static constexpr int kPrefilteredLevels = 6;
+  gl::Texture prefiltered;
+  gl::Sampler mipmapped;
+  int prefiltered_unit = -1;
   void draw_environment() {
     if (!environment.get()) {
       environment = gl::make_texture(GL_TEXTURE_CUBE_MAP);
-      glTextureStorage2D(environment.get(), 1, GL_RGBA16F, kEnvironmentSize, kEnvironmentSize);
-      glTextureParameteri(environment.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureStorage2D(environment.get(), 7, GL_RGBA16F, kEnvironmentSize, kEnvironmentSize);  // 64 .. 1
+      glTextureParameteri(environment.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);  // the glass reads level 0
       glTextureParameteri(environment.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       environment_fbo = gl::make_framebuffer();
+      prefiltered = gl::make_texture(GL_TEXTURE_CUBE_MAP);
+      glTextureStorage2D(prefiltered.get(), kPrefilteredLevels, GL_RGBA16F, kEnvironmentSize, kEnvironmentSize);
+      glTextureParameteri(prefiltered.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTextureParameteri(prefiltered.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      GLuint sampler = 0;
+      glCreateSamplers(1, &sampler);
+      glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      mipmapped = gl::Sampler(sampler);
+      glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);  // the renderer's context: filtering across the faces' edges
     }
     // The faces as GL lays them out (+x, -x, +y, -y, +z, -z), each a 90
     // degree view from the origin.
@@ -255,6 +274,25 @@ struct Renderer::Impl {
       sky.set("u_inv_view_proj", glm::inverse(projection * glm::lookAt(glm::vec3(0.0f), forward, up)));
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
+    // Its mips, the prefilter's source; then each level of the prefiltered
+    // cube from them.
+    glGenerateTextureMipmap(environment.get());
+    prefilter.use();
+    prefilter.set("u_source_size", static_cast<float>(kEnvironmentSize));
+    glBindTextureUnit(0, environment.get());
+    glBindSampler(0, mipmapped.get());
+    for (int level = 0; level < kPrefilteredLevels; ++level) {
+      const int size = kEnvironmentSize >> level;
+      glViewport(0, 0, size, size);
+      prefilter.set("u_roughness", static_cast<float>(level) / static_cast<float>(kPrefilteredLevels - 1));
+      for (int face = 0; face < 6; ++face) {
+        glNamedFramebufferTextureLayer(environment_fbo.get(), GL_COLOR_ATTACHMENT0, prefiltered.get(), level, face);
+        const auto& [forward, up] = kFaces[static_cast<std::size_t>(face)];
+        prefilter.set("u_inv_view_proj", glm::inverse(projection * glm::lookAt(glm::vec3(0.0f), forward, up)));
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+      }
+    }
+    glBindSampler(0, 0);
     glEnable(GL_DEPTH_TEST);
   }
   int opaque_w = 0, opaque_h = 0;
@@ -418,6 +456,7 @@ struct Renderer::Impl {
     p.set("u_eye", v.fog_eye);
     set_sky(p);
     for (int k = 0; k < 9; ++k) p.set(("u_sky_sh[" + std::to_string(k) + "]").c_str(), sky_sh[static_cast<std::size_t>(k)]);
+    if (prefiltered_unit >= 0) glBindTextureUnit(static_cast<GLuint>(prefiltered_unit), prefiltered.get());
     p.set("u_fog", v.fog ? 1 : 0);
     p.set("u_fog_eye", v.fog_eye);
     p.set("u_fog_k", medium.k);
@@ -482,18 +521,24 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   const std::string receiver_fs = lighting + shaders::k_sky_model_glsl + shaders::k_receiver_frag_glsl;
   const std::string sky_fs = std::string("#version 450 core\n") + shaders::k_sky_model_glsl + shaders::k_sky_frag_glsl;
   const std::string irradiance_fs = lighting + shaders::k_irradiance_frag_glsl;
+  const std::string prefilter_fs = std::string("#version 450 core\n") + shaders::k_prefilter_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(
       gl::build_programs({{&s.receiver, "receiver", shaders::k_mesh_vert_glsl, receiver_fs.c_str()},
                           {&s.irradiance, "irradiance", shaders::k_mesh_vert_glsl, irradiance_fs.c_str()},
                           {&s.present, "present", shaders::k_fullscreen_vert_glsl, shaders::k_present_frag_glsl},
                           {&s.sky, "sky", shaders::k_fullscreen_vert_glsl, sky_fs.c_str()},
+                          {&s.prefilter, "prefilter", shaders::k_fullscreen_vert_glsl, prefilter_fs.c_str()},
                           {&s.luminance, "luminance", shaders::k_fullscreen_vert_glsl, shaders::k_luminance_frag_glsl},
                           {&s.downsample, "downsample", shaders::k_fullscreen_vert_glsl, shaders::k_downsample_frag_glsl}}));
   GLint units = 0;
   glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
   s.emissive_unit = units > 16 ? 16 : -1;
+  s.prefiltered_unit = units > 17 ? 17 : -1;
   s.receiver.use();
   s.receiver.set("u_emissive_map", std::max(s.emissive_unit, 1));
+  s.receiver.set("u_prefiltered", std::max(s.prefiltered_unit, 1));  // a sampler must name a unit; unread at 1
+  s.receiver.set("u_has_prefiltered", s.prefiltered_unit >= 0 ? 1 : 0);
+  s.receiver.set("u_prefiltered_levels", static_cast<float>(Impl::kPrefilteredLevels - 1));
   s.empty_vao = gl::make_vertex_array();
   for (const TriangleMesh& m : scene.meshes) s.closed.push_back(!m.triangles.empty() && census_edges(m).closed());
   CAUSTIX_RETURN_IF_ERROR(gl::check_gl("renderer set-up"));
@@ -563,7 +608,7 @@ Status Renderer::render(const FrameParams& f) {
   if (!s.sky_sh_of || *s.sky_sh_of != std::pair{sky_model, sun_on_floor}) {
     s.sky_sh = sky_harmonics(sky_model, sun_on_floor);
     s.sky_sh_of = std::pair{sky_model, sun_on_floor};
-    if (sky_model.analytic) s.draw_environment();
+    s.draw_environment();  // the glass reads it under the analytic sky; the surfaces' prefiltered cube under either
   }
   // The glass sees the analytic sky where its rays leave the scene (the
   // flat sky is draw_glass's own colour), unless the caller gave its own.

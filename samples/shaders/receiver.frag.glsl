@@ -20,8 +20,10 @@
 // leave out the 1/pi of a diffuse surface, as above); ambient from the
 // sky (image-based light): the diffuse part (1 - m) c times the sky's
 // cosine-weighted irradiance over pi from its spherical harmonics, the
-// specular part the sky in the reflected direction blended towards that
-// irradiance as the lobe widens, times F0 A + B (Karis 2014's analytic
+// specular part the sky prefiltered with the GGX lobe of the surface's
+// roughness in the reflected direction (the renderer's cube map; where
+// the context lacks the unit, the sky there blended towards the
+// irradiance as the lobe widens), times F0 A + B (Karis 2014's analytic
 // fit of the split-sum's terms); plus the emission. docs/display.md,
 // "Surfaces".
 //
@@ -56,6 +58,9 @@ uniform float u_roughness;
 uniform vec3 u_emissive;   // times the reference irradiance, as drawn
 uniform vec3 u_eye;
 uniform vec3 u_sky_sh[9];  // the sky's irradiance over pi, order-2 spherical harmonics
+uniform samplerCube u_prefiltered;  // the sky prefiltered per roughness (prefilter.frag), unit set by the renderer
+uniform int u_has_prefiltered;
+uniform float u_prefiltered_levels;  // its last mip level: roughness 1
 uniform int u_maps;        // bits: 1 metallic-roughness, 2 normal, 4 occlusion, 8 emission
 uniform int u_map_projection[4];  // per map, in bit order: AlbedoMap::projection
 uniform vec3 u_map_rows[8];       // per map: its transform's two rows
@@ -104,7 +109,8 @@ vec3 surface_ambient(Point p, vec3 n, vec3 v) {
   vec2 ab = max(vec2(-1.04, 1.04) * a004 + k.zw, vec2(0.0));
   vec3 r = reflect(-v, n);
   float alpha = p.roughness * p.roughness;
-  vec3 prefiltered = mix(sky_radiance(r), sky_irradiance(r), alpha);
+  vec3 prefiltered = u_has_prefiltered != 0 ? textureLod(u_prefiltered, r, p.roughness * u_prefiltered_levels).rgb
+                                            : mix(sky_radiance(r), sky_irradiance(r), alpha);
   return p.occlusion * ((1.0 - p.metallic) * p.c * sky_irradiance(n) + prefiltered * (f0 * ab.x + ab.y)) + p.emission;
 }
 
