@@ -24,6 +24,27 @@ const char* role_name(caustix::Role r) {
   return "?";
 }
 
+// A receiver's textures and alpha mode (TEXR, TEXM), e.g. "albedo 256x256
+// (alpha), normal 512x512; alpha mask 0.5"; empty for none.
+std::vector<std::string> texture_list(const caustix::SceneDesc& s, const caustix::Material& m) {
+  std::vector<std::string> out;
+  const auto add = [&](const char* slot, const std::optional<caustix::MapTexture>& t) {
+    if (!t || t->image >= s.images.size()) return;
+    const caustix::TextureImage& im = s.images[t->image];
+    out.push_back(std::string(slot) + " " + std::to_string(im.width) + "x" + std::to_string(im.height) + (im.alpha.empty() ? "" : " (alpha)"));
+  };
+  add("albedo", m.albedo_texture);
+  if (m.maps) {
+    add("metallic-roughness", m.maps->metallic_roughness);
+    add("normal", m.maps->normal);
+    add("occlusion", m.maps->occlusion);
+    add("emissive", m.maps->emissive);
+    if (m.maps->alpha_mode == caustix::AlphaMode::kMask) out.push_back("alpha mask " + std::to_string(m.maps->alpha_cutoff).substr(0, 4));
+    if (m.maps->alpha_mode == caustix::AlphaMode::kBlend) out.push_back("alpha blend " + std::to_string(m.maps->alpha).substr(0, 4));
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,6 +103,7 @@ int main(int argc, char** argv) {
                                        {"position_bits", m.position_bits},
                                        {"draco_bytes", scene->draco_meshes[o.mesh_index].size()}});
       if (o.tables_from) j["scene"]["objects"].back()["tables_from"] = s.objects[*o.tables_from].name;
+      if (const auto t = texture_list(s, o.material); !t.empty()) j["scene"]["objects"].back()["textures"] = t;
     }
     j["scene"]["lights"] = s.lights.size();
     j["scene"]["water"] = s.water.has_value();
@@ -133,6 +155,9 @@ int main(int argc, char** argv) {
                     role_name(o.role), m.source.c_str(), m.vertex_count, m.triangle_count,
                     scene->draco_meshes[o.mesh_index].size(),
                     o.tables_from ? ("  tables of " + s.objects[*o.tables_from].name).c_str() : "");
+        const auto t = texture_list(s, o.material);
+        for (std::size_t k = 0; k < t.size(); ++k) std::printf("%s%s", k == 0 ? "    textures: " : ", ", t[k].c_str());
+        if (!t.empty()) std::printf("\n");
       }
       if (s.medium) {
         const auto& e = s.medium->extent;
