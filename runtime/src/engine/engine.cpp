@@ -459,7 +459,10 @@ Result<std::unique_ptr<Engine>> Engine::create(const RuntimeScene& scene, const 
 
   for (const TriangleMesh& m : scene.meshes) s.meshes.push_back(upload_mesh(m));
   s.textures = upload_surface_textures(s.scene);
-  for (TextureImage& im : s.scene.images) std::vector<std::uint8_t>().swap(im.rgb);  // on the GPU now
+  for (TextureImage& im : s.scene.images) {  // on the GPU now
+    std::vector<std::uint8_t>().swap(im.rgb);
+    std::vector<std::uint8_t>().swap(im.alpha);
+  }
   s.cpu_meshes = scene.meshes;
   for (const Object& o : s.scene.objects) s.world_vertices.push_back(world_points(o.transform, scene.meshes[o.mesh_index].positions));
   s.compute_bounds();
