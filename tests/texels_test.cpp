@@ -4,7 +4,9 @@
 // under 4 x 4 m of water): a budget takes a small receiver's texels
 // first, then coarsens every map until the light side fits and says so
 // once, the light on each receiver is kept through the coarsening,
-// and a receiver the water's light cannot reach holds no map.
+// and a receiver the water's light cannot reach holds no map. Receivers
+// out of the application's view keep their maps while the water moves
+// and are remade when they come into view.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +15,9 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "bake_fixture.h"
 #include "caustix/sample/renderer.h"
@@ -138,6 +143,65 @@ TEST_F(Texels, MapsFollowTheReceiversAndTheBudgetKeepingTheLight) {
   EXPECT_EQ(gone.texels.maps, 3u);
   EXPECT_EQ(map_side(*r, kBall), 1) << "the black 1 x 1 texture";
   EXPECT_LT(gone.texels.map_bytes, free.texels.map_bytes);
+}
+
+// FrameUpdate::camera on the default pool with its water moving: a camera
+// that sees none of the receivers keeps every map as it was (the same
+// texels, counted in maps_out_of_view, fewer draws), the first update in
+// view remakes them, and out_of_view_interval 2 remakes the unseen ones
+// every other update. Cost: about 3 s on llvmpipe.
+TEST_F(Texels, ReceiversOutOfViewKeepTheirMapsUntilSeen) {
+  auto r = test::bake_and_create(test::write_scene(test::canonical_scene("default"), "out_of_view"));
+  ASSERT_TRUE(r);
+  runtime::Engine& e = r->engine();
+  const runtime::CausticsOptions o = e.default_options();
+  const auto texels = [&](std::uint32_t object) {
+    const auto l = e.lighting(object, 0);
+    EXPECT_TRUE(l.ok());
+    GLint w = 0, h = 0;
+    glGetTextureLevelParameteriv(l->caustics, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(l->caustics, 0, GL_TEXTURE_HEIGHT, &h);
+    std::vector<float> px(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    glGetTextureImage(l->caustics, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * 4), px.data());
+    return px;
+  };
+  // Looking up from far above the pool: nothing in view.
+  const glm::mat4 away = glm::perspective(glm::radians(40.0f), 1.0f, 0.1f, 100.0f) *
+                         glm::lookAt(glm::vec3(0, 50, 0), glm::vec3(0, 60, 0), glm::vec3(0, 0, 1));
+  float t = 1.0f;
+  const auto update = [&](std::optional<glm::mat4> camera, std::uint32_t interval = 8) {
+    runtime::FrameUpdate f{t, o};
+    f.camera = camera;
+    f.out_of_view_interval = interval;
+    t += 0.05f;  // the water moves every update
+    EXPECT_TRUE(e.update(f).ok());
+    return e.stats();
+  };
+  const runtime::CausticsStats seen = update(std::nullopt);
+  EXPECT_EQ(seen.maps_out_of_view, 0u);
+  const std::vector<float> floor0 = texels(kFloor), ball0 = texels(kBall);
+  const runtime::CausticsStats unseen = update(away);
+  EXPECT_EQ(unseen.maps_out_of_view, unseen.texels.maps) << "every map kept";
+  EXPECT_GE(unseen.texels.maps, 2u);
+  EXPECT_TRUE(texels(kFloor) == floor0 && texels(kBall) == ball0) << "kept as they were";
+  if (seen.gl.counted) {
+    EXPECT_LT(unseen.gl.draws + unseen.gl.dispatches, seen.gl.draws + seen.gl.dispatches);
+    std::printf("[out of view] draws + dispatches in view %llu, none in view %llu\n",
+                static_cast<unsigned long long>(seen.gl.draws + seen.gl.dispatches),
+                static_cast<unsigned long long>(unseen.gl.draws + unseen.gl.dispatches));
+  }
+  const runtime::CausticsStats back = update(std::nullopt);
+  EXPECT_EQ(back.maps_out_of_view, 0u);
+  EXPECT_TRUE(texels(kFloor) != floor0 && texels(kBall) != ball0) << "remade once in view";
+  // Every other update when the interval is 2.
+  EXPECT_EQ(update(away, 2).maps_out_of_view, back.texels.maps);
+  EXPECT_EQ(update(away, 2).maps_out_of_view, 0u);
+  EXPECT_EQ(update(away, 2).maps_out_of_view, back.texels.maps);
+  runtime::FrameUpdate bad{t, o};
+  bad.out_of_view_interval = 0;
+  const Status refused = e.update(bad);
+  EXPECT_FALSE(refused.ok());
+  if (!refused.ok()) EXPECT_NE(refused.error().message.find("out_of_view_interval must be 1..64"), std::string::npos) << refused.error().message;
 }
 
 TEST_F(Texels, BadTexelOptionsAreRefused) {

@@ -89,6 +89,7 @@ struct Engine::Impl {
   std::unique_ptr<GlassEngine> glass;
   std::unique_ptr<CausticMapEngine> caustic_maps;  // created on the first update that needs it
   std::vector<std::array<glm::vec3, 2>> object_boxes;  // world (min, max) per object
+  std::vector<bool> out_of_view;  // per object, this update (FrameUpdate::camera; empty without one)
   std::unique_ptr<VolumeEngine> volume;  // scenes where something scatters
   // The light-side effects over the objects above, in the order update()
   // runs them for each light (light_effect.h).
@@ -659,6 +660,16 @@ Status Engine::update(const FrameUpdate& f) {
   if (f.light_side_interval < 1 || f.light_side_interval > 64) {
     return usage("update: light_side_interval must be 1..64, got " + std::to_string(f.light_side_interval));
   }
+  if (f.out_of_view_interval < 1 || f.out_of_view_interval > 64) {
+    return usage("update: out_of_view_interval must be 1..64, got " + std::to_string(f.out_of_view_interval));
+  }
+  if (f.camera) {
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) {
+        if (!std::isfinite((*f.camera)[c][r])) return usage("update: camera has a value that is not finite");
+      }
+    }
+  }
   // The options are checked where they change: once, by the effects
   // that read them, not every frame.
   const bool new_options = s.options != f.caustics;
@@ -678,7 +689,27 @@ Status Engine::update(const FrameUpdate& f) {
   if (s.water) s.work.water = s.water->update(f.time);
   s.volume_options = co.volume;
   Impl::Services services(s);
-  for (const auto& e : s.effects) CAUSTIX_RETURN_IF_ERROR(e->begin_frame(FrameStart{s.scene, s.frame, co, services}));
+  // Objects whose world box lies wholly outside one of the camera's clip
+  // planes are out of view.
+  s.out_of_view.clear();
+  if (f.camera) {
+    s.out_of_view.assign(s.scene.objects.size(), false);
+    for (std::size_t oi = 0; oi < s.object_boxes.size(); ++oi) {
+      const auto& b = s.object_boxes[oi];
+      std::array<int, 6> outside{};
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec4 p = *f.camera * glm::vec4((c & 1) ? b[1].x : b[0].x, (c & 2) ? b[1].y : b[0].y, (c & 4) ? b[1].z : b[0].z, 1.0f);
+        for (int k = 0; k < 3; ++k) {
+          outside[static_cast<std::size_t>(2 * k)] += p[k] < -p.w ? 1 : 0;
+          outside[static_cast<std::size_t>(2 * k + 1)] += p[k] > p.w ? 1 : 0;
+        }
+      }
+      s.out_of_view[oi] = std::any_of(outside.begin(), outside.end(), [](int n) { return n == 8; });
+    }
+  }
+  for (const auto& e : s.effects) {
+    CAUSTIX_RETURN_IF_ERROR(e->begin_frame(FrameStart{s.scene, s.frame, co, services, &s.out_of_view, f.out_of_view_interval}));
+  }
   FrameWork& work = s.work;
   for (std::uint32_t li = 0; li < s.scene.lights.size(); ++li) {
     // Lights take turns when the light side runs every Nth frame.

@@ -74,6 +74,11 @@ struct FrameStart {
   std::uint64_t frame = 0;
   const CausticsOptions& options;
   EngineServices& engine;
+  // Per object, whether it lies outside the application's view
+  // (FrameUpdate::camera; empty: none is), and how often such a receiver's
+  // products are remade anyway (FrameUpdate::out_of_view_interval).
+  const std::vector<bool>* out_of_view = nullptr;
+  std::uint32_t out_of_view_interval = 1;
 };
 struct LightUpdate {
   const SceneDesc& scene;

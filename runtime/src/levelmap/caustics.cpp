@@ -134,6 +134,11 @@ struct MapGpu {
   std::uint32_t spectral_size = 0;
   bool spectral = false;  // the last update traced several wavelengths: `color` is valid
   std::uint64_t gpu_bytes = 0;
+  // Out of the camera's view (CausticsEngine::begin_frame): kept through
+  // updates of its light that would have remade it (stale), counted in
+  // `skipped` until out_of_view_interval.
+  bool stale = false;
+  std::uint32_t skipped = 0;
 };
 
 // Position-map texels per caustics texel, and the samples per axis the
@@ -228,6 +233,13 @@ struct CausticsEngine::Impl {
   std::function<glm::mat4(std::uint32_t)> model_of;
   CausticsStats stats;  // the counts known on the CPU, of the last frame that drew maps
   bool counted_this_frame = false;
+  // This frame's objects out of the camera's view (begin_frame; empty:
+  // none), how many updates a map of one may keep what it has, and the
+  // maps kept so this frame.
+  std::vector<bool> out_of_view;
+  std::uint32_t out_of_view_interval = 1;
+  std::uint32_t maps_out_of_view = 0;
+  bool hidden(const MapGpu& m) const { return m.lm->object < out_of_view.size() && out_of_view[m.lm->object]; }
   // The maps' GPU counters (list lengths, overflow, planes) come back
   // through `readback` a few frames late; `drawn` remembers which maps
   // each frame in flight drew (map, its list's generation).
@@ -1192,17 +1204,48 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   for (const MapGpu& m : s.maps) any = any || m.lm->light == light;
   if (!any || o.method == CausticsMethod::kNone) return Status::success();
   const LightInputs key{versions, o};
-  if (s.made.decide(light, key, due, work) != Refresh::kRemake) return Status::success();
+  // A map kept while out of view is remade once in view, even where
+  // nothing else changed since (then only such maps are drawn).
+  const bool remake = s.made.decide(light, key, due, work) == Refresh::kRemake;
+  bool catch_up = false;
+  for (const MapGpu& m : s.maps) catch_up = catch_up || (m.lm->light == light && m.stale && !s.hidden(m));
+  if (!remake && !(catch_up && due)) return Status::success();
   s.made.made(light, key);
   if (!s.counted_this_frame) s.stats = CausticsStats{};  // the counts describe the last frame that drew
   s.counted_this_frame = true;
   const Light& desc = lights[light];
-  for (MapGpu& m : s.maps) {
-    if (m.lm->light == light && m.rederive) s.rederive_map(m, lights, scene_water, world);
+  std::vector<bool> moved(s.maps.size(), false);  // re-derived now: its old map lies in the old frame
+  for (std::size_t i = 0; i < s.maps.size(); ++i) {
+    MapGpu& m = s.maps[i];
+    if (m.lm->light != light || !m.rederive) continue;
+    moved[i] = true;
+    s.rederive_map(m, lights, scene_water, world);
   }
   s.plan_texels(o, lights);
   for (MapGpu& m : s.maps) {
     if (m.lm->light == light && m.planned_side == 0) Impl::release_textures(m);
+  }
+  // Which maps this update draws: a remake draws every map but those out
+  // of view that keep what they have (a map of the size planned, younger
+  // than the interval); a catch-up only the stale maps now in view.
+  std::vector<bool> draws(s.maps.size(), false);
+  for (std::size_t i = 0; i < s.maps.size(); ++i) {
+    MapGpu& m = s.maps[i];
+    if (m.lm->light != light || m.planned_side == 0) continue;
+    const bool keeps = m.caustics.get() && m.caustics_size == m.planned_side && !moved[i];
+    if (!remake) {
+      draws[i] = m.stale && !s.hidden(m);
+    } else if (keeps && s.hidden(m) && m.skipped + 1 < s.out_of_view_interval) {
+      m.stale = true;
+      ++m.skipped;
+      ++s.maps_out_of_view;
+    } else {
+      draws[i] = true;
+    }
+    if (draws[i]) {
+      m.stale = false;
+      m.skipped = 0;
+    }
   }
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
@@ -1215,7 +1258,9 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   const bool spectral = samples.size() > 1;
   const bool splat = o.method == CausticsMethod::kSplat;
   CausticsStats counted;  // after the first wavelength: the counters count one pass
-  for (std::size_t k = 0; k < samples.size(); ++k) {
+  // Nothing to draw (every map kept out of view): not even the water's pass.
+  const bool drawing = std::any_of(draws.begin(), draws.end(), [](bool d) { return d; });
+  for (std::size_t k = 0; drawing && k < samples.size(); ++k) {
     // One wavelength and no wavelength_nm: exactly n_d (KHR's 1.5168 is
     // 523655 / 587.56^2 to 4 places only).
     const float ior = spectral || o.wavelength_nm ? index_at(water.ior, water.dispersion, samples[k].nm) : water.ior;
@@ -1238,17 +1283,18 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     }
     for (std::size_t i = 0; i < s.maps.size(); ++i) {
       MapGpu& m = s.maps[i];
-      if (m.lm->light != light || m.planned_side == 0) continue;
+      if (!draws[i]) continue;
       s.draw_map(m, o, desc, ior);
       if (!splat && k == 0) s.read_counters_later(i);  // one wavelength's; splatting fills no culling counters
       if (spectral) s.accumulate_wavelength(m, samples[k], k == 0, k + 1 == samples.size());
     }
     if (k == 0) counted = s.stats;
   }
-  s.stats = counted;
-  for (MapGpu& m : s.maps) {
+  if (drawing) s.stats = counted;
+  for (std::size_t i = 0; i < s.maps.size(); ++i) {
+    MapGpu& m = s.maps[i];
     if (m.lm->light != light) continue;
-    if (m.planned_side != 0) {
+    if (draws[i]) {
       m.spectral = spectral;
       s.finish_map(m, o);
     }
@@ -1267,8 +1313,12 @@ std::optional<CausticsEngine::Binding> CausticsEngine::binding(std::uint32_t obj
   return std::nullopt;
 }
 
-void CausticsEngine::begin_frame(std::uint64_t frame, std::uint64_t other_bytes) {
+void CausticsEngine::begin_frame(std::uint64_t frame, std::uint64_t other_bytes, const std::vector<bool>* out_of_view,
+                                 std::uint32_t out_of_view_interval) {
   Impl& s = *impl_;
+  s.out_of_view = out_of_view && !out_of_view->empty() ? *out_of_view : std::vector<bool>{};
+  s.out_of_view_interval = std::max(out_of_view_interval, 1u);
+  s.maps_out_of_view = 0;
   s.other_bytes = other_bytes;
   s.poll();
   s.frame = frame;
@@ -1288,6 +1338,7 @@ CausticsStats CausticsEngine::stats(bool wait) {
     s.poll();
   }
   CausticsStats out = s.stats;
+  out.maps_out_of_view = s.maps_out_of_view;
   out.gpu_bytes = gpu_bytes();
   out.counters_frame = s.gpu_counts.frame;
   out.volumes_drawn = s.gpu_counts.volumes_drawn;

@@ -17,7 +17,7 @@ class CausticsEffect final : public LightEffect {
   bool active(const CausticsOptions&) const override { return true; }
   Status begin_frame(const FrameStart& start) override {
     const GpuMemory m = start.engine.memory();
-    caustics_.begin_frame(start.frame, m.light_side() - m.level_maps);
+    caustics_.begin_frame(start.frame, m.light_side() - m.level_maps, start.out_of_view, start.out_of_view_interval);
     return Status::success();
   }
   Status update_light(const LightUpdate& u) override {

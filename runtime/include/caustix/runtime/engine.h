@@ -91,6 +91,15 @@ struct FrameUpdate {
   // behind moving water, lights and objects by up to N - 1 frames. A
   // product that does not exist yet is always made. 1..64.
   std::uint32_t light_side_interval = 1;
+  // What the application's camera sees (its view-projection matrix), for
+  // a light side that spends its work where it is seen
+  // (docs/runtime-speed.md, "Receivers out of view"): a receiver whose
+  // world box lies outside this frustum keeps its caustics maps while the
+  // water or the light moves, remade only every out_of_view_interval-th
+  // update() and as soon as it comes into view. Absent: every receiver is
+  // in view. A map that does not exist yet is always made.
+  std::optional<glm::mat4> camera = std::nullopt;
+  std::uint32_t out_of_view_interval = 8;  // 1..64; 1: out of view costs the same
 };
 
 class Engine {

@@ -133,6 +133,10 @@ struct CausticsStats {
   // Wavelengths the glass light-transport tables traced (several only for
   // dispersive glass baked with tables at other wavelengths).
   std::uint32_t glass_wavelengths = 1;
+  // Caustics maps the last update() kept, not remade, because their
+  // receiver was out of the camera's view (FrameUpdate::camera), summed
+  // over lights.
+  std::uint32_t maps_out_of_view = 0;
   // The GL calls of the current frame so far (see GlCalls).
   GlCalls gl;
   // What the current frame's update() recomputed and what it reused:
