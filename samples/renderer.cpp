@@ -573,10 +573,6 @@ Status Renderer::render(const FrameParams& f) {
     // A slot still waiting is overwritten (its frame's times are lost).
     s.slot = (s.slot + 1) % Impl::kSlots;
   }
-  s.stamp(0);
-  CAUSTIX_RETURN_IF_ERROR(s.engine->update(FrameUpdate{f.time, f.caustics}));
-  s.stamp(1);
-
   View view;
   view.view = glm::lookAt(to_glm(f.camera.position), to_glm(f.camera.target), to_glm(f.camera.up));
   view.fov_y_deg = f.camera.fov_y_deg;
@@ -584,6 +580,15 @@ Status Renderer::render(const FrameParams& f) {
   view.near_plane = f.camera.near_plane;
   view.far_plane = f.camera.far_plane;
   const glm::mat4 view_proj = view.projection() * view.view;
+
+  s.stamp(0);
+  FrameUpdate update{f.time, f.caustics};
+  if (f.out_of_view_interval > 0) {
+    update.camera = view_proj;
+    update.out_of_view_interval = f.out_of_view_interval;
+  }
+  CAUSTIX_RETURN_IF_ERROR(s.engine->update(update));
+  s.stamp(1);
   const glm::vec3 sky = s.reference * glm::vec3(kSkyColor[0], kSkyColor[1], kSkyColor[2]);
   // The sky: flat, or the analytic sky of the scene's first directional
   // light; and that sun's irradiance on a level floor (the ground of the

@@ -35,8 +35,9 @@ Result<Session> open_scene(const std::string& cxb) {
 Result<FrameTimes> time_frames(sample::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light, const runtime::WaterLook& look,
                                const std::optional<Camera>& camera, const runtime::GlassViewOptions& glass_view,
-                               int supersample, std::vector<runtime::GpuTimes>* gpu, bool still) {
+                               int supersample, std::vector<runtime::GpuTimes>* gpu, bool still, std::uint32_t out_of_view) {
   sample::FrameParams f{camera.value_or(r.default_camera()), 0.0f, width, height, co, look, glass_view, {}, supersample};
+  f.out_of_view_interval = out_of_view;
   r.engine().set_gpu_timing(gpu != nullptr, gpu != nullptr);  // with the pipeline's counts per pass
   std::vector<double> ms;
   for (int i = 0; i < warmup + count; ++i) {

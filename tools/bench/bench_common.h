@@ -62,11 +62,12 @@ struct FrameTimes {
 // view through glass is found, `supersample` the antialiasing factor.
 // With `gpu`, the engine's per-pass GPU times are on and every measured
 // frame's (as they arrive: each the frame before) is appended. `still`
-// keeps the time at 0 (a paused scene).
+// keeps the time at 0 (a paused scene); `out_of_view` > 0 tells the engine
+// the camera (FrameParams::out_of_view_interval).
 Result<FrameTimes> time_frames(sample::Renderer& r, const runtime::CausticsOptions& co, int width, int height,
                                int warmup, int count, bool move_light = false, const runtime::WaterLook& look = {},
                                const std::optional<Camera>& camera = std::nullopt,
                                const runtime::GlassViewOptions& glass_view = {}, int supersample = 1,
-                               std::vector<runtime::GpuTimes>* gpu = nullptr, bool still = false);
+                               std::vector<runtime::GpuTimes>* gpu = nullptr, bool still = false, std::uint32_t out_of_view = 0);
 
 }  // namespace caustix::bench

@@ -98,7 +98,7 @@ constexpr std::uint64_t kPresetBudget = ~std::uint64_t{0};
 // Milliseconds per frame of the runtime on a baked scene (one CSV line).
 int frames(const std::string& cxb, const runtime::CausticsOptions& co, const runtime::GlassViewOptions& glass_view,
            std::uint32_t glass_size, int width, int height, int warmup, int count, const std::string& label, bool move_light,
-           int supersample, const std::string& passes_csv, bool still, const std::string& glass_focus_spectral) {
+           int supersample, const std::string& passes_csv, bool still, const std::string& glass_focus_spectral, std::uint32_t out_of_view) {
   auto session = open_scene(cxb);
   if (!session) return cli::fail("caustix-bench", session.error());
   auto& r = session->renderer;
@@ -112,7 +112,7 @@ int frames(const std::string& cxb, const runtime::CausticsOptions& co, const run
   if (!glass_focus_spectral.empty()) with_defaults.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   std::vector<runtime::GpuTimes> gpu;
   auto times = time_frames(*r, with_defaults, width, height, warmup, count, move_light, r->engine().default_water_look(), std::nullopt,
-                           glass_view, supersample, passes_csv.empty() ? nullptr : &gpu, still);
+                           glass_view, supersample, passes_csv.empty() ? nullptr : &gpu, still, out_of_view);
   if (!times) return cli::fail("caustix-bench", times.error());
   if (!passes_csv.empty()) write_passes(passes_csv, label, cxb, co, width, height, gpu, session->context->description());
   // The last measured frame's GL calls, before anything else adds to them.
@@ -242,6 +242,7 @@ struct RuntimeModes final : Modes {
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
   bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, cmap_no_focus = false;
+  std::uint32_t out_of_view = 0;
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
   std::string glass_focus_spectral;
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
@@ -292,6 +293,11 @@ struct RuntimeModes final : Modes {
     fr->add_flag("--header", header, "print the CSV header first");
     fr->add_flag("--move-light", move_light, "turn the first light every frame (level maps re-derived each frame)");
     fr->add_flag("--still", still, "keep the time at 0 (a paused scene: with a still light nothing changes between frames)");
+    fr->add_option("--out-of-view", out_of_view,
+                   "N > 0: tell the engine the camera; receivers out of view keep their caustics maps, remade every Nth frame "
+                   "(FrameUpdate::out_of_view_interval; 0: off)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     fr->add_option("--passes", passes_csv,
                    "also time every engine pass on the GPU (timer queries) and append each pass's median ms to this CSV");
     me = app.add_subcommand("methods", "eq. 2-9 differences between methods (one CSV line)");
@@ -355,7 +361,7 @@ struct RuntimeModes final : Modes {
     co.wavelengths = wavelengths;
     runtime::GlassViewOptions gv;
     gv.method = *runtime::parse_glass_view(glass_view);
-    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample, passes_csv, still, glass_focus_spectral);
+    return frames(cxb, co, gv, gsize, w, h, warmup, count, label, move_light, supersample, passes_csv, still, glass_focus_spectral, out_of_view);
   }
 };
 

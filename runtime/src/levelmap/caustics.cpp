@@ -135,10 +135,8 @@ struct MapGpu {
   bool spectral = false;  // the last update traced several wavelengths: `color` is valid
   std::uint64_t gpu_bytes = 0;
   // Out of the camera's view (CausticsEngine::begin_frame): kept through
-  // updates of its light that would have remade it (stale), counted in
-  // `skipped` until out_of_view_interval.
+  // updates of its light that would have remade it.
   bool stale = false;
-  std::uint32_t skipped = 0;
 };
 
 // Position-map texels per caustics texel, and the samples per axis the
@@ -1226,8 +1224,11 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     if (m.lm->light == light && m.planned_side == 0) Impl::release_textures(m);
   }
   // Which maps this update draws: a remake draws every map but those out
-  // of view that keep what they have (a map of the size planned, younger
-  // than the interval); a catch-up only the stale maps now in view.
+  // of view that keep what they have (a map of the size planned, not
+  // re-derived), each of those remade on one update in
+  // out_of_view_interval, map i on the updates k with (k + i) mod N = 0,
+  // so that their cost is spread over the updates rather than paid at
+  // once; a catch-up draws only the stale maps now in view.
   std::vector<bool> draws(s.maps.size(), false);
   for (std::size_t i = 0; i < s.maps.size(); ++i) {
     MapGpu& m = s.maps[i];
@@ -1235,17 +1236,13 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     const bool keeps = m.caustics.get() && m.caustics_size == m.planned_side && !moved[i];
     if (!remake) {
       draws[i] = m.stale && !s.hidden(m);
-    } else if (keeps && s.hidden(m) && m.skipped + 1 < s.out_of_view_interval) {
+    } else if (keeps && s.hidden(m) && (s.frame + i) % s.out_of_view_interval != 0) {
       m.stale = true;
-      ++m.skipped;
       ++s.maps_out_of_view;
     } else {
       draws[i] = true;
     }
-    if (draws[i]) {
-      m.stale = false;
-      m.skipped = 0;
-    }
+    if (draws[i]) m.stale = false;
   }
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water

@@ -72,8 +72,8 @@ class CausticsEngine {
   // (GpuMemory::light_side() less the level maps), which the budget's
   // plan of texels leaves room for. `out_of_view` (per object; null or
   // empty: none): a map whose receiver is out of the camera's view keeps
-  // what it has while it is younger than `out_of_view_interval` updates
-  // of its light, and is remade on the first update that finds it in view.
+  // what it has, remade on one update in `out_of_view_interval` (the maps
+  // taking turns) and on the first update that finds it in view.
   void begin_frame(std::uint64_t frame, std::uint64_t other_bytes, const std::vector<bool>* out_of_view = nullptr,
                    std::uint32_t out_of_view_interval = 1);
   void end_frame();

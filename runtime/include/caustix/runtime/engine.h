@@ -95,9 +95,10 @@ struct FrameUpdate {
   // a light side that spends its work where it is seen
   // (docs/runtime-speed.md, "Receivers out of view"): a receiver whose
   // world box lies outside this frustum keeps its caustics maps while the
-  // water or the light moves, remade only every out_of_view_interval-th
-  // update() and as soon as it comes into view. Absent: every receiver is
-  // in view. A map that does not exist yet is always made.
+  // water or the light moves, each remade on one update() in
+  // out_of_view_interval (the maps taking turns, so that the cost does not
+  // pulse) and as soon as it comes into view. Absent: every receiver is in
+  // view. A map that does not exist yet is always made.
   std::optional<glm::mat4> camera = std::nullopt;
   std::uint32_t out_of_view_interval = 8;  // 1..64; 1: out of view costs the same
 };

@@ -87,6 +87,10 @@ struct FrameParams {
   // The background (caustix-render and caustix-view draw kAnalytic unless
   // told --sky flat; the library's default keeps tests' backgrounds exact).
   SkyModel sky = SkyModel::kFlat;
+  // 0: the engine remakes every receiver's caustics; N > 0: it is told the
+  // camera (FrameUpdate::camera) and keeps the maps of receivers out of
+  // view, remaking them every Nth update (FrameUpdate::out_of_view_interval).
+  std::uint32_t out_of_view_interval = 0;
 };
 
 // docs/architecture.md: a top-down orthographic view of [x0, x1] x [z0, z1];
