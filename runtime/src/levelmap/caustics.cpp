@@ -232,12 +232,15 @@ struct CausticsEngine::Impl {
   CausticsStats stats;  // the counts known on the CPU, of the last frame that drew maps
   bool counted_this_frame = false;
   // This frame's objects out of the camera's view (begin_frame; empty:
-  // none), how many updates a map of one may keep what it has, and the
+  // none), the updates among which such a map is remade once, and the
   // maps kept so this frame.
   std::vector<bool> out_of_view;
   std::uint32_t out_of_view_interval = 1;
   std::uint32_t maps_out_of_view = 0;
   bool hidden(const MapGpu& m) const { return m.lm->object < out_of_view.size() && out_of_view[m.lm->object]; }
+  // update_light's per-map flags, kept to reuse their storage: re-derived
+  // this update, and drawn this update.
+  std::vector<bool> moved, draws;
   // The maps' GPU counters (list lengths, overflow, planes) come back
   // through `readback` a few frames late; `drawn` remembers which maps
   // each frame in flight drew (map, its list's generation).
@@ -1212,7 +1215,8 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   if (!s.counted_this_frame) s.stats = CausticsStats{};  // the counts describe the last frame that drew
   s.counted_this_frame = true;
   const Light& desc = lights[light];
-  std::vector<bool> moved(s.maps.size(), false);  // re-derived now: its old map lies in the old frame
+  std::vector<bool>& moved = s.moved;  // re-derived now: its old map lies in the old frame
+  moved.assign(s.maps.size(), false);
   for (std::size_t i = 0; i < s.maps.size(); ++i) {
     MapGpu& m = s.maps[i];
     if (m.lm->light != light || !m.rederive) continue;
@@ -1229,7 +1233,8 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   // out_of_view_interval, map i on the updates k with (k + i) mod N = 0,
   // so that their cost is spread over the updates rather than paid at
   // once; a catch-up draws only the stale maps now in view.
-  std::vector<bool> draws(s.maps.size(), false);
+  std::vector<bool>& draws = s.draws;
+  draws.assign(s.maps.size(), false);
   for (std::size_t i = 0; i < s.maps.size(); ++i) {
     MapGpu& m = s.maps[i];
     if (m.lm->light != light || m.planned_side == 0) continue;
