@@ -518,7 +518,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   s.engine = std::move(*engine);
   s.reference = reference_irradiance(scene.desc, 0.5f * (s.engine->bounds_min() + s.engine->bounds_max()));
   const std::string lighting = std::string("#version 450 core\n") + s.engine->glsl_include();
-  const std::string receiver_fs = lighting + shaders::k_sky_model_glsl + shaders::k_receiver_frag_glsl;
+  // The maps' code only in a scene with maps (receiver.frag's SAMPLE_MAPS).
+  const bool maps = std::any_of(scene.desc.objects.begin(), scene.desc.objects.end(), [](const Object& o) { return o.material.maps.has_value(); });
+  const std::string receiver_fs = lighting + (maps ? "#define SAMPLE_MAPS\n" : "") + shaders::k_sky_model_glsl + shaders::k_receiver_frag_glsl;
   const std::string sky_fs = std::string("#version 450 core\n") + shaders::k_sky_model_glsl + shaders::k_sky_frag_glsl;
   const std::string irradiance_fs = lighting + shaders::k_irradiance_frag_glsl;
   const std::string prefilter_fs = std::string("#version 450 core\n") + shaders::k_prefilter_frag_glsl;

@@ -36,7 +36,9 @@
 // emissive texture multiplies the emission. Alpha (the base colour
 // factor's times its texture's): a masked surface is discarded below its
 // cut-off; a blended one writes its alpha for the renderer's
-// SRC_ALPHA blending.
+// SRC_ALPHA blending. The maps are read only where the renderer defines
+// SAMPLE_MAPS (a scene with maps): a uniform branch not taken still costs
+// llvmpipe its work, masked.
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -131,10 +133,19 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;  // open meshes are lit from either side
   vec3 ng = n;  // the geometric normal: where box-projected maps are looked up
+#ifdef SAMPLE_MAPS
   // The normal map's frame, from derivatives taken before anything discards.
-  vec2 normal_st = map_coords(1, ng);
-  vec3 dp_dx = dFdx(v_world), dp_dy = dFdy(v_world);
-  vec2 dst_dx = dFdx(normal_st), dst_dy = dFdy(normal_st);
+  // (u_maps is uniform: the branch keeps the derivatives defined.)
+  vec2 normal_st = vec2(0.0), dst_dx = vec2(0.0), dst_dy = vec2(0.0);
+  vec3 dp_dx = vec3(0.0), dp_dy = vec3(0.0);
+  if ((u_maps & 2) != 0) {
+    normal_st = map_coords(1, ng);
+    dp_dx = dFdx(v_world);
+    dp_dy = dFdy(v_world);
+    dst_dx = dFdx(normal_st);
+    dst_dy = dFdy(normal_st);
+  }
+#endif
   vec4 base = vec4(u_albedo, u_alpha) * v_color;
   if (u_albedo_projection != 0) {
     base *= texture(u_albedo_map, caustix_texture_coords(u_albedo_projection, u_albedo_rows[0], u_albedo_rows[1], v_uv, v_world, n));
@@ -142,6 +153,7 @@ void main() {
   if (u_alpha_mode == 1 && base.a < u_alpha_cutoff) discard;
   float alpha = u_alpha_mode == 2 ? base.a : 1.0;
   Point p = Point(base.rgb, u_metallic, u_roughness, 1.0, u_emissive);
+#ifdef SAMPLE_MAPS
   if ((u_maps & 1) != 0) {
     vec3 mr = texture(u_metallic_roughness_map, map_coords(0, ng)).rgb;
     p.metallic *= mr.b;
@@ -160,6 +172,7 @@ void main() {
   }
   if ((u_maps & 4) != 0) p.occlusion = 1.0 + u_occlusion_strength * (texture(u_occlusion_map, map_coords(2, ng)).r - 1.0);
   if ((u_maps & 8) != 0) p.emission *= texture(u_emissive_map, map_coords(3, ng)).rgb;
+#endif
   vec3 a = u_fog != 0 ? exp(-u_fog_k * length(v_world - u_fog_eye)) : vec3(1.0);
   vec3 v = normalize(u_eye - v_world);
   if (u_pass == 0) {
