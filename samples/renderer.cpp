@@ -342,12 +342,15 @@ struct Renderer::Impl {
   // GL 4.5 guarantees (4..15 are caustix's); -1 where it has not, and the
   // emission is then its factor alone.
   int emissive_unit = -1;
+  bool has_maps = false;  // some receiver has maps or an alpha mode (the program is built with SAMPLE_MAPS)
   bool blended(std::uint32_t i) const {
     const auto& m = scene().objects[i].material.maps;
     return m && m->alpha_mode == AlphaMode::kBlend;
   }
-  // Receiver i's maps and alpha into the receiver program.
+  // Receiver i's maps and alpha into the receiver program (nothing in a
+  // scene without: the uniforms keep their defaults, opaque and unmapped).
   void set_maps(const gl::Program& p, std::uint32_t i) const {
+    if (!has_maps) return;
     const std::optional<SurfaceMapBindings> m = engine->surface_maps(i);
     int bits = 0;
     if (m) {
@@ -521,6 +524,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RuntimeScene& scene) {
   // The maps' code only in a scene with maps (receiver.frag's SAMPLE_MAPS).
   const bool maps = std::any_of(scene.desc.objects.begin(), scene.desc.objects.end(), [](const Object& o) { return o.material.maps.has_value(); });
   const std::string receiver_fs = lighting + (maps ? "#define SAMPLE_MAPS\n" : "") + shaders::k_sky_model_glsl + shaders::k_receiver_frag_glsl;
+  s.has_maps = maps;
   const std::string sky_fs = std::string("#version 450 core\n") + shaders::k_sky_model_glsl + shaders::k_sky_frag_glsl;
   const std::string irradiance_fs = lighting + shaders::k_irradiance_frag_glsl;
   const std::string prefilter_fs = std::string("#version 450 core\n") + shaders::k_prefilter_frag_glsl;

@@ -70,11 +70,11 @@ layout(binding = 1) uniform sampler2D u_metallic_roughness_map;
 layout(binding = 2) uniform sampler2D u_normal_map;
 layout(binding = 3) uniform sampler2D u_occlusion_map;
 uniform sampler2D u_emissive_map;  // its unit set by the renderer (units 4..15 are caustix's)
-uniform float u_normal_scale;
-uniform float u_occlusion_strength;
+uniform float u_normal_scale = 1.0;
+uniform float u_occlusion_strength = 1.0;
 uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
-uniform float u_alpha;
-uniform float u_alpha_cutoff;
+uniform float u_alpha = 1.0;
+uniform float u_alpha_cutoff = 0.5;
 
 out vec4 o_color;
 
