@@ -6,7 +6,9 @@
 # Per scene, at the balanced preset and 640 x 480, in one run:
 #   - ms per frame with the level maps and without caustics (--method none),
 #     and their ratio;
-#   - the engine's GL calls, draws and dispatches per steady frame;
+#   - the engine's GL calls, draws and dispatches per steady frame (the
+#     application's draws it makes through Engine::draw_object included),
+#     and those the water's caustics add (with less without caustics);
 #   - the engine's GPU memory at 1280 x 800, all of it and the light
 #     side's (what CausticsOptions::memory_budget holds), with the
 #     caustics maps' finest texel and the budget's coarsening;
@@ -23,7 +25,8 @@
 # RECEIVERS (default "1 4 16 64"), LIGHTS (default "1 2 4"; every N is
 # measured with one light, N = 16 also with each L), RENDERER (a label;
 # default llvmpipe), BUILD (the build folder whose binaries run; default
-# build).
+# build), ARGS (more options for every caustix-bench frames run, e.g.
+# --map-by-map to draw the level maps one by one instead of in batches).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -96,14 +99,15 @@ for n in $RECEIVERS; do cases="$cases $n:1"; done
 for l in $LIGHTS; do [ "$l" = 1 ] || cases="$cases 16:$l"; done
 
 csv=$out/scale_$RENDERER.csv
-echo "receivers,lights,objects,ms,ms_without_caustics,ratio,gl_calls,draws,dispatches,draws_dispatches,gpu_mb_1280x800,fs_invocations,cs_invocations,renderer,light_side_mb_1280x800,texel_mm,coarsened" >"$csv"
+echo "receivers,lights,objects,ms,ms_without_caustics,ratio,gl_calls,draws,dispatches,draws_dispatches,gpu_mb_1280x800,fs_invocations,cs_invocations,renderer,light_side_mb_1280x800,texel_mm,coarsened,caustics_draws_dispatches" >"$csv"
 field() { /usr/bin/python3 -c 'import csv,sys; r = next(csv.reader([sys.argv[1]])); k = int(sys.argv[2]); print(r[k] if k < len(r) else "")' "$1" "$2"; }
 for c in $cases; do
   n=${c%%:*}
   l=${c##*:}
   pool "$n" "$l" "$T/scale.json"
   $B/bake/caustix-bake "$T/scale.json" -o "$T/scale.cxb" --preset balanced -q
-  bench() { $B/tools/caustix-bench frames "$T/scale.cxb" "$@"; }
+  # shellcheck disable=SC2086 # ARGS is a list of options
+  bench() { $B/tools/caustix-bench frames "$T/scale.cxb" ${ARGS:-} "$@"; }
   measured=(--frames "$FRAMES" --warmup "$WARMUP")
   # caustix-bench frames: label,scene,method,planes,cull,size,median_ms,min_ms,planes_drawn,volumes_drawn,
   # volumes_total,gpu_mb,gl_calls,gl_syncs,draws,dispatches,upload_bytes,renderer,light_side_mb,texel_mm,coarsened
@@ -127,8 +131,9 @@ PY
   dispatches=$(field "$with" 15)
   objects=$((n + 3))
   ratio=$(/usr/bin/python3 -c "print(f'{$ms / $ms0:.2f}')")
-  echo "$n,$l,$objects,$ms,$ms0,$ratio,$(field "$with" 12),$draws,$dispatches,$((draws + dispatches)),$(field "$memory" 11),$invocations,\"$(field "$with" 17)\",$(field "$memory" 18),$(field "$memory" 19),$(field "$memory" 20)" >>"$csv"
-  echo "scale: $n receivers x $l lights: $ms ms ($ratio x without caustics), $((draws + dispatches)) draws + dispatches"
+  own=$((draws + dispatches - $(field "$without" 14) - $(field "$without" 15)))
+  echo "$n,$l,$objects,$ms,$ms0,$ratio,$(field "$with" 12),$draws,$dispatches,$((draws + dispatches)),$(field "$memory" 11),$invocations,\"$(field "$with" 17)\",$(field "$memory" 18),$(field "$memory" 19),$(field "$memory" 20),$own" >>"$csv"
+  echo "scale: $n receivers x $l lights: $ms ms ($ratio x without caustics), $((draws + dispatches)) draws + dispatches ($own the water's caustics')"
 done
 echo "wrote $csv"
 if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then /usr/bin/python3 scripts/plot_scale.py "$out"; fi

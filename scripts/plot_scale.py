@@ -24,12 +24,12 @@ n = [int(r["receivers"]) for r in one]
 fig, axes = plt.subplots(1, 4, figsize=(15, 3.6))
 panels = [
     ("ratio", "frame / frame without caustics"),
-    ("draws_dispatches", "engine draws + dispatches"),
+    ("caustics_draws_dispatches", "water caustics' draws + dispatches"),
     ("gpu_mb_1280x800", "engine GPU memory at 1280x800, MB"),
     ("fs_invocations", "fragment-shader invocations"),
 ]
 for ax, (key, label) in zip(axes, panels):
-    if before:
+    if before and key in before[0]:
         b1 = [r for r in before if r["lights"] == "1"]
         ax.plot([int(r["receivers"]) for r in b1], [float(r[key]) for r in b1], "o--", color="0.6", label="before, 1 light")
         bm = [r for r in before if r["lights"] != "1"]

@@ -19,6 +19,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include "bake_fixture.h"
 #include "caustix/sample/renderer.h"
 #include "gl_fixture.h"
@@ -204,6 +206,105 @@ TEST_F(Texels, ReceiversOutOfViewKeepTheirMapsUntilSeen) {
   const Status refused = e.update(bad);
   EXPECT_FALSE(refused.ok());
   if (!refused.ok()) EXPECT_NE(refused.error().message.find("out_of_view_interval must be 1..64"), std::string::npos) << refused.error().message;
+}
+
+// CausticsOptions::batch_maps on the default pool with twelve pebbles
+// (balls and blocks) added on its floor, its water moving: drawn as
+// batches (the maps of one size in one array, one set of calls for them
+// all) every map holds what it holds drawn map by map, to the rounding of
+// the order the beams are added in; and the calls the water's caustics
+// make stay a few per batch instead of some per map. Cost: about 6 s on
+// llvmpipe.
+TEST_F(Texels, BatchedMapsMatchMapByMapInAFewCalls) {
+  nlohmann::json j = test::canonical_scene("default");
+  for (int i = 0; i < 12; ++i) {
+    const bool ball = i % 2 == 0;
+    j["objects"].push_back({{"name", "pebble" + std::to_string(i)},
+                            {"mesh", test::kScenes + (ball ? "../meshes/sphere.obj" : "../meshes/box.obj")},
+                            {"role", "receiver"},
+                            {"material", {{"albedo", {0.8, 0.5, 0.3}}}},
+                            {"transform", {{"translate", {-1.5 + 0.6 * (i % 6), 0.15, i < 6 ? 1.4 : -1.5}}, {"scale", ball ? 0.15 : 0.25}}}});
+  }
+  auto r = test::bake_and_create(test::write_scene(j, "batched"));
+  ASSERT_TRUE(r);
+  runtime::Engine& e = r->engine();
+  const std::uint32_t objects = static_cast<std::uint32_t>(e.scene().objects.size());
+  // Every map's level 0 after an update with `batch` and `method`, and the
+  // update's draws and dispatches.
+  struct Maps {
+    std::vector<std::vector<float>> texels;
+    std::uint64_t calls = 0;
+    bool counted = false;
+  };
+  const auto update = [&](bool batch, runtime::CausticsMethod method) {
+    runtime::FrameUpdate f{1.0f, e.default_options()};
+    f.caustics.batch_maps = batch;
+    f.caustics.method = method;
+    f.caustics.memory_budget = 0;  // the batches' window depths would count, and the sides differ
+    EXPECT_TRUE(e.update(f).ok());
+    const runtime::CausticsStats st = e.stats();
+    Maps m;
+    m.calls = st.gl.draws + st.gl.dispatches;
+    m.counted = st.gl.counted;
+    EXPECT_FALSE(r->caustics_stats(true).overflowed) << "every entry listed";
+    for (std::uint32_t i = 0; i < objects && method != runtime::CausticsMethod::kNone; ++i) {
+      const auto l = e.lighting(i, 0);
+      std::vector<float> px;
+      if (l.ok() && l->caustics) {
+        GLint w = 0, h = 0;
+        glGetTextureLevelParameteriv(l->caustics, 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(l->caustics, 0, GL_TEXTURE_HEIGHT, &h);
+        px.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+        glGetTextureImage(l->caustics, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * 4), px.data());
+      }
+      m.texels.push_back(std::move(px));
+    }
+    return m;
+  };
+  // What a first update does once (and the lists measured for this water:
+  // a list that overflows draws what fits, then grows).
+  update(true, runtime::CausticsMethod::kLevelMap);
+  const Maps single = update(false, runtime::CausticsMethod::kLevelMap);
+  const Maps batched = update(true, runtime::CausticsMethod::kLevelMap);
+  const Maps none = update(true, runtime::CausticsMethod::kNone);
+  ASSERT_EQ(batched.texels.size(), single.texels.size());
+  std::uint32_t maps = 0, lit = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < batched.texels.size(); ++i) {
+    const std::vector<float>& a = batched.texels[i];
+    const std::vector<float>& b = single.texels[i];
+    ASSERT_EQ(a.size(), b.size()) << "object " << i;
+    if (a.size() <= 4) continue;
+    ++maps;
+    // The irradiance (R) and presence (A): beams add in another order, so
+    // float rounding, a few parts in 10^6 of the map's brightest texel.
+    float peak = 0.0f;
+    double sum_a = 0.0, sum_b = 0.0, diff = 0.0;
+    for (std::size_t k = 0; k < a.size(); k += 4) {
+      peak = std::max(peak, b[k]);
+      sum_a += a[k];
+      sum_b += b[k];
+      diff = std::max(diff, static_cast<double>(std::fabs(a[k] - b[k])));
+      EXPECT_EQ(a[k + 3], b[k + 3]) << "presence, object " << i << " texel " << k / 4;
+    }
+    if (peak <= 0.0f) continue;
+    ++lit;
+    worst = std::max(worst, diff / peak);
+    EXPECT_LE(diff, 1e-4 * peak) << "object " << i;
+    EXPECT_NEAR(sum_a, sum_b, 1e-5 * sum_b) << "object " << i;
+  }
+  EXPECT_GE(maps, 16u);  // floor, walls, ball, block and the pebbles
+  EXPECT_GE(lit, 14u);
+  std::printf("[batched] %u maps (%u lit): largest difference %.2e of a map's peak\n", maps, lit, worst);
+  if (batched.counted) {
+    // Per batch: cull, fix-up, windows, geometry, one or two draws,
+    // presence; map by map at least that many per map.
+    const std::uint64_t in_batches = batched.calls - none.calls, map_by_map = single.calls - none.calls;
+    std::printf("[batched] the water's caustics: %llu draws + dispatches in batches, %llu map by map\n",
+                static_cast<unsigned long long>(in_batches), static_cast<unsigned long long>(map_by_map));
+    EXPECT_LE(in_batches, 3u + 7u * 3u);  // at most three sizes here
+    EXPECT_GE(map_by_map, 5u * maps);
+  }
 }
 
 TEST_F(Texels, BadTexelOptionsAreRefused) {

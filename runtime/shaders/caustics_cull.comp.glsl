@@ -21,21 +21,34 @@ layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list
 // The planes (binding 7), planned on the CPU or by caustics_plan.comp:
 // caustics_windows.glsl, prefixed.
 
+#ifdef BATCH
+// The maps u_map_base.. of the batch (caustics_batch.glsl): a row of work
+// groups each, its entries in its own part of the list (CausticsMap::list)
+// and counted in its own words (batch_counts), as a map drawn alone has.
+uniform uint u_map_base;
+layout(binding = 0) uniform sampler2DArray u_depth_tiles;  // per map, as below
+vec3 u_origin, u_U, u_V, u_W, u_half;
+vec2 u_texel;
+int g_tiles;    // the map's layer of u_depth_tiles
+uvec2 g_list;  // its part of the list
+#define DEPTH_TILE(x, y) texelFetch(u_depth_tiles, ivec3(x, y, g_tiles), 0).rg
+#else
 layout(binding = 0) uniform sampler2D u_depth_tiles;  // min, max frame V per tile; min > max where empty
-
-uniform uint u_triangles;
 uniform vec3 u_origin;
 uniform vec3 u_U;
 uniform vec3 u_V;
 uniform vec3 u_W;
 uniform vec3 u_half;
+uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres) where it is coarser than the
+                          // position map's (else 0): the acceptance test samples the surface across
+                          // the whole texels a piece touches
+#define DEPTH_TILE(x, y) texelFetch(u_depth_tiles, ivec2(x, y), 0).rg
+#endif
+uniform uint u_triangles;
 uniform int u_frame_cull;
 uniform int u_plane_cull;
 uniform int u_pairs;
 uniform uint u_capacity;  // entries the list holds
-uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres) where it is coarser than the
-                          // position map's (else 0): the acceptance test samples the surface across
-                          // the whole texels a piece touches
 
 // Footprint (in frame U, W) of volume t's rays between planes v = d0 and
 // v = d1 (d0 > d1); false if a ray does not head down through the frame.
@@ -63,7 +76,7 @@ bool footprint(uint t, vec2 depths, out vec2 lo, out vec2 hi) {
 // Depth range [vmin, vmax] of the surface under a footprint, from the tile
 // pyramid; every depth if the footprint covers too many tiles to read.
 vec2 surface_depths(vec2 lo, vec2 hi) {
-  ivec2 tiles = textureSize(u_depth_tiles, 0);
+  ivec2 tiles = textureSize(u_depth_tiles, 0).xy;
   vec2 to_tiles = vec2(tiles) / (2.0 * u_half.xz);
   ivec2 t0 = clamp(ivec2(floor((lo + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
   ivec2 t1 = clamp(ivec2(floor((hi + u_half.xz) * to_tiles)), ivec2(0), tiles - 1);
@@ -71,55 +84,85 @@ vec2 surface_depths(vec2 lo, vec2 hi) {
   vec2 range = vec2(1e30, -1e30);
   for (int y = t0.y; y <= t1.y; ++y)
     for (int x = t0.x; x <= t1.x; ++x) {
-      vec2 mm = texelFetch(u_depth_tiles, ivec2(x, y), 0).rg;
+      vec2 mm = DEPTH_TILE(x, y);
       range = vec2(min(range.x, mm.x), max(range.y, mm.y));
     }
   return range;
 }
 
+// The planes volume t is listed through: first and n (n 0: none; outside
+// pair mode, 1 where the volume is listed).
+void select_planes(uint t, out int first, out int n) {
+  first = 0;
+  n = 0;
+  if (t >= u_triangles || PLANE_COUNT == 0u) return;
+  vec2 lo, hi;
+  if (!footprint(t, vec2(DEPTH_HI, DEPTH_LO), lo, hi)) return;
+  if (u_frame_cull != 0 && (any(greaterThan(lo, u_half.xz)) || any(lessThan(hi, -u_half.xz)))) return;
+  if (u_pairs == 0 || u_plane_cull == 0) {
+    n = u_pairs == 0 ? 1 : int(PLANE_COUNT);
+    return;
+  }
+  // The surface under the footprint bounds the depths that matter; the
+  // footprint over just those depths is smaller, so refine twice.
+  vec2 range = surface_depths(lo - u_texel, hi + u_texel);
+  for (int it = 0; it < 2 && range.x <= range.y && range.x > -1e29; ++it) {
+    vec2 l2, h2;
+    footprint(t, range.yx, l2, h2);
+    range = surface_depths(l2 - u_texel, h2 + u_texel);
+  }
+  float vmin = range.x, vmax = range.y;
+  if (vmin > vmax) return;  // no surface under the footprint
+  // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
+  first = -1;
+  for (int p = 0; p < int(PLANE_COUNT); ++p) {
+    vec2 pl = PLANE(p);
+    if (pl.x - pl.y < vmax && pl.x + pl.y >= vmin) {
+      if (first < 0) first = p;
+      n = p - first + 1;
+    }
+  }
+}
+
 void main() {
   uint t = gl_GlobalInvocationID.x;
-  if (t >= u_triangles || plane_count == 0u) return;
-  vec2 lo, hi;
-  if (!footprint(t, vec2(depth_hi, depth_lo), lo, hi)) return;
-  if (u_frame_cull != 0 && (any(greaterThan(lo, u_half.xz)) || any(lessThan(hi, -u_half.xz)))) return;
-
+  uint map_bits = 0u;  // the list entry's map (batch)
+#ifdef BATCH
+  uint map = u_map_base + gl_WorkGroupID.y;
+  CausticsMap cm = batch_maps[map];
+  u_origin = cm.origin.xyz;
+  u_U = cm.u.xyz;
+  u_V = cm.v.xyz;
+  u_W = cm.w.xyz;
+  u_half = cm.half_size.xyz;
+  u_texel = cm.texel.xy;
+  g_tiles = int(cm.ints.w);
+  g_planes = cm.ints.y;
+  map_bits = map << kBatchPlaneBits;
+  g_list = cm.list.xy;
+#endif
+  int first, n;
+  select_planes(t, first, n);
   if (u_pairs == 0) {
+    if (n == 0) return;
     uint slot = atomicAdd(cmd[8], 1u);
     if (slot < u_capacity) list[slot] = t; else atomicOr(cmd[9], 1u);
     return;
   }
-  int first = 0, n = int(plane_count);
-  if (u_plane_cull != 0) {
-    // The surface under the footprint bounds the depths that matter; the
-    // footprint over just those depths is smaller, so refine twice.
-    vec2 range = surface_depths(lo - u_texel, hi + u_texel);
-    for (int it = 0; it < 2 && range.x <= range.y && range.x > -1e29; ++it) {
-      vec2 l2, h2;
-      footprint(t, range.yx, l2, h2);
-      range = surface_depths(l2 - u_texel, h2 + u_texel);
-    }
-    float vmin = range.x, vmax = range.y;
-    if (vmin > vmax) return;  // no surface under the footprint
-    // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
-    first = -1;
-    n = 0;
-    for (int p = 0; p < int(plane_count); ++p) {
-      vec2 pl = planes[p];
-      if (pl.x - pl.y < vmax && pl.x + pl.y >= vmin) {
-        if (first < 0) first = p;
-        n = p - first + 1;
-      }
-    }
-    if (n == 0) return;
-  }
-  uint slot = atomicAdd(cmd[8], uint(n));
+  if (n == 0) return;
+#ifdef BATCH
+  uint counts = batch_counts(map), base = g_list.x, capacity = g_list.y;
+#else
+  uint counts = 8u, base = 0u, capacity = u_capacity;
+#endif
+  uint slot = atomicAdd(cmd[counts], uint(n));
   for (int k = 0; k < n; ++k) {
-    if (slot + uint(k) >= u_capacity) {
-      atomicOr(cmd[9], 1u);
+    if (slot + uint(k) >= capacity) {
+      atomicOr(cmd[counts + 1u], 1u);
       return;
     }
-    list[2u * (slot + uint(k))] = t;
-    list[2u * (slot + uint(k)) + 1u] = uint(first + k);
+    uint at = base + slot + uint(k);
+    list[2u * at] = t;
+    list[2u * at + 1u] = uint(first + k) | map_bits;
   }
 }

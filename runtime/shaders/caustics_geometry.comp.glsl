@@ -16,7 +16,7 @@ layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
-layout(std430, binding = 7) readonly buffer Planes { uint plane_count; float depth_lo; float depth_hi; float widest; vec2 planes[]; };
+// The planes (binding 7): caustics_windows.glsl, prefixed.
 // Per primitive, five vec4: (q0, q1), (q2, irradiance, reached),
 // (plane offset, eps, s0), (c0, c1, c2, smooth): the corners' irradiance
 // over the triangle's (below), (s1, s2). s_k: vertex k's direction of
@@ -28,15 +28,22 @@ layout(std430, binding = 7) readonly buffer Planes { uint plane_count; float dep
 // (caustics_levelmap.frag).
 layout(std430, binding = 8) writeonly buffer Primitives { vec4 prims[]; };
 
+#ifdef BATCH
+uniform uint u_map_base;
+// The primitive's map (caustics_batch.glsl), read from its list entry.
+vec3 u_origin, u_U, u_V, u_W, u_half;
+float u_map_size;
+#else
 uniform vec3 u_origin;
 uniform vec3 u_U;
 uniform vec3 u_V;
 uniform vec3 u_W;
 uniform vec3 u_half;
+uniform float u_map_size;
+#endif
 uniform int u_pairs;      // list holds (volume, plane) pairs; else volumes and plane u_plane
 uniform int u_plane;
 uniform float u_max_magnification;
-uniform float u_map_size;
 uniform uvec2 u_grid;     // water grid vertices along x and z (index j * u_grid.x + i)
 uniform int u_smooth;     // CausticsOptions::water_smooth
 
@@ -77,12 +84,24 @@ float corner_ratio(uint j, float plane_v, float flux_per_area, float beam_per_ar
   return e / max(irradiance, 1e-30);
 }
 
-void main() {
-  uint p = gl_GlobalInvocationID.x;
-  if (p >= cmd[10]) return;
+void make_primitive(uint p) {
   uint t = u_pairs != 0 ? list[2u * p] : list[p];
   uint plane_index = u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane);
-  vec2 plane = planes[plane_index];
+  float window_bits = 0.0;  // the map, in the primitive's w (batch)
+#ifdef BATCH
+  uint map = batch_entry_map(plane_index);
+  plane_index = batch_entry_plane(plane_index);
+  CausticsMap cm = batch_maps[map];
+  u_origin = cm.origin.xyz;
+  u_U = cm.u.xyz;
+  u_V = cm.v.xyz;
+  u_W = cm.w.xyz;
+  u_half = cm.half_size.xyz;
+  u_map_size = cm.origin.w;
+  g_planes = cm.ints.y;
+  window_bits = float(map << kBatchPlaneBits);
+#endif
+  vec2 plane = PLANE(plane_index);
   vec2 to_texels = u_map_size / (2.0 * u_half.xz);
   vec2 q[3];
   vec2 slopes[3];
@@ -123,9 +142,24 @@ void main() {
   }
   prims[5u * p] = vec4(q[0], q[1]);
   // w: 0 where the plane is not reached, else the plane's index + 1 (the
-  // level-map draw's depth, caustics_windows.frag).
-  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? float(plane_index + 1u) : 0.0);
+  // level-map draw's depth, caustics_windows.frag; in a batch plus 8192
+  // times the map, caustics_batch.glsl).
+  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? float(plane_index + 1u) + window_bits : 0.0);
   prims[5u * p + 2u] = vec4(plane, slopes[0]);
   prims[5u * p + 3u] = corners;
   prims[5u * p + 4u] = vec4(slopes[1], slopes[2]);
+}
+
+void main() {
+#ifdef BATCH
+  // The maps u_map_base.. a row of work groups each, over their own part
+  // of the list; a row has at most 65535 groups (GL's least limit), each
+  // invocation taking every such stride's entry.
+  uint run_map = u_map_base + gl_WorkGroupID.y;
+  uint n = cmd[batch_counts(run_map) + 2u], first = batch_maps[run_map].list.x;
+  for (uint k = gl_GlobalInvocationID.x; k < n; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x) make_primitive(first + k);
+#else
+  uint p = gl_GlobalInvocationID.x;
+  if (p < cmd[10]) make_primitive(p);
+#endif
 }

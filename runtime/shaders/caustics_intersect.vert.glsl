@@ -14,21 +14,35 @@
 #endif
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 
+#ifdef BATCH
+// Each primitive in its map's layer (caustics_batch.glsl, prefixed with
+// GL_ARB_shader_viewport_layer_array): its side and texels from the map.
+float u_map_size = 1.0;
+vec2 u_texels_per_metre = vec2(0.0);
+// What caustics_levelmap.frag reads of the map, once a vertex rather than
+// once a fragment: position-map texels per caustics texel, texels per
+// metre along U and W, the window (plane + 1); samples per axis, the
+// position maps' layer, the planes' offset.
+flat out vec4 v_batch;
+flat out uvec3 v_batch_ints;
+#else
 uniform float u_map_size;
+#endif
 #ifdef TEXEL_MAP
 // Glass focus windows: the primitives are in the main
 // texture's texels; this texture's are (q - xy) * z. The window's wide
 // ones are GLASS_WIDE's (glass_window_split.glsl, prefixed).
 uniform vec3 u_texel_map;
 #endif
-#ifdef DEPTH_SHIFT
+#if defined(DEPTH_SHIFT) && !defined(BATCH)
 uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
 #endif
 #ifdef WINDOW_DEPTH
-// Level maps: 0, plane k's primitives at depth (k + 1) / 8192, where
+// Level maps: 0, plane k's primitives at depth (k + 1) / 65535, where
 // caustics_windows.frag put the texels whose surface lies in k's window
 // alone; 1, every primitive at depth 1, where it put the texels of several
-// windows. Exact in floats, as the depth test (GL_EQUAL) needs.
+// windows. Exact in the 16-bit depth buffer, as the depth test (GL_EQUAL)
+// needs (caustics_windows.frag).
 uniform int u_several_windows;
 #endif
 
@@ -39,6 +53,20 @@ void main() {
   vec4 p0 = prims[PRIM_STRIDE * prim];
   vec4 p1 = prims[PRIM_STRIDE * prim + 1];
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
+  float window = p1.w;  // the plane's index + 1 (caustics_geometry.comp)
+#ifdef BATCH
+  v_batch = vec4(0.0);
+  v_batch_ints = uvec3(0u);
+  if (p1.w > 0.0) {
+    CausticsMap cm = batch_maps[batch_prim_map(p1.w)];
+    u_map_size = cm.origin.w;
+    u_texels_per_metre = cm.texel.zw;
+    gl_Layer = int(cm.ints.x);
+    window = batch_prim_window(p1.w);
+    v_batch = vec4(cm.u.w, cm.texel.zw, window);
+    v_batch_ints = cm.ints.zwy;
+  }
+#endif
 #ifdef TEXEL_MAP
   q0 = (q0 - u_texel_map.xy) * u_texel_map.z;
   q1 = (q1 - u_texel_map.xy) * u_texel_map.z;
@@ -96,7 +124,7 @@ void main() {
   }
   float z = 0.0;
 #ifdef WINDOW_DEPTH
-  z = u_several_windows != 0 ? 1.0 : p1.w / 4096.0 - 1.0;  // window depth (k + 1) / 8192
+  z = u_several_windows != 0 ? 1.0 : window * (2.0 / 65535.0) - 1.0;  // window depth (k + 1) / 65535
 #endif
   gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, z, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
 #ifdef GLASS_WIDE

@@ -39,22 +39,43 @@
 // surface lies in this plane's window, or in several windows
 // (caustics_windows.frag); the test below decides as it would alone.
 layout(early_fragment_tests) in;
+#ifdef BATCH
+// The primitive's map (caustics_batch.glsl, passed on by
+// caustics_intersect.vert) says where its surface is.
+layout(binding = 0) uniform sampler2DArray u_position_map;
+flat in vec4 v_batch;
+flat in uvec3 v_batch_ints;
+vec2 u_map_scale, u_texels_per_metre;
+int u_samples, g_position;
+#define POSITION(at) texelFetch(u_position_map, ivec3(at, g_position), 0).r
+#else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis: 1, or up to 4 when u_map_scale > 1
 uniform vec2 u_texels_per_metre;                        // caustics map, along U and W
+#define POSITION(at) texelFetch(u_position_map, at, 0).r
+#endif
 
 out vec4 o_irradiance;
 
 void main() {
   load_primitive();
   // This plane's index (caustics_geometry.comp: w is the index + 1).
-  uint k = uint(prims[PRIM_STRIDE * v_prim + 1].w) - 1u;
+  float window = prims[PRIM_STRIDE * v_prim + 1].w;
+#ifdef BATCH
+  u_map_scale = vec2(v_batch.x);
+  u_texels_per_metre = v_batch.yz;
+  window = v_batch.w;
+  u_samples = int(v_batch_ints.x);
+  g_position = int(v_batch_ints.y);
+  g_planes = v_batch_ints.z;
+#endif
+  uint k = uint(window) - 1u;
   float inside = 0.0, surface = 0.0, depth = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      float v = texelFetch(u_position_map, ivec2(at * u_map_scale), 0).r;
+      float v = POSITION(ivec2(at * u_map_scale));
       if (v > -1e29) surface += 1.0;
       if (sample_window(v, k)) {
         inside += 1.0;

@@ -6,7 +6,7 @@
 // were shaded only to be discarded. This pass looks at the same samples
 // once per texel and writes whose they are:
 // - no plane's (no surface): the cleared depth 0, which no primitive has;
-// - plane k's alone: depth (k + 1) / 8192, the depth caustics_intersect.vert
+// - plane k's alone: depth (k + 1) / 65535, the depth caustics_intersect.vert
 //   gives plane k's primitives, so that the draw's depth test (GL_EQUAL,
 //   before shading) keeps exactly plane k's fragments there;
 // - several planes' (a caustics texel coarser than the position map's
@@ -17,26 +17,56 @@
 //   then the first draw's), so a map whose texels each lie in one window
 //   pays nothing for it.
 // The fragments kept, in their order, and so the caustics map are the
-// draw's alone. Exact: (k + 1) / 8192 and 1 are floats the depth buffer
-// (32-bit float) and the rasteriser carry unrounded.
+// draw's alone. Exact: the depth buffer holds 16-bit integers, and
+// (k + 1) / 65535 (k < 4097) and 1 are within a ten-thousandth of a step
+// of one, whatever rounding the rasteriser's float arithmetic adds.
+#ifdef BATCH
+// Every map of the batch, an instance each (caustics_batch.vert): the
+// pass also clears the map's irradiance, so that maps of the array that
+// this update keeps are not touched.
+layout(binding = 0) uniform sampler2DArray u_position_map;
+flat in uint v_map;
+out vec4 o_irradiance;
+#define POSITION(at) texelFetch(u_position_map, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r
+#else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis, as caustics_levelmap.frag's
+#define POSITION(at) texelFetch(u_position_map, at, 0).r
+#endif
 layout(std430, binding = 6) buffer Command { uint cmd[]; };  // caustics_fixup.comp's layout
 
 void main() {
+#ifdef BATCH
+  CausticsMap cm = batch_maps[v_map];
+  vec2 u_map_scale = vec2(cm.u.w);
+  int u_samples = int(cm.ints.z);
+  g_planes = cm.ints.y;
+  o_irradiance = vec4(0.0);
+#endif
   uint lo = 0xffffffffu, hi = 0u;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      uint k = window_of(texelFetch(u_position_map, ivec2(at * u_map_scale), 0).r);
+      uint k = window_of(POSITION(ivec2(at * u_map_scale)));
       if (k != 0xffffffffu) {
         lo = min(lo, k);
         hi = max(hi, k);
       }
     }
   }
+#ifdef BATCH
+  if (lo > hi) {
+    gl_FragDepth = 0.0;  // no window: the depth a cleared map has
+    return;
+  }
+#else
   if (lo > hi) discard;
-  gl_FragDepth = lo == hi ? float(lo + 1u) / 8192.0 : 1.0;
+#endif
+  gl_FragDepth = lo == hi ? float(lo + 1u) / 65535.0 : 1.0;
+#ifdef BATCH
+  if (lo != hi) cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
+#else
   if (lo != hi) cmd[11] = cmd[0];  // the same value from every such texel
+#endif
 }

@@ -7,7 +7,19 @@
 
 // Planned on the CPU or by caustics_plan.comp: the count, the lowest and
 // highest window bounds along V, the widest window, then (offset, eps)
-// sorted by offset, highest first.
+// sorted by offset, highest first. PLANE_COUNT, DEPTH_LO, DEPTH_HI and
+// PLANE(k) read them. In a batch (BATCH: every level map of a light and a
+// size in one set of calls) the buffer holds every map's planes, each at
+// its own offset, and g_planes is the offset of the map at hand, in words
+// (caustics_batch.glsl's CausticsMap::ints.y).
+#ifdef BATCH
+layout(std430, binding = 7) readonly buffer Planes { float plane_words[]; };
+uint g_planes = 0u;
+#define PLANE_COUNT floatBitsToUint(plane_words[g_planes])
+#define DEPTH_LO plane_words[g_planes + 1u]
+#define DEPTH_HI plane_words[g_planes + 2u]
+#define PLANE(k) vec2(plane_words[g_planes + 4u + 2u * uint(k)], plane_words[g_planes + 5u + 2u * uint(k)])
+#else
 layout(std430, binding = 7) readonly buffer Planes {
   uint plane_count;
   float depth_lo;
@@ -15,10 +27,16 @@ layout(std430, binding = 7) readonly buffer Planes {
   float widest;
   vec2 planes[];
 };
+#define PLANE_COUNT plane_count
+#define DEPTH_LO depth_lo
+#define DEPTH_HI depth_hi
+#define PLANE(k) planes[k]
+#endif
 
 bool in_window(float v, uint k) {
-  float d = v - planes[k].x;
-  return d <= planes[k].y && d > -planes[k].y;
+  vec2 p = PLANE(k);
+  float d = v - p.x;
+  return d <= p.y && d > -p.y;
 }
 
 // Whether the surface depth v is plane k's.
@@ -28,14 +46,15 @@ bool sample_window(float v, uint k) { return in_window(v, k) && (k == 0u || !in_
 // lower bound lies below v (the bounds fall with k, windows far wider than
 // rounding), then it and its neighbours by the test above.
 uint window_of(float v) {
-  if (!(v > -1e29) || plane_count == 0u) return 0xffffffffu;
-  uint a = 0u, b = plane_count;
+  if (!(v > -1e29) || PLANE_COUNT == 0u) return 0xffffffffu;
+  uint a = 0u, b = PLANE_COUNT;
   while (a < b) {
     uint m = (a + b) / 2u;
-    if (planes[m].x - planes[m].y < v) b = m;
+    vec2 p = PLANE(m);
+    if (p.x - p.y < v) b = m;
     else a = m + 1u;
   }
-  uint last = min(a + 1u, plane_count - 1u);
+  uint last = min(a + 1u, PLANE_COUNT - 1u);
   for (uint k = a > 0u ? a - 1u : 0u; k <= last; ++k) {
     if (in_window(v, k)) return k;
   }

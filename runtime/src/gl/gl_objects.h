@@ -61,6 +61,10 @@ using Sampler = Handle<delete_sampler>;
 Buffer make_buffer();
 VertexArray make_vertex_array();
 Texture make_texture(GLenum target);
+// A view of `layers` layers and `levels` levels of texture `source`
+// (immutable storage) as a texture of `target` (glTextureView): it shares
+// the source's texels, and keeps them alive once the source is deleted.
+Texture make_view(GLenum target, GLuint source, GLenum format, GLuint min_level, GLuint levels, GLuint min_layer, GLuint layers);
 // `filter` for minification and magnification, clamped to the edge in s and t.
 void set_sampling(GLuint texture, GLenum filter);
 Framebuffer make_framebuffer();

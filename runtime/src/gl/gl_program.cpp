@@ -21,6 +21,12 @@ void delete_sampler(GLuint id) { glDeleteSamplers(1, &id); }
 Buffer make_buffer() { GLuint id = 0; glCreateBuffers(1, &id); return Buffer(id); }
 VertexArray make_vertex_array() { GLuint id = 0; glCreateVertexArrays(1, &id); return VertexArray(id); }
 Texture make_texture(GLenum target) { GLuint id = 0; glCreateTextures(target, 1, &id); return Texture(id); }
+Texture make_view(GLenum target, GLuint source, GLenum format, GLuint min_level, GLuint levels, GLuint min_layer, GLuint layers) {
+  GLuint id = 0;
+  glGenTextures(1, &id);  // a view needs a name never bound, which glCreateTextures does not give
+  glTextureView(id, target, source, format, min_level, levels, min_layer, layers);
+  return Texture(id);
+}
 
 void set_sampling(GLuint texture, GLenum filter) {
   glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));

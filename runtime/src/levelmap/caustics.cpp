@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <tuple>
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/slicing.h"
@@ -33,6 +34,12 @@ constexpr std::size_t kCounterBytes = 16;
 // dispatch, the counters, and at word 11 the second level-map draw.
 constexpr GLsizeiptr kCommandBytes = 60;
 constexpr GLsizeiptr kSecondDrawOffset = 44;
+// A batch's command buffer (Impl::Batch; caustics_batch.glsl's layout):
+// from kBatchCounts each map's count of entries, overflow and entries
+// drawn, then each map's draw and several-windows draw, 16 bytes each.
+constexpr GLintptr kBatchCounts = 64;
+constexpr GLsizeiptr kBatchCountBytes = 16;
+constexpr GLsizeiptr kBatchBytesPerMap = 3 * kBatchCountBytes;
 // A list sized from a measured count keeps this much headroom for the
 // counts of the frames until the next measurement arrives.
 constexpr double kHeadroom = 1.25;
@@ -93,10 +100,18 @@ struct ListKey {
 
 struct MapGpu {
   LevelMap* lm = nullptr;
-  gl::Texture position_map;  // R32F at lm->map_size
-  gl::Texture caustics;      // RGBA32F at caustics_size: irradiance on the plane and its direction (caustics_geometry.comp)
+  // R32F at lm->map_size: a view of its layer of the light's array of
+  // position maps of that size (Impl::PositionArrays).
+  gl::Texture position_map;
+  std::uint32_t position_layer = 0;
+  // RGBA32F at caustics_size: irradiance on the plane and its direction
+  // (caustics_geometry.comp); a view of layer `layer` of its batch's array
+  // (Impl::arrange).
+  gl::Texture caustics;
   gl::Framebuffer fbo;
   std::uint32_t caustics_size = 0;
+  std::uint32_t layer = 0;
+  bool batched = false;  // its batch holds a window depth for it (texture_bytes)
   // Texels by need (Impl::plan_texels): the side its caustics map takes at
   // its next draw; 0 where the water's light cannot reach it now (then it
   // holds no map and binds the black texture).
@@ -108,13 +123,14 @@ struct MapGpu {
   gl::Buffer histogram;
   std::uint64_t profile = 0;  // 0: lm's (CPU) histogram is current; else re-derived on the GPU
   bool default_epsilon = true;  // lm->epsilon is h / (2 n): it follows h when the frame changes
-  // Planes in use: the header and planes (caustics_plan.comp's layout),
-  // planned from `plan`; on the CPU too where it knows the histogram.
-  gl::Buffer planes_buffer;
+  // Planes in use: the header and planes (caustics_plan.comp's layout) at
+  // this offset of Impl::all_planes, planned from `plan`; on the CPU too where
+  // it knows the histogram.
+  GLintptr planes_offset = 0;
   std::optional<PlanKey> plan;
   std::optional<std::vector<ReferencePlane>> cpu_planes;
   float self_tolerance = 0;
-  gl::Texture depth_tiles;  // RG32F min/max frame V per tile
+  gl::Texture depth_tiles;  // RG32F min/max frame V per tile: a view, as position_map's
   gl::Framebuffer position_fbo;  // run-time re-derivation (its depth: Impl::position_depth)
   gl::Buffer command;
   // Entries its list needs (Impl::list, shared). Measured with a read-back
@@ -139,6 +155,14 @@ struct MapGpu {
   bool stale = false;
 };
 
+// A map of a batch as its shaders read it (caustics_batch.glsl's
+// CausticsMap, std430).
+struct BatchMap {
+  glm::vec4 origin, u, v, w, half_size, texel;
+  glm::uvec4 ints, list;
+};
+static_assert(sizeof(BatchMap) == 8 * 16, "BatchMap must match caustics_batch.glsl's CausticsMap");
+
 // Position-map texels per caustics texel, and the samples per axis the
 // caustics shaders take of them in a caustics texel (up to 4 x 4 where it
 // is coarser than the position map's).
@@ -151,8 +175,9 @@ std::pair<float, int> texel_sampling(const MapGpu& m) {
 // mips; where the water disperses, the sum over wavelengths and the RGB
 // texture with mips; for the volumetric baseline, a slice and an
 // illumination texel per plane.
-double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral) {
+double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral, bool batched) {
   double b = 16.0 * 4.0 / 3.0;
+  if (batched) b += 2.0;  // the batch's window depth
   if (spectral) b += 16.0 + 16.0 * 4.0 / 3.0;
   if (o.method == CausticsMethod::kVolumetric) {
     const std::size_t planes = m.cpu_planes ? m.cpu_planes->size() : m.lm->planes_requested;
@@ -208,9 +233,48 @@ struct CausticsEngine::Impl {
   int warned_step = 0;
   bool warned_over = false;
   gl::Program prepare, cull, fixup, geometry, levelmap, windows, volumetric, slab, combine, presence, profile, accumulate, plan;
-  // The level-map draw's depth (caustics_windows.frag): which plane's
-  // window each caustics texel's surface lies in; one for every map, as
-  // large as the largest caustics map.
+  // The same passes for a batch of maps (caustics_batch.glsl), where the
+  // driver can choose a layer from the vertex shader.
+  gl::Program cull_batch, fixup_batch, geometry_batch, levelmap_batch, windows_batch, presence_batch;
+  bool layered = false;  // GL_ARB_shader_viewport_layer_array
+  // Every map's planes, map after map at planes_stride bytes (kPlanesBytes
+  // rounded up to the shader-storage offset alignment).
+  gl::Buffer all_planes;
+  GLintptr planes_stride = 0;
+  void bind_planes(const MapGpu& m) const {
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, all_planes.get(), m.planes_offset, kPlanesBytes);
+  }
+  // The position maps and their depth tiles of one light and one size, a
+  // map to a layer; each map's textures are views of its layer.
+  struct PositionArrays {
+    gl::Texture positions, tiles;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, PositionArrays> position_arrays;  // by (light, position-map side)
+  // A batch: the caustics maps of one light, one side and one
+  // position-map side, a layer each of one array (arrange), drawn
+  // together when the method and the driver allow (draw_batch).
+  using BatchKey = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;  // light, side, position-map side
+  struct Batch {
+    gl::Texture caustics;              // RGBA32F with mips, a layer per member
+    std::vector<std::size_t> members;  // map indices, in layer order
+    gl::Texture window_depth;          // the windows pass's, a layer per member
+    gl::Framebuffer fbo;               // caustics and window_depth, layered
+    // Each map's counts and draw commands (kBatchCounts).
+    gl::Buffer command;
+    gl::Buffer maps;                 // the maps drawn (caustics_batch.glsl's CausticsMap)
+    std::size_t maps_capacity = 0;   // maps `command` and `maps` have room for
+  };
+  std::map<BatchKey, Batch> batches;
+  // Kept to reuse their storage: the maps of a batch drawn now, what its
+  // shaders read of them and its runs of maps (draw_batch), and the maps
+  // by batch (arrange).
+  std::vector<std::size_t> batch_drawn;
+  std::vector<BatchMap> batch_info;
+  std::vector<std::pair<std::size_t, std::size_t>> batch_runs;
+  std::vector<std::pair<BatchKey, std::size_t>> arranged;
+  // The level-map draw's depth (caustics_windows.frag) for maps drawn one
+  // by one: which plane's window each caustics texel's surface lies in;
+  // one for every such map, as large as the largest.
   gl::Texture window_depth;
   std::uint32_t window_depth_size = 0;
   gl::Texture position_depth;  // the position maps' re-derivation (rederive_map), shared
@@ -267,13 +331,15 @@ struct CausticsEngine::Impl {
   void rederive_map(MapGpu& m, const std::vector<Light>& lights, const std::optional<Water>& water,
                     const std::vector<std::vector<std::array<double, 3>>>& world);
 
-  // Map i's counters of this frame (command words 8..10, the plane count)
-  // into the frame's read-back slot.
-  void read_counters_later(std::size_t i) {
+  // Map i's counters of this frame into the frame's read-back slot: its
+  // list's need, overflow and entries drawn (the three words at `words`
+  // of `command`: 8..10 of its own for a map drawn alone) and its plane
+  // count.
+  void read_counters_later(std::size_t i, GLuint command, GLintptr words) {
     if (!slot_open) slot_open = readback.begin();
     if (!slot_open) return;  // every slot in flight: this frame goes uncounted
-    readback.copy(maps[i].command.get(), 32, kCounterBytes * i, 12);
-    readback.copy(maps[i].planes_buffer.get(), 0, kCounterBytes * i + 12, 4);
+    readback.copy(command, words, kCounterBytes * i, 12);
+    readback.copy(all_planes.get(), maps[i].planes_offset, kCounterBytes * i + 12, 4);
     drawn[frame].emplace_back(i, generation[i]);
   }
 
@@ -291,11 +357,11 @@ struct CausticsEngine::Impl {
         c.volumes_drawn += w[2];
         c.overflowed = c.overflowed || w[1] != 0;
         c.planes_drawn += w[3];
-        if (gen != generation[i]) continue;  // a list since measured again
-        size_list(maps[i], w[0]);
         // What was drawn then misses pieces: remade at the next update,
         // with the list grown (a still scene would keep it otherwise).
         if (w[1] != 0) made.forget(maps[i].lm->light);
+        if (gen != generation[i]) continue;  // a list since measured again
+        size_list(maps[i], w[0]);
       }
       gpu_counts = c;
       drawn.erase(it);
@@ -335,7 +401,7 @@ struct CausticsEngine::Impl {
       packed[1] = lo;
       packed[2] = hi;
       packed[3] = widest;
-      glNamedBufferSubData(m.planes_buffer.get(), 0, static_cast<GLsizeiptr>(packed.size() * 4), packed.data());
+      glNamedBufferSubData(all_planes.get(), m.planes_offset, static_cast<GLsizeiptr>(packed.size() * 4), packed.data());
       m.self_tolerance = std::max(widest, quanta);
       m.cpu_planes = std::move(planes);
     } else {
@@ -353,7 +419,7 @@ struct CausticsEngine::Impl {
       glProgramUniform1d(plan.id(), plan.loc("u_height"), key.height);
       glProgramUniform1d(plan.id(), plan.loc("u_epsilon"), key.epsilon);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, m.histogram.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
+      bind_planes(m);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       glDispatchCompute(1, 1, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -364,8 +430,9 @@ struct CausticsEngine::Impl {
     m.plan = key;
   }
 
-  // The list and primitive buffers, which the maps share (each is drawn
-  // before the next is culled): as large as the largest map's capacity,
+  // The list and primitive buffers, which the maps share (each map, or run
+  // of a batch's maps, is drawn before the next is culled): as large as the
+  // largest map's capacity,
   // grown when one grew, re-made smaller when that is less than half.
   void ensure_list() {
     std::uint64_t want = 0;
@@ -381,46 +448,104 @@ struct CausticsEngine::Impl {
   // A list length `listed` measured for map `i` (from a read-back of any
   // age): grow at once when it nears the capacity; shrink when it has
   // stayed far below for a while.
-  void size_list(MapGpu& m, std::uint64_t listed) {
+  static void size_list(MapGpu& m, std::uint64_t listed) {
+    std::uint64_t& capacity = m.capacity;
+    std::uint64_t& quiet_polls = m.quiet_polls;
     const auto want = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(static_cast<double>(listed) * kHeadroom)),
                                                 kMinCapacity, kMaxPrimitives);
-    if (static_cast<double>(listed) * 1.1 > static_cast<double>(m.capacity)) {
-      m.capacity = std::max(m.capacity, want);
-      m.quiet_polls = 0;
-    } else if (2 * want < m.capacity) {
-      if (++m.quiet_polls >= 30) {
-        m.capacity = want;
-        m.quiet_polls = 0;
+    if (static_cast<double>(listed) * 1.1 > static_cast<double>(capacity)) {
+      capacity = std::max(capacity, want);
+      quiet_polls = 0;
+    } else if (2 * want < capacity) {
+      if (++quiet_polls >= 30) {
+        capacity = want;
+        quiet_polls = 0;
       }
     } else {
-      m.quiet_polls = 0;
+      quiet_polls = 0;
     }
   }
 
-  void ensure_caustics_target(MapGpu& m, std::uint32_t size) {
-    if (m.caustics_size == size && m.caustics.get()) return;
-    // A mip chain, so that casting a fine caustics map onto a receiver seen
-    // from afar averages it instead of aliasing (averaging keeps the mean
-    // irradiance).
-    GLsizei levels = 1;
-    while ((size >> levels) > 0) ++levels;
-    m.caustics = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(m.caustics.get(), levels, GL_RGBA32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
-    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(m.caustics.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    m.fbo = gl::make_framebuffer();
-    glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
-    m.caustics_size = size;
+  // The caustics maps of `light` as layers of arrays, one per batch (the
+  // maps of one side and one position-map side): a batch whose maps
+  // changed gets a new array, into which each map that keeps its side
+  // brings its texels (every level), and each map a view of its layer.
+  // Batches no map is left in go.
+  // A map not drawn now keeps the side it has until it is.
+  void arrange(std::uint32_t light, const std::vector<bool>& drawing) {
+    arranged.clear();
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+      const MapGpu& m = maps[i];
+      if (m.lm->light != light || m.planned_side == 0) continue;
+      const std::uint32_t side = drawing[i] || !m.caustics.get() ? m.planned_side : m.caustics_size;
+      arranged.emplace_back(BatchKey{light, side, m.lm->map_size}, i);
+    }
+    std::sort(arranged.begin(), arranged.end());
+    // Nothing to do (the steady frame) when every batch of the light has
+    // these maps already.
+    bool same = true;
+    std::size_t groups = 0;
+    for (std::size_t a = 0; a < arranged.size() && same; ++groups) {
+      std::size_t e = a;
+      while (e < arranged.size() && arranged[e].first == arranged[a].first) ++e;
+      const auto b = batches.find(arranged[a].first);
+      same = b != batches.end() && b->second.caustics.get() && b->second.members.size() == e - a &&
+             std::equal(b->second.members.begin(), b->second.members.end(), arranged.begin() + static_cast<std::ptrdiff_t>(a),
+                        [](std::size_t i, const auto& p) { return i == p.second; });
+      a = e;
+    }
+    const auto light_batches = static_cast<std::size_t>(
+        std::count_if(batches.begin(), batches.end(), [&](const auto& b) { return std::get<0>(b.first) == light; }));
+    if (same && groups == light_batches) return;
+    std::map<BatchKey, std::vector<std::size_t>> want;
+    for (const auto& [key, i] : arranged) want[key].push_back(i);
+    std::erase_if(batches, [&](const auto& b) { return std::get<0>(b.first) == light && !want.contains(b.first); });
+    for (auto& [key, members] : want) {
+      Batch& b = batches[key];
+      if (b.members == members && b.caustics.get()) continue;
+      const std::uint32_t side = std::get<1>(key);
+      // A mip chain, so that casting a fine caustics map onto a receiver
+      // seen from afar averages it instead of aliasing (averaging keeps the
+      // mean irradiance).
+      GLsizei levels = 1;
+      while ((side >> levels) > 0) ++levels;
+      gl::Texture array = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+      const auto size = static_cast<GLsizei>(side);
+      glTextureStorage3D(array.get(), levels, GL_RGBA32F, size, size, static_cast<GLsizei>(members.size()));
+      for (std::size_t layer = 0; layer < members.size(); ++layer) {
+        MapGpu& m = maps[members[layer]];
+        if (m.caustics.get() && m.caustics_size == side) {
+          for (GLint level = 0; level < levels; ++level) {
+            const GLsizei s = std::max(size >> level, 1);
+            glCopyImageSubData(m.caustics.get(), GL_TEXTURE_2D, level, 0, 0, 0, array.get(), GL_TEXTURE_2D_ARRAY, level, 0, 0,
+                               static_cast<GLint>(layer), s, s, 1);
+          }
+        }
+        m.caustics = gl::make_view(GL_TEXTURE_2D, array.get(), GL_RGBA32F, 0, static_cast<GLuint>(levels), static_cast<GLuint>(layer), 1);
+        glTextureParameteri(m.caustics.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTextureParameteri(m.caustics.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(m.caustics.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        m.fbo = gl::make_framebuffer();
+        glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
+        m.caustics_size = side;
+        m.layer = static_cast<std::uint32_t>(layer);
+        m.batched = false;
+      }
+      b.caustics = std::move(array);
+      b.members = members;
+      b.window_depth.reset();
+      b.fbo.reset();
+    }
   }
 
-  // The windows' depth (32-bit float: the draw compares (k + 1) / 8192
-  // exactly), grown to the largest caustics map drawn.
+  // The windows' depth (16-bit: the draw compares (k + 1) / 65535
+  // exactly, caustics_windows.frag), grown to the largest caustics map
+  // drawn map by map; a batch has its own (draw_batch).
   void ensure_window_depth(std::uint32_t size) {
     if (window_depth_size >= size && window_depth.get()) return;
     window_depth = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT32F, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT16, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
     window_depth_size = size;
   }
 
@@ -438,10 +563,6 @@ struct CausticsEngine::Impl {
   // by profile.comp: one code path at load and after re-derivation.
   void build_depth_tiles(MapGpu& m) {
     const std::uint32_t nt = (m.lm->map_size + kTileTexels - 1) / kTileTexels;
-    if (!m.depth_tiles.get()) {
-      m.depth_tiles = gl::make_texture(GL_TEXTURE_2D);
-      glTextureStorage2D(m.depth_tiles.get(), 1, GL_RG32F, static_cast<GLsizei>(nt), static_cast<GLsizei>(nt));
-    }
     profile.use();
     profile.set("u_mode", 1);
     profile.set("u_tile", static_cast<int>(kTileTexels));
@@ -454,7 +575,9 @@ struct CausticsEngine::Impl {
 
   // A map's own textures, which its texels size (bytes_per_texel).
   static std::uint64_t texture_bytes(const MapGpu& m) {
-    const std::uint64_t cm = std::uint64_t{m.caustics_size} * m.caustics_size * 16 * 4 / 3;  // RGBA32F and its mips
+    // RGBA32F and its mips, and its window depth in a batch.
+    const std::uint64_t texels = std::uint64_t{m.caustics_size} * m.caustics_size;
+    const std::uint64_t cm = texels * 16 * 4 / 3 + (m.batched ? texels * 2 : 0);
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * 7 / 3;  // sum, colour and its mips
     return cm + sl + spectral;
@@ -468,14 +591,23 @@ struct CausticsEngine::Impl {
     return pm + texture_bytes(m) + tiles + profile + static_cast<std::uint64_t>(kCommandBytes);
   }
 
+  // The batches' buffers (their textures are their maps').
+  std::uint64_t batch_bytes() const {
+    std::uint64_t bytes = 0;
+    for (const auto& [key, b] : batches) {
+      bytes += b.maps_capacity * (kBatchBytesPerMap + sizeof(BatchMap)) + (b.maps_capacity > 0 ? kBatchCounts : 0);
+    }
+    return bytes;
+  }
+
   // What the maps share: refracted rays and fluxes, the read-back ring,
   // the splats' photons (one set for every map), the planner's scratch,
   // the lists, the windows' depth and the re-derivations' depth.
   std::uint64_t shared_bytes() const {
     return std::uint64_t{16} * water->vertex_count() + std::uint64_t{8} * water->triangle_count() + readback.gpu_bytes() +
            std::uint64_t{32} * photon_size * photon_size + 4 * static_cast<std::uint64_t>(plan_scratch_words) +
-           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{4} * window_depth_size * window_depth_size +
-           std::uint64_t{4} * position_depth_size * position_depth_size + 16;
+           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{2} * window_depth_size * window_depth_size +
+           std::uint64_t{4} * position_depth_size * position_depth_size + 16 + batch_bytes();
   }
 
   // The larger side of the part of map m's frame (its U-W rectangle) that
@@ -561,7 +693,7 @@ struct CausticsEngine::Impl {
           const double need = 2.0 * std::max(m.lm->frame.half[0], m.lm->frame.half[2]) / texel;
           side = std::min(cap, ladder_side(std::max(need, floor_side)));
         }
-        bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral));
+        bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral, batching(o, spectral)));
         if (sides) (*sides)[i] = side;
       }
       return bytes;
@@ -642,6 +774,7 @@ struct CausticsEngine::Impl {
     m.caustics.reset();
     m.fbo.reset();
     m.caustics_size = 0;
+    m.batched = false;
     m.slices.reset();
     m.illumination.reset();
     m.slice_count = m.slice_size = 0;
@@ -778,8 +911,8 @@ struct CausticsEngine::Impl {
     stats.volumes_total += std::uint64_t{p} * p;
   }
 
-  // Alpha = the receiver's presence (caustics_presence.frag), then the mip
-  // chain; m.fbo draws into the map's level 0.
+  // Alpha = the receiver's presence (caustics_presence.frag), before the
+  // mip chain (make_mips); m.fbo draws into the map's level 0.
   void finish_map(MapGpu& m, const CausticsOptions& o) {
     const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
@@ -797,7 +930,17 @@ struct CausticsEngine::Impl {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glGenerateTextureMipmap(m.caustics.get());
+  }
+
+  // The mip chains of the arrays that hold a map of `light` drawn now
+  // (`drawing`), one call an array (a view's would make the whole
+  // array's). Averaging keeps the mean irradiance.
+  void make_mips(std::uint32_t light, const std::vector<bool>& drawing) {
+    const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
+    for (const auto& [key, b] : batches) {
+      if (std::get<0>(key) != light) continue;
+      if (std::any_of(b.members.begin(), b.members.end(), [&](std::size_t i) { return drawing[i]; })) glGenerateTextureMipmap(b.caustics.get());
+    }
   }
 
   // One wavelength's caustics map into level 0 (finish_map makes its
@@ -805,7 +948,6 @@ struct CausticsEngine::Impl {
   void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
     plan_planes(m, o);
-    ensure_caustics_target(m, m.planned_side);
     if (o.method == CausticsMethod::kSplat) {
       draw_splat(m, o, light, ior);
       return;
@@ -855,7 +997,7 @@ struct CausticsEngine::Impl {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m.planes_buffer.get());
+      bind_planes(m);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
       glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -1006,6 +1148,220 @@ struct CausticsEngine::Impl {
     glBindVertexArray(0);
     stats.volumes_total += water->triangle_count();
   }
+  // Whether a light's level maps are drawn in batches (draw_batch): the
+  // pair methods, one wavelength, and a driver that can choose a layer
+  // from the vertex shader.
+  bool batching(const CausticsOptions& o, bool spectral) const {
+    return layered && o.batch_maps && !spectral && (o.method == CausticsMethod::kLevelMap || o.method == CausticsMethod::kUniform);
+  }
+
+  // The maps `which` of batch `key` (one wavelength) in a fixed number of
+  // calls, whatever their number: draw_map's passes, each map in its
+  // layer (caustics_batch.glsl). The windows pass clears the drawn maps'
+  // texels as it goes, so that those of the batch this update keeps are
+  // untouched. Then their presence (finish_map's; make_mips follows).
+  void draw_batch(const BatchKey& key, const std::vector<std::size_t>& which, const CausticsOptions& o) {
+    Batch& b = batches.at(key);
+    const std::uint32_t side = std::get<1>(key);
+    const auto size = static_cast<GLsizei>(side);
+    const auto n = static_cast<GLsizei>(which.size());
+    const PositionArrays& positions = position_arrays.at({std::get<0>(key), std::get<2>(key)});
+    batch_info.resize(which.size());
+    bool several = false;  // some map's texels are coarser than its position map's
+    for (std::size_t k = 0; k < which.size(); ++k) {
+      const MapGpu& m = maps[which[k]];
+      const BoundingFrame& f = m.lm->frame;
+      const auto [scale, samples] = texel_sampling(m);
+      several = several || samples > 1;
+      // As draw_map: the cull widens footprints by a caustics texel where
+      // it is coarser than the position map's.
+      const glm::vec2 texel = glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(side);
+      BatchMap& d = batch_info[k];
+      d.origin = glm::vec4(static_cast<float>(f.origin[0]), static_cast<float>(f.origin[1]), static_cast<float>(f.origin[2]),
+                           static_cast<float>(side));
+      d.u = glm::vec4(v3(f.u), scale);
+      d.v = glm::vec4(v3(f.v), 0.0f);
+      d.w = glm::vec4(v3(f.w), 0.0f);
+      d.half_size = glm::vec4(v3(f.half), 0.0f);
+      d.texel = glm::vec4(side < m.lm->map_size ? texel : glm::vec2(0.0f), 1.0f / texel);
+      d.ints = glm::uvec4(m.layer, static_cast<std::uint32_t>(m.planes_offset / 4), static_cast<std::uint32_t>(samples), m.position_layer);
+    }
+    if (b.maps_capacity < which.size()) {
+      b.maps_capacity = b.members.size();
+      b.command = gl::make_buffer();
+      glNamedBufferStorage(b.command.get(), kBatchCounts + static_cast<GLsizeiptr>(b.maps_capacity) * kBatchBytesPerMap, nullptr, 0);
+      b.maps = gl::make_buffer();
+      glNamedBufferStorage(b.maps.get(), static_cast<GLsizeiptr>(b.maps_capacity * sizeof(BatchMap)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (!b.window_depth.get()) {
+      b.window_depth = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+      glTextureStorage3D(b.window_depth.get(), 1, GL_DEPTH_COMPONENT16, size, size, static_cast<GLsizei>(b.members.size()));
+      b.fbo = gl::make_framebuffer();
+      glNamedFramebufferTexture(b.fbo.get(), GL_COLOR_ATTACHMENT0, b.caustics.get(), 0);
+      glNamedFramebufferTexture(b.fbo.get(), GL_DEPTH_ATTACHMENT, b.window_depth.get(), 0);
+      for (const std::size_t j : b.members) maps[j].batched = true;
+    }
+    const auto batch_maps = static_cast<unsigned>(b.maps_capacity);
+    const auto upload = [&] {
+      glNamedBufferSubData(b.maps.get(), 0, static_cast<GLsizeiptr>(which.size() * sizeof(BatchMap)), batch_info.data());
+    };
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, b.maps.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, b.command.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, all_planes.get());
+    const GLintptr counts_bytes = static_cast<GLintptr>(which.size()) * kBatchCountBytes;
+    const auto clear_counts = [&] {
+      glClearNamedBufferSubData(b.command.get(), GL_R32UI, kBatchCounts, counts_bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    };
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the shared list may still feed the last draw
+    clear_counts();
+    auto cull_run = [&](std::size_t first, std::size_t count) {
+      cull_batch.use();
+      cull_batch.set("u_triangles", water->triangle_count());
+      cull_batch.set("u_frame_cull", o.cull ? 1 : 0);
+      cull_batch.set("u_plane_cull", o.cull ? 1 : 0);
+      cull_batch.set("u_pairs", 1);
+      cull_batch.set("u_map_base", static_cast<unsigned>(first));
+      cull_batch.set("u_batch_maps", batch_maps);
+      glBindTextureUnit(0, positions.tiles.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
+      glDispatchCompute((water->triangle_count() + 63) / 64, static_cast<GLuint>(count), 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    };
+
+    // 1. The first time a map is drawn with a plan (the warm-up) every
+    // map's need is counted at once (a cull with no room, which lists
+    // nothing) and read back, as draw_map measures a map's.
+    const ListKey list_key{true, o.cull, o.method == CausticsMethod::kLevelMap, o.planes.value_or(0), o.epsilon.value_or(0.0f), side};
+    bool measure = false;
+    for (const std::size_t i : which) measure = measure || maps[i].measured != list_key;
+    if (measure) {
+      const gl::TimedPass timed("level maps: cull", gl::PassKind::kCompute);
+      ensure_list();  // the lists exist before they are bound
+      for (BatchMap& d : batch_info) d.list = glm::uvec4(0);
+      upload();
+      cull_run(0, which.size());
+      std::vector<std::uint32_t> counts(static_cast<std::size_t>(counts_bytes / 4));
+      glGetNamedBufferSubData(b.command.get(), kBatchCounts, counts_bytes, counts.data());  // warm-up only
+      for (std::size_t k = 0; k < which.size(); ++k) {
+        MapGpu& m = maps[which[k]];
+        m.capacity = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(counts[4 * k] * kHeadroom)), kMinCapacity, kMaxPrimitives);
+        m.measured = list_key;
+        ++generation[which[k]];
+      }
+      clear_counts();
+    }
+    ensure_list();
+    // Runs of maps whose parts fit the shared list together (as large as
+    // the largest map's: a batch holds no more list than map by map), each
+    // map's part after the last's.
+    batch_runs.clear();
+    for (std::size_t k = 0; k < which.size();) {
+      const std::size_t first = k;
+      std::uint64_t at = 0;
+      while (k < which.size() && (k == first || at + maps[which[k]].capacity <= allocated)) {
+        batch_info[k].list = glm::uvec4(static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(maps[which[k]].capacity), 0, 0);
+        at += maps[which[k]].capacity;
+        ++k;
+      }
+      batch_runs.emplace_back(first, k);
+    }
+    upload();
+
+    // 2. Per run, in a fixed number of calls: cull, fix-up, windows,
+    // geometry, draw, presence.
+    glBindFramebuffer(GL_FRAMEBUFFER, b.fbo.get());
+    glViewport(0, 0, size, size);
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(empty_vao.get());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, b.command.get());
+    for (const auto& [first, end] : batch_runs) {
+      const auto count = static_cast<GLsizei>(end - first);
+      std::uint64_t widest = 0;
+      for (std::size_t k = first; k < end; ++k) widest = std::max(widest, maps[which[k]].capacity);
+      {
+        const gl::TimedPass timed("level maps: cull", gl::PassKind::kCompute);
+        cull_run(first, end - first);
+        // Each map's count becomes its draw (caustics_batch_fixup.comp).
+        fixup_batch.use();
+        fixup_batch.set("u_map_base", static_cast<unsigned>(first));
+        fixup_batch.set("u_count", static_cast<unsigned>(count));
+        fixup_batch.set("u_batch_maps", batch_maps);
+        glDispatchCompute((static_cast<GLuint>(count) + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+      }
+      glBindTextureUnit(0, positions.positions.get());
+      {
+        // 3a. Each texel's window into the layers' depth, and the drawn
+        // maps' irradiance cleared (caustics_windows.frag).
+        const gl::TimedPass timed("level maps: windows", gl::PassKind::kRaster);
+        glDisable(GL_BLEND);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+        windows_batch.use();
+        windows_batch.set("u_map_base", static_cast<unsigned>(first));
+        windows_batch.set("u_batch_maps", batch_maps);
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 3, count);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+      }
+      // 3. Geometry of every listed primitive, then 4. one rectangle each
+      // in its map's layer, map after map, and the several-windows draws
+      // (draw_map's).
+      {
+        const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
+        geometry_batch.use();
+        geometry_batch.set("u_pairs", 1);
+        geometry_batch.set("u_max_magnification", o.max_magnification);
+        geometry_batch.set("u_smooth", o.water_smooth ? 1 : 0);
+        geometry_batch.set("u_map_base", static_cast<unsigned>(first));
+        geometry_batch.set("u_batch_maps", batch_maps);
+        glProgramUniform2ui(geometry_batch.id(), geometry_batch.loc("u_grid"), water->water().cells[0] + 1, water->water().cells[1] + 1);
+        glDispatchCompute(static_cast<GLuint>(std::min<std::uint64_t>((widest + 63) / 64, 65535)), static_cast<GLuint>(count), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      }
+      {
+        const gl::TimedPass timed("level maps: draw", gl::PassKind::kRaster);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        levelmap_batch.use();
+        levelmap_batch.set("u_several_windows", 0);
+        const auto draws = [&](std::uint32_t group) {
+          const auto offset = static_cast<std::uintptr_t>(kBatchCounts + (group * b.maps_capacity + first) * kBatchCountBytes);
+          glMultiDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(offset), count, 0);
+        };
+        draws(1);
+        if (several) {
+          levelmap_batch.set("u_several_windows", 1);
+          draws(2);
+        }
+        glDisable(GL_BLEND);
+        glDisable(GL_DEPTH_TEST);
+      }
+      {
+        // 5. Presence, as finish_map (the level-map draws give a texel its
+        // surface samples' irradiance).
+        const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
+        glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+        presence_batch.use();
+        presence_batch.set("u_fraction", 0);
+        presence_batch.set("u_map_base", static_cast<unsigned>(first));
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 3, count);
+        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      }
+      for (std::size_t k = first; k < end; ++k) {
+        read_counters_later(which[k], b.command.get(), kBatchCounts + static_cast<GLintptr>(k) * kBatchCountBytes);
+      }
+    }
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glBindVertexArray(0);
+    stats.volumes_total += std::uint64_t{water->triangle_count()} * which.size();
+  }
 };
 
 CausticsEngine::~CausticsEngine() = default;
@@ -1040,6 +1396,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   const std::string cull_src = insert_after_version(shaders::k_caustics_cull_comp_glsl, shaders::k_caustics_windows_glsl);
+  const std::string geometry_src = insert_after_version(shaders::k_caustics_geometry_comp_glsl, shaders::k_caustics_windows_glsl);
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
       {{&s.levelmap, "caustics_levelmap", levelmap_vs.c_str(), levelmap_fs.c_str()},
        {&s.windows, "caustics_windows", shaders::k_fullscreen_vert_glsl, windows_fs.c_str()},
@@ -1052,10 +1409,36 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.prepare, "caustics_prepare", prepare_src.c_str()},
        {&s.cull, "caustics_cull", cull_src.c_str()},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
-       {&s.geometry, "caustics_geometry", shaders::k_caustics_geometry_comp_glsl},
+       {&s.geometry, "caustics_geometry", geometry_src.c_str()},
        {&s.profile, "profile", shaders::k_profile_comp_glsl},
        {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl},
        {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl}}));
+  // The batches' passes (draw_batch): the same shaders, each map read
+  // from the batch's buffer and drawn into its layer.
+  s.layered = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
+  if (s.layered) {
+    const std::string batch = std::string("#define BATCH\n") + shaders::k_caustics_batch_glsl;
+    const std::string layer_vs = "#extension GL_ARB_shader_viewport_layer_array : require\n" + batch;
+    const std::string cull_batch = insert_after_version(shaders::k_caustics_cull_comp_glsl, batch + shaders::k_caustics_windows_glsl);
+    const std::string geometry_batch =
+        insert_after_version(shaders::k_caustics_geometry_comp_glsl, batch + shaders::k_caustics_windows_glsl);
+    const std::string levelmap_batch_vs =
+        insert_after_version(shaders::k_caustics_intersect_vert_glsl, layer_vs + "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
+    const std::string levelmap_batch_fs = std::string("#version 450 core\n") + batch + shaders::k_caustics_coverage_glsl +
+                                          shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
+    const std::string quad_vs = std::string("#version 450 core\n") + layer_vs + shaders::k_caustics_batch_vert_glsl;
+    const std::string windows_batch_fs =
+        std::string("#version 450 core\n") + batch + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
+    const std::string presence_batch_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, batch);
+    const std::string fixup_batch = insert_after_version(shaders::k_caustics_batch_fixup_comp_glsl, batch);
+    CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
+        {{&s.levelmap_batch, "caustics_levelmap (batch)", levelmap_batch_vs.c_str(), levelmap_batch_fs.c_str()},
+         {&s.windows_batch, "caustics_windows (batch)", quad_vs.c_str(), windows_batch_fs.c_str()},
+         {&s.presence_batch, "caustics_presence (batch)", quad_vs.c_str(), presence_batch_fs.c_str()},
+         {&s.cull_batch, "caustics_cull (batch)", cull_batch.c_str()},
+         {&s.fixup_batch, "caustics_batch_fixup", fixup_batch.c_str()},
+         {&s.geometry_batch, "caustics_geometry (batch)", geometry_batch.c_str()}}));
+  }
   s.empty_vao = gl::make_vertex_array();
   s.black = gl::make_texture(GL_TEXTURE_2D);
   glTextureStorage2D(s.black.get(), 1, GL_RGBA32F, 1, 1);
@@ -1067,11 +1450,33 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.flux = gl::make_buffer();
   glNamedBufferStorage(s.flux.get(), GLsizeiptr{8} * water.triangle_count(), nullptr, 0);
 
+  // Every map's planes in one buffer, and the position maps and depth
+  // tiles of each light and size in one array each, a map to a layer.
+  GLint alignment = 256;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
+  alignment = std::max(alignment, 4);
+  s.planes_stride = (kPlanesBytes + alignment - 1) / alignment * alignment;
+  s.all_planes = gl::make_buffer();
+  glNamedBufferStorage(s.all_planes.get(), s.planes_stride * static_cast<GLsizeiptr>(std::max<std::size_t>(maps.size(), 1)), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
   s.maps.resize(maps.size());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> layers;
+  for (std::size_t i = 0; i < maps.size(); ++i) s.maps[i].position_layer = layers[{maps[i].light, maps[i].map_size}]++;
+  for (const auto& [key, count] : layers) {
+    const auto ps = static_cast<GLsizei>(key.second), nt = static_cast<GLsizei>((key.second + kTileTexels - 1) / kTileTexels);
+    Impl::PositionArrays& a = s.position_arrays[key];
+    a.positions = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(a.positions.get(), 1, GL_R32F, ps, ps, static_cast<GLsizei>(count));
+    gl::set_sampling(a.positions.get(), GL_NEAREST);
+    a.tiles = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(a.tiles.get(), 1, GL_RG32F, nt, nt, static_cast<GLsizei>(count));
+    gl::set_sampling(a.tiles.get(), GL_NEAREST);
+  }
   for (std::size_t i = 0; i < maps.size(); ++i) {
     MapGpu& m = s.maps[i];
     LevelMap& lm = maps[i];
     m.lm = &lm;
+    m.planes_offset = s.planes_stride * static_cast<GLintptr>(i);
     // Position map as frame V per texel (the baked 16-bit depth decoded).
     std::vector<float> v(lm.depth.size());
     for (std::size_t k = 0; k < v.size(); ++k) {
@@ -1079,9 +1484,10 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
       v[k] = q == kEmptyDepth ? kEmptyV
                               : static_cast<float>(lm.frame.half[1] - static_cast<double>(q) / kDepthQuantum * 2.0 * lm.frame.half[1]);
     }
-    m.position_map = gl::make_texture(GL_TEXTURE_2D);
+    const Impl::PositionArrays& a = s.position_arrays.at({lm.light, lm.map_size});
+    m.position_map = gl::make_view(GL_TEXTURE_2D, a.positions.get(), GL_R32F, 0, 1, m.position_layer, 1);
+    m.depth_tiles = gl::make_view(GL_TEXTURE_2D, a.tiles.get(), GL_RG32F, 0, 1, m.position_layer, 1);
     const auto ps = static_cast<GLsizei>(lm.map_size);
-    glTextureStorage2D(m.position_map.get(), 1, GL_R32F, ps, ps);
     glTextureSubImage2D(m.position_map.get(), 0, 0, 0, ps, ps, GL_RED, GL_FLOAT, v.data());
     gl::set_sampling(m.position_map.get(), GL_NEAREST);
     s.build_depth_tiles(m);
@@ -1091,8 +1497,6 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     m.histogram = gl::make_buffer();
     glNamedBufferStorage(m.histogram.get(), GLsizeiptr{4} * static_cast<GLsizeiptr>(std::max<std::size_t>(lm.histogram.size(), 1)),
                          lm.histogram.empty() ? nullptr : lm.histogram.data(), 0);
-    m.planes_buffer = gl::make_buffer();
-    glNamedBufferStorage(m.planes_buffer.get(), kPlanesBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     const double h = 2.0 * lm.frame.half[1];
     m.default_epsilon = std::fabs(lm.epsilon - h / (2.0 * lm.planes_requested)) < 1e-6 * h;
   }
@@ -1249,6 +1653,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     }
     if (draws[i]) m.stale = false;
   }
+  s.arrange(light, draws);
 
   // Per traced wavelength (one, at n_d or wavelength_nm, unless the water
   // disperses): refract at every water vertex, then each
@@ -1259,6 +1664,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
   const std::vector<WavelengthSample> samples = water_wavelengths(water, o);
   const bool spectral = samples.size() > 1;
   const bool splat = o.method == CausticsMethod::kSplat;
+  const bool batch = s.batching(o, spectral);
   CausticsStats counted;  // after the first wavelength: the counters count one pass
   // Nothing to draw (every map kept out of view): not even the water's pass.
   const bool drawing = std::any_of(draws.begin(), draws.end(), [](bool d) { return d; });
@@ -1283,11 +1689,30 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       s.stats.water_triangles = s.water->triangle_count();
     }
-    for (std::size_t i = 0; i < s.maps.size(); ++i) {
+    // A light's maps in batches (draw_batch, finished there), but for a
+    // map without planes, which draw_map clears; or map by map.
+    for (auto& [batch_key, b] : s.batches) {
+      if (!batch || std::get<0>(batch_key) != light) continue;
+      s.batch_drawn.clear();
+      for (const std::size_t i : b.members) {
+        MapGpu& m = s.maps[i];
+        if (!draws[i]) continue;
+        s.plan_planes(m, o);
+        if (m.cpu_planes && m.cpu_planes->empty()) {
+          s.draw_map(m, o, desc, ior);
+          s.finish_map(m, o);
+        } else {
+          s.batch_drawn.push_back(i);
+        }
+      }
+      if (s.batch_drawn.empty()) continue;
+      s.draw_batch(batch_key, s.batch_drawn, o);
+    }
+    for (std::size_t i = 0; i < s.maps.size() && !batch; ++i) {
       MapGpu& m = s.maps[i];
       if (!draws[i]) continue;
       s.draw_map(m, o, desc, ior);
-      if (!splat && k == 0) s.read_counters_later(i);  // one wavelength's; splatting fills no culling counters
+      if (!splat && k == 0) s.read_counters_later(i, m.command.get(), 32);  // one wavelength's; splatting fills no culling counters
       if (spectral) s.accumulate_wavelength(m, samples[k], k == 0, k + 1 == samples.size());
     }
     if (k == 0) counted = s.stats;
@@ -1298,10 +1723,11 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
     if (m.lm->light != light) continue;
     if (draws[i]) {
       m.spectral = spectral;
-      s.finish_map(m, o);
+      if (!batch) s.finish_map(m, o);
     }
     m.gpu_bytes = Impl::bytes_of(m);
   }
+  s.make_mips(light, draws);
   s.stats.wavelengths = static_cast<std::uint32_t>(samples.size());
   return gl::check_gl("caustics pass");
 }

@@ -190,6 +190,15 @@ struct CausticsOptions {
   // frame, and draw each volume only through the planes the surface under
   // it needs. Off: every volume through every plane, as the thesis did.
   bool cull = true;
+  // Beyond the thesis: the level maps of a light (kLevelMap) are drawn in
+  // a fixed number of calls whatever the number of receivers: the maps of
+  // one size share a texture array, a map to a layer (each map's texture is
+  // a view of its layer), and one cull, one geometry pass and one draw serve
+  // them all (docs/runtime-speed.md, "As the scene grows"). Needs
+  // GL_ARB_shader_viewport_layer_array; false, or a driver without it,
+  // or a water that disperses: a set of calls per map. The maps agree to
+  // the rounding of the order their beams are added in.
+  bool batch_maps = true;
   // Photon splatting: the water is rasterised into a photons x photons
   // texture over the frame's window (plus a margin), one photon a texel.
   std::uint32_t photons = 1024;
