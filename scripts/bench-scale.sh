@@ -26,7 +26,7 @@
 # measured with one light, N = 16 also with each L), RENDERER (a label;
 # default llvmpipe), BUILD (the build folder whose binaries run; default
 # build), ARGS (more options for every caustix-bench frames run, e.g.
-# --map-by-map to draw the level maps one by one instead of in batches).
+# "--map-batching always" to draw the level maps in batches on llvmpipe).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"

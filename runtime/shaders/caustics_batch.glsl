@@ -18,13 +18,15 @@ struct CausticsMap {
 layout(std430, binding = 11) readonly buffer BatchMaps { CausticsMap batch_maps[]; };
 
 // The batch's command buffer (binding 6), in words: from 16, per map its
-// count of entries, overflow and entries drawn; then per map its level-map
-// draw {count, 1, first, 0} (glMultiDrawArraysIndirect), then per map its
-// several-windows draw (caustics_windows.frag); u_batch_maps maps each.
+// count of entries, overflow and entries drawn, 64 bytes apart (the
+// culls of different maps add to them at once: a cache line each); then
+// per map its level-map draw {count, 1, first, 0}
+// (glMultiDrawArraysIndirect), then per map its several-windows draw
+// (caustics_windows.frag); u_batch_maps maps each.
 uniform uint u_batch_maps;
-uint batch_counts(uint k) { return 16u + 4u * k; }
-uint batch_draw(uint k) { return 16u + 4u * (u_batch_maps + k); }
-uint batch_draw2(uint k) { return 16u + 4u * (2u * u_batch_maps + k); }
+uint batch_counts(uint k) { return 16u + 16u * k; }
+uint batch_draw(uint k) { return 16u + 16u * u_batch_maps + 4u * k; }
+uint batch_draw2(uint k) { return 16u + 20u * u_batch_maps + 4u * k; }
 
 // A list entry's plane and map (caustics_cull.comp packs them in one word:
 // plane indices stay below 8192, kMaxPlanes), and a primitive's window

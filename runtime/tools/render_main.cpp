@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   std::string out_path, size = "640x480", receiver, region = "-2,-2,2,2", method = "levelmap";
   float time = 0.0f, epsilon = 0.0f;
   std::uint32_t planes = 0, caustics_size = 0;
-  bool quiet = false, verbose = false, no_cull = false, map_by_map = false;
+  bool quiet = false, verbose = false, no_cull = false;
+  std::string map_batching = "auto";
 
   CLI::App app{"caustix-render: render a scene to an image, headless (EGL): a baked .cxb, or a scene.json or glTF file"};
   app.footer(
@@ -110,7 +111,8 @@ int main(int argc, char** argv) {
   app.add_flag("--caustics-flat", caustics_flat,
                "water caustics: one irradiance per water triangle, as Tipprasert 2006's eq. 4-18 (default: interpolated from the corners; docs/caustics.md)");
   app.add_flag("--no-cull", no_cull, "draw every illumination volume (measures what culling saves)");
-  app.add_flag("--map-by-map", map_by_map, "level maps: a set of calls per map instead of per batch of maps (measures what batching saves)");
+  app.add_option("--map-batching", map_batching, "level maps in batches: auto, always or never (CausticsOptions::map_batching)")
+      ->check(CLI::IsMember({"auto", "always", "never"}));
   // Dispersion (docs/dispersion.md).
   std::uint32_t wavelengths = built_in.wavelengths;
   app.add_option("--wavelengths", wavelengths,
@@ -288,7 +290,9 @@ int main(int argc, char** argv) {
   if (!glass_focus_spectral.empty()) caustics.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;
-  caustics.batch_maps = !map_by_map;
+  caustics.map_batching = map_batching == "always" ? runtime::MapBatching::kAlways
+                        : map_batching == "never"  ? runtime::MapBatching::kNever
+                                                   : runtime::MapBatching::kAuto;
   caustics.wavelengths = wavelengths;
   if (app.count("--wavelength") != 0) caustics.wavelength_nm = wavelength;
   caustics.glass_method = *parse_glass_method(glass_method);

@@ -241,10 +241,10 @@ struct RuntimeModes final : Modes {
   std::uint32_t planes = 0, csize = 0, gsize = 0, volume_focus = runtime::VolumeOptions{}.focus_grid;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
-  bool no_cull = false, no_batch = false, header = false, move_light = false, still = false, glass_no_focus = false, cmap_no_focus = false;
+  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, cmap_no_focus = false;
   std::uint32_t out_of_view = 0;
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
-  std::string glass_focus_spectral;
+  std::string glass_focus_spectral, map_batching = "auto";
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
@@ -266,7 +266,8 @@ struct RuntimeModes final : Modes {
     fr->add_option("--glass-size", gsize, "glass illumination texture size (default: the file's preset, else 512)")
         ->check(CLI::Range(1, 8192));
     fr->add_flag("--no-cull", no_cull, "draw every volume through every plane, as the thesis did");
-    fr->add_flag("--map-by-map", no_batch, "level maps: a set of calls per map, not per batch (CausticsOptions::batch_maps)");
+    fr->add_option("--map-batching", map_batching, "level maps in batches: auto, always or never (CausticsOptions::map_batching)")
+        ->check(CLI::IsMember({"auto", "always", "never"}));
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
     fr->add_option("--glass-focus-wide", glass_focus_wide,
                    "glass (table): focus windows' wide triangles, in window texels (0: every triangle clipped; docs/glass-focus.md)")
@@ -347,7 +348,9 @@ struct RuntimeModes final : Modes {
     co.method = *runtime::parse_method(method);
     if (planes > 0) co.planes = planes;
     co.cull = !no_cull;
-    co.batch_maps = !no_batch;
+    co.map_batching = map_batching == "always" ? runtime::MapBatching::kAlways
+                    : map_batching == "never"  ? runtime::MapBatching::kNever
+                                               : runtime::MapBatching::kAuto;
     co.glass_focus = !glass_no_focus;
     co.glass_focus_wide = glass_focus_wide;
     co.volume.focus_grid = volume_focus;

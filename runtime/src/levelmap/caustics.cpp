@@ -36,10 +36,15 @@ constexpr GLsizeiptr kCommandBytes = 60;
 constexpr GLsizeiptr kSecondDrawOffset = 44;
 // A batch's command buffer (Impl::Batch; caustics_batch.glsl's layout):
 // from kBatchCounts each map's count of entries, overflow and entries
-// drawn, then each map's draw and several-windows draw, 16 bytes each.
+// drawn, a cache line apart, then each map's draw and several-windows
+// draw, 16 bytes each.
 constexpr GLintptr kBatchCounts = 64;
-constexpr GLsizeiptr kBatchCountBytes = 16;
-constexpr GLsizeiptr kBatchBytesPerMap = 3 * kBatchCountBytes;
+constexpr GLsizeiptr kBatchCountBytes = 64;
+constexpr GLsizeiptr kBatchDrawBytes = 16;
+constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + 2 * kBatchDrawBytes;
+// MapBatching::kAuto: fewer maps of a batch drawn in an update than this
+// are drawn one by one (batching them saves a few calls).
+constexpr std::size_t kBatchMinMaps = 8;
 // A list sized from a measured count keeps this much headroom for the
 // counts of the frames until the next measurement arrives.
 constexpr double kHeadroom = 1.25;
@@ -236,7 +241,8 @@ struct CausticsEngine::Impl {
   // The same passes for a batch of maps (caustics_batch.glsl), where the
   // driver can choose a layer from the vertex shader.
   gl::Program cull_batch, fixup_batch, geometry_batch, levelmap_batch, windows_batch, presence_batch;
-  bool layered = false;  // GL_ARB_shader_viewport_layer_array
+  bool layered = false;   // GL_ARB_shader_viewport_layer_array
+  bool software = false;  // a software rasteriser (MapBatching::kAuto)
   // Every map's planes, map after map at planes_stride bytes (kPlanesBytes
   // rounded up to the shader-storage offset alignment).
   gl::Buffer all_planes;
@@ -1152,7 +1158,8 @@ struct CausticsEngine::Impl {
   // pair methods, one wavelength, and a driver that can choose a layer
   // from the vertex shader.
   bool batching(const CausticsOptions& o, bool spectral) const {
-    return layered && o.batch_maps && !spectral && (o.method == CausticsMethod::kLevelMap || o.method == CausticsMethod::kUniform);
+    const bool wanted = o.map_batching == MapBatching::kAlways || (o.map_batching == MapBatching::kAuto && !software);
+    return wanted && layered && !spectral && (o.method == CausticsMethod::kLevelMap || o.method == CausticsMethod::kUniform);
   }
 
   // The maps `which` of batch `key` (one wavelength) in a fixed number of
@@ -1246,7 +1253,8 @@ struct CausticsEngine::Impl {
       glGetNamedBufferSubData(b.command.get(), kBatchCounts, counts_bytes, counts.data());  // warm-up only
       for (std::size_t k = 0; k < which.size(); ++k) {
         MapGpu& m = maps[which[k]];
-        m.capacity = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(counts[4 * k] * kHeadroom)), kMinCapacity, kMaxPrimitives);
+        m.capacity = std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(counts[k * kBatchCountBytes / 4] * kHeadroom)),
+                                               kMinCapacity, kMaxPrimitives);
         m.measured = list_key;
         ++generation[which[k]];
       }
@@ -1330,7 +1338,8 @@ struct CausticsEngine::Impl {
         levelmap_batch.use();
         levelmap_batch.set("u_several_windows", 0);
         const auto draws = [&](std::uint32_t group) {
-          const auto offset = static_cast<std::uintptr_t>(kBatchCounts + (group * b.maps_capacity + first) * kBatchCountBytes);
+          const auto offset = static_cast<std::uintptr_t>(kBatchCounts + b.maps_capacity * kBatchCountBytes +
+                                                          ((group - 1) * b.maps_capacity + first) * kBatchDrawBytes);
           glMultiDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(offset), count, 0);
         };
         draws(1);
@@ -1416,6 +1425,10 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   // The batches' passes (draw_batch): the same shaders, each map read
   // from the batch's buffer and drawn into its layer.
   s.layered = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string name = renderer ? renderer : "";
+  s.software = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
+               name.find("SWR") != std::string::npos || name.find("swrast") != std::string::npos;
   if (s.layered) {
     const std::string batch = std::string("#define BATCH\n") + shaders::k_caustics_batch_glsl;
     const std::string layer_vs = "#extension GL_ARB_shader_viewport_layer_array : require\n" + batch;
@@ -1690,7 +1703,8 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
       s.stats.water_triangles = s.water->triangle_count();
     }
     // A light's maps in batches (draw_batch, finished there), but for a
-    // map without planes, which draw_map clears; or map by map.
+    // map without planes, which draw_map clears, and the maps of a batch
+    // drawn now when they are fewer than kBatchMinMaps; or map by map.
     for (auto& [batch_key, b] : s.batches) {
       if (!batch || std::get<0>(batch_key) != light) continue;
       s.batch_drawn.clear();
@@ -1705,8 +1719,15 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
           s.batch_drawn.push_back(i);
         }
       }
-      if (s.batch_drawn.empty()) continue;
-      s.draw_batch(batch_key, s.batch_drawn, o);
+      if (o.map_batching == MapBatching::kAlways || s.batch_drawn.size() >= kBatchMinMaps) {
+        s.draw_batch(batch_key, s.batch_drawn, o);
+        continue;
+      }
+      for (const std::size_t i : s.batch_drawn) {
+        s.draw_map(s.maps[i], o, desc, ior);
+        s.read_counters_later(i, s.maps[i].command.get(), 32);
+        s.finish_map(s.maps[i], o);
+      }
     }
     for (std::size_t i = 0; i < s.maps.size() && !batch; ++i) {
       MapGpu& m = s.maps[i];

@@ -26,6 +26,25 @@ enum class CausticsMethod {
 };
 
 const char* to_string(CausticsMethod m);
+
+// How the level maps of a light are drawn (CausticsOptions::map_batching;
+// docs/caustics.md, "batches"). The maps of one light and one size always
+// share a texture array, a map to a layer (each map's texture is a view of
+// its layer). In a batch, one cull, one geometry pass and one draw serve
+// them all, choosing each map's layer in the vertex shader
+// (GL_ARB_shader_viewport_layer_array); without it, with a water that
+// disperses, and for the volumetric and splatting methods, maps are drawn
+// one by one. The maps agree to the rounding of the order beams are added
+// in.
+enum class MapBatching {
+  // Batches of at least 8 maps drawn in an update, on a GPU; a software
+  // rasteriser (llvmpipe) renders a layered target several times slower
+  // per fragment and draws them one by one (docs/runtime-speed.md, "A
+  // fixed number of calls").
+  kAuto,
+  kAlways,  // every batch, whatever its size and the renderer
+  kNever,   // one set of calls per map
+};
 std::optional<CausticsMethod> parse_method(const std::string& name);
 
 // Volume caustics and single scattering in media (Pfeuti; docs/volume.md).
@@ -190,15 +209,10 @@ struct CausticsOptions {
   // frame, and draw each volume only through the planes the surface under
   // it needs. Off: every volume through every plane, as the thesis did.
   bool cull = true;
-  // Beyond the thesis: the level maps of a light (kLevelMap) are drawn in
-  // a fixed number of calls whatever the number of receivers: the maps of
-  // one size share a texture array, a map to a layer (each map's texture is
-  // a view of its layer), and one cull, one geometry pass and one draw serve
-  // them all (docs/runtime-speed.md, "As the scene grows"). Needs
-  // GL_ARB_shader_viewport_layer_array; false, or a driver without it,
-  // or a water that disperses: a set of calls per map. The maps agree to
-  // the rounding of the order their beams are added in.
-  bool batch_maps = true;
+  // Beyond the thesis: the level maps of a light (kLevelMap, kUniform) in
+  // batches, a fixed number of calls whatever the number of receivers
+  // (MapBatching).
+  MapBatching map_batching = MapBatching::kAuto;
   // Photon splatting: the water is rasterised into a photons x photons
   // texture over the frame's window (plus a margin), one photon a texel.
   std::uint32_t photons = 1024;
