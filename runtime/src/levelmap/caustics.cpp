@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include "caustix/formats/frame.h"
@@ -476,8 +477,8 @@ struct CausticsEngine::Impl {
   // maps of one side and one position-map side): a batch whose maps
   // changed gets a new array, into which each map that keeps its side
   // brings its texels (every level), and each map a view of its layer.
-  // Batches no map is left in go.
-  // A map not drawn now keeps the side it has until it is.
+  // Batches no map is left in go. A map not drawn now keeps the side it
+  // has until it is.
   void arrange(std::uint32_t light, const std::vector<bool>& drawing) {
     arranged.clear();
     for (std::size_t i = 0; i < maps.size(); ++i) {
@@ -942,10 +943,12 @@ struct CausticsEngine::Impl {
   // (`drawing`), one call an array (a view's would make the whole
   // array's). Averaging keeps the mean irradiance.
   void make_mips(std::uint32_t light, const std::vector<bool>& drawing) {
-    const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
+    std::optional<gl::TimedPass> timed;
     for (const auto& [key, b] : batches) {
       if (std::get<0>(key) != light) continue;
-      if (std::any_of(b.members.begin(), b.members.end(), [&](std::size_t i) { return drawing[i]; })) glGenerateTextureMipmap(b.caustics.get());
+      if (std::none_of(b.members.begin(), b.members.end(), [&](std::size_t i) { return drawing[i]; })) continue;
+      if (!timed) timed.emplace("level maps: presence and mips", gl::PassKind::kRaster);
+      glGenerateTextureMipmap(b.caustics.get());
     }
   }
 
@@ -1171,7 +1174,6 @@ struct CausticsEngine::Impl {
     Batch& b = batches.at(key);
     const std::uint32_t side = std::get<1>(key);
     const auto size = static_cast<GLsizei>(side);
-    const auto n = static_cast<GLsizei>(which.size());
     const PositionArrays& positions = position_arrays.at({std::get<0>(key), std::get<2>(key)});
     batch_info.resize(which.size());
     bool several = false;  // some map's texels are coarser than its position map's
