@@ -17,6 +17,20 @@ struct CausticsMap {
 };
 layout(std430, binding = 11) readonly buffer BatchMaps { CausticsMap batch_maps[]; };
 
+// The frame of the map at hand, where the cull and the geometry pass of a
+// map drawn alone have their uniforms; batch_frame sets it and returns the
+// map.
+vec3 u_origin, u_U, u_V, u_W, u_half;
+CausticsMap batch_frame(uint map) {
+  CausticsMap cm = batch_maps[map];
+  u_origin = cm.origin.xyz;
+  u_U = cm.u.xyz;
+  u_V = cm.v.xyz;
+  u_W = cm.w.xyz;
+  u_half = cm.half_size.xyz;
+  return cm;
+}
+
 // The batch's command buffer (binding 6), in words: from 16, per map its
 // count of entries, overflow and entries drawn, 64 bytes apart (the
 // culls of different maps add to them at once: a cache line each); then

@@ -27,7 +27,6 @@ layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list
 // and counted in its own words (batch_counts), as a map drawn alone has.
 uniform uint u_map_base;
 layout(binding = 0) uniform sampler2DArray u_depth_tiles;  // per map, as below
-vec3 u_origin, u_U, u_V, u_W, u_half;
 vec2 u_texel;
 int g_tiles;    // the map's layer of u_depth_tiles
 uvec2 g_list;  // its part of the list
@@ -129,12 +128,7 @@ void main() {
   uint map_bits = 0u;  // the list entry's map (batch)
 #ifdef BATCH
   uint map = u_map_base + gl_WorkGroupID.y;
-  CausticsMap cm = batch_maps[map];
-  u_origin = cm.origin.xyz;
-  u_U = cm.u.xyz;
-  u_V = cm.v.xyz;
-  u_W = cm.w.xyz;
-  u_half = cm.half_size.xyz;
+  CausticsMap cm = batch_frame(map);
   u_texel = cm.texel.xy;
   g_tiles = int(cm.ints.w);
   g_planes = cm.ints.y;

@@ -31,7 +31,6 @@ layout(std430, binding = 8) writeonly buffer Primitives { vec4 prims[]; };
 #ifdef BATCH
 uniform uint u_map_base;
 // The primitive's map (caustics_batch.glsl), read from its list entry.
-vec3 u_origin, u_U, u_V, u_W, u_half;
 float u_map_size;
 #else
 uniform vec3 u_origin;
@@ -91,12 +90,7 @@ void make_primitive(uint p) {
 #ifdef BATCH
   uint map = batch_entry_map(plane_index);
   plane_index = batch_entry_plane(plane_index);
-  CausticsMap cm = batch_maps[map];
-  u_origin = cm.origin.xyz;
-  u_U = cm.u.xyz;
-  u_V = cm.v.xyz;
-  u_W = cm.w.xyz;
-  u_half = cm.half_size.xyz;
+  CausticsMap cm = batch_frame(map);
   u_map_size = cm.origin.w;
   g_planes = cm.ints.y;
   window_bits = float(map << kBatchPlaneBits);
