@@ -1721,6 +1721,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
           s.batch_drawn.push_back(i);
         }
       }
+      if (s.batch_drawn.empty()) continue;  // every map kept: no pass, no window depth
       if (o.map_batching == MapBatching::kAlways || s.batch_drawn.size() >= kBatchMinMaps) {
         s.draw_batch(batch_key, s.batch_drawn, o);
         continue;
