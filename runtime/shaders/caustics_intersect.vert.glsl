@@ -22,9 +22,11 @@ vec2 u_texels_per_metre = vec2(0.0);
 // What caustics_levelmap.frag reads of the map, once a vertex rather than
 // once a fragment: position-map texels per caustics texel, texels per
 // metre along U and W, the window (plane + 1); samples per axis, the
-// position maps' layer, the planes' offset.
+// position maps' layer, the planes' offset; the frame's half-extent
+// along V (position_code.glsl).
 flat out vec4 v_batch;
 flat out uvec3 v_batch_ints;
+flat out float v_half_v;
 #else
 uniform float u_map_size;
 #endif
@@ -57,6 +59,7 @@ void main() {
 #ifdef BATCH
   v_batch = vec4(0.0);
   v_batch_ints = uvec3(0u);
+  v_half_v = 0.0;
   if (p1.w > 0.0) {
     CausticsMap cm = batch_maps[batch_prim_map(p1.w)];
     u_map_size = cm.origin.w;
@@ -65,6 +68,7 @@ void main() {
     window = batch_prim_window(p1.w);
     v_batch = vec4(cm.u.w, cm.texel.zw, window);
     v_batch_ints = cm.ints.zwy;
+    v_half_v = cm.half_size.y;
   }
 #endif
 #ifdef TEXEL_MAP

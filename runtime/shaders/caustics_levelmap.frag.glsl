@@ -45,15 +45,17 @@ layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2DArray u_position_map;
 flat in vec4 v_batch;
 flat in uvec3 v_batch_ints;
+flat in float v_half_v;
 vec2 u_map_scale, u_texels_per_metre;
 int u_samples, g_position;
-#define POSITION(at) texelFetch(u_position_map, ivec3(at, g_position), 0).r
+#define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, g_position), 0).r, v_half_v)
 #else
-layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
+layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
+uniform float u_half_v;                                 // the frame's half-extent along V
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis: 1, or up to 4 when u_map_scale > 1
 uniform vec2 u_texels_per_metre;                        // caustics map, along U and W
-#define POSITION(at) texelFetch(u_position_map, at, 0).r
+#define POSITION(at) position_v(texelFetch(u_position_map, at, 0).r, u_half_v)
 #endif
 
 out vec4 o_irradiance;

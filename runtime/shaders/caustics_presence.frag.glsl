@@ -18,12 +18,12 @@
 #ifdef BATCH
 layout(binding = 0) uniform sampler2DArray u_position;  // every map of the batch, an instance each (caustics_batch.vert)
 flat in uint v_map;
-#define POSITION(at) texelFetch(u_position, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r
+#define PRESENT(at) !position_empty(texelFetch(u_position, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r)
 #else
-layout(binding = 0) uniform sampler2D u_position;  // nearest
+layout(binding = 0) uniform sampler2D u_position;  // nearest (position_code.glsl)
 uniform vec2 u_map_scale;                          // position-map texels per caustics-map texel
 uniform int u_samples;                             // per axis, as caustics_levelmap.frag's
-#define POSITION(at) texelFetch(u_position, at, 0).r
+#define PRESENT(at) !position_empty(texelFetch(u_position, at, 0).r)
 #endif
 uniform int u_fraction;                            // 1: the fraction of samples present; 0: whether any is
 out vec4 o_irradiance;
@@ -36,7 +36,7 @@ void main() {
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      if (POSITION(ivec2(at * u_map_scale)) > -1.0e29) present += 1.0;
+      if (PRESENT(ivec2(at * u_map_scale))) present += 1.0;
     }
   }
   present /= float(u_samples * u_samples);

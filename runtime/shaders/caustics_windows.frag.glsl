@@ -27,12 +27,13 @@
 layout(binding = 0) uniform sampler2DArray u_position_map;
 flat in uint v_map;
 out vec4 o_irradiance;
-#define POSITION(at) texelFetch(u_position_map, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r
+#define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r, batch_maps[v_map].half_size.y)
 #else
-layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface; -1e30 where none
+layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
+uniform float u_half_v;                                 // the frame's half-extent along V
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis, as caustics_levelmap.frag's
-#define POSITION(at) texelFetch(u_position_map, at, 0).r
+#define POSITION(at) position_v(texelFetch(u_position_map, at, 0).r, u_half_v)
 #endif
 layout(std430, binding = 6) buffer Command { uint cmd[]; };  // caustics_fixup.comp's layout
 

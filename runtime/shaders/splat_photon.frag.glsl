@@ -1,5 +1,6 @@
 // Mihalik 2008 ch. 8 (GPU variant) / §9.2: the water surface rasterised along
-// the frame's V (prefixed with #version and caustix.glsl's optics); each fragment is a
+// the frame's V (prefixed with #version, caustix.glsl's optics and
+// position_code.glsl); each fragment is a
 // photon. It stores where the refracted photon meets the receiver's first
 // surface (the caustics map's uv, R and G) and the irradiance it adds to that
 // texel (B): E_in cos(theta_i) T(theta_i) times the surface patch the
@@ -25,7 +26,7 @@ uniform float u_ior;
 uniform float u_pixel_area;  // of a photon-texture pixel, in the frame's U-W plane (m^2)
 uniform float u_texel_area;  // of a caustics-map texel (m^2)
 uniform float u_tolerance;   // how far a landing may lie off the position map's surface (m)
-layout(binding = 0) uniform sampler2D u_position_map;
+layout(binding = 0) uniform sampler2D u_position_map;  // the first surface's frame V, coded
 
 out uvec4 o_photon;
 
@@ -50,13 +51,13 @@ void main() {
   // frame's far side.
   float s = 0.0;
   for (int k = 0; k < 6; ++k) {
-    float v = texture(u_position_map, uv_of(c + s * ct)).r;
+    float v = position_v(texture(u_position_map, uv_of(c + s * ct)).r, u_half.y);
     s = max((max(v, -u_half.y) - c.y) / ct.y, 0.0);
   }
   vec3 hit = c + s * ct;
   vec2 uv = uv_of(hit);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return;
-  float v = texture(u_position_map, uv).r;
+  float v = position_v(texture(u_position_map, uv).r, u_half.y);
   if (v < -u_half.y * 2.0 - 1.0 || abs(v - hit.y) > u_tolerance) return;  // no surface there, or not converged
   float flux = e_in * cos_i * caustix_fresnel_transmittance(cos_i, u_ior) * u_pixel_area / max(abs(dot(n, u_V)), 1e-3);
   o_photon = uvec4(floatBitsToUint(uv), floatBitsToUint(flux / u_texel_area), packHalf2x16(ct.xz / ct.y));

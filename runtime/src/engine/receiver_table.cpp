@@ -72,14 +72,15 @@ ReceiverTable::Product made_by(int k) {
 
 GLenum default_format(int k) {
   if (is_depth(k)) return GL_DEPTH_COMPONENT16;
-  if (k == kPosition) return GL_R32F;
+  if (k == kPosition) return GL_R16;
   if (k == kShadowVsm || k == kGlassShadowVsm) return GL_RG32F;
   return GL_RGBA32F;
 }
 
 std::uint64_t texel_bytes(GLenum format) {
   switch (format) {
-    case GL_DEPTH_COMPONENT16: return 2;
+    case GL_DEPTH_COMPONENT16:
+    case GL_R16: return 2;
     case GL_R32F:
     case GL_DEPTH_COMPONENT24:
     case GL_DEPTH_COMPONENT32F: return 4;

@@ -189,4 +189,23 @@ void StateGuard::restore() const {
   }
 }
 
+namespace {
+constexpr std::array<GLenum, 5> kUnpack = {GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS,
+                                           GL_PIXEL_UNPACK_BUFFER_BINDING};
+}  // namespace
+
+ClientUnpack::ClientUnpack(GLint alignment) {
+  for (std::size_t i = 0; i < kUnpack.size(); ++i) glGetIntegerv(kUnpack[i], &saved_[i]);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+  glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+}
+
+ClientUnpack::~ClientUnpack() {
+  for (std::size_t i = 0; i + 1 < kUnpack.size(); ++i) glPixelStorei(kUnpack[i], saved_[i]);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(saved_.back()));
+}
+
 }  // namespace caustix::runtime::gl

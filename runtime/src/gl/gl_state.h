@@ -74,6 +74,21 @@ class StateGuard {
   friend void note_texture_deleted(GLuint name);
 };
 
+// Uploads from client memory, rows packed to `alignment` bytes, whatever
+// the application left in the unpack state: sets it (alignment, no row
+// length or skips, no unpack buffer) and puts the application's back on
+// destruction.
+class ClientUnpack {
+ public:
+  explicit ClientUnpack(GLint alignment);
+  ~ClientUnpack();
+  ClientUnpack(const ClientUnpack&) = delete;
+  ClientUnpack& operator=(const ClientUnpack&) = delete;
+
+ private:
+  std::array<GLint, 5> saved_{};
+};
+
 // gl::delete_texture calls it: a texture an engine call deletes (a product
 // reallocated, bind_all()'s arrays laid out anew) may be the caller's
 // binding that a guard saved; binding a deleted name is an error, so the

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 
+#include "gl_state.h"
+
 namespace caustix::runtime {
 namespace {
 
@@ -23,14 +25,7 @@ SurfaceTextures upload_surface_textures(const SceneDesc& scene) {
   out.maps.assign(scene.objects.size(), {0, 0, 0, 0});
   // Rows of 4-byte texels from the start of client memory, whatever the
   // application left in the unpack state.
-  GLint saved[5] = {};
-  const GLenum names[5] = {GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_PIXEL_UNPACK_BUFFER_BINDING};
-  for (int i = 0; i < 5; ++i) glGetIntegerv(names[i], &saved[i]);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
-  glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
-  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+  const gl::ClientUnpack unpack(4);
   const bool anisotropic = epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") ||
                            epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic");
 
@@ -75,11 +70,6 @@ SurfaceTextures upload_surface_textures(const SceneDesc& scene) {
       if (*slots[k].first) out.maps[i][k] = upload(**slots[k].first, slots[k].second);
     }
   }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, saved[0]);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, saved[1]);
-  glPixelStorei(GL_UNPACK_SKIP_ROWS, saved[2]);
-  glPixelStorei(GL_UNPACK_SKIP_PIXELS, saved[3]);
-  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(saved[4]));
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "caustix/formats/frame.h"
 #include "caustix/formats/slicing.h"
+#include "gl_state.h"
 #include "pass_timer.h"
 #include "readback.h"
 #include "shader_text.h"
@@ -17,7 +18,6 @@
 namespace caustix::runtime {
 namespace {
 
-constexpr float kEmptyV = -1.0e30f;  // position map value where there is no surface
 constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile side
 // Most primitives one map may list: 4 M ((volume, plane) pairs; 352 MB with
 // their geometry).
@@ -573,6 +573,7 @@ struct CausticsEngine::Impl {
     profile.use();
     profile.set("u_mode", 1);
     profile.set("u_tile", static_cast<int>(kTileTexels));
+    profile.set("u_half_v", m.lm->frame.half[1]);
     glBindTextureUnit(0, m.position_map.get());
     glBindImageTexture(0, m.depth_tiles.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
@@ -592,7 +593,7 @@ struct CausticsEngine::Impl {
 
   // Everything a map holds: its textures and what the bake sized.
   static std::uint64_t bytes_of(const MapGpu& m) {
-    const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 4;
+    const std::uint64_t pm = std::uint64_t{m.lm->map_size} * m.lm->map_size * 2;
     const std::uint64_t tiles = pm / (kTileTexels * kTileTexels) * 2;
     const std::uint64_t profile = 4 * m.lm->histogram.size() + kPlanesBytes;
     return pm + texture_bytes(m) + tiles + profile + static_cast<std::uint64_t>(kCommandBytes);
@@ -1088,6 +1089,7 @@ struct CausticsEngine::Impl {
         windows.use();
         windows.set("u_map_scale", glm::vec2(scale));
         windows.set("u_samples", samples);
+        windows.set("u_half_v", f.half[1]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
         glBindVertexArray(empty_vao.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -1100,6 +1102,7 @@ struct CausticsEngine::Impl {
       glBlendFunc(GL_ONE, GL_ONE);
       levelmap.set("u_map_scale", glm::vec2(scale));
       levelmap.set("u_samples", samples);
+      levelmap.set("u_half_v", f.half[1]);
       levelmap.set("u_texels_per_metre", glm::vec2(static_cast<float>(m.caustics_size) / (2 * f.half[0]),
                                                    static_cast<float>(m.caustics_size) / (2 * f.half[2])));
       // With one sample a texel every texel is one plane's: the second
@@ -1398,12 +1401,16 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.draw_object = std::move(draw_object);
   s.model_of = std::move(model_of);
   const std::string coverage = std::string("#version 450 core\n") + shaders::k_caustics_coverage_glsl;
-  const std::string splat_fs = with_optics(shaders::k_splat_photon_frag_glsl);
+  // The passes that read a position map decode it (position_code.glsl).
+  const std::string code = shaders::k_position_code_glsl;
+  const std::string splat_fs = with_optics((code + shaders::k_splat_photon_frag_glsl).c_str());
   const std::string levelmap_vs =
       insert_after_version(shaders::k_caustics_intersect_vert_glsl, "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
-  const std::string levelmap_fs = coverage + shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
+  const std::string levelmap_fs = coverage + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
   const std::string windows_fs =
-      std::string("#version 450 core\n") + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
+      std::string("#version 450 core\n") + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
+  const std::string presence_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, code);
+  const std::string profile_src = std::string("#version 450 core\n") + code + shaders::k_profile_comp_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   const std::string cull_src = insert_after_version(shaders::k_caustics_cull_comp_glsl, shaders::k_caustics_windows_glsl);
@@ -1416,12 +1423,12 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
        {&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
        {&s.combine, "volumetric_combine", shaders::k_fullscreen_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
-       {&s.presence, "caustics_presence", shaders::k_fullscreen_vert_glsl, shaders::k_caustics_presence_frag_glsl},
+       {&s.presence, "caustics_presence", shaders::k_fullscreen_vert_glsl, presence_fs.c_str()},
        {&s.prepare, "caustics_prepare", prepare_src.c_str()},
        {&s.cull, "caustics_cull", cull_src.c_str()},
        {&s.fixup, "caustics_fixup", shaders::k_caustics_fixup_comp_glsl},
        {&s.geometry, "caustics_geometry", geometry_src.c_str()},
-       {&s.profile, "profile", shaders::k_profile_comp_glsl},
+       {&s.profile, "profile", profile_src.c_str()},
        {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl},
        {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl}}));
   // The batches' passes (draw_batch): the same shaders, each map read
@@ -1439,12 +1446,12 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
         insert_after_version(shaders::k_caustics_geometry_comp_glsl, batch + shaders::k_caustics_windows_glsl);
     const std::string levelmap_batch_vs =
         insert_after_version(shaders::k_caustics_intersect_vert_glsl, layer_vs + "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
-    const std::string levelmap_batch_fs = std::string("#version 450 core\n") + batch + shaders::k_caustics_coverage_glsl +
+    const std::string levelmap_batch_fs = std::string("#version 450 core\n") + batch + shaders::k_caustics_coverage_glsl + code +
                                           shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
     const std::string quad_vs = std::string("#version 450 core\n") + layer_vs + shaders::k_caustics_batch_vert_glsl;
     const std::string windows_batch_fs =
-        std::string("#version 450 core\n") + batch + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
-    const std::string presence_batch_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, batch);
+        std::string("#version 450 core\n") + batch + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
+    const std::string presence_batch_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, batch + code);
     const std::string fixup_batch = insert_after_version(shaders::k_caustics_batch_fixup_comp_glsl, batch);
     CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
         {{&s.levelmap_batch, "caustics_levelmap (batch)", levelmap_batch_vs.c_str(), levelmap_batch_fs.c_str()},
@@ -1477,11 +1484,12 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   s.maps.resize(maps.size());
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> layers;
   for (std::size_t i = 0; i < maps.size(); ++i) s.maps[i].position_layer = layers[{maps[i].light, maps[i].map_size}]++;
+  const gl::ClientUnpack unpack(2);  // the codes' rows: 2 bytes a texel, packed (odd sides too)
   for (const auto& [key, count] : layers) {
     const auto ps = static_cast<GLsizei>(key.second), nt = static_cast<GLsizei>((key.second + kTileTexels - 1) / kTileTexels);
     Impl::PositionArrays& a = s.position_arrays[key];
     a.positions = gl::make_texture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(a.positions.get(), 1, GL_R32F, ps, ps, static_cast<GLsizei>(count));
+    glTextureStorage3D(a.positions.get(), 1, GL_R16, ps, ps, static_cast<GLsizei>(count));
     gl::set_sampling(a.positions.get(), GL_NEAREST);
     a.tiles = gl::make_texture(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(a.tiles.get(), 1, GL_RG32F, nt, nt, static_cast<GLsizei>(count));
@@ -1492,18 +1500,13 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     LevelMap& lm = maps[i];
     m.lm = &lm;
     m.planes_offset = s.planes_stride * static_cast<GLintptr>(i);
-    // Position map as frame V per texel (the baked 16-bit depth decoded).
-    std::vector<float> v(lm.depth.size());
-    for (std::size_t k = 0; k < v.size(); ++k) {
-      const std::uint16_t q = lm.depth[k];
-      v[k] = q == kEmptyDepth ? kEmptyV
-                              : static_cast<float>(lm.frame.half[1] - static_cast<double>(q) / kDepthQuantum * 2.0 * lm.frame.half[1]);
-    }
+    // Position map: the baked 16-bit codes of frame V as they are
+    // (position_code.glsl decodes them).
     const Impl::PositionArrays& a = s.position_arrays.at({lm.light, lm.map_size});
-    m.position_map = gl::make_view(GL_TEXTURE_2D, a.positions.get(), GL_R32F, 0, 1, m.position_layer, 1);
+    m.position_map = gl::make_view(GL_TEXTURE_2D, a.positions.get(), GL_R16, 0, 1, m.position_layer, 1);
     m.depth_tiles = gl::make_view(GL_TEXTURE_2D, a.tiles.get(), GL_RG32F, 0, 1, m.position_layer, 1);
     const auto ps = static_cast<GLsizei>(lm.map_size);
-    glTextureSubImage2D(m.position_map.get(), 0, 0, 0, ps, ps, GL_RED, GL_FLOAT, v.data());
+    glTextureSubImage2D(m.position_map.get(), 0, 0, 0, ps, ps, GL_RED, GL_UNSIGNED_SHORT, lm.depth.data());
     gl::set_sampling(m.position_map.get(), GL_NEAREST);
     s.build_depth_tiles(m);
     m.command = gl::make_buffer();
@@ -1553,7 +1556,7 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
     m.unlit = !dir;
     if (!dir) {
       // The light no longer reaches it through the water: an empty map.
-      glClearTexImage(m.position_map.get(), 0, GL_RED, GL_FLOAT, &kEmptyV);
+      glClearTexImage(m.position_map.get(), 0, GL_RED, GL_UNSIGNED_SHORT, &kEmptyDepth);
       const float empty[2] = {1e30f, -1e30f};
       glClearTexImage(m.depth_tiles.get(), 0, GL_RG, GL_FLOAT, empty);
       return;
@@ -1580,7 +1583,7 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
     timed_position.emplace("level maps: position maps", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.position_fbo.get());
     glViewport(0, 0, size, size);
-    const float empty[4] = {kEmptyV, 0, 0, 0};
+    const float empty[4] = {1, 0, 0, 0};  // kEmptyDepth's code
     glClearNamedFramebufferfv(m.position_fbo.get(), GL_COLOR, 0, empty);
     const float far_depth = 1.0f;
     glClearNamedFramebufferfv(m.position_fbo.get(), GL_DEPTH, 0, &far_depth);
@@ -1591,6 +1594,7 @@ void CausticsEngine::Impl::rederive_map(MapGpu& m, const std::vector<Light>& lig
     s.slab.use();
     set_frame(s.slab, f);
     s.slab.set("u_write_depth", 1);
+    s.slab.set("u_half_v", f.half[1]);
     s.slab.set("u_near", f.half[1] * 1.0001f);
     s.slab.set("u_far", -f.half[1] * 1.0001f);
     s.slab.set("u_model", model);

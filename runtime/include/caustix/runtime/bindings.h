@@ -25,7 +25,7 @@ struct Bindings {
   unsigned shadow_2d = 4;           // sampler2DShadow: the light's shadow map (directional)
   unsigned shadow_cube = 5;         // samplerCubeShadow: the light's shadow map (point)
   unsigned caustics = 6;            // sampler2D RGBA32F: the caustics map (irradiance, direction; A: the receiver's presence, divided out; caustix.glsl)
-  unsigned position = 7;            // sampler2D R32F: the receiver's position map
+  unsigned position = 7;            // sampler2D R16: the receiver's position map (its first surface's v, coded as the bake's LMAP depth; caustix.glsl decodes it)
   unsigned glass_illumination = 8;  // sampler2DArray RGBA32F: glass illumination textures
   unsigned glass_target = 9;        // sampler2D RGBA32F: the receiver seen from the glass's virtual camera
   unsigned glass_shadow_2d = 10;    // sampler2DShadow: the glass's own shadow map (directional)
@@ -147,8 +147,8 @@ struct ReceiverLighting {
   // The block's frames as matrices: world (x, y, z, 1) -> (s, t, v, 1), with
   // (s, t) the texture coordinate of the caustics and position maps (of the
   // glass textures), in [0, 1] over the region they cover, and v the
-  // coordinate along V in metres (what the position map and the glass
-  // planes hold). Identity where the mode does not use them. The caustic
+  // coordinate along V in metres (what the position map codes and the
+  // glass planes hold). Identity where the mode does not use them. The caustic
   // map's t covers [0, cmap_w.w): its main map, below a focus window.
   glm::mat4 world_to_caustics{1.0f};
   glm::mat4 world_to_glass{1.0f};

@@ -187,7 +187,7 @@ layout(std140, binding = CAUSTIX_BINDING_BLOCK) uniform CAUSTIX_BLOCK_NAME { Cau
 layout(binding = CAUSTIX_UNIT_SHADOW_2D) uniform sampler2DShadow caustix_shadow_2d;
 layout(binding = CAUSTIX_UNIT_SHADOW_CUBE) uniform samplerCubeShadow caustix_shadow_cube;
 layout(binding = CAUSTIX_UNIT_CAUSTICS) uniform sampler2D caustix_caustics_map;  // irradiance on planes perpendicular to V, and its direction
-layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // frame V of the first surface
+layout(binding = CAUSTIX_UNIT_POSITION) uniform sampler2D caustix_position_map;  // the first surface's frame V, coded (caustix_irradiance_from_light)
 layout(binding = CAUSTIX_UNIT_CAUSTICS_COLOR) uniform sampler2D caustix_caustics_color;  // irradiance per RGB channel (dispersion)
 // Glass (Iwasaki et al. §4.3): the receiver's illumination textures for this
 // light, on planes perpendicular to glass_v: the mean transmitted direction
@@ -461,7 +461,10 @@ vec3 caustix_irradiance_from_light(vec3 p, vec3 n) {
     vec3 c = vec3(dot(rel, caustix_light.frame_u.xyz), dot(rel, caustix_light.frame_v.xyz), dot(rel, caustix_light.frame_w.xyz));
     vec2 uv = 0.5 * (c.xz / caustix_light.frame_half.xyz.xz + 1.0);
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
-    float front = caustix_fetch_position(uv);
+    // The position map holds the baker's 16-bit code of the first
+    // surface's V (R16: code / 65535; 1 where there is none, which decodes
+    // below every point of the frame).
+    float front = caustix_light.frame_half.y - caustix_fetch_position(uv) * (2.0 * caustix_light.frame_half.y * (65535.0 / 65534.0));
     float cos_t = max(dot(n, caustix_light.frame_v.xyz), 0.0);
     // Behind its own first surface? The map holds the depth at its texel's
     // centre; within the texel a surface tilted against V departs from it by
