@@ -261,8 +261,9 @@ LookupError lookup_error(sample::Renderer& r, const Camera& cam, int w, int h, W
 // far from the camera). With the iteration going on until its miss is
 // under half a texel (WaterLook::max_steps), then a coarse march where it
 // still has not, the lookups that land more than 2 texels from the exact
-// march's fall from 30.7 % of the water's pixels to 5.5 % (measured; the
-// test: from over 20 % to under 8 %). What remains are rays with several
+// march's fall from 30.7 % of the water's pixels to 3.1 % (measured, with
+// the march's steps spanning the ray's run inside the frustum; 5.5 %
+// before; the test: from over 20 % to under 5 %). What remains are rays with several
 // crossings, where the iteration settles on a later one.
 TEST_F(Water, ConvergedIterationRemovesTheGrazingSeam) {
   auto r = test::bake_and_create(test::kScenes + "wavy_pool.json");
@@ -278,7 +279,7 @@ TEST_F(Water, ConvergedIterationRemovesTheGrazingSeam) {
   ::testing::Test::RecordProperty("fixed_over_2", std::to_string(fixed.over_2_texels));
   ::testing::Test::RecordProperty("converged_over_2", std::to_string(converged.over_2_texels));
   EXPECT_GT(fixed.over_2_texels, 0.20) << "the statistic sees the seam";
-  EXPECT_LT(converged.over_2_texels, 0.08);
+  EXPECT_LT(converged.over_2_texels, 0.05);
 }
 
 // Stair steps: the straight near edge of the dark plate of

@@ -62,13 +62,38 @@ float view_z(vec2 uv) {
   return -u_refr_depth_ab.y / ((2.0 * d - 1.0) + u_refr_depth_ab.x);
 }
 
+// How far the ray u + s r runs inside the refraction camera's frustum (its
+// four sides and its far plane), beyond which the depth texture saw
+// nothing: in clip space each bound is linear in s, f0 + s f1 >= 0.
+float frustum_exit(vec3 u, vec3 r) {
+  vec4 c0 = u_refr_proj * vec4(u, 1.0), c1 = u_refr_proj * vec4(r, 0.0);
+  float s = 1e30;
+  vec4 f0 = vec4(c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y);
+  vec4 f1 = vec4(c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y);
+  for (int k = 0; k < 4; ++k) {
+    if (f1[k] < 0.0) s = min(s, max(f0[k], 0.0) / -f1[k]);
+  }
+  if (c1.w - c1.z < 0.0) s = min(s, max(c0.w - c0.z, 0.0) / (c1.z - c1.w));
+  return s;
+}
+
 // The reference for the W/A iteration: march the same ray through the same
 // depth texture in steps of 1/`divisions` of the depth under U (at most
 // `limit` of them), then bisect `bisections` times. The W/A iteration falls
-// back on a coarse one where it has not converged.
-vec3 march_lookup(vec3 u, vec3 r, int divisions, int limit, int bisections) {
+// back on a coarse one where it has not converged: `span` > 0 makes its
+// steps at least 1/`span` of the ray's run inside the frustum and ends the
+// march where the ray leaves it. (A ray that leaves the floor's edge for
+// the empty background beyond, wavy_pool's water outside its floor, took
+// up to 512 steps of a fifth of a metre; 90 % of the view's depth reads
+// went to the quarter of its pixels that fell back.)
+vec3 march_lookup(vec3 u, vec3 r, int divisions, int limit, int bisections, int span) {
   float dv = length(u * (view_z(refr_uv(u)) / u.z) - u);
   float ds = max(dv, 1e-4) / float(divisions);
+  float run = span > 0 ? frustum_exit(u, r) : 1e30;
+  if (run < 1e29) {
+    ds = max(ds, run / float(span));
+    limit = min(limit, int(ceil(run / ds)) + 1);
+  }
   float s0 = 0.0, s1 = -1.0;
   for (int i = 1; i <= limit; ++i) {
     vec3 p = u + float(i) * ds * r;
@@ -88,7 +113,7 @@ vec3 march_lookup(vec3 u, vec3 r, int divisions, int limit, int bisections) {
   return u + s1 * r;
 }
 
-vec3 exact_lookup(vec3 u, vec3 r) { return march_lookup(u, r, 256, 8192, 24); }
+vec3 exact_lookup(vec3 u, vec3 r) { return march_lookup(u, r, 256, 8192, 24, 0); }
 
 // §7.1: where the ray u + s r (refraction-camera view space) meets the
 // depth texture. Returns W (xyz) and |A - W| (w); a_out is A, the point of
@@ -135,7 +160,7 @@ vec4 wa_iteration(vec3 u, vec3 r, int steps, int max_steps, out vec3 a_out) {
   // Not converged within max_steps (rays that graze the floor far away,
   // or pass a depth edge): a coarse march with bisection instead.
   if (max_steps > steps && best > 0.5 * texel * abs(w_best.z)) {
-    vec3 w = march_lookup(u, r, 16, 512, 10);
+    vec3 w = march_lookup(u, r, 16, 512, 10, 64);
     if (w.z < -1e-6) {
       vec3 a = w * (view_z(refr_uv(w)) / w.z);
       float miss = length(a - w);
