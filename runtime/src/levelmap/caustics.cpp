@@ -61,8 +61,12 @@ constexpr int kMaxCoarsenSteps = 52;
 // need and the memory budget"): a 1 m sphere under sphere_waves' sine wave
 // at 9.4 mm pixels, fold pixels 5.6 % at 512^2, 5.7 % at 256^2, 8.2 % at
 // 128^2 (its need at the floor's texel); default's block at 256^2, 5.7 ->
-// 7.5 %. So every map keeps map_size until the budget asks.
+// 7.5 %. So every map keeps map_size until the budget asks, but no map
+// keeps more than kLeastOverNeed times its need a side: the sphere's and
+// the block's 512^2 are 4x theirs, while a pebble beside the floor
+// (need 24) takes 96^2 rather than 512^2, whatever room the budget leaves.
 constexpr double kLeastShare = 1.0;
+constexpr double kLeastOverNeed = 4.0;
 
 // The sides a caustics map may take: 16 * 2^(k/2) rounded up to a
 // multiple of 8 (16, 24, 32, 48, 64, 96, 128, 184, 256, 368, 512, ...), so
@@ -655,8 +659,9 @@ struct CausticsEngine::Impl {
   // memory_budget): per light one texel size in metres -- texel_size, or
   // the largest lit extent of the light's maps over map_size -- and each
   // map the side its frame needs at it (ladder_side), at least
-  // kLeastShare of map_size (with the texel from map_size) and at most
-  // map_size (or kMaxRuntimeMapSize with texel_size). Where the light side
+  // kLeastShare of map_size (with the texel from map_size) but not above
+  // kLeastOverNeed times its need, and at most map_size (or
+  // kMaxRuntimeMapSize with texel_size). Where the light side
   // would then hold more than the budget, it steps down by 2^(1/4) at a
   // time: first that least side, towards the maps' own need (small
   // receivers give up the texels they have beyond the floor's density),
@@ -699,7 +704,7 @@ struct CausticsEngine::Impl {
         std::uint32_t side = 0;
         if (lit[i] > 0.0 && texel > 0.0) {
           const double need = 2.0 * std::max(m.lm->frame.half[0], m.lm->frame.half[2]) / texel;
-          side = std::min(cap, ladder_side(std::max(need, floor_side)));
+          side = std::min(cap, ladder_side(std::max(need, std::min(floor_side, kLeastOverNeed * need))));
         }
         bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral, batching(o, spectral)));
         if (sides) (*sides)[i] = side;
