@@ -7,4 +7,9 @@ in float v_depth;
 uniform int u_write_depth;
 uniform float u_half_v;
 out float o_value;
-void main() { o_value = u_write_depth != 0 ? (u_half_v - v_depth) / (2.0 * u_half_v) * (65534.0 / 65535.0) : 1.0; }
+// Clamped as the baker clamps: a flat receiver's frame is a few
+// micrometres tall, and a surface point's V rounded past its side must not
+// come out as 65535, no surface.
+void main() {
+  o_value = u_write_depth != 0 ? clamp((u_half_v - v_depth) / (2.0 * u_half_v), 0.0, 1.0) * (65534.0 / 65535.0) : 1.0;
+}
