@@ -183,10 +183,11 @@ struct CausticsOptions {
   // (> 0) every map takes the side its frame needs at it (up to
   // kMaxRuntimeMapSize). Else the texel is the light's largest lit extent
   // (the part of a receiver's frame the water's light can reach) over
-  // map_size, and every map keeps map_size a side unless the budget below
+  // map_size, and every map keeps map_size a side, or four times what its
+  // frame needs at that texel where that is less, unless the budget below
   // needs texels: then small receivers give theirs up first, down to
-  // what their frame needs at that texel. A receiver the water's light
-  // cannot reach gets no map.
+  // what their frame needs. A receiver the water's light cannot reach
+  // gets no map.
   std::uint32_t map_size = 512;
   float texel_size = 0.0f;              // metres; 0: from map_size as above
   // GPU memory the light side may hold (every effect's textures and
