@@ -1416,6 +1416,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
       std::string("#version 450 core\n") + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
   const std::string presence_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, code);
   const std::string profile_src = std::string("#version 450 core\n") + code + shaders::k_profile_comp_glsl;
+  const std::string slab_fs = std::string("#version 450 core\n") + code + shaders::k_slab_frag_glsl;
   const std::string volumetric_fs = coverage + shaders::k_caustics_volumetric_frag_glsl;
   const std::string prepare_src = with_optics(shaders::k_caustics_prepare_comp_glsl);
   const std::string cull_src = insert_after_version(shaders::k_caustics_cull_comp_glsl, shaders::k_caustics_windows_glsl);
@@ -1424,7 +1425,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
       {{&s.levelmap, "caustics_levelmap", levelmap_vs.c_str(), levelmap_fs.c_str()},
        {&s.windows, "caustics_windows", shaders::k_fullscreen_vert_glsl, windows_fs.c_str()},
        {&s.volumetric, "caustics_volumetric", shaders::k_caustics_intersect_vert_glsl, volumetric_fs.c_str()},
-       {&s.slab, "slab", shaders::k_slab_vert_glsl, shaders::k_slab_frag_glsl},
+       {&s.slab, "slab", shaders::k_slab_vert_glsl, slab_fs.c_str()},
        {&s.splat_photon, "splat_photon", shaders::k_water_vert_glsl, splat_fs.c_str()},
        {&s.splat_points, "splat_points", shaders::k_splat_points_vert_glsl, shaders::k_splat_points_frag_glsl},
        {&s.combine, "volumetric_combine", shaders::k_fullscreen_vert_glsl, shaders::k_volumetric_combine_frag_glsl},
