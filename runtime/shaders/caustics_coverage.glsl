@@ -1,7 +1,7 @@
 // Shared by the caustics fragment shaders (prefixed with #version): the
-// exact area of the intersection triangle inside this fragment's texel, by
-// clipping the texel square against the triangle's three edges
-// (Sutherland-Hodgman; at most 7 vertices).
+// exact area of the intersection triangle inside this fragment's texel,
+// and its centroid, from the triangle's three edges by Green's theorem
+// (edge_moments).
 // PRIM_STRIDE: vec4s per primitive (5 for water caustics, 6 for glass).
 #ifndef PRIM_STRIDE
 #define PRIM_STRIDE 5
@@ -109,12 +109,46 @@ float sliver_coverage(vec2 a, vec2 b, vec2 c) {
   return sqrt(len2) * (tent_integral(t1, tc, h) - tent_integral(t0, tc, h));
 }
 
+// One edge a -> b's share of the area and first moments of a polygon's
+// part inside the texel [0, 1]^2 (Green's theorem): with F(y) = clamp(y, 0,
+// 1) and x taken only within [0, 1], a counter-clockwise boundary gives
+//   area = -sum of  int F(y) dx,   int x dA = -sum of  int x F(y) dx,
+//   int y dA = -sum of  int F(y)^2 / 2 dx
+// over its edges. An edge's integrals depend on its ends alone and vary
+// continuously with them, so a vertex on or near a texel line cannot make
+// two edges disagree. Split where y crosses 0 and 1, F(y) is linear along
+// each piece (ends (xs, cs) and (xe, ce)), and the integrals are exact:
+//   (xe - xs)(cs + ce) / 2,  (xe - xs)(2 cs xs + cs xe + ce xs + 2 ce xe) / 6,
+//   (xe - xs)(cs^2 + cs ce + ce^2) / 6.
+// Returns (area, x moment, y moment) as the sums' terms, before the sign.
+vec3 edge_piece(vec2 p, vec2 q) {
+  float dx = q.x - p.x;
+  vec2 c = clamp(vec2(p.y, q.y), 0.0, 1.0);
+  return dx * vec3(0.5 * (c.x + c.y), (2.0 * c.x * p.x + c.x * q.x + c.y * p.x + 2.0 * c.y * q.x) / 6.0,
+                   (c.x * c.x + c.x * c.y + c.y * c.y) / 6.0);
+}
+
+vec3 edge_moments(vec2 a, vec2 b) {
+  float dx = b.x - a.x;
+  if (dx == 0.0) return vec3(0.0);
+  // The part with x in [0, 1], its ends at x exactly 0 or 1 where clipped.
+  float xs = clamp(a.x, 0.0, 1.0), xe = clamp(b.x, 0.0, 1.0);
+  if (xs == xe) return vec3(0.0);
+  vec2 p = vec2(xs, mix(a.y, b.y, (xs - a.x) / dx)), q = vec2(xe, mix(a.y, b.y, (xe - a.x) / dx));
+  // Where y crosses 0 and 1 along p -> q.
+  float dy = q.y - p.y;
+  vec2 u = dy != 0.0 ? clamp(vec2(-p.y, 1.0 - p.y) / dy, 0.0, 1.0) : vec2(0.0);
+  float u0 = min(u.x, u.y), u1 = max(u.x, u.y);
+  vec2 r0 = mix(p, q, u0), r1 = mix(p, q, u1);
+  return edge_piece(p, r0) + edge_piece(r0, r1) + edge_piece(r1, q);
+}
+
 // Everything below is computed relative to the texel's corner, so that the
-// clipped polygon's coordinates lie in [0, 1]: with absolute texel
-// coordinates (up to the map size) the shoelace sum cancelled products of
-// ~10^7 (4096^2 maps) to ~10^8 (8192^2) down to an area below 1, and the
-// rounding, with max(twice, 0) dropping the negative half, lit texels along
-// triangle edges up to +30 % (docs/robustness.md).
+// integrals' terms are of order 1: with absolute texel coordinates (up to
+// the map size) the shoelace sum of the clipped polygon this once built
+// cancelled products of ~10^7 (4096^2 maps) to ~10^8 (8192^2) down to an
+// area below 1, and the rounding, with max(twice, 0) dropping the negative
+// half, lit texels along triangle edges up to +30 % (docs/robustness.md).
 // `shift` moves the triangle by that many texels first.
 float texel_coverage_shifted(vec2 shift) {
   vec2 lo = floor(gl_FragCoord.xy) - shift;
@@ -132,46 +166,25 @@ float texel_coverage_shifted(vec2 shift) {
     }
   }
   g_centroid = lo + vec2(0.5);
-  vec2 tri[3] = vec2[3](q0, q1, q2);
-  if (cross2(q1 - q0, q2 - q0) < 0.0) tri = vec2[3](q0, q2, q1);  // counter-clockwise
+  float twice = cross2(q1 - q0, q2 - q0);
+  if (twice == 0.0) return 0.0;
   // Fast paths: the texel wholly inside every edge, or wholly outside one.
+  float s = sign(twice);
   bool inside = true;
   for (int e = 0; e < 3; ++e) {
-    vec2 a = tri[e], d = tri[(e + 1) % 3] - a;
-    float s0 = cross2(d, -a), s1 = cross2(d, vec2(1, 0) - a);
-    float s2 = cross2(d, vec2(1, 1) - a), s3 = cross2(d, vec2(0, 1) - a);
-    if (max(max(s0, s1), max(s2, s3)) < 0.0) return 0.0;
-    inside = inside && min(min(s0, s1), min(s2, s3)) >= 0.0;
+    vec2 a = e == 0 ? q0 : e == 1 ? q1 : q2, d = (e == 0 ? q1 : e == 1 ? q2 : q0) - a;
+    vec4 c = s * vec4(cross2(d, -a), cross2(d, vec2(1, 0) - a), cross2(d, vec2(1, 1) - a), cross2(d, vec2(0, 1) - a));
+    if (max(max(c.x, c.y), max(c.z, c.w)) < 0.0) return 0.0;
+    inside = inside && min(min(c.x, c.y), min(c.z, c.w)) >= 0.0;
   }
   if (inside) return 1.0;
-  vec2 poly[8];
-  poly[0] = vec2(0.0, 0.0);
-  poly[1] = vec2(1.0, 0.0);
-  poly[2] = vec2(1.0, 1.0);
-  poly[3] = vec2(0.0, 1.0);
-  int n = 4;
-  for (int e = 0; e < 3 && n > 0; ++e) {
-    vec2 a = tri[e], d = tri[(e + 1) % 3] - a;
-    vec2 next[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      vec2 p = poly[i], q = poly[(i + 1) % n];
-      float sp = cross2(d, p - a), sq = cross2(d, q - a);  // >= 0: inside (left of the edge)
-      if (sp >= 0.0) next[m++] = p;
-      if ((sp >= 0.0) != (sq >= 0.0)) next[m++] = p + (q - p) * (sp / (sp - sq));
-    }
-    for (int i = 0; i < m; ++i) poly[i] = next[i];
-    n = m;
-  }
-  float twice = 0.0;
-  vec2 moment = vec2(0.0);
-  for (int i = 0; i < n; ++i) {
-    float c = cross2(poly[i], poly[(i + 1) % n]);
-    twice += c;
-    moment += (poly[i] + poly[(i + 1) % n]) * c;
-  }
-  if (twice > 0.0) g_centroid = lo + moment / (3.0 * twice);
-  return 0.5 * max(twice, 0.0);
+  // The part inside by Green's theorem, each edge on its own (no clipped
+  // polygon to build: straight-line code, no arrays).
+  vec3 m = edge_moments(q0, q1) + edge_moments(q1, q2) + edge_moments(q2, q0);
+  float area = -s * m.x;
+  if (area <= 0.0) return 0.0;
+  g_centroid = lo + clamp(-s * m.yz / area, 0.0, 1.0);
+  return min(area, 1.0);
 }
 
 float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }
