@@ -13,7 +13,8 @@ struct CausticsMap {
   vec4 half_size;  // xyz: the frame's half-extents along U, V, W
   vec4 texel;      // xy: the cull's footprint widening along U, W (m); zw: caustics texels per metre along U, W
   uvec4 ints;      // x: layer of the caustics array, y: its planes' offset (words), z: samples per axis, w: layer of the position maps' array
-  uvec4 list;      // x: its first entry in the shared list, y: the entries it has room for (in the run of maps drawn)
+  uvec4 list;      // x: its first entry in the shared list, y: the entries it has room for (in the run of maps drawn),
+                   // z: its water rectangle (caustics_rects.comp)
 };
 layout(std430, binding = 11) readonly buffer BatchMaps { CausticsMap batch_maps[]; };
 

@@ -44,6 +44,14 @@ uniform vec2 u_texel;     // caustics-map texel in frame U, W (metres) where it 
 #define DEPTH_TILE(x, y) texelFetch(u_depth_tiles, ivec2(x, y), 0).rg
 #endif
 uniform uint u_triangles;
+// The water triangles read: those of the map's rectangle of the grid
+// (caustics_rects.comp, entry u_rect; in a batch the map's list.z), or
+// with u_rect < 0 every one. Word 6 of the header: the grid's cells along x.
+layout(std430, binding = 12) readonly buffer Rects {
+  uint rect_bounds[8];
+  uvec4 rects[];
+};
+uniform int u_rect;
 uniform int u_frame_cull;
 uniform int u_plane_cull;
 uniform int u_pairs;
@@ -126,6 +134,7 @@ void select_planes(uint t, out int first, out int n) {
 void main() {
   uint t = gl_GlobalInvocationID.x;
   uint map_bits = 0u;  // the list entry's map (batch)
+  int rect = u_rect;
 #ifdef BATCH
   uint map = u_map_base + gl_WorkGroupID.y;
   CausticsMap cm = batch_frame(map);
@@ -134,7 +143,16 @@ void main() {
   g_planes = cm.ints.y;
   map_bits = map << kBatchPlaneBits;
   g_list = cm.list.xy;
+  if (rect >= 0) rect = int(cm.list.z);
 #endif
+  if (rect >= 0) {
+    // The k-th triangle of the rectangle: cell k / 2 of its columns x rows,
+    // its triangle k % 2 (the grid's triangles are 2 per cell, row-major).
+    uvec4 r = rects[2 * rect + 1];
+    if (t >= r.w) return;
+    uint per_row = 2u * r.z, row = t / per_row;
+    t = 2u * (r.y + row) * rect_bounds[6] + 2u * r.x + (t - row * per_row);
+  }
   int first, n;
   select_planes(t, first, n);
   if (u_pairs == 0) {

@@ -27,6 +27,7 @@ vec2 u_texels_per_metre = vec2(0.0);
 flat out vec4 v_batch;
 flat out uvec3 v_batch_ints;
 flat out float v_half_v;
+flat out int v_layer;
 #else
 uniform float u_map_size;
 #endif
@@ -60,11 +61,13 @@ void main() {
   v_batch = vec4(0.0);
   v_batch_ints = uvec3(0u);
   v_half_v = 0.0;
+  v_layer = 0;
   if (p1.w > 0.0) {
     CausticsMap cm = batch_maps[batch_prim_map(p1.w)];
     u_map_size = cm.origin.w;
     u_texels_per_metre = cm.texel.zw;
     gl_Layer = int(cm.ints.x);
+    v_layer = int(cm.ints.x);
     window = batch_prim_window(p1.w);
     v_batch = vec4(cm.u.w, cm.texel.zw, window);
     v_batch_ints = cm.ints.zwy;

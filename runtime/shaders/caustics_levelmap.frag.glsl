@@ -37,7 +37,8 @@
 // The plane stays what buckets the beams and culls them.
 // The depth test before shading keeps only the fragments whose texel's
 // surface lies in this plane's window, or in several windows
-// (caustics_windows.frag); the test below decides as it would alone.
+// (caustics_windows.frag); the test below decides there as it would alone.
+// In the first, the samples' mean depth comes from the windows pass.
 layout(early_fragment_tests) in;
 #ifdef BATCH
 // The primitive's map (caustics_batch.glsl, passed on by
@@ -46,17 +47,26 @@ layout(binding = 0) uniform sampler2DArray u_position_map;
 flat in vec4 v_batch;
 flat in uvec3 v_batch_ints;
 flat in float v_half_v;
+flat in int v_layer;  // the map's layer
+layout(binding = 1) uniform sampler2DArray u_window_surface;
 vec2 u_map_scale, u_texels_per_metre;
 int u_samples, g_position;
 #define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, g_position), 0).r, v_half_v)
+#define WINDOW_SURFACE() position_v(texelFetch(u_window_surface, ivec3(gl_FragCoord.xy, v_layer), 0).r, v_half_v)
 #else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
 uniform float u_half_v;                                 // the frame's half-extent along V
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis: 1, or up to 4 when u_map_scale > 1
 uniform vec2 u_texels_per_metre;                        // caustics map, along U and W
+layout(binding = 1) uniform sampler2D u_window_surface;
 #define POSITION(at) position_v(texelFetch(u_position_map, at, 0).r, u_half_v)
+#define WINDOW_SURFACE() position_v(texelFetch(u_window_surface, ivec2(gl_FragCoord.xy), 0).r, u_half_v)
 #endif
+// 0: the draw of the texels whose surface samples lie in one window, each
+// texel's mean frame V of them from the windows pass (u_window_surface);
+// 1: the draw of those in several, which tests every sample here.
+uniform int u_several_windows;
 
 out vec4 o_irradiance;
 
@@ -74,7 +84,13 @@ void main() {
 #endif
   uint k = uint(window) - 1u;
   float inside = 0.0, surface = 0.0, depth = 0.0;
-  for (int j = 0; j < u_samples; ++j) {
+  if (u_several_windows == 0) {
+    // The depth test kept this fragment: every surface sample of the texel
+    // lies in this plane's window (caustics_windows.frag).
+    inside = surface = 1.0;
+    depth = WINDOW_SURFACE() - v_plane.x;
+  }
+  for (int j = 0; j < u_samples && u_several_windows != 0; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
       float v = POSITION(ivec2(at * u_map_scale));

@@ -20,25 +20,71 @@ uniform vec3 u_light_position;
 uniform float u_light_power;  // E0 (W/m^2) or I (W/sr)
 uniform vec3 u_spot;          // a spot's cone about u_light_direction (caustix_spot_factor)
 uniform float u_ior;
+// Mode 0 also bounds, for caustics_rects.comp, the rays' horizontal travel
+// per metre of descent, g = (d.x, d.z) / -d.y, and the water's height:
+// order-preserving codes of min gx, min gz, min y, min -gx, min -gz,
+// min -y, cleared to 0xffffffff before.
+layout(std430, binding = 12) buffer Rects { uint bounds[8]; };
 
 vec3 incident(vec3 p) { return u_light_type == 1 ? u_light_direction : normalize(p - u_light_position); }
 
+uint encode(float f) {
+  uint u = floatBitsToUint(f);
+  return f >= 0.0 ? u | 0x80000000u : ~u;
+}
+
+shared vec3 s_lo[64], s_hi[64];
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i >= u_count) return;
   if (u_mode == 0) {
-    vec3 p = positions[i].xyz;
-    vec3 n = normals[i].xyz;
-    vec3 l = incident(p);
-    // Light from below the local surface (a steep wave's far side) or a
-    // point light under water: no transmitted ray from this vertex.
-    if (dot(l, n) >= 0.0 || (u_light_type == 2 && u_light_position.y <= p.y)) {
-      refracted[i] = vec4(0.0);
-      return;
+    vec3 lo = vec3(1e38), hi = vec3(-1e38);  // gx, gz, y
+    if (i < u_count) {
+      vec3 p = positions[i].xyz;
+      vec3 n = normals[i].xyz;
+      vec3 l = incident(p);
+      lo.z = hi.z = p.y;
+      // Light from below the local surface (a steep wave's far side) or a
+      // point light under water: no transmitted ray from this vertex.
+      if (dot(l, n) >= 0.0 || (u_light_type == 2 && u_light_position.y <= p.y)) {
+        refracted[i] = vec4(0.0);
+      } else {
+        vec3 d = refract(l, n, 1.0 / u_ior);  // eq. 2-8
+        refracted[i] = vec4(d, 1.0);
+        // A ray not heading down has no bound (the grid is taken).
+        vec2 g = d.y < -1e-6 ? d.xz / -d.y : vec2(3e38);
+        lo.xy = d.y < -1e-6 ? g : vec2(-3e38);
+        hi.xy = g;
+      }
     }
-    refracted[i] = vec4(refract(l, n, 1.0 / u_ior), 1.0);  // eq. 2-8
+    uint l = gl_LocalInvocationIndex;
+    s_lo[l] = lo;
+    s_hi[l] = hi;
+    barrier();
+    for (uint s = 32u; s > 0u; s >>= 1u) {
+      if (l < s) {
+        s_lo[l] = min(s_lo[l], s_lo[l + s]);
+        s_hi[l] = max(s_hi[l], s_hi[l + s]);
+      }
+      barrier();
+    }
+    if (l == 0u) {
+      lo = s_lo[0];
+      hi = s_hi[0];
+      if (lo.x <= hi.x) {  // some ray
+        atomicMin(bounds[0], encode(lo.x));
+        atomicMin(bounds[1], encode(lo.y));
+        atomicMin(bounds[3], encode(-hi.x));
+        atomicMin(bounds[4], encode(-hi.y));
+      }
+      if (lo.z <= hi.z) {
+        atomicMin(bounds[2], encode(lo.z));
+        atomicMin(bounds[5], encode(-hi.z));
+      }
+    }
     return;
   }
+  if (i >= u_count) return;
   vec3 p0 = positions[indices[3u * i]].xyz;
   vec3 p1 = positions[indices[3u * i + 1u]].xyz;
   vec3 p2 = positions[indices[3u * i + 2u]].xyz;

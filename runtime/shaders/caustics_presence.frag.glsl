@@ -11,27 +11,19 @@
 // to 1): present where any of them is, so that the division gives back
 // that irradiance; photon splatting and the volumetric baseline give a
 // texel the light over its whole area instead, so there it holds the
-// fraction of the samples present (u_fraction). (Judged by its centre alone, an outline texel whose
+// fraction of the samples present (u_fraction). (The level maps' windows
+// pass writes the same presence as it goes, caustics_windows.frag; this
+// pass serves the other methods and maps summed over wavelengths.) (Judged by its centre alone, an outline texel whose
 // centre misses the surface held the full irradiance at alpha 0, and the
 // division made its filtered neighbourhood too bright: +31 % at a 1 m
 // sphere's terminator with 7.8 mm texels over 2 mm position texels.)
-#ifdef BATCH
-layout(binding = 0) uniform sampler2DArray u_position;  // every map of the batch, an instance each (caustics_batch.vert)
-flat in uint v_map;
-#define PRESENT(at) !position_empty(texelFetch(u_position, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r)
-#else
 layout(binding = 0) uniform sampler2D u_position;  // nearest (position_code.glsl)
 uniform vec2 u_map_scale;                          // position-map texels per caustics-map texel
 uniform int u_samples;                             // per axis, as caustics_levelmap.frag's
 #define PRESENT(at) !position_empty(texelFetch(u_position, at, 0).r)
-#endif
 uniform int u_fraction;                            // 1: the fraction of samples present; 0: whether any is
 out vec4 o_irradiance;
 void main() {
-#ifdef BATCH
-  vec2 u_map_scale = vec2(batch_maps[v_map].u.w);
-  int u_samples = int(batch_maps[v_map].ints.z);
-#endif
   float present = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {

@@ -16,6 +16,14 @@
 //   vertices unless some texel is written here at depth 1 (its count is
 //   then the first draw's), so a map whose texels each lie in one window
 //   pays nothing for it.
+// The pass also writes the caustics map's alpha, 1 where any sample has a
+// surface (what caustics_presence.frag gives the level maps' texels, from
+// the same samples), so that no presence pass follows.
+// A texel of one window also gets the mean frame V of its surface samples,
+// as a position code, in u_window_surface: the first draw reads it once
+// instead of testing every sample again. A texel with a surface sample in
+// no window (the draw then keeps the fraction in windows) counts as one of
+// several windows.
 // The fragments kept, in their order, and so the caustics map are the
 // draw's alone. Exact: the depth buffer holds 16-bit integers, and
 // (k + 1) / 65535 (k < 4097) and 1 are within a ten-thousandth of a step
@@ -25,17 +33,19 @@
 // pass also clears the map's irradiance, so that maps of the array that
 // this update keeps are not touched.
 layout(binding = 0) uniform sampler2DArray u_position_map;
+layout(binding = 0, r16) uniform writeonly image2DArray u_window_surface;  // a layer per map, as the caustics
 flat in uint v_map;
-out vec4 o_irradiance;
 #define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, int(batch_maps[v_map].ints.w)), 0).r, batch_maps[v_map].half_size.y)
 #else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
 uniform float u_half_v;                                 // the frame's half-extent along V
 uniform vec2 u_map_scale;                               // position-map texels per caustics-map texel
 uniform int u_samples;                                  // per axis, as caustics_levelmap.frag's
+layout(binding = 0, r16) uniform writeonly image2D u_window_surface;
 #define POSITION(at) position_v(texelFetch(u_position_map, at, 0).r, u_half_v)
 #endif
 layout(std430, binding = 6) buffer Command { uint cmd[]; };  // caustics_fixup.comp's layout
+out vec4 o_irradiance;  // a batch clears the map's irradiance too; drawn alone, alpha only
 
 void main() {
 #ifdef BATCH
@@ -43,31 +53,49 @@ void main() {
   vec2 u_map_scale = vec2(cm.u.w);
   int u_samples = int(cm.ints.z);
   g_planes = cm.ints.y;
-  o_irradiance = vec4(0.0);
 #endif
   uint lo = 0xffffffffu, hi = 0u;
+  bool lost = false;  // a surface sample in no window
+  bool present = false;
+  float sum = 0.0, n = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      uint k = window_of(POSITION(ivec2(at * u_map_scale)));
+      float v = POSITION(ivec2(at * u_map_scale));
+      uint k = window_of(v);
       if (k != 0xffffffffu) {
         lo = min(lo, k);
         hi = max(hi, k);
+        sum += v;
+        n += 1.0;
+      } else {
+        lost = lost || v > -1e29;
       }
+      present = present || v > -1e29;
     }
   }
-#ifdef BATCH
+  o_irradiance = vec4(0.0, 0.0, 0.0, present ? 1.0 : 0.0);
   if (lo > hi) {
+#ifndef BATCH
+    if (!present) discard;
+#endif
     gl_FragDepth = 0.0;  // no window: the depth a cleared map has
     return;
   }
-#else
-  if (lo > hi) discard;
-#endif
-  gl_FragDepth = lo == hi ? float(lo + 1u) / 65535.0 : 1.0;
+  bool one = lo == hi && !lost;
+  gl_FragDepth = one ? float(lo + 1u) / 65535.0 : 1.0;
 #ifdef BATCH
-  if (lo != hi) cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
+  if (one) {
+    imageStore(u_window_surface, ivec3(gl_FragCoord.xy, batch_maps[v_map].ints.x),
+               vec4(position_code(sum / n, batch_maps[v_map].half_size.y)));
+  } else {
+    cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
+  }
 #else
-  if (lo != hi) cmd[11] = cmd[0];  // the same value from every such texel
+  if (one) {
+    imageStore(u_window_surface, ivec2(gl_FragCoord.xy), vec4(position_code(sum / n, u_half_v)));
+  } else {
+    cmd[11] = cmd[0];  // the same value from every such texel
+  }
 #endif
 }

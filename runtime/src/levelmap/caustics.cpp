@@ -43,6 +43,10 @@ constexpr GLintptr kBatchCounts = 64;
 constexpr GLsizeiptr kBatchCountBytes = 64;
 constexpr GLsizeiptr kBatchDrawBytes = 16;
 constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + 2 * kBatchDrawBytes;
+// The cull's water rectangles (caustics_rects.comp): the water's bounds,
+// then per map its dispatch and its rectangle.
+constexpr GLsizeiptr kRectsHeader = 32;
+constexpr GLsizeiptr kRectBytes = 32;
 // MapBatching::kAuto: fewer maps of a batch drawn in an update than this
 // are drawn one by one (batching them saves a few calls).
 constexpr std::size_t kBatchMinMaps = 8;
@@ -126,6 +130,8 @@ struct MapGpu {
   // its next draw; 0 where the water's light cannot reach it now (then it
   // holds no map and binds the black texture).
   std::uint32_t planned_side = 0;
+  // Its last draw's windows pass wrote the presence (caustics_windows.frag).
+  bool windows_presence = false;
   bool planned = false;
   bool unlit = false;  // its light no longer reaches it through the water (rederive_map)
   // The depth profile: the baked histogram, re-made on the GPU after a
@@ -187,7 +193,7 @@ std::pair<float, int> texel_sampling(const MapGpu& m) {
 // illumination texel per plane.
 double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral, bool batched) {
   double b = 16.0 * 4.0 / 3.0;
-  if (batched) b += 2.0;  // the batch's window depth
+  if (batched) b += 4.0;  // the batch's window depth and surface
   if (spectral) b += 16.0 + 16.0 * 4.0 / 3.0;
   if (o.method == CausticsMethod::kVolumetric) {
     const std::size_t planes = m.cpu_planes ? m.cpu_planes->size() : m.lm->planes_requested;
@@ -242,10 +248,10 @@ struct CausticsEngine::Impl {
   std::vector<std::string> warnings;
   int warned_step = 0;
   bool warned_over = false;
-  gl::Program prepare, cull, fixup, geometry, levelmap, windows, volumetric, slab, combine, presence, profile, accumulate, plan;
+  gl::Program prepare, cull, fixup, geometry, levelmap, windows, volumetric, slab, combine, presence, profile, accumulate, plan, rects;
   // The same passes for a batch of maps (caustics_batch.glsl), where the
   // driver can choose a layer from the vertex shader.
-  gl::Program cull_batch, fixup_batch, geometry_batch, levelmap_batch, windows_batch, presence_batch;
+  gl::Program cull_batch, fixup_batch, geometry_batch, levelmap_batch, windows_batch;
   bool layered = false;   // GL_ARB_shader_viewport_layer_array
   bool software = false;  // a software rasteriser (MapBatching::kAuto)
   // Every map's planes, map after map at planes_stride bytes (kPlanesBytes
@@ -269,6 +275,7 @@ struct CausticsEngine::Impl {
     gl::Texture caustics;              // RGBA32F with mips, a layer per member
     std::vector<std::size_t> members;  // map indices, in layer order
     gl::Texture window_depth;          // the windows pass's, a layer per member
+    gl::Texture window_surface;        // and its surface's mean frame V (R16 code), a layer per member
     gl::Framebuffer fbo;               // caustics and window_depth, layered
     // Each map's counts and draw commands (kBatchCounts).
     gl::Buffer command;
@@ -285,8 +292,11 @@ struct CausticsEngine::Impl {
   std::vector<std::pair<BatchKey, std::size_t>> arranged;
   // The level-map draw's depth (caustics_windows.frag) for maps drawn one
   // by one: which plane's window each caustics texel's surface lies in;
-  // one for every such map, as large as the largest.
+  // one for every such map, as large as the largest; beside it the mean
+  // frame V of the surface samples of each texel in one window (R16, as a
+  // position code), which the draw reads instead of the samples.
   gl::Texture window_depth;
+  gl::Texture window_surface;
   std::uint32_t window_depth_size = 0;
   gl::Texture position_depth;  // the position maps' re-derivation (rederive_map), shared
   std::uint32_t position_depth_size = 0;
@@ -299,6 +309,11 @@ struct CausticsEngine::Impl {
   gl::VertexArray photon_vao;
   std::uint32_t photon_size = 0;
   gl::Buffer refracted, flux;
+  // The cull's part of the water grid per map (caustics_rects.comp): the
+  // water's bounds, then two uvec4 a map; the maps' world boxes it reads.
+  gl::Buffer cull_rects, rect_boxes;
+  std::size_t rects_capacity = 0;  // maps they have room for
+  std::vector<glm::vec4> boxes;
   gl::Buffer list, primitives;  // every map's, one after the other
   std::uint64_t allocated = 0;  // entries they hold
   gl::VertexArray empty_vao;
@@ -546,17 +561,21 @@ struct CausticsEngine::Impl {
       b.caustics = std::move(array);
       b.members = members;
       b.window_depth.reset();
+      b.window_surface.reset();
       b.fbo.reset();
     }
   }
 
   // The windows' depth (16-bit: the draw compares (k + 1) / 65535
-  // exactly, caustics_windows.frag), grown to the largest caustics map
-  // drawn map by map; a batch has its own (draw_batch).
+  // exactly, caustics_windows.frag) and the windows' surface, grown to
+  // the largest caustics map drawn map by map; a batch has its own
+  // (draw_batch).
   void ensure_window_depth(std::uint32_t size) {
     if (window_depth_size >= size && window_depth.get()) return;
     window_depth = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT16, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
+    window_surface = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(window_surface.get(), 1, GL_R16, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
     window_depth_size = size;
   }
 
@@ -587,9 +606,9 @@ struct CausticsEngine::Impl {
 
   // A map's own textures, which its texels size (bytes_per_texel).
   static std::uint64_t texture_bytes(const MapGpu& m) {
-    // RGBA32F and its mips, and its window depth in a batch.
+    // RGBA32F and its mips, and its window depth and surface in a batch.
     const std::uint64_t texels = std::uint64_t{m.caustics_size} * m.caustics_size;
-    const std::uint64_t cm = texels * 16 * 4 / 3 + (m.batched ? texels * 2 : 0);
+    const std::uint64_t cm = texels * 16 * 4 / 3 + (m.batched ? texels * 4 : 0);
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * 7 / 3;  // sum, colour and its mips
     return cm + sl + spectral;
@@ -614,12 +633,12 @@ struct CausticsEngine::Impl {
 
   // What the maps share: refracted rays and fluxes, the read-back ring,
   // the splats' photons (one set for every map), the planner's scratch,
-  // the lists, the windows' depth and the re-derivations' depth.
+  // the lists, the windows' depth and surface and the re-derivations' depth.
   std::uint64_t shared_bytes() const {
     return std::uint64_t{16} * water->vertex_count() + std::uint64_t{8} * water->triangle_count() + readback.gpu_bytes() +
            std::uint64_t{32} * photon_size * photon_size + 4 * static_cast<std::uint64_t>(plan_scratch_words) +
-           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{2} * window_depth_size * window_depth_size +
-           std::uint64_t{4} * position_depth_size * position_depth_size + 16 + batch_bytes();
+           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{4} * window_depth_size * window_depth_size +
+           std::uint64_t{4} * position_depth_size * position_depth_size + 16 + batch_bytes() + 32 + 64 * std::uint64_t{rects_capacity};
   }
 
   // The larger side of the part of map m's frame (its U-W rectangle) that
@@ -925,8 +944,11 @@ struct CausticsEngine::Impl {
   }
 
   // Alpha = the receiver's presence (caustics_presence.frag), before the
-  // mip chain (make_mips); m.fbo draws into the map's level 0.
+  // mip chain (make_mips); m.fbo draws into the map's level 0. A level-map
+  // draw's windows pass wrote it already (caustics_windows.frag), unless the
+  // map sums wavelengths.
   void finish_map(MapGpu& m, const CausticsOptions& o) {
+    if (m.windows_presence && !m.spectral) return;
     const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
     glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
     glViewport(0, 0, static_cast<GLsizei>(m.caustics_size), static_cast<GLsizei>(m.caustics_size));
@@ -958,11 +980,56 @@ struct CausticsEngine::Impl {
     }
   }
 
+  void ensure_rects() {
+    if (rects_capacity >= maps.size() && cull_rects.get()) return;
+    rects_capacity = maps.size();
+    cull_rects = gl::make_buffer();
+    glNamedBufferStorage(cull_rects.get(), kRectsHeader + kRectBytes * static_cast<GLsizeiptr>(rects_capacity), nullptr, 0);
+    rect_boxes = gl::make_buffer();
+    glNamedBufferStorage(rect_boxes.get(), 32 * static_cast<GLsizeiptr>(std::max<std::size_t>(rects_capacity, 1)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+  }
+
+  // Every map's part of the water grid for the cull (caustics_rects.comp),
+  // from the water's bounds that the refraction just took and the frames'
+  // world boxes.
+  void make_rects() {
+    boxes.clear();
+    for (const MapGpu& m : maps) {
+      const BoundingFrame& f = m.lm->frame;
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (int c = 0; c < 8; ++c) {
+        glm::dvec3 p(f.origin[0], f.origin[1], f.origin[2]);
+        for (int a = 0; a < 3; ++a) {
+          const Vec3f& axis = a == 0 ? f.u : a == 1 ? f.v : f.w;
+          const double h = ((c >> a) & 1) != 0 ? f.half[static_cast<std::size_t>(a)] : -f.half[static_cast<std::size_t>(a)];
+          p += h * glm::dvec3(axis[0], axis[1], axis[2]);
+        }
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      boxes.emplace_back(glm::vec3(lo), 0.0f);
+      boxes.emplace_back(glm::vec3(hi), 0.0f);
+    }
+    if (boxes.empty()) return;
+    const gl::TimedPass timed("level maps: water rectangles", gl::PassKind::kCompute);
+    glNamedBufferSubData(rect_boxes.get(), 0, static_cast<GLsizeiptr>(boxes.size() * sizeof(glm::vec4)), boxes.data());
+    const Water& w = water->water();
+    rects.use();
+    rects.set("u_count", static_cast<unsigned>(maps.size()));
+    glProgramUniform2ui(rects.id(), rects.loc("u_cells"), w.cells[0], w.cells[1]);
+    rects.set("u_extent", glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, rect_boxes.get());
+    glDispatchCompute((static_cast<GLuint>(maps.size()) + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  }
+
   // One wavelength's caustics map into level 0 (finish_map makes its
   // presence and mips).
   void draw_map(MapGpu& m, const CausticsOptions& o, const Light& light, float ior) {
     const BoundingFrame& f = m.lm->frame;
     plan_planes(m, o);
+    m.windows_presence = false;
     if (o.method == CausticsMethod::kSplat) {
       draw_splat(m, o, light, ior);
       return;
@@ -1008,13 +1075,22 @@ struct CausticsEngine::Impl {
       cull.set("u_texel", coarse ? glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(m.caustics_size)
                                  : glm::vec2(0.0f));
       cull.set("u_capacity", static_cast<unsigned>(allocated));
+      // Only the water triangles that can reach the frame (update_light's
+      // rectangles), unless culling is off.
+      const auto index = static_cast<std::size_t>(&m - maps.data());
+      cull.set("u_rect", o.cull ? static_cast<int>(index) : -1);
       glBindTextureUnit(0, m.depth_tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, flux.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
       bind_planes(m);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
-      glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
+      if (o.cull) {
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cull_rects.get());
+        glDispatchComputeIndirect(static_cast<GLintptr>(kRectsHeader + kRectBytes * index));
+      } else {
+        glDispatchCompute((water->triangle_count() + 63) / 64, 1, 1);
+      }
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
       if (!measure) break;
       std::uint32_t listed = 0;
@@ -1073,6 +1149,7 @@ struct CausticsEngine::Impl {
     };
 
     if (pairs) {
+      m.windows_presence = true;
       ensure_window_depth(m.caustics_size);
       glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, window_depth.get(), 0);
       glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
@@ -1090,21 +1167,23 @@ struct CausticsEngine::Impl {
         const gl::TimedPass timed("level maps: windows", gl::PassKind::kRaster);
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_ALWAYS);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);  // and the presence in alpha
         windows.use();
         windows.set("u_map_scale", glm::vec2(scale));
         windows.set("u_samples", samples);
         windows.set("u_half_v", f.half[1]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
+        glBindImageTexture(0, window_surface.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16);
         glBindVertexArray(empty_vao.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
       }
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
+      glBindTextureUnit(1, window_surface.get());
       levelmap.set("u_map_scale", glm::vec2(scale));
       levelmap.set("u_samples", samples);
       levelmap.set("u_half_v", f.half[1]);
@@ -1177,7 +1256,7 @@ struct CausticsEngine::Impl {
   // calls, whatever their number: draw_map's passes, each map in its
   // layer (caustics_batch.glsl). The windows pass clears the drawn maps'
   // texels as it goes, so that those of the batch this update keeps are
-  // untouched. Then their presence (finish_map's; make_mips follows).
+  // untouched, and writes their presence (make_mips follows).
   void draw_batch(const BatchKey& key, const std::vector<std::size_t>& which, const CausticsOptions& o) {
     Batch& b = batches.at(key);
     const std::uint32_t side = std::get<1>(key);
@@ -1213,6 +1292,8 @@ struct CausticsEngine::Impl {
     if (!b.window_depth.get()) {
       b.window_depth = gl::make_texture(GL_TEXTURE_2D_ARRAY);
       glTextureStorage3D(b.window_depth.get(), 1, GL_DEPTH_COMPONENT16, size, size, static_cast<GLsizei>(b.members.size()));
+      b.window_surface = gl::make_texture(GL_TEXTURE_2D_ARRAY);
+      glTextureStorage3D(b.window_surface.get(), 1, GL_R16, size, size, static_cast<GLsizei>(b.members.size()));
       b.fbo = gl::make_framebuffer();
       glNamedFramebufferTexture(b.fbo.get(), GL_COLOR_ATTACHMENT0, b.caustics.get(), 0);
       glNamedFramebufferTexture(b.fbo.get(), GL_DEPTH_ATTACHMENT, b.window_depth.get(), 0);
@@ -1240,6 +1321,7 @@ struct CausticsEngine::Impl {
       cull_batch.set("u_pairs", 1);
       cull_batch.set("u_map_base", static_cast<unsigned>(first));
       cull_batch.set("u_batch_maps", batch_maps);
+      cull_batch.set("u_rect", o.cull ? 0 : -1);
       glBindTextureUnit(0, positions.tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
@@ -1256,7 +1338,7 @@ struct CausticsEngine::Impl {
     if (measure) {
       const gl::TimedPass timed("level maps: cull", gl::PassKind::kCompute);
       ensure_list();  // the lists exist before they are bound
-      for (BatchMap& d : batch_info) d.list = glm::uvec4(0);
+      for (std::size_t k = 0; k < which.size(); ++k) batch_info[k].list = glm::uvec4(0, 0, static_cast<std::uint32_t>(which[k]), 0);
       upload();
       cull_run(0, which.size());
       std::vector<std::uint32_t> counts(static_cast<std::size_t>(counts_bytes / 4));
@@ -1279,7 +1361,8 @@ struct CausticsEngine::Impl {
       const std::size_t first = k;
       std::uint64_t at = 0;
       while (k < which.size() && (k == first || at + maps[which[k]].capacity <= allocated)) {
-        batch_info[k].list = glm::uvec4(static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(maps[which[k]].capacity), 0, 0);
+        batch_info[k].list = glm::uvec4(static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(maps[which[k]].capacity),
+                                        static_cast<std::uint32_t>(which[k]), 0);
         at += maps[which[k]].capacity;
         ++k;
       }
@@ -1287,8 +1370,8 @@ struct CausticsEngine::Impl {
     }
     upload();
 
-    // 2. Per run, in a fixed number of calls: cull, fix-up, windows,
-    // geometry, draw, presence.
+    // 2. Per run, in a fixed number of calls: cull, fix-up, windows (and
+    // presence), geometry, draw.
     glBindFramebuffer(GL_FRAMEBUFFER, b.fbo.get());
     glViewport(0, 0, size, size);
     glDisable(GL_CULL_FACE);
@@ -1321,8 +1404,9 @@ struct CausticsEngine::Impl {
         windows_batch.use();
         windows_batch.set("u_map_base", static_cast<unsigned>(first));
         windows_batch.set("u_batch_maps", batch_maps);
+        glBindImageTexture(0, b.window_surface.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 3, count);
-        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
       }
@@ -1347,6 +1431,7 @@ struct CausticsEngine::Impl {
         glBlendFunc(GL_ONE, GL_ONE);
         levelmap_batch.use();
         levelmap_batch.set("u_several_windows", 0);
+        glBindTextureUnit(1, b.window_surface.get());
         const auto draws = [&](std::uint32_t group) {
           const auto offset = static_cast<std::uintptr_t>(kBatchCounts + b.maps_capacity * kBatchCountBytes +
                                                           ((group - 1) * b.maps_capacity + first) * kBatchDrawBytes);
@@ -1359,17 +1444,6 @@ struct CausticsEngine::Impl {
         }
         glDisable(GL_BLEND);
         glDisable(GL_DEPTH_TEST);
-      }
-      {
-        // 5. Presence, as finish_map (the level-map draws give a texel its
-        // surface samples' irradiance).
-        const gl::TimedPass timed("level maps: presence and mips", gl::PassKind::kRaster);
-        glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
-        presence_batch.use();
-        presence_batch.set("u_fraction", 0);
-        presence_batch.set("u_map_base", static_cast<unsigned>(first));
-        glDrawArraysInstanced(GL_TRIANGLES, 0, 3, count);
-        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       }
       for (std::size_t k = first; k < end; ++k) {
         read_counters_later(which[k], b.command.get(), kBatchCounts + static_cast<GLintptr>(k) * kBatchCountBytes);
@@ -1436,7 +1510,8 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
        {&s.geometry, "caustics_geometry", geometry_src.c_str()},
        {&s.profile, "profile", profile_src.c_str()},
        {&s.accumulate, "caustics_accumulate", shaders::k_caustics_accumulate_comp_glsl},
-       {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl}}));
+       {&s.plan, "caustics_plan", shaders::k_caustics_plan_comp_glsl},
+       {&s.rects, "caustics_rects", shaders::k_caustics_rects_comp_glsl}}));
   // The batches' passes (draw_batch): the same shaders, each map read
   // from the batch's buffer and drawn into its layer.
   s.layered = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
@@ -1457,12 +1532,10 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     const std::string quad_vs = std::string("#version 450 core\n") + layer_vs + shaders::k_caustics_batch_vert_glsl;
     const std::string windows_batch_fs =
         std::string("#version 450 core\n") + batch + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
-    const std::string presence_batch_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, batch + code);
     const std::string fixup_batch = insert_after_version(shaders::k_caustics_batch_fixup_comp_glsl, batch);
     CAUSTIX_RETURN_IF_ERROR(gl::build_programs(
         {{&s.levelmap_batch, "caustics_levelmap (batch)", levelmap_batch_vs.c_str(), levelmap_batch_fs.c_str()},
          {&s.windows_batch, "caustics_windows (batch)", quad_vs.c_str(), windows_batch_fs.c_str()},
-         {&s.presence_batch, "caustics_presence (batch)", quad_vs.c_str(), presence_batch_fs.c_str()},
          {&s.cull_batch, "caustics_cull (batch)", cull_batch.c_str()},
          {&s.fixup_batch, "caustics_batch_fixup", fixup_batch.c_str()},
          {&s.geometry_batch, "caustics_geometry (batch)", geometry_batch.c_str()}}));
@@ -1704,6 +1777,10 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s.flux.get());
       s.prepare.use();
       s.set_light(s.prepare, desc, ior);
+      s.ensure_rects();
+      const std::uint32_t unset = 0xffffffffu;
+      glClearNamedBufferSubData(s.cull_rects.get(), GL_R32UI, 0, kRectsHeader, GL_RED_INTEGER, GL_UNSIGNED_INT, &unset);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, s.cull_rects.get());
       s.prepare.set("u_mode", 0);
       s.prepare.set("u_count", s.water->vertex_count());
       glDispatchCompute((s.water->vertex_count() + 63) / 64, 1, 1);
@@ -1714,6 +1791,7 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       s.stats.water_triangles = s.water->triangle_count();
     }
+    if (!splat && o.cull) s.make_rects();
     // A light's maps in batches (draw_batch, finished there), but for a
     // map without planes, which draw_map clears, and the maps of a batch
     // drawn now when they are fewer than kBatchMinMaps; or map by map.
