@@ -89,15 +89,16 @@ void main() {
     // lies in this plane's window (caustics_windows.frag).
     inside = surface = 1.0;
     depth = WINDOW_SURFACE() - v_plane.x;
-  }
-  for (int j = 0; j < u_samples && u_several_windows != 0; ++j) {
-    for (int i = 0; i < u_samples; ++i) {
-      vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      float v = POSITION(ivec2(at * u_map_scale));
-      if (v > -1e29) surface += 1.0;
-      if (sample_window(v, k)) {
-        inside += 1.0;
-        depth += v - v_plane.x;
+  } else {
+    for (int j = 0; j < u_samples; ++j) {
+      for (int i = 0; i < u_samples; ++i) {
+        vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
+        float v = POSITION(ivec2(at * u_map_scale));
+        if (v > -1e29) surface += 1.0;
+        if (sample_window(v, k)) {
+          inside += 1.0;
+          depth += v - v_plane.x;
+        }
       }
     }
   }

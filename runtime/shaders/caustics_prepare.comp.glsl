@@ -52,9 +52,9 @@ void main() {
         vec3 d = refract(l, n, 1.0 / u_ior);  // eq. 2-8
         refracted[i] = vec4(d, 1.0);
         // A ray not heading down has no bound (the grid is taken).
-        vec2 g = d.y < -1e-6 ? d.xz / -d.y : vec2(3e38);
-        lo.xy = d.y < -1e-6 ? g : vec2(-3e38);
-        hi.xy = g;
+        bool down = d.y < -1e-6;
+        lo.xy = down ? d.xz / -d.y : vec2(-3e38);
+        hi.xy = down ? d.xz / -d.y : vec2(3e38);
       }
     }
     uint l = gl_LocalInvocationIndex;

@@ -11,12 +11,13 @@
 // to 1): present where any of them is, so that the division gives back
 // that irradiance; photon splatting and the volumetric baseline give a
 // texel the light over its whole area instead, so there it holds the
-// fraction of the samples present (u_fraction). (The level maps' windows
-// pass writes the same presence as it goes, caustics_windows.frag; this
-// pass serves the other methods and maps summed over wavelengths.) (Judged by its centre alone, an outline texel whose
-// centre misses the surface held the full irradiance at alpha 0, and the
-// division made its filtered neighbourhood too bright: +31 % at a 1 m
-// sphere's terminator with 7.8 mm texels over 2 mm position texels.)
+// fraction of the samples present (u_fraction). (Judged by its centre
+// alone, an outline texel whose centre misses the surface held the full
+// irradiance at alpha 0, and the division made its filtered neighbourhood
+// too bright: +31 % at a 1 m sphere's terminator with 7.8 mm texels over
+// 2 mm position texels.) The level maps' windows pass writes the same
+// presence as it goes (caustics_windows.frag); this pass serves the other
+// methods and maps summed over wavelengths.
 layout(binding = 0) uniform sampler2D u_position;  // nearest (position_code.glsl)
 uniform vec2 u_map_scale;                          // position-map texels per caustics-map texel
 uniform int u_samples;                             // per axis, as caustics_levelmap.frag's

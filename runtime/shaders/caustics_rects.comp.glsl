@@ -31,6 +31,11 @@ uniform vec4 u_extent;  // the grid's x0, z0, x1, z1
 
 float decode(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u); }
 
+void no_triangles(uint i) {
+  rects[2u * i] = uvec4(0u, 1u, 1u, 0u);
+  rects[2u * i + 1u] = uvec4(0u);
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i == 0u) bounds[6] = u_cells.x;
@@ -39,13 +44,11 @@ void main() {
   // Minima of gx, gz, y, then of their negatives (the maxima).
   vec3 b_lo = vec3(decode(bounds[0]), decode(bounds[1]), decode(bounds[2]));
   vec3 b_hi = -vec3(decode(bounds[3]), decode(bounds[4]), decode(bounds[5]));
-  uvec4 none = uvec4(0u);
   // No ray heading down (or none at all: no bound was written), or the
   // box above the water: no triangle reaches it.
   float t0 = max(0.0, b_lo.z - hi.y), t1 = b_hi.z - lo.y;
   if (bounds[0] == 0xffffffffu || !(t1 >= 0.0)) {
-    rects[2u * i] = uvec4(0u, 1u, 1u, 0u);
-    rects[2u * i + 1u] = none;
+    no_triangles(i);
     return;
   }
   vec2 g_lo = b_lo.xy, g_hi = b_hi.xy;
@@ -57,13 +60,11 @@ void main() {
   vec2 cells = vec2(u_cells);
   vec2 to_cells = cells / (u_extent.zw - u_extent.xy);
   vec2 c_lo = floor((w_lo - u_extent.xy) * to_cells) - 1.0, c_hi = floor((w_hi - u_extent.xy) * to_cells) + 1.0;
-  bvec2 finite = bvec2(!isinf(c_lo.x) && !isnan(c_lo.x) && !isinf(c_hi.x) && !isnan(c_hi.x),
-                       !isinf(c_lo.y) && !isnan(c_lo.y) && !isinf(c_hi.y) && !isnan(c_hi.y));
-  c_lo = mix(vec2(0.0), clamp(c_lo, vec2(0.0), cells), bvec2(finite));
-  c_hi = mix(cells - 1.0, clamp(c_hi, vec2(-1.0), cells - 1.0), bvec2(finite));
+  bvec2 finite = lessThan(abs(c_lo) + abs(c_hi), vec2(1e30));  // false for inf and NaN
+  c_lo = mix(vec2(0.0), clamp(c_lo, vec2(0.0), cells), finite);
+  c_hi = mix(cells - 1.0, clamp(c_hi, vec2(-1.0), cells - 1.0), finite);
   if (any(lessThan(c_hi, c_lo))) {
-    rects[2u * i] = uvec4(0u, 1u, 1u, 0u);
-    rects[2u * i + 1u] = none;
+    no_triangles(i);
     return;
   }
   uvec2 first = uvec2(c_lo), span = uvec2(c_hi - c_lo) + 1u;
