@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -138,6 +139,73 @@ TEST_F(FrameCost, AStillLightAndStillGlassAreNotRemade) {
   ASSERT_TRUE(r->set_object_transform(1, t).ok());
   ASSERT_TRUE(r->render(small_frame(*r, 2.0f)).ok());
   EXPECT_EQ(r->caustics_stats().work.glass.updated, 1u);
+}
+
+// The level maps' windows pass (caustics_windows.frag) depends on the
+// planes, the position map and the map's side, not on the water: under
+// moving water a receiver drawn alone runs it once and then keeps its
+// result, and the kept result gives the image a fresh engine gives. A new
+// plan (the uniform method's planes) runs it again, once. Maps at 64^2,
+// coarser than the default pool's position maps, so that texels span
+// several windows and the second draw (and its kept flag) takes part.
+// Cost: about 3 s on llvmpipe.
+TEST_F(FrameCost, TheWindowsPassRunsOnlyWhenItsInputsChange) {
+  nlohmann::json j = test::canonical_scene("default");
+  j["water"]["grid"]["cells"] = {48, 48};
+  const std::string path = test::write_scene(j, "frame_cost_windows");
+  auto r = test::bake_and_create(path);
+  ASSERT_TRUE(r);
+  r->engine().set_gpu_timing(true, false);
+  runtime::CausticsOptions o = runtime::default_caustics_options(r->scene());
+  o.map_size = 64;
+  o.map_batching = runtime::MapBatching::kNever;
+  std::map<std::uint64_t, std::uint32_t> windows;  // frame -> windows passes
+  auto frame = [&](float time) {
+    FrameParams f = small_frame(*r, time);
+    f.caustics = o;
+    ASSERT_TRUE(r->render(f).ok());
+    glFinish();
+    const runtime::GpuTimes t = r->engine().gpu_times();
+    std::uint32_t n = 0;
+    for (const runtime::GpuPassTime& p : t.passes) {
+      if (p.name == "level maps: windows") n = p.count;
+    }
+    if (t.frame > 0) windows[t.frame] = n;
+  };
+  for (int i = 0; i < 4; ++i) frame(0.25f * static_cast<float>(i));
+  o.method = runtime::CausticsMethod::kUniform;
+  for (int i = 4; i < 7; ++i) frame(0.25f * static_cast<float>(i));
+  o.method = runtime::CausticsMethod::kLevelMap;
+  ASSERT_GE(windows.size(), 5u);
+  const std::uint32_t maps = windows.begin()->second;
+  EXPECT_GE(maps, 3u) << "the first frame makes every map's windows";
+  for (const auto& [k, n] : windows) {
+    SCOPED_TRACE(k);
+    EXPECT_EQ(n, k == 1 || k == 5 ? maps : 0u) << "windows passes in frame " << k;
+  }
+
+  // The ball's light after frames that kept the windows, and from a new
+  // engine whose first frame makes them.
+  sample::IrradianceRequest q{"ball", -1.1f, -0.2f, -0.1f, 0.8f, 64, 64, 0.0f, o};
+  q.pixel_samples = 2;
+  for (const float t : {0.3f, 0.6f}) {
+    q.time = t;
+    ASSERT_TRUE(r->render_irradiance(q).ok());
+  }
+  q.time = 0.9f;
+  const auto kept = r->render_irradiance(q);
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  auto fresh_renderer = test::bake_and_create(path);
+  ASSERT_TRUE(fresh_renderer);
+  const auto fresh = fresh_renderer->render_irradiance(q);
+  ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+  double peak = 0, worst = 0;
+  for (std::size_t i = 0; i < fresh->rgb.size(); ++i) {
+    peak = std::max(peak, double{fresh->rgb[i]});
+    worst = std::max(worst, std::fabs(double{kept->rgb[i]} - fresh->rgb[i]));
+  }
+  EXPECT_GT(peak, 0.5) << "the ball is lit";
+  EXPECT_LE(worst, 1e-5 * peak);
 }
 
 // What an engine's temporal antialiasing sees: the light side takes no

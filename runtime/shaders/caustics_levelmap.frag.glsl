@@ -52,7 +52,8 @@ layout(binding = 1) uniform sampler2DArray u_window_surface;
 vec2 u_map_scale, u_texels_per_metre;
 int u_samples, g_position;
 #define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, g_position), 0).r, v_half_v)
-#define WINDOW_SURFACE() position_v(texelFetch(u_window_surface, ivec3(gl_FragCoord.xy, v_layer), 0).r, v_half_v)
+#define WINDOW_SURFACE_CODE() texelFetch(u_window_surface, ivec3(gl_FragCoord.xy, v_layer), 0).r
+#define HALF_V v_half_v
 #else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
 uniform float u_half_v;                                 // the frame's half-extent along V
@@ -61,11 +62,13 @@ uniform int u_samples;                                  // per axis: 1, or up to
 uniform vec2 u_texels_per_metre;                        // caustics map, along U and W
 layout(binding = 1) uniform sampler2D u_window_surface;
 #define POSITION(at) position_v(texelFetch(u_position_map, at, 0).r, u_half_v)
-#define WINDOW_SURFACE() position_v(texelFetch(u_window_surface, ivec2(gl_FragCoord.xy), 0).r, u_half_v)
+#define WINDOW_SURFACE_CODE() texelFetch(u_window_surface, ivec2(gl_FragCoord.xy), 0).r
+#define HALF_V u_half_v
 #endif
 // 0: the draw of the texels whose surface samples lie in one window, each
 // texel's mean frame V of them from the windows pass (u_window_surface);
-// 1: the draw of those in several, which tests every sample here.
+// 1: the draw of those in several, which tests every sample here where
+// this plane is among the texel's (u_window_surface says which).
 uniform int u_several_windows;
 
 out vec4 o_irradiance;
@@ -88,8 +91,8 @@ void main() {
     // The depth test kept this fragment: every surface sample of the texel
     // lies in this plane's window (caustics_windows.frag).
     inside = surface = 1.0;
-    depth = WINDOW_SURFACE() - v_plane.x;
-  } else {
+    depth = position_v(WINDOW_SURFACE_CODE(), HALF_V) - v_plane.x;
+  } else if (several_windows_holds(WINDOW_SURFACE_CODE(), k)) {
     for (int j = 0; j < u_samples; ++j) {
       for (int i = 0; i < u_samples; ++i) {
         vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);

@@ -21,9 +21,15 @@
 // the same samples), so that no presence pass follows.
 // A texel of one window also gets the mean frame V of its surface samples,
 // as a position code, in u_window_surface: the first draw reads it once
-// instead of testing every sample again. A texel with a surface sample in
+// instead of testing every sample again; a texel of several gets which
+// (caustics_windows.glsl's several_windows_code), so that the second draw
+// tests samples only for the planes among them. A texel with a surface sample in
 // no window (the draw then keeps the fraction in windows) counts as one of
 // several windows.
+// Nothing here depends on the water: a map drawn alone keeps the depth,
+// the surface, the alpha and the several-windows flag until its planes,
+// its position map or its side change, and the pass does not run between
+// (caustics.cpp, MapGpu::windows_made). A batch runs it at every draw.
 // The fragments kept, in their order, and so the caustics map are the
 // draw's alone. Exact: the depth buffer holds 16-bit integers, and
 // (k + 1) / 65535 (k < 4097) and 1 are within a ten-thousandth of a step
@@ -54,24 +60,44 @@ void main() {
   int u_samples = int(cm.ints.z);
   g_planes = cm.ints.y;
 #endif
-  uint lo = 0xffffffffu, hi = 0u;
-  bool lost = false;  // a surface sample in no window
-  bool present = false;
-  float sum = 0.0, n = 0.0;
+  // A window is an interval of depth: where the deepest and the highest
+  // surface samples lie in one window, so do all between them, and two
+  // window searches decide the texel. Else every sample is searched.
+  float least = 1e30, most = -1e30, sum = 0.0, n = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
       vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
       float v = POSITION(ivec2(at * u_map_scale));
-      uint k = window_of(v);
-      if (k != 0xffffffffu) {
-        lo = min(lo, k);
-        hi = max(hi, k);
+      if (v > -1e29) {
+        least = min(least, v);
+        most = max(most, v);
         sum += v;
         n += 1.0;
-      } else {
-        lost = lost || v > -1e29;
       }
-      present = present || v > -1e29;
+    }
+  }
+  bool present = n > 0.0;
+  uint lo = 0xffffffffu, hi = 0u;
+  bool lost = false;  // a surface sample in no window
+  uint k = present ? window_of(least) : 0xffffffffu;
+  if (k != 0xffffffffu && window_of(most) == k) {
+    lo = hi = k;
+  } else if (present) {
+    sum = n = 0.0;
+    for (int j = 0; j < u_samples; ++j) {
+      for (int i = 0; i < u_samples; ++i) {
+        vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
+        float v = POSITION(ivec2(at * u_map_scale));
+        uint kv = window_of(v);
+        if (kv != 0xffffffffu) {
+          lo = min(lo, kv);
+          hi = max(hi, kv);
+          sum += v;
+          n += 1.0;
+        } else {
+          lost = lost || v > -1e29;
+        }
+      }
     }
   }
   o_irradiance = vec4(0.0, 0.0, 0.0, present ? 1.0 : 0.0);
@@ -85,17 +111,14 @@ void main() {
   bool one = lo == hi && !lost;
   gl_FragDepth = one ? float(lo + 1u) / 65535.0 : 1.0;
 #ifdef BATCH
-  if (one) {
-    imageStore(u_window_surface, ivec3(gl_FragCoord.xy, batch_maps[v_map].ints.x),
-               vec4(position_code(sum / n, batch_maps[v_map].half_size.y)));
-  } else {
-    cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
-  }
+  float surface = one ? position_code(sum / n, batch_maps[v_map].half_size.y) : several_windows_code(lo, hi);
+  imageStore(u_window_surface, ivec3(gl_FragCoord.xy, batch_maps[v_map].ints.x), vec4(surface));
+  if (!one) cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
 #else
-  if (one) {
-    imageStore(u_window_surface, ivec2(gl_FragCoord.xy), vec4(position_code(sum / n, u_half_v)));
-  } else {
+  imageStore(u_window_surface, ivec2(gl_FragCoord.xy), vec4(one ? position_code(sum / n, u_half_v) : several_windows_code(lo, hi)));
+  if (!one) {
     cmd[11] = cmd[0];  // the same value from every such texel
+    cmd[15] = 1u;      // for later draws that keep this pass's result
   }
 #endif
 }

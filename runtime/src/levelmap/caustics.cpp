@@ -32,9 +32,11 @@ constexpr GLsizeiptr kPlanesBytes = kPlanesHeader + 8 * GLsizeiptr{kMaxPlanes};
 // command words 8..10 (listed, overflow, drawn) and the plane count.
 constexpr std::size_t kCounterBytes = 16;
 // A map's command buffer (caustics_fixup.comp): the draw, the geometry
-// dispatch, the counters, and at word 11 the second level-map draw.
-constexpr GLsizeiptr kCommandBytes = 60;
+// dispatch, the counters, at word 11 the second level-map draw and at
+// word 15 whether the windows pass found texels of several windows.
+constexpr GLsizeiptr kCommandBytes = 64;
 constexpr GLsizeiptr kSecondDrawOffset = 44;
+constexpr GLintptr kSeveralFlagOffset = 60;  // caustics_fixup.comp's word 15
 // A batch's command buffer (Impl::Batch; caustics_batch.glsl's layout):
 // from kBatchCounts each map's count of entries, overflow and entries
 // drawn, a cache line apart, then each map's draw and several-windows
@@ -132,6 +134,17 @@ struct MapGpu {
   std::uint32_t planned_side = 0;
   // Its last draw's windows pass wrote the presence (caustics_windows.frag).
   bool windows_presence = false;
+  // Drawn alone (not in a batch): the windows pass's depth, which plane's
+  // window each texel's surface lies in, and surface, the mean frame V of
+  // the samples of a texel in one window (R16, as a position code) that
+  // the draw reads instead of the samples (caustics_windows.frag), at
+  // caustics_size; and the planes and side they were made for. The pass runs again only when those change (the planes'
+  // key holds the position map's version) or the map's texture was remade;
+  // until then the depth, the surface, the presence in the map's alpha
+  // and the several-windows flag (caustics_fixup.comp's word 15) stay.
+  gl::Texture window_depth, window_surface;
+  std::uint32_t window_size = 0;
+  std::optional<std::pair<PlanKey, std::uint32_t>> windows_made;
   bool planned = false;
   bool unlit = false;  // its light no longer reaches it through the water (rederive_map)
   // The depth profile: the baked histogram, re-made on the GPU after a
@@ -191,9 +204,11 @@ std::pair<float, int> texel_sampling(const MapGpu& m) {
 // mips; where the water disperses, the sum over wavelengths and the RGB
 // texture with mips; for the volumetric baseline, a slice and an
 // illumination texel per plane.
-double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral, bool batched) {
+double bytes_per_texel(const MapGpu& m, const CausticsOptions& o, bool spectral) {
   double b = 16.0 * 4.0 / 3.0;
-  if (batched) b += 4.0;  // the batch's window depth and surface
+  // The level-map methods' window depth and surface: its batch's layer, or
+  // its own drawn alone.
+  if (o.method == CausticsMethod::kLevelMap || o.method == CausticsMethod::kUniform) b += 4.0;
   if (spectral) b += 16.0 + 16.0 * 4.0 / 3.0;
   if (o.method == CausticsMethod::kVolumetric) {
     const std::size_t planes = m.cpu_planes ? m.cpu_planes->size() : m.lm->planes_requested;
@@ -290,14 +305,6 @@ struct CausticsEngine::Impl {
   std::vector<BatchMap> batch_info;
   std::vector<std::pair<std::size_t, std::size_t>> batch_runs;
   std::vector<std::pair<BatchKey, std::size_t>> arranged;
-  // The level-map draw's depth (caustics_windows.frag) for maps drawn one
-  // by one: which plane's window each caustics texel's surface lies in;
-  // one for every such map, as large as the largest; beside it the mean
-  // frame V of the surface samples of each texel in one window (R16, as a
-  // position code), which the draw reads instead of the samples.
-  gl::Texture window_depth;
-  gl::Texture window_surface;
-  std::uint32_t window_depth_size = 0;
   gl::Texture position_depth;  // the position maps' re-derivation (rederive_map), shared
   std::uint32_t position_depth_size = 0;
   gl::Program splat_photon, splat_points;
@@ -555,6 +562,7 @@ struct CausticsEngine::Impl {
         m.fbo = gl::make_framebuffer();
         glNamedFramebufferTexture(m.fbo.get(), GL_COLOR_ATTACHMENT0, m.caustics.get(), 0);
         m.caustics_size = side;
+        m.windows_made.reset();
         m.layer = static_cast<std::uint32_t>(layer);
         m.batched = false;
       }
@@ -566,17 +574,24 @@ struct CausticsEngine::Impl {
     }
   }
 
-  // The windows' depth (16-bit: the draw compares (k + 1) / 65535
-  // exactly, caustics_windows.frag) and the windows' surface, grown to
-  // the largest caustics map drawn map by map; a batch has its own
-  // (draw_batch).
-  void ensure_window_depth(std::uint32_t size) {
-    if (window_depth_size >= size && window_depth.get()) return;
-    window_depth = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(window_depth.get(), 1, GL_DEPTH_COMPONENT16, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
-    window_surface = gl::make_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(window_surface.get(), 1, GL_R16, static_cast<GLsizei>(size), static_cast<GLsizei>(size));
-    window_depth_size = size;
+  // A map's windows' depth (16-bit: the draw compares (k + 1) / 65535
+  // exactly, caustics_windows.frag) and surface at its side, drawn alone;
+  // a batch has its own (draw_batch).
+  static void ensure_windows(MapGpu& m) {
+    if (m.window_size == m.caustics_size && m.window_depth.get()) return;
+    const auto size = static_cast<GLsizei>(m.caustics_size);
+    m.window_size = m.caustics_size;
+    m.window_depth = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.window_depth.get(), 1, GL_DEPTH_COMPONENT16, size, size);
+    m.window_surface = gl::make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.window_surface.get(), 1, GL_R16, size, size);
+  }
+
+  static void release_windows(MapGpu& m) {
+    m.window_depth.reset();
+    m.window_surface.reset();
+    m.window_size = 0;
+    m.windows_made.reset();
   }
 
   void ensure_slices(MapGpu& m, std::uint32_t count, std::uint32_t size) {
@@ -606,9 +621,10 @@ struct CausticsEngine::Impl {
 
   // A map's own textures, which its texels size (bytes_per_texel).
   static std::uint64_t texture_bytes(const MapGpu& m) {
-    // RGBA32F and its mips, and its window depth and surface in a batch.
+    // RGBA32F and its mips, and its window depth and surface: its
+    // batch's layer, or its own drawn alone.
     const std::uint64_t texels = std::uint64_t{m.caustics_size} * m.caustics_size;
-    const std::uint64_t cm = texels * 16 * 4 / 3 + (m.batched ? texels * 4 : 0);
+    const std::uint64_t cm = texels * 16 * 4 / 3 + (m.batched ? texels * 4 : 0) + std::uint64_t{m.window_size} * m.window_size * 4;
     const std::uint64_t sl = std::uint64_t{m.slice_size} * m.slice_size * m.slice_count * (1 + 16);
     const std::uint64_t spectral = std::uint64_t{m.spectral_size} * m.spectral_size * 16 * 7 / 3;  // sum, colour and its mips
     return cm + sl + spectral;
@@ -633,11 +649,11 @@ struct CausticsEngine::Impl {
 
   // What the maps share: refracted rays and fluxes, the read-back ring,
   // the splats' photons (one set for every map), the planner's scratch,
-  // the lists, the windows' depth and surface and the re-derivations' depth.
+  // the lists and the re-derivations' depth.
   std::uint64_t shared_bytes() const {
     return std::uint64_t{16} * water->vertex_count() + std::uint64_t{8} * water->triangle_count() + readback.gpu_bytes() +
            std::uint64_t{32} * photon_size * photon_size + 4 * static_cast<std::uint64_t>(plan_scratch_words) +
-           allocated * (kListBytes + kPrimitiveBytes) + std::uint64_t{4} * window_depth_size * window_depth_size +
+           allocated * (kListBytes + kPrimitiveBytes) +
            std::uint64_t{4} * position_depth_size * position_depth_size + 16 + batch_bytes() + 32 + 64 * std::uint64_t{rects_capacity};
   }
 
@@ -725,7 +741,7 @@ struct CausticsEngine::Impl {
           const double need = 2.0 * std::max(m.lm->frame.half[0], m.lm->frame.half[2]) / texel;
           side = std::min(cap, ladder_side(std::max(need, std::min(floor_side, kLeastOverNeed * need))));
         }
-        bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral, batching(o, spectral)));
+        bytes += static_cast<std::uint64_t>(static_cast<double>(side) * side * bytes_per_texel(m, o, spectral));
         if (sides) (*sides)[i] = side;
       }
       return bytes;
@@ -805,6 +821,7 @@ struct CausticsEngine::Impl {
   static void release_textures(MapGpu& m) {
     m.caustics.reset();
     m.fbo.reset();
+    release_windows(m);
     m.caustics_size = 0;
     m.batched = false;
     m.slices.reset();
@@ -1030,6 +1047,10 @@ struct CausticsEngine::Impl {
     const BoundingFrame& f = m.lm->frame;
     plan_planes(m, o);
     m.windows_presence = false;
+    const bool pairs = o.method != CausticsMethod::kVolumetric;
+    // Another pass writes the presence, or nothing: the windows made last are
+    // not what the map holds.
+    if (!pairs || o.method == CausticsMethod::kSplat || (m.cpu_planes && m.cpu_planes->empty())) m.windows_made.reset();
     if (o.method == CausticsMethod::kSplat) {
       draw_splat(m, o, light, ior);
       return;
@@ -1043,7 +1064,6 @@ struct CausticsEngine::Impl {
 
     // 1. Cull: volumes that miss the frame, and (level map) planes the
     // surface under a volume does not need.
-    const bool pairs = o.method != CausticsMethod::kVolumetric;
     // The list is sized by what it needs, not by the worst case (every
     // volume through every plane). The first frame a map is drawn with a
     // plan (the warm-up) reads the count back and re-runs the cull with a
@@ -1061,7 +1081,8 @@ struct CausticsEngine::Impl {
     timed_cull.emplace("level maps: cull", gl::PassKind::kCompute);
     for (int attempt = 0; attempt < (measure ? 2 : 1); ++attempt) {
       ensure_list();
-      glClearNamedBufferData(m.command.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+      // All but the several-windows flag, which the windows pass keeps.
+      glClearNamedBufferSubData(m.command.get(), GL_R32UI, 0, kSeveralFlagOffset, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
       cull.use();
       set_frame(cull, f);
       cull.set("u_triangles", water->triangle_count());
@@ -1150,21 +1171,30 @@ struct CausticsEngine::Impl {
 
     if (pairs) {
       m.windows_presence = true;
-      ensure_window_depth(m.caustics_size);
-      glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, window_depth.get(), 0);
+      ensure_windows(m);
+      glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, m.window_depth.get(), 0);
       glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
       glViewport(0, 0, size, size);
+      const std::pair<PlanKey, std::uint32_t> windows_key{*m.plan, m.caustics_size};
+      const bool windows_kept = m.windows_made == windows_key;
+      // The irradiance, and the presence too where the windows pass
+      // writes it again.
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, windows_kept ? GL_FALSE : GL_TRUE);
       glClearNamedFramebufferfv(m.fbo.get(), GL_COLOR, 0, zero);
-      const float no_window = 0.0f;
-      glDepthMask(GL_TRUE);
-      glClearNamedFramebufferfv(m.fbo.get(), GL_DEPTH, 0, &no_window);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       const auto [scale, samples] = texel_sampling(m);
       glBindTextureUnit(0, m.position_map.get());
-      {
+      if (!windows_kept) {
         // 3a. Each texel's window into depth, so that the draw's depth test
         // drops the fragments its window test would discard, before they
-        // are shaded (caustics_windows.frag).
+        // are shaded (caustics_windows.frag). Made again only when the
+        // planes, the position map or the map's side change.
         const gl::TimedPass timed("level maps: windows", gl::PassKind::kRaster);
+        const float no_window = 0.0f;
+        glDepthMask(GL_TRUE);
+        glClearNamedFramebufferfv(m.fbo.get(), GL_DEPTH, 0, &no_window);
+        // The several-windows flag (caustics_fixup.comp's word 15).
+        glClearNamedBufferSubData(m.command.get(), GL_R32UI, kSeveralFlagOffset, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_ALWAYS);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);  // and the presence in alpha
@@ -1173,17 +1203,19 @@ struct CausticsEngine::Impl {
         windows.set("u_samples", samples);
         windows.set("u_half_v", f.half[1]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
-        glBindImageTexture(0, window_surface.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16);
+        glBindImageTexture(0, m.window_surface.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16);
         glBindVertexArray(empty_vao.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glDepthMask(GL_FALSE);
-        glDepthFunc(GL_EQUAL);
+        m.windows_made = windows_key;
       }
+      glEnable(GL_DEPTH_TEST);
+      glDepthMask(GL_FALSE);
+      glDepthFunc(GL_EQUAL);
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
-      glBindTextureUnit(1, window_surface.get());
+      glBindTextureUnit(1, m.window_surface.get());
       levelmap.set("u_map_scale", glm::vec2(scale));
       levelmap.set("u_samples", samples);
       levelmap.set("u_half_v", f.half[1]);
@@ -1265,7 +1297,8 @@ struct CausticsEngine::Impl {
     batch_info.resize(which.size());
     bool several = false;  // some map's texels are coarser than its position map's
     for (std::size_t k = 0; k < which.size(); ++k) {
-      const MapGpu& m = maps[which[k]];
+      MapGpu& m = maps[which[k]];
+      release_windows(m);  // its batch's layer serves
       const BoundingFrame& f = m.lm->frame;
       const auto [scale, samples] = texel_sampling(m);
       several = several || samples > 1;
