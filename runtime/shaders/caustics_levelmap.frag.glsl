@@ -95,8 +95,7 @@ void main() {
   } else if (several_windows_holds(WINDOW_SURFACE_CODE(), k)) {
     for (int j = 0; j < u_samples; ++j) {
       for (int i = 0; i < u_samples; ++i) {
-        vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-        float v = POSITION(ivec2(at * u_map_scale));
+        float v = POSITION(texel_sample(gl_FragCoord.xy, i, j, u_samples, u_map_scale));
         if (v > -1e29) surface += 1.0;
         if (sample_window(v, k)) {
           inside += 1.0;

@@ -28,8 +28,7 @@ void main() {
   float present = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
-      vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      if (PRESENT(ivec2(at * u_map_scale))) present += 1.0;
+      if (PRESENT(texel_sample(gl_FragCoord.xy, i, j, u_samples, u_map_scale))) present += 1.0;
     }
   }
   present /= float(u_samples * u_samples);

@@ -66,8 +66,7 @@ void main() {
   float least = 1e30, most = -1e30, sum = 0.0, n = 0.0;
   for (int j = 0; j < u_samples; ++j) {
     for (int i = 0; i < u_samples; ++i) {
-      vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-      float v = POSITION(ivec2(at * u_map_scale));
+      float v = POSITION(texel_sample(gl_FragCoord.xy, i, j, u_samples, u_map_scale));
       if (v > -1e29) {
         least = min(least, v);
         most = max(most, v);
@@ -86,8 +85,7 @@ void main() {
     sum = n = 0.0;
     for (int j = 0; j < u_samples; ++j) {
       for (int i = 0; i < u_samples; ++i) {
-        vec2 at = floor(gl_FragCoord.xy) + (vec2(i, j) + 0.5) / float(u_samples);
-        float v = POSITION(ivec2(at * u_map_scale));
+        float v = POSITION(texel_sample(gl_FragCoord.xy, i, j, u_samples, u_map_scale));
         uint kv = window_of(v);
         if (kv != 0xffffffffu) {
           lo = min(lo, kv);

@@ -15,3 +15,11 @@ float position_v(float s, float half_v) {
 // baker clamps it (a flat receiver's frame is micrometres tall, and a
 // point's V rounded past its side must not come out as 65535, no surface).
 float position_code(float v, float half_v) { return clamp((half_v - v) / (2.0 * half_v), 0.0, 1.0) * (65534.0 / 65535.0); }
+// The position-map texel of surface sample (i, j), of samples x samples
+// spread evenly over the caustics texel at frag (its gl_FragCoord), scale
+// position-map texels to a caustics texel: the samples the level maps'
+// windows, draw and presence take of a texel coarser than the position
+// map's.
+ivec2 texel_sample(vec2 frag, int i, int j, int samples, vec2 scale) {
+  return ivec2((floor(frag) + (vec2(i, j) + 0.5) / float(samples)) * scale);
+}

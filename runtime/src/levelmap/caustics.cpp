@@ -138,10 +138,11 @@ struct MapGpu {
   // window each texel's surface lies in, and surface, the mean frame V of
   // the samples of a texel in one window (R16, as a position code) that
   // the draw reads instead of the samples (caustics_windows.frag), at
-  // caustics_size; and the planes and side they were made for. The pass runs again only when those change (the planes'
-  // key holds the position map's version) or the map's texture was remade;
-  // until then the depth, the surface, the presence in the map's alpha
-  // and the several-windows flag (caustics_fixup.comp's word 15) stay.
+  // caustics_size; and the planes and side they were made for. The pass
+  // runs again only when those change (the planes' key holds the position
+  // map's version) or the map's texture was remade; until then the depth,
+  // the surface, the presence in the map's alpha and the several-windows
+  // flag (caustics_fixup.comp's word 15) stay.
   gl::Texture window_depth, window_surface;
   std::uint32_t window_size = 0;
   std::optional<std::pair<PlanKey, std::uint32_t>> windows_made;
