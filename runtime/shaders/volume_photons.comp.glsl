@@ -27,8 +27,12 @@ uniform vec3 u_light_color;    // linear colour x E0 (directional) or I (point),
 uniform float u_scale;         // fixed-point units per unit of scattered power
 uniform float u_tally_scale;   // fixed-point units per unit of tallied power
 uniform float u_step;          // voxels, in index grids
+uniform int u_directions;      // 0: every medium scatters isotropically; no direction is kept
 uniform int u_octree;
 uniform int u_max_steps;
+// The photon's footprint across its track (metres): its source cell's
+// width along x and z, the square root of its area along y.
+vec3 foot;
 uniform float u_eps;           // metres: pushes a ray past a boundary it reached
 
 float rand(uint x) {
@@ -80,13 +84,48 @@ float next_event(vec3 x, vec3 d, bool wet) {
   return t >= 1e29 ? -1.0 : t + u_eps;
 }
 
+// A photon stands for the beam through its cell of the source window,
+// `foot` voxels wide across its track (at most 1 is used). Returns, of a
+// footprint centred at t along an axis of its voxel (which spans [0, 1]),
+// the share in the nearer neighbour (x) and that neighbour's offset, -1 or
+// +1 (y). In its voxel alone, a track nearly parallel to a grid axis moved
+// all its light to the next column of voxels at once as it drifted across
+// their face, and the in-scatter changed by steps as the light turned;
+// shared by its footprint, the light moves over as the track does.
+vec2 footprint_share(float t, float foot) {
+  float f = clamp(foot, 1e-4, 1.0);
+  return t < 0.5 ? vec2(max(0.5 * f - t, 0.0) / f, -1.0) : vec2(max(t + 0.5 * f - 1.0, 0.0) / f, 1.0);
+}
+
+// In the focus grid the glass's photons have converged: their beams are
+// narrower than their source cells, and a footprint the cell's width took
+// fog_ball's focal line peak from -6 % to -8 % of the optics'; a quarter
+// of it keeps the peak.
+const float kFocusFootprint = 0.25;
+
+void deposit_voxel(int v, vec3 sc, vec3 d) {
+  add_fixed(v, sc.r);
+  add_fixed(v + 1, sc.g);
+  add_fixed(v + 2, sc.b);
+  if (u_directions == 0) return;
+  float l = luminance(sc);
+  add_fixed(v + 3, l * d.x);
+  add_fixed(v + 4, l * d.y);
+  add_fixed(v + 5, l * d.z);
+}
+
 // Deposits sigma_s x power x length of the chord o + s d, s in [a, b],
 // into every voxel of the grid over [lo, hi] (n voxels, its first at
 // `base` in the accumulator) that it crosses (Amanatides-Woo traversal,
-// the exact decay in each voxel), p the power at s = 0. With `stop_at_surfaces`
+// the exact decay in each voxel), p the power at s = 0, each piece
+// shared with its neighbours across the track by the photon's footprint
+// (foot_scale x its source cell's). With `stop_at_surfaces`
 // it ends where an opaque surface is met and returns that s, else b.
-float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int base, vec3 p, Medium m, bool stop_at_surfaces) {
+float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int base, vec3 p, Medium m, bool stop_at_surfaces, float foot_scale) {
   vec3 h = (hi - lo) / vec3(n);
+  vec3 ad = abs(d);
+  int main_axis = ad.x >= ad.y && ad.x >= ad.z ? 0 : (ad.y >= ad.z ? 1 : 2);
+  int a1 = main_axis == 0 ? 1 : 0, a2 = main_axis == 2 ? 1 : 2;  // the axes across the track
   vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
   ivec3 cell = clamp(ivec3(floor((start - lo) / h)), ivec3(0), n - 1);
   ivec3 stp;
@@ -109,14 +148,23 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
     if (e > s) {
       if (stop_at_surfaces && occluded(o + d * e)) return s;
       vec3 sc = m.ss * power_length(p, m.st, s, e);
-      int v = base + 6 * ((cell.z * n.y + cell.y) * n.x + cell.x);
-      add_fixed(v, sc.r);
-      add_fixed(v + 1, sc.g);
-      add_fixed(v + 2, sc.b);
-      float l = luminance(sc);
-      add_fixed(v + 3, l * d.x);
-      add_fixed(v + 4, l * d.y);
-      add_fixed(v + 5, l * d.z);
+      // The footprint's shares across the track at the piece's midpoint:
+      // the neighbour on the nearer side in each of the two axes across
+      // the track's main one, kept in the piece's voxel at the grid's side.
+      vec3 t = (o + d * (0.5 * (s + e)) - lo) / h - vec3(cell);
+      vec2 fa = footprint_share(t[a1], foot_scale * foot[a1] / h[a1]), fb = footprint_share(t[a2], foot_scale * foot[a2] / h[a2]);
+      ivec3 ca = cell, cb = cell;
+      ca[a1] += int(fa.y);
+      cb[a2] += int(fb.y);
+      if (ca[a1] < 0 || ca[a1] >= n[a1]) fa.x = 0.0;
+      if (cb[a2] < 0 || cb[a2] >= n[a2]) fb.x = 0.0;
+      ivec3 cab = ca;
+      cab[a2] = cb[a2];
+      int row = n.x, slab = n.x * n.y;
+      deposit_voxel(base + 6 * (cell.z * slab + cell.y * row + cell.x), (1.0 - fa.x) * (1.0 - fb.x) * sc, d);
+      if (fa.x > 0.0) deposit_voxel(base + 6 * (ca.z * slab + ca.y * row + ca.x), fa.x * (1.0 - fb.x) * sc, d);
+      if (fb.x > 0.0) deposit_voxel(base + 6 * (cb.z * slab + cb.y * row + cb.x), (1.0 - fa.x) * fb.x * sc, d);
+      if (fa.x > 0.0 && fb.x > 0.0) deposit_voxel(base + 6 * (cab.z * slab + cab.y * row + cab.x), fa.x * fb.x * sc, d);
     }
     s = e;
     cell[axis] += stp[axis];
@@ -136,7 +184,7 @@ bool march_chord(vec3 o, vec3 d, float len, inout vec3 p, Medium m, inout float 
   vec2 r = box_range(o, d, u_grid_lo, u_grid_hi);
   float a = max(r.x, 0.0), b = min(r.y, len);
   if (any(greaterThan(m.ss, vec3(0.0))) && b > a) {
-    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, true);
+    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, true, 1.0);
     if (stop < b) {
       end = stop;
       blocked = true;
@@ -144,7 +192,8 @@ bool march_chord(vec3 o, vec3 d, float len, inout vec3 p, Medium m, inout float 
     if (u_focus_on != 0) {
       vec2 f = box_range(o, d, u_focus_lo, u_focus_hi);
       float fa = max(f.x, 0.0), fb = min(f.y, min(end, b));
-      if (fb > fa) deposit(o, d, fa, fb, u_focus_lo, u_focus_hi, u_focus_n, 6 * u_grid_n.x * u_grid_n.y * u_grid_n.z, p, m, false);
+      if (fb > fa) deposit(o, d, fa, fb, u_focus_lo, u_focus_hi, u_focus_n, 6 * u_grid_n.x * u_grid_n.y * u_grid_n.z, p, m, false,
+                              kFocusFootprint);
     }
   }
   if (!blocked && occluded(o + d * len)) blocked = true;
@@ -177,6 +226,8 @@ void main() {
   vec2 f = (vec2(ix, iz) + vec2(rand(id * 2u + u_seed), rand(id * 2u + 1u + u_seed * 7919u))) / float(u_side);
   vec2 xz = mix(u_window.xy, u_window.zw, f);
   float area = (u_window.z - u_window.x) * (u_window.w - u_window.y) / float(u_side * u_side);
+  vec2 cell_size = (u_window.zw - u_window.xy) / float(u_side);
+  foot = vec3(cell_size.x, sqrt(area), cell_size.y);
   bool point = caustix_light.mode.y == 2;
   vec3 lp = caustix_light.light_position.xyz;
   vec3 x, d;
