@@ -177,14 +177,19 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
 // The chord o + s d, s in [0, len], in medium m with power p at s = 0:
 // deposits into the radiance grid (and the focus grid where it crosses
 // it), stops where an opaque surface is met, and leaves p attenuated at
-// its end. Returns whether a surface stopped it.
-bool march_chord(vec3 o, vec3 d, float len, inout vec3 p, Medium m, inout float scattered, inout float absorbed) {
+// its end. `along_light`: the chord lies on a ray from the light (the
+// photon has not been refracted). Returns whether a surface stopped it.
+bool march_chord(vec3 o, vec3 d, float len, bool along_light, inout vec3 p, Medium m, inout float scattered, inout float absorbed) {
   float end = len;
   bool blocked = false;
   vec2 r = box_range(o, d, u_grid_lo, u_grid_hi);
   float a = max(r.x, 0.0), b = min(r.y, len);
   if (any(greaterThan(m.ss, vec3(0.0))) && b > a) {
-    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, true, 1.0);
+    // Along one of the light's own rays every point has the same shadow
+    // map coordinates and depth grows, so if the chord's end is lit all of
+    // it is, and its voxels need no test each.
+    bool test_each = !along_light || occluded(o + d * b);
+    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, test_each, 1.0);
     if (stop < b) {
       end = stop;
       blocked = true;
@@ -233,6 +238,7 @@ void main() {
   vec3 x, d;
   vec3 p;
   bool wet = false;
+  bool along_light = true;  // until refracted
   if (u_source == 0) {
     if (u_skip.z > u_skip.x && all(greaterThanEqual(xz, u_skip.xy)) && all(lessThan(xz, u_skip.zw))) return;
     x = vec3(xz.x, u_window_y, xz.y);
@@ -259,6 +265,7 @@ void main() {
     d = refract(din, n, 1.0 / u_water_ior);
     p = u_light_color * (e * area * tr);
     wet = true;
+    along_light = false;
   }
 
   float t_in = 0.0, t_sc = 0.0, t_ab = 0.0, t_lv = 0.0, t_rf = 0.0, t_tr = 0.0;
@@ -275,6 +282,7 @@ void main() {
       float c0, c1;
       vec3 grad;
       grid_step(g, u, x, d, u_step, u_octree != 0, 1e30, c0, c1, grad);
+      along_light = false;
       tr = surface_transmittance(g, c0, c1, d0, grad);
       ++grid_steps;
     } else {
@@ -291,7 +299,7 @@ void main() {
     if (any(greaterThan(m.st, vec3(0.0)))) {
       if (!in_medium) t_in += luminance(p);
       in_medium = true;
-      blocked = march_chord(x0, cd, len, p, m, t_sc, t_ab);
+      blocked = march_chord(x0, cd, len, along_light, p, m, t_sc, t_ab);
     } else {
       if (in_medium) t_lv += luminance(p);
       in_medium = false;
