@@ -3,9 +3,11 @@
 // Marching"), one invocation per photon of one light. Each photon's power
 // decays by e^(-sigma_t s) in every medium; what it loses to scattering is
 // deposited into the radiance grid by exact voxel traversal (a
-// track-length estimate), with its direction of travel, as fixed-point
-// integers (GL 4.5 has integer atomics only). Photons stop on opaque
-// surfaces (the light's shadow map), leave the media, or run out of steps.
+// track-length estimate), shared across the track by the photon's
+// footprint, with its direction of travel where a phase function needs
+// it, as fixed-point integers (GL 4.5 has integer atomics only). Photons
+// stop on opaque surfaces (the light's shadow map), leave the media, or
+// run out of steps.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) buffer Accumulator { int acc[]; };  // 6 per voxel: rgb scattered power, luminance-weighted direction
