@@ -105,6 +105,10 @@ vec2 footprint_share(float t, float foot) {
 // of it keeps the peak.
 const float kFocusFootprint = 0.25;
 
+// The accumulator index of voxel c of a grid of n voxels whose first is at
+// `base`.
+int voxel_at(ivec3 c, ivec3 n, int base) { return base + 6 * ((c.z * n.y + c.y) * n.x + c.x); }
+
 void deposit_voxel(int v, vec3 sc, vec3 d) {
   add_fixed(v, sc.r);
   add_fixed(v + 1, sc.g);
@@ -128,6 +132,7 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
   vec3 ad = abs(d);
   int main_axis = ad.x >= ad.y && ad.x >= ad.z ? 0 : (ad.y >= ad.z ? 1 : 2);
   int a1 = main_axis == 0 ? 1 : 0, a2 = main_axis == 2 ? 1 : 2;  // the axes across the track
+  vec2 width = foot_scale * vec2(foot[a1] / h[a1], foot[a2] / h[a2]);  // the footprint, voxels
   vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
   ivec3 cell = clamp(ivec3(floor((start - lo) / h)), ivec3(0), n - 1);
   ivec3 stp;
@@ -154,7 +159,7 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
       // the neighbour on the nearer side in each of the two axes across
       // the track's main one, kept in the piece's voxel at the grid's side.
       vec3 t = (o + d * (0.5 * (s + e)) - lo) / h - vec3(cell);
-      vec2 fa = footprint_share(t[a1], foot_scale * foot[a1] / h[a1]), fb = footprint_share(t[a2], foot_scale * foot[a2] / h[a2]);
+      vec2 fa = footprint_share(t[a1], width.x), fb = footprint_share(t[a2], width.y);
       ivec3 ca = cell, cb = cell;
       ca[a1] += int(fa.y);
       cb[a2] += int(fb.y);
@@ -162,11 +167,10 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
       if (cb[a2] < 0 || cb[a2] >= n[a2]) fb.x = 0.0;
       ivec3 cab = ca;
       cab[a2] = cb[a2];
-      int row = n.x, slab = n.x * n.y;
-      deposit_voxel(base + 6 * (cell.z * slab + cell.y * row + cell.x), (1.0 - fa.x) * (1.0 - fb.x) * sc, d);
-      if (fa.x > 0.0) deposit_voxel(base + 6 * (ca.z * slab + ca.y * row + ca.x), fa.x * (1.0 - fb.x) * sc, d);
-      if (fb.x > 0.0) deposit_voxel(base + 6 * (cb.z * slab + cb.y * row + cb.x), (1.0 - fa.x) * fb.x * sc, d);
-      if (fa.x > 0.0 && fb.x > 0.0) deposit_voxel(base + 6 * (cab.z * slab + cab.y * row + cab.x), fa.x * fb.x * sc, d);
+      deposit_voxel(voxel_at(cell, n, base), (1.0 - fa.x) * (1.0 - fb.x) * sc, d);
+      if (fa.x > 0.0) deposit_voxel(voxel_at(ca, n, base), fa.x * (1.0 - fb.x) * sc, d);
+      if (fb.x > 0.0) deposit_voxel(voxel_at(cb, n, base), (1.0 - fa.x) * fb.x * sc, d);
+      if (fa.x > 0.0 && fb.x > 0.0) deposit_voxel(voxel_at(cab, n, base), fa.x * fb.x * sc, d);
     }
     s = e;
     cell[axis] += stp[axis];
