@@ -83,17 +83,23 @@ int octree_level(int g, vec3 u) {
   return int(texelFetch(u_index[g], ivec3(floor(u)), 0).g * 15.0 + 0.5);
 }
 
-// The medium at x: the object that holds x (coverage >= 1/2), else the
-// water (photons that entered it; view rays below its rest level), else
-// the medium box, else none.
+// The medium at x where x lies in no index grid: the water (photons that
+// entered it; view rays below its rest level), else the medium box, else
+// none.
+Medium medium_outside_grids(vec3 x, bool wet) {
+  if (u_water_on != 0 && wet && in_box(x, u_water_lo, u_water_hi)) return Medium(u_water_ss.rgb, u_water_st.rgb, u_water_ss.w, u_water_st.w);
+  if (u_fog_on != 0 && in_box(x, u_fog_lo, u_fog_hi)) return Medium(u_fog_ss.rgb, u_fog_st.rgb, u_fog_ss.w, u_fog_st.w);
+  return Medium(vec3(0.0), vec3(0.0), 0.0, 1.0);
+}
+
+// The medium at x: the object that holds x (coverage >= 1/2), else
+// medium_outside_grids.
 Medium medium_at(vec3 x, bool wet) {
   for (int g = 0; g < u_glass_count; ++g) {
     vec3 u = voxel_of(g, x);
     if (in_grid(g, u) && coverage(g, u) >= 0.5) return Medium(u_glass_ss[g].rgb, u_glass_st[g].rgb, u_glass_ss[g].w, u_glass_st[g].w);
   }
-  if (u_water_on != 0 && wet && in_box(x, u_water_lo, u_water_hi)) return Medium(u_water_ss.rgb, u_water_st.rgb, u_water_ss.w, u_water_st.w);
-  if (u_fog_on != 0 && in_box(x, u_fog_lo, u_fog_hi)) return Medium(u_fog_ss.rgb, u_fog_st.rgb, u_fog_ss.w, u_fog_st.w);
-  return Medium(vec3(0.0), vec3(0.0), 0.0, 1.0);
+  return medium_outside_grids(x, wet);
 }
 
 // Pfeuti, "Viewing Pass": isotropic 1/(4 pi); Schlick

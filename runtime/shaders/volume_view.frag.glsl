@@ -25,6 +25,7 @@ uniform vec3 u_atlas;           // u_source's size in texels
 uniform float u_step;           // voxels, in index grids
 uniform int u_octree;
 uniform int u_max_steps;
+uniform int u_directions;       // 0: every medium scatters isotropically; u_direction is not read
 
 float rand(uvec2 p) {
   uint x = p.x * 1973u + p.y * 9277u + 26699u;
@@ -32,7 +33,8 @@ float rand(uvec2 p) {
   return float(x >> 8) * (1.0 / 16777216.0);
 }
 
-// Whether x lies behind the opaque scene as the camera sees it.
+// Whether x lies behind the opaque scene as the camera sees it (any point,
+// such as one of a ray bent by an index grid).
 bool behind_scene(vec3 x) {
   vec4 c = u_view_proj * vec4(x, 1.0);
   if (c.w <= 0.0) return false;
@@ -65,6 +67,75 @@ float view_step_at(vec3 x, vec3 d, float jitter) {
   return r.y > r.x && r.x > 0.0 ? min(u_view_step, r.x + (1e-4 + jitter) * u_view_step_focus) : u_view_step;
 }
 
+// The march's state: in-scatter, optical depth (all media; those the
+// scene's colour takes), the Fresnel transmittance at object surfaces
+// crossed, the path's length from the near plane, and, while no index grid
+// has bent the ray, the length at which the pixel's straight ray meets the
+// opaque scene.
+vec3 L = vec3(0.0), tau = vec3(0.0), tau_scene = vec3(0.0);
+float tr = 1.0, travelled = 0.0, scene_t = 0.0;
+bool straight = true;
+
+// Whether the step that ends at x, the path's length then `length`, ends
+// behind the opaque scene. Along the pixel's own straight ray
+// behind_scene(x) holds exactly where the length passes the scene's
+// surface at this pixel (its depth is monotonic along the ray): one depth
+// read a pixel instead of a projection and a read a step, until an index
+// grid bends the ray.
+bool ends_behind(vec3 x, float length) { return straight ? length > scene_t : behind_scene(x); }
+
+// One step of the path, from x0 to x (length len, direction d0 at x0): its
+// in-scatter and attenuation. clear: the caller knows that the step lies in
+// no index grid and ends in front of the scene along the pixel's straight
+// ray (a constant, so that the grids' and the scene's reads are not in the
+// code at all).
+void add_step(vec3 x0, vec3 x, vec3 d0, float len, const bool clear) {
+  travelled += len;
+  vec3 mid = 0.5 * (x0 + x);
+  if (!clear && ends_behind(x, travelled)) {
+    // Up to the surface: the part of the step in front of it.
+    len *= 0.5;
+    mid = x0 + 0.25 * (x - x0);
+    travelled = 1e30;
+  }
+  bool wet = u_water_on != 0 && mid.y < u_water_level;
+  Medium m = clear ? medium_outside_grids(mid, wet) : medium_at(mid, wet);
+  if (any(greaterThan(m.ss, vec3(0.0)))) {
+    if (in_box(mid, u_grid_lo, u_grid_hi)) {
+      vec3 gc = grid_coord(mid);
+      vec3 S = texture(u_source, gc).rgb;
+      vec3 md = u_directions != 0 ? texture(u_direction, gc).xyz : vec3(0.0);
+      float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
+      // The step's own attenuation: the source at its midpoint.
+      L += tr * phase_value(m, cos_a) * S * exp(-(tau + 0.5 * m.st * len)) * len;
+    }
+  }
+  tau += m.st * len;
+  if (!(wet && u_water_excluded != 0)) tau_scene += m.st * len;
+}
+
+// Straight steps from x along d while they stay short of every index
+// grid's box (its voxel coordinates are affine in x; less a margin for
+// the two tests' rounding) and end in front of the scene: the steps the
+// general step below would take, without its reads of the grids.
+// pixel_ray: d is the pixel's own ray (a constant at each call).
+void clear_steps(inout vec3 x, vec3 d, inout float pending, inout int it, float t1, float jitter, const bool pixel_ray) {
+  float clear_to = pixel_ray ? scene_t : 1e30;
+  for (int k = 0; k < u_glass_count; ++k) {
+    vec2 rg = box_range(voxel_of(k, x), mat3(u_world_to_voxel[k]) * d, vec3(0.0), u_glass_size[k].xyz);
+    if (rg.y > rg.x && rg.y > 0.0) clear_to = min(clear_to, travelled + max(rg.x, 0.0) - 1e-3 * u_view_step);
+  }
+  for (; it < u_max_steps && travelled < t1; ++it) {
+    float step_here = view_step_at(x, d, jitter);
+    float len = pending > 0.0 ? min(pending, step_here) : step_here;
+    if (travelled + len >= clear_to || (!pixel_ray && behind_scene(x + len * d))) break;
+    pending = 0.0;
+    vec3 x0 = x;
+    x += len * d;
+    add_step(x0, x, d, len, true);
+  }
+}
+
 void main() {
   vec2 uv = (gl_FragCoord.xy - u_viewport_origin) / u_viewport_size;
   vec4 a = u_inv_view_proj * vec4(2.0 * uv - 1.0, -1.0, 1.0);
@@ -72,6 +143,8 @@ void main() {
   vec3 x = a.xyz / a.w;
   vec3 d = normalize(b.xyz / b.w - x);
   float far_t = length(b.xyz / b.w - x);
+  vec4 s = u_inv_view_proj * vec4(2.0 * uv - 1.0, 2.0 * texture(u_scene_depth, uv).r - 1.0, 1.0);
+  scene_t = dot(s.xyz / s.w - x, d);
 
   // Start where the ray meets the box of the media and index grids.
   vec3 lo = u_grid_lo, hi = u_grid_hi;
@@ -83,53 +156,52 @@ void main() {
     vec2 rg = box_range(voxel_of(g, x), mat3(u_world_to_voxel[g]) * d, vec3(0.0), u_glass_size[g].xyz);
     if (rg.y > rg.x) { t0 = min(t0, max(rg.x, 0.0)); t1 = max(t1, min(rg.y, far_t)); }
   }
-  vec3 L = vec3(0.0);
-  vec3 tau = vec3(0.0), tau_scene = vec3(0.0);  // optical depth: all media; those the scene's colour takes
-  float tr = 1.0;                                 // Fresnel transmittance at object surfaces crossed
   if (t1 > t0) {
     // Jittered start against banding (deterministic per pixel).
     float jitter = rand(uvec2(gl_FragCoord.xy));
     x += d * t0;
-    float travelled = t0;
+    travelled = t0;
     float pending = jitter * u_view_step;  // first sample after a partial step
-    for (int it = 0; it < u_max_steps && travelled < t1; ++it) {
-      vec3 u;
+    // Runs of steps, each a loop of its own: straight steps along the
+    // pixel's own ray that stay short of every index grid and of the
+    // scene's surface, steps through a grid while the ray is in one, and
+    // between them one step that may meet either. A rasteriser that shades
+    // pixels in SIMD lanes (llvmpipe) runs a loop body's every branch for
+    // all its lanes: one body for all steps paid for a grid's step (its
+    // gradient's six reads), the grids' coverage and the scene's depth at
+    // every step of every ray.
+    int it = 0;
+    vec3 u;
+    while (it < u_max_steps && travelled < t1) {
       int g = glass_at(x, u);
-      vec3 x0 = x, d0 = d;
-      float len;
-      float step_here = view_step_at(x, d, jitter);
       if (g >= 0) {
-        float c0, c1;
-        vec3 grad;
-        len = grid_step(g, u, x, d, u_step, u_octree != 0, step_here, c0, c1, grad);
-        tr *= surface_transmittance(g, c0, c1, d0, grad);
+        do {
+          straight = false;
+          vec3 x0 = x, d0 = d;
+          float c0, c1;
+          vec3 grad;
+          float len = grid_step(g, u, x, d, u_step, u_octree != 0, view_step_at(x, d, jitter), c0, c1, grad);
+          tr *= surface_transmittance(g, c0, c1, d0, grad);
+          add_step(x0, x, d0, len, false);
+          g = glass_at(x, u);
+        } while (++it < u_max_steps && travelled < t1 && g >= 0);
+        continue;
+      }
+      // (Two copies: on the pixel's own ray the scene's surface is a
+      // length; on a ray an index grid bent, each step's end is projected.)
+      if (straight) {
+        clear_steps(x, d, pending, it, t1, jitter, true);
       } else {
-        len = pending > 0.0 ? min(pending, step_here) : step_here;
-        pending = 0.0;
-        x += len * d;
+        clear_steps(x, d, pending, it, t1, jitter, false);
       }
-      travelled += len;
-      vec3 mid = 0.5 * (x0 + x);
-      if (behind_scene(x)) {
-        // Up to the surface: the part of the step in front of it.
-        len *= 0.5;
-        mid = x0 + 0.25 * (x - x0);
-        travelled = 1e30;
-      }
-      bool wet = u_water_on != 0 && mid.y < u_water_level;
-      Medium m = medium_at(mid, wet);
-      if (any(greaterThan(m.ss, vec3(0.0)))) {
-        if (in_box(mid, u_grid_lo, u_grid_hi)) {
-          vec3 gc = grid_coord(mid);
-          vec3 S = texture(u_source, gc).rgb;
-          vec3 md = texture(u_direction, gc).xyz;
-          float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
-          // The step's own attenuation: the source at its midpoint.
-          L += tr * phase_value(m, cos_a) * S * exp(-(tau + 0.5 * m.st * len)) * len;
-        }
-      }
-      tau += m.st * len;
-      if (!(wet && u_water_excluded != 0)) tau_scene += m.st * len;
+      if (!(it < u_max_steps && travelled < t1)) break;
+      float step_here = view_step_at(x, d, jitter);
+      float len = pending > 0.0 ? min(pending, step_here) : step_here;
+      pending = 0.0;
+      vec3 x0 = x;
+      x += len * d;
+      add_step(x0, x, d, len, false);
+      ++it;
     }
   }
   o_transmittance = vec4(exp(-tau_scene), 0.0);

@@ -677,6 +677,7 @@ Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, co
   p.set("u_step", o.step);
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
+  p.set("u_directions", s.anisotropic() ? 1 : 0);
   s.bind_index_grids();
   glBindTextureUnit(kDepthUnit, depth_read);
   glBindTextureUnit(kColorUnit, color_read);
