@@ -5,7 +5,19 @@
 
 // ---- transparent objects: index grids (Pfeuti "Voxelization") ----
 const int kMaxGlass = 4;
-uniform int u_glass_count;
+// The number of objects' index grids, fixed when the programs are built
+// (volume.cpp defines CAUSTIX_GLASS_COUNT): a scene without any has no
+// grid code at all, and with one its sampler is read at a constant index.
+// (llvmpipe runs every branch of a body for all its SIMD lanes, taken or
+// not, and reads a sampler array at a run-time index at several times a
+// read's cost: fog_ball's photons through the glass took 400 ms at
+// balanced instead of 312.)
+const int kGlassCount = CAUSTIX_GLASS_COUNT;
+#if CAUSTIX_GLASS_COUNT == 1
+#define GLASS_INDEX(g) 0
+#else
+#define GLASS_INDEX(g) (g)
+#endif
 uniform mat4 u_world_to_voxel[kMaxGlass];  // world -> continuous voxel coordinates (voxel i spans [i, i + 1))
 uniform vec4 u_glass_ior[kMaxGlass];       // x n_out, y n_in, z world length of a voxel, w 1 = octree levels stored
 uniform vec4 u_glass_size[kMaxGlass];      // xyz voxels
@@ -55,12 +67,12 @@ vec2 box_range(vec3 o, vec3 d, vec3 lo, vec3 hi) {
 
 vec3 voxel_of(int g, vec3 x) { return (u_world_to_voxel[g] * vec4(x, 1.0)).xyz; }
 bool in_grid(int g, vec3 u) { return all(greaterThanEqual(u, vec3(0.0))) && all(lessThan(u, u_glass_size[g].xyz)); }
-float coverage(int g, vec3 u) { return texture(u_index[g], u / u_glass_size[g].xyz).r; }
+float coverage(int g, vec3 u) { return texture(u_index[GLASS_INDEX(g)], u / u_glass_size[g].xyz).r; }
 float index_of(int g, float c) { return mix(u_glass_ior[g].x, u_glass_ior[g].y, c); }
 
 // The first object whose index grid holds x, or -1.
 int glass_at(vec3 x, out vec3 u) {
-  for (int g = 0; g < u_glass_count; ++g) {
+  for (int g = 0; g < kGlassCount; ++g) {
     u = voxel_of(g, x);
     if (in_grid(g, u)) return g;
   }
@@ -80,7 +92,7 @@ vec3 index_gradient(int g, vec3 u) {
 // The octree node around voxel coordinate u (Pfeuti "Octree
 // Construction"): its level, stored per voxel.
 int octree_level(int g, vec3 u) {
-  return int(texelFetch(u_index[g], ivec3(floor(u)), 0).g * 15.0 + 0.5);
+  return int(texelFetch(u_index[GLASS_INDEX(g)], ivec3(floor(u)), 0).g * 15.0 + 0.5);
 }
 
 // The medium at x where x lies in no index grid: the water (photons that
@@ -95,7 +107,7 @@ Medium medium_outside_grids(vec3 x, bool wet) {
 // The medium at x: the object that holds x (coverage >= 1/2), else
 // medium_outside_grids.
 Medium medium_at(vec3 x, bool wet) {
-  for (int g = 0; g < u_glass_count; ++g) {
+  for (int g = 0; g < kGlassCount; ++g) {
     vec3 u = voxel_of(g, x);
     if (in_grid(g, u) && coverage(g, u) >= 0.5) return Medium(u_glass_ss[g].rgb, u_glass_st[g].rgb, u_glass_ss[g].w, u_glass_st[g].w);
   }

@@ -79,7 +79,7 @@ float next_event(vec3 x, vec3 d, bool wet) {
     r = box_range(x, d, u_water_lo, u_water_hi);
     if (r.y > r.x) t = min(t, r.x > 0.0 ? r.x : (r.y > 0.0 ? r.y : 1e30));
   }
-  for (int g = 0; g < u_glass_count; ++g) {
+  for (int g = 0; g < kGlassCount; ++g) {
     r = box_range(voxel_of(g, x), mat3(u_world_to_voxel[g]) * d, vec3(0.0), u_glass_size[g].xyz);
     if (r.y > r.x && r.x > 0.0) t = min(t, r.x);
   }

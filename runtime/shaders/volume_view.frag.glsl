@@ -121,7 +121,7 @@ void add_step(vec3 x0, vec3 x, vec3 d0, float len, const bool clear) {
 // pixel_ray: d is the pixel's own ray (a constant at each call).
 void clear_steps(inout vec3 x, vec3 d, inout float pending, inout int it, float t1, float jitter, const bool pixel_ray) {
   float clear_to = pixel_ray ? scene_t : 1e30;
-  for (int k = 0; k < u_glass_count; ++k) {
+  for (int k = 0; k < kGlassCount; ++k) {
     vec2 rg = box_range(voxel_of(k, x), mat3(u_world_to_voxel[k]) * d, vec3(0.0), u_glass_size[k].xyz);
     if (rg.y > rg.x && rg.y > 0.0) clear_to = min(clear_to, travelled + max(rg.x, 0.0) - 1e-3 * u_view_step);
   }
@@ -152,7 +152,7 @@ void main() {
   if (u_water_on != 0) { lo = min(lo, u_water_lo); hi = max(hi, u_water_hi); }
   vec2 r = box_range(x, d, lo, hi);
   float t0 = max(r.x, 0.0), t1 = min(r.y, far_t);
-  for (int g = 0; g < u_glass_count; ++g) {
+  for (int g = 0; g < kGlassCount; ++g) {
     vec2 rg = box_range(voxel_of(g, x), mat3(u_world_to_voxel[g]) * d, vec3(0.0), u_glass_size[g].xyz);
     if (rg.y > rg.x) { t0 = min(t0, max(rg.x, 0.0)); t1 = max(t1, min(rg.y, far_t)); }
   }

@@ -225,7 +225,6 @@ struct VolumeEngine::Impl {
   // The uniforms of volume_common.glsl; the indices at wavelength `nm`
   // when set (dispersion), else n_d.
   void set_media(const gl::Program& p, const SceneDesc& scene, std::optional<float> nm = std::nullopt) const {
-    p.set("u_glass_count", static_cast<int>(glass.size()));
     for (std::size_t i = 0; i < glass.size(); ++i) {
       const Glass& g = glass[i];
       const char k[4] = {'[', static_cast<char>('0' + i), ']', 0};  // i < kMaxObjects
@@ -379,7 +378,8 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     for (Impl::Glass& g : s.glass) g.under_water = s.grid_world_box(scene, g).hi.y < s.water_level;
   }
 
-  const std::string common = lighting_prefix + shaders::k_volume_common_glsl;
+  const std::string common = insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_GLASS_COUNT " + std::to_string(s.glass.size()) + "\n") +
+                             shaders::k_volume_common_glsl;
   const std::string photons_src = insert_after_version(common.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_volume_photons_comp_glsl;
   const std::string view_src = common + shaders::k_volume_view_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.photons, "volume_photons", photons_src.c_str()},
