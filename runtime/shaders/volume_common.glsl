@@ -13,6 +13,11 @@ const int kMaxGlass = 4;
 // read's cost: fog_ball's photons through the glass took 400 ms at
 // balanced instead of 312.)
 const int kGlassCount = CAUSTIX_GLASS_COUNT;
+// Whether some medium's phase function depends on the angle (Schlick with
+// k != 0), also fixed when the programs are built: only then do photons
+// keep their mean direction (3 of a deposit's 6 atomic adds) and view rays
+// read it.
+const bool kDirections = CAUSTIX_DIRECTIONS != 0;
 #if CAUSTIX_GLASS_COUNT == 1
 #define GLASS_INDEX(g) 0
 #else

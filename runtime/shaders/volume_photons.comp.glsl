@@ -29,7 +29,6 @@ uniform vec3 u_light_color;    // linear colour x E0 (directional) or I (point),
 uniform float u_scale;         // fixed-point units per unit of scattered power
 uniform float u_tally_scale;   // fixed-point units per unit of tallied power
 uniform float u_step;          // voxels, in index grids
-uniform int u_directions;      // 0: every medium scatters isotropically; no direction is kept
 uniform int u_octree;
 uniform int u_max_steps;
 // The photon's footprint across its track (metres): its source cell's
@@ -113,7 +112,7 @@ void deposit_voxel(int v, vec3 sc, vec3 d) {
   add_fixed(v, sc.r);
   add_fixed(v + 1, sc.g);
   add_fixed(v + 2, sc.b);
-  if (u_directions == 0) return;
+  if (!kDirections) return;
   float l = luminance(sc);
   add_fixed(v + 3, l * d.x);
   add_fixed(v + 4, l * d.y);

@@ -25,7 +25,6 @@ uniform vec3 u_atlas;           // u_source's size in texels
 uniform float u_step;           // voxels, in index grids
 uniform int u_octree;
 uniform int u_max_steps;
-uniform int u_directions;       // 0: every medium scatters isotropically; u_direction is not read
 
 float rand(uvec2 p) {
   uint x = p.x * 1973u + p.y * 9277u + 26699u;
@@ -104,7 +103,7 @@ void add_step(vec3 x0, vec3 x, vec3 d0, float len, const bool clear) {
     if (in_box(mid, u_grid_lo, u_grid_hi)) {
       vec3 gc = grid_coord(mid);
       vec3 S = texture(u_source, gc).rgb;
-      vec3 md = u_directions != 0 ? texture(u_direction, gc).xyz : vec3(0.0);
+      vec3 md = kDirections ? texture(u_direction, gc).xyz : vec3(0.0);
       float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
       // The step's own attenuation: the source at its midpoint.
       L += tr * phase_value(m, cos_a) * S * exp(-(tau + 0.5 * m.st * len)) * len;

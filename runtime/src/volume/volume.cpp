@@ -378,7 +378,8 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     for (Impl::Glass& g : s.glass) g.under_water = s.grid_world_box(scene, g).hi.y < s.water_level;
   }
 
-  const std::string common = insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_GLASS_COUNT " + std::to_string(s.glass.size()) + "\n") +
+  const std::string common = insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_GLASS_COUNT " + std::to_string(s.glass.size()) +
+                                                                                "\n#define CAUSTIX_DIRECTIONS " + (s.anisotropic() ? "1" : "0") + "\n") +
                              shaders::k_volume_common_glsl;
   const std::string photons_src = insert_after_version(common.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_volume_photons_comp_glsl;
   const std::string view_src = common + shaders::k_volume_view_frag_glsl;
@@ -572,7 +573,6 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   p.set("u_scale", static_cast<float>(pl.scale));
   p.set("u_tally_scale", static_cast<float>(pl.tally_scale));
   p.set("u_step", o.step);
-  p.set("u_directions", s.anisotropic() ? 1 : 0);
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
   p.set("u_eps", 1e-5f * std::max({ext.x, ext.y, ext.z}));
@@ -677,7 +677,6 @@ Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, co
   p.set("u_step", o.step);
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
-  p.set("u_directions", s.anisotropic() ? 1 : 0);
   s.bind_index_grids();
   glBindTextureUnit(kDepthUnit, depth_read);
   glBindTextureUnit(kColorUnit, color_read);
