@@ -215,7 +215,12 @@ vec3 shade(vec3 n, vec3 e, float ior, vec3 refl_color, out float fresnel, out ve
     vec4 w = wa_iteration(u1, r1, u_steps, u_max_steps, a);
     lookup = refr_uv(w.xyz);
     residual = w.w;
-    if (u_debug == 3) lookup = refr_uv(exact_lookup(u1, r1));
+#ifdef CAUSTIX_EXACT_LOOKUP
+    // Only in the program built for WaterDebug::kExactLookup: behind a
+    // uniform test the exact march still cost llvmpipe, which runs every
+    // branch for all its SIMD lanes, a fifth of the surface view.
+    lookup = refr_uv(exact_lookup(u1, r1));
+#endif
     refr_color = texture(u_refr_color, lookup).rgb;
     d = length(a - u1);
   } else {

@@ -95,7 +95,7 @@ void WaterView::ensure_targets(int size) {
 void WaterView::draw_surface(const SurfaceParams& p, const WaterLook& look, const std::function<void()>& draw_water) const {
   const gl::TimedPass timed("water: surface view", gl::PassKind::kRaster);
   const WaterCameras& c = *p.cameras;
-  const gl::Program& s = surface_;
+  const gl::Program& s = look.debug == WaterDebug::kExactLookup ? exact_surface_ : surface_;
   s.use();
   s.set("u_view_proj", p.view_proj);
   s.set("u_eye", p.eye);
@@ -283,6 +283,11 @@ Status WaterView::draw(const Frame& f, const WaterLook& look, const std::functio
   glDepthFunc(GL_LESS);
   if (textured) {
     glDisable(GL_BLEND);
+    if (look.debug == WaterDebug::kExactLookup && !exact_surface_.id()) {
+      const std::string fs = with_optics(shaders::k_water_frag_glsl);
+      CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&exact_surface_, "water_surface (exact lookup)", shaders::k_water_vert_glsl,
+                                                   insert_after_version(fs.c_str(), "#define CAUSTIX_EXACT_LOOKUP\n").c_str()}}));
+    }
     const SurfaceParams sp{&*cams, view_proj, f.main.eye, f.waves, f.medium.color, f.medium.k, f.sun_direction, f.sun_color};
     draw_surface(sp, look, draw_grid);
     if (look.glow && look.debug == WaterDebug::kNone && !cams->under && f.sun_color != glm::vec3(0.0f)) {

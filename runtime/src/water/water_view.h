@@ -111,6 +111,7 @@ class WaterView {
   static Target make_target(int w, int h, GLuint depth = 0);
   static Target make_glow_target(int w, int h);  // RGBA16F (the highlight scaled) and a 16-bit depth
   gl::Program surface_, highlight_, glow_, plain_;
+  gl::Program exact_surface_;  // surface_ with the exact march's lookup (WaterDebug::kExactLookup), built when first drawn
   gl::VertexArray empty_vao_;
   gl::Sampler nearest_;  // the caller's scene depth read texel by texel, whatever its own parameters
   Target refraction_, reflection_, glow_target_;
