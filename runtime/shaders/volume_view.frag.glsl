@@ -75,13 +75,13 @@ vec3 L = vec3(0.0), tau = vec3(0.0), tau_scene = vec3(0.0);
 float tr = 1.0, travelled = 0.0, scene_t = 0.0;
 bool straight = true;
 
-// Whether the step that ends at x, the path's length then `length`, ends
+// Whether the step that ends at x, the path's length then `path`, ends
 // behind the opaque scene. Along the pixel's own straight ray
 // behind_scene(x) holds exactly where the length passes the scene's
 // surface at this pixel (its depth is monotonic along the ray): one depth
 // read a pixel instead of a projection and a read a step, until an index
 // grid bends the ray.
-bool ends_behind(vec3 x, float length) { return straight ? length > scene_t : behind_scene(x); }
+bool ends_behind(vec3 x, float path) { return straight ? path > scene_t : behind_scene(x); }
 
 // One step of the path, from x0 to x (length len, direction d0 at x0): its
 // in-scatter and attenuation. clear: the caller knows that the step lies in
@@ -161,9 +161,9 @@ void main() {
     x += d * t0;
     travelled = t0;
     float pending = jitter * u_view_step;  // first sample after a partial step
-    // Runs of steps, each a loop of its own: straight steps along the
-    // pixel's own ray that stay short of every index grid and of the
-    // scene's surface, steps through a grid while the ray is in one, and
+    // Runs of steps, each a loop of its own: straight steps that stay
+    // short of every index grid and of the scene's surface
+    // (clear_steps), steps through a grid while the ray is in one, and
     // between them one step that may meet either. A rasteriser that shades
     // pixels in SIMD lanes (llvmpipe) runs a loop body's every branch for
     // all its lanes: one body for all steps paid for a grid's step (its
