@@ -11,7 +11,7 @@ const int kMaxGlass = 4;
 // (llvmpipe runs every branch of a body for all its SIMD lanes, taken or
 // not, and reads a sampler array at a run-time index at several times a
 // read's cost: fog_ball's photons through the glass took 400 ms at
-// balanced instead of 312.)
+// balanced instead of 297.)
 const int kGlassCount = CAUSTIX_GLASS_COUNT;
 // Whether some medium's phase function depends on the angle (Schlick with
 // k != 0), also fixed when the programs are built: only then do photons

@@ -218,7 +218,7 @@ vec3 shade(vec3 n, vec3 e, float ior, vec3 refl_color, out float fresnel, out ve
 #ifdef CAUSTIX_EXACT_LOOKUP
     // Only in the program built for WaterDebug::kExactLookup: behind a
     // uniform test the exact march still cost llvmpipe, which runs every
-    // branch for all its SIMD lanes, a fifth of the surface view.
+    // branch for all its SIMD lanes, 8-20 % of the surface view.
     lookup = refr_uv(exact_lookup(u1, r1));
 #endif
     refr_color = texture(u_refr_color, lookup).rgb;
