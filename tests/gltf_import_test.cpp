@@ -634,6 +634,21 @@ TEST_F(Gltf, MalformedFilesAreRefusedWithThePointer) {
     g.doc["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = 4;
     EXPECT_NE(error_of(g).find("/nodes/2/extensions/KHR_lights_punctual/light: light 4 does not exist"), std::string::npos);
   }
+  {  // An image's buffer view that runs past its buffer (exporters' files
+     // edited by hand; tinygltf hands such a view over unchecked).
+    std::ifstream in(std::string(CAUSTIX_SOURCE_DIR) + "/assets/gltf/textured.gltf");
+    json doc = json::parse(in);
+    const auto size = doc["buffers"][0]["byteLength"].get<std::int64_t>();
+    doc["bufferViews"][0]["byteOffset"] = size - 100;
+    doc["bufferViews"][0]["byteLength"] = 200;
+    const fs::path p = dir_ / "image_view.gltf";
+    std::ofstream(p) << doc.dump();
+    auto r = bake::load_scene(p.string());
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::kInput);
+    EXPECT_NE(r.error().message.find("/bufferViews/0: bytes " + std::to_string(size - 100) + " + 200 run past"), std::string::npos)
+        << r.error().message;
+  }
   // Not JSON, a truncated GLB, an empty file: tinygltf's reason.
   const fs::path junk = dir_ / "junk.gltf";
   std::ofstream(junk) << "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [";

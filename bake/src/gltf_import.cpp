@@ -911,10 +911,13 @@ Result<GltfFile> GltfFile::load(const std::string& path) {
   // Images stay encoded (TINYGLTF_NO_STB_IMAGE): a data URI's bytes are
   // kept in Image::image for the baker's OpenImageIO reader
   // (bake/texture_import.h); external files keep their uri, buffer views
-  // their view.
+  // their view, read later through the checked view_bytes. (tinygltf hands
+  // a buffer view's image over by its byteLength without checking it
+  // against the buffer: copying those bytes here read past a buffer whose
+  // view claimed more than it held.)
   loader.SetImageLoader(
       [](tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size, void*) {
-        image->image.assign(bytes, bytes + size);
+        if (image->bufferView < 0) image->image.assign(bytes, bytes + size);
         return true;
       },
       nullptr);
