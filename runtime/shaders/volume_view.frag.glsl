@@ -113,6 +113,13 @@ void add_step(vec3 x0, vec3 x, vec3 d0, float len, const bool clear) {
   if (!(wet && u_water_excluded != 0)) tau_scene += m.st * len;
 }
 
+// The length of a straight step from x: the view step there, or the
+// partial first step (`pending`, the start's jitter) when one is left.
+float straight_len(vec3 x, vec3 d, float jitter, float pending) {
+  float step_here = view_step_at(x, d, jitter);
+  return pending > 0.0 ? min(pending, step_here) : step_here;
+}
+
 // Straight steps from x along d while they stay short of every index
 // grid's box (its voxel coordinates are affine in x; less a margin for
 // the two tests' rounding) and end in front of the scene: the steps the
@@ -125,8 +132,7 @@ void clear_steps(inout vec3 x, vec3 d, inout float pending, inout int it, float 
     if (rg.y > rg.x && rg.y > 0.0) clear_to = min(clear_to, travelled + max(rg.x, 0.0) - 1e-3 * u_view_step);
   }
   for (; it < u_max_steps && travelled < t1; ++it) {
-    float step_here = view_step_at(x, d, jitter);
-    float len = pending > 0.0 ? min(pending, step_here) : step_here;
+    float len = straight_len(x, d, jitter, pending);
     if (travelled + len >= clear_to || (!pixel_ray && behind_scene(x + len * d))) break;
     pending = 0.0;
     vec3 x0 = x;
@@ -194,8 +200,7 @@ void main() {
         clear_steps(x, d, pending, it, t1, jitter, false);
       }
       if (!(it < u_max_steps && travelled < t1)) break;
-      float step_here = view_step_at(x, d, jitter);
-      float len = pending > 0.0 ? min(pending, step_here) : step_here;
+      float len = straight_len(x, d, jitter, pending);
       pending = 0.0;
       vec3 x0 = x;
       x += len * d;
