@@ -17,17 +17,11 @@ layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
 #ifdef BATCH
 // Each primitive in its map's layer (caustics_batch.glsl, prefixed with
 // GL_ARB_shader_viewport_layer_array): its side and texels from the map.
+// caustics_levelmap.frag reads the rest of the map itself: a software
+// rasteriser runs the vertices on one thread and sets up every varying
+// of every primitive, most of which cover a texel or two.
 float u_map_size = 1.0;
 vec2 u_texels_per_metre = vec2(0.0);
-// What caustics_levelmap.frag reads of the map, once a vertex rather than
-// once a fragment: position-map texels per caustics texel, texels per
-// metre along U and W, the window (plane + 1); samples per axis, the
-// position maps' layer, the planes' offset; the frame's half-extent
-// along V (position_code.glsl).
-flat out vec4 v_batch;
-flat out uvec3 v_batch_ints;
-flat out float v_half_v;
-flat out int v_layer;
 #else
 uniform float u_map_size;
 #endif
@@ -58,20 +52,12 @@ void main() {
   vec2 q0 = p0.xy, q1 = p0.zw, q2 = p1.xy;
   float window = p1.w;  // the plane's index + 1 (caustics_geometry.comp)
 #ifdef BATCH
-  v_batch = vec4(0.0);
-  v_batch_ints = uvec3(0u);
-  v_half_v = 0.0;
-  v_layer = 0;
   if (p1.w > 0.0) {
     CausticsMap cm = batch_maps[batch_prim_map(p1.w)];
     u_map_size = cm.origin.w;
     u_texels_per_metre = cm.texel.zw;
     gl_Layer = int(cm.ints.x);
-    v_layer = int(cm.ints.x);
     window = batch_prim_window(p1.w);
-    v_batch = vec4(cm.u.w, cm.texel.zw, window);
-    v_batch_ints = cm.ints.zwy;
-    v_half_v = cm.half_size.y;
   }
 #endif
 #ifdef TEXEL_MAP

@@ -41,19 +41,16 @@
 // In the first, the samples' mean depth comes from the windows pass.
 layout(early_fragment_tests) in;
 #ifdef BATCH
-// The primitive's map (caustics_batch.glsl, passed on by
-// caustics_intersect.vert) says where its surface is.
+// The primitive's map (caustics_batch.glsl; caustics_geometry.comp packs
+// it with the window) says where its surface is.
 layout(binding = 0) uniform sampler2DArray u_position_map;
-flat in vec4 v_batch;
-flat in uvec3 v_batch_ints;
-flat in float v_half_v;
-flat in int v_layer;  // the map's layer
 layout(binding = 1) uniform sampler2DArray u_window_surface;
 vec2 u_map_scale, u_texels_per_metre;
-int u_samples, g_position;
-#define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, g_position), 0).r, v_half_v)
-#define WINDOW_SURFACE_CODE() texelFetch(u_window_surface, ivec3(gl_FragCoord.xy, v_layer), 0).r
-#define HALF_V v_half_v
+int u_samples, g_position, g_layer;
+float g_half_v;
+#define POSITION(at) position_v(texelFetch(u_position_map, ivec3(at, g_position), 0).r, g_half_v)
+#define WINDOW_SURFACE_CODE() texelFetch(u_window_surface, ivec3(gl_FragCoord.xy, g_layer), 0).r
+#define HALF_V g_half_v
 #else
 layout(binding = 0) uniform sampler2D u_position_map;  // frame V of the first surface (position_code.glsl)
 uniform float u_half_v;                                 // the frame's half-extent along V
@@ -78,12 +75,15 @@ void main() {
   // This plane's index (caustics_geometry.comp: w is the index + 1).
   float window = prims[PRIM_STRIDE * v_prim + 1].w;
 #ifdef BATCH
-  u_map_scale = vec2(v_batch.x);
-  u_texels_per_metre = v_batch.yz;
-  window = v_batch.w;
-  u_samples = int(v_batch_ints.x);
-  g_position = int(v_batch_ints.y);
-  g_planes = v_batch_ints.z;
+  CausticsMap cm = batch_maps[batch_prim_map(window)];
+  u_map_scale = vec2(cm.u.w);
+  u_texels_per_metre = cm.texel.zw;
+  window = batch_prim_window(window);
+  u_samples = int(cm.ints.z);
+  g_position = int(cm.ints.w);
+  g_planes = cm.ints.y;
+  g_layer = int(cm.ints.x);
+  g_half_v = cm.half_size.y;
 #endif
   uint k = uint(window) - 1u;
   float inside = 0.0, surface = 0.0, depth = 0.0;

@@ -29,7 +29,8 @@
 // Nothing here depends on the water: a map drawn alone keeps the depth,
 // the surface, the alpha and the several-windows flag until its planes,
 // its position map or its side change, and the pass does not run between
-// (caustics.cpp, MapGpu::windows_made). A batch runs it at every draw.
+// (caustics.cpp, MapGpu::windows_made); nor in a batch, while every map
+// of it is drawn and keeps its windows (the batch's own flag per layer).
 // The fragments kept, in their order, and so the caustics map are the
 // draw's alone. Exact: the depth buffer holds 16-bit integers, and
 // (k + 1) / 65535 (k < 4097) and 1 are within a ten-thousandth of a step
@@ -111,7 +112,10 @@ void main() {
 #ifdef BATCH
   float surface = one ? position_code(sum / n, batch_maps[v_map].half_size.y) : several_windows_code(lo, hi);
   imageStore(u_window_surface, ivec3(gl_FragCoord.xy, batch_maps[v_map].ints.x), vec4(surface));
-  if (!one) cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
+  if (!one) {
+    cmd[batch_draw2(v_map)] = cmd[batch_draw(v_map)];  // the same value from every such texel
+    cmd[batch_several(batch_maps[v_map].ints.x)] = 1u;   // for later draws that keep this pass's result
+  }
 #else
   imageStore(u_window_surface, ivec2(gl_FragCoord.xy), vec4(one ? position_code(sum / n, u_half_v) : several_windows_code(lo, hi)));
   if (!one) {

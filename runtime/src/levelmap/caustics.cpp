@@ -39,12 +39,15 @@ constexpr GLsizeiptr kSecondDrawOffset = 44;
 constexpr GLintptr kSeveralFlagOffset = 60;  // caustics_fixup.comp's word 15
 // A batch's command buffer (Impl::Batch; caustics_batch.glsl's layout):
 // from kBatchCounts each map's count of entries, overflow and entries
-// drawn, a cache line apart, then each map's draw and several-windows
-// draw, 16 bytes each.
+// drawn, a cache line apart (a run's first map's also holds the run's
+// cull dispatch, kBatchCullDispatch on), then each map's draw and
+// several-windows draw, 16 bytes each, then a several-windows flag per
+// layer.
 constexpr GLintptr kBatchCounts = 64;
 constexpr GLsizeiptr kBatchCountBytes = 64;
+constexpr GLintptr kBatchCullDispatch = 16;
 constexpr GLsizeiptr kBatchDrawBytes = 16;
-constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + 2 * kBatchDrawBytes;
+constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + 2 * kBatchDrawBytes + 4;
 // The cull's water rectangles (caustics_rects.comp): the water's bounds,
 // then per map its dispatch and its rectangle.
 constexpr GLsizeiptr kRectsHeader = 32;
@@ -138,11 +141,13 @@ struct MapGpu {
   // window each texel's surface lies in, and surface, the mean frame V of
   // the samples of a texel in one window (R16, as a position code) that
   // the draw reads instead of the samples (caustics_windows.frag), at
-  // caustics_size; and the planes and side they were made for. The pass
-  // runs again only when those change (the planes' key holds the position
-  // map's version) or the map's texture was remade; until then the depth,
-  // the surface, the presence in the map's alpha and the several-windows
-  // flag (caustics_fixup.comp's word 15) stay.
+  // caustics_size. `windows_made`: the planes and side they were made for,
+  // in these textures or in its batch's layer, whichever the map was
+  // last drawn with. The pass runs again only when those change (the
+  // planes' key holds the position map's version) or the textures were
+  // remade; until then the depth, the surface, the presence in the map's
+  // alpha and the several-windows flag (caustics_fixup.comp's word 15, or
+  // the batch's per layer) stay.
   gl::Texture window_depth, window_surface;
   std::uint32_t window_size = 0;
   std::optional<std::pair<PlanKey, std::uint32_t>> windows_made;
@@ -582,6 +587,7 @@ struct CausticsEngine::Impl {
     if (m.window_size == m.caustics_size && m.window_depth.get()) return;
     const auto size = static_cast<GLsizei>(m.caustics_size);
     m.window_size = m.caustics_size;
+    m.windows_made.reset();  // what it says was made in its batch's layer
     m.window_depth = gl::make_texture(GL_TEXTURE_2D);
     glTextureStorage2D(m.window_depth.get(), 1, GL_DEPTH_COMPONENT16, size, size);
     m.window_surface = gl::make_texture(GL_TEXTURE_2D);
@@ -1289,7 +1295,10 @@ struct CausticsEngine::Impl {
   // calls, whatever their number: draw_map's passes, each map in its
   // layer (caustics_batch.glsl). The windows pass clears the drawn maps'
   // texels as it goes, so that those of the batch this update keeps are
-  // untouched, and writes their presence (make_mips follows).
+  // untouched, and writes their presence (make_mips follows). As drawn
+  // alone, the pass does not run again while its inputs hold: when every
+  // map of the batch is drawn and keeps its windows, one clear of the
+  // arrays' irradiance (not the presence in alpha) takes its place.
   void draw_batch(const BatchKey& key, const std::vector<std::size_t>& which, const CausticsOptions& o) {
     Batch& b = batches.at(key);
     const std::uint32_t side = std::get<1>(key);
@@ -1299,7 +1308,7 @@ struct CausticsEngine::Impl {
     bool several = false;  // some map's texels are coarser than its position map's
     for (std::size_t k = 0; k < which.size(); ++k) {
       MapGpu& m = maps[which[k]];
-      release_windows(m);  // its batch's layer serves
+      if (m.window_depth.get()) release_windows(m);  // drawn alone last: its batch's layer serves, made again
       const BoundingFrame& f = m.lm->frame;
       const auto [scale, samples] = texel_sampling(m);
       several = several || samples > 1;
@@ -1316,7 +1325,9 @@ struct CausticsEngine::Impl {
       d.texel = glm::vec4(side < m.lm->map_size ? texel : glm::vec2(0.0f), 1.0f / texel);
       d.ints = glm::uvec4(m.layer, static_cast<std::uint32_t>(m.planes_offset / 4), static_cast<std::uint32_t>(samples), m.position_layer);
     }
-    if (b.maps_capacity < which.size()) {
+    bool fresh = false;  // the windows' textures or flags are new
+    if (b.maps_capacity < b.members.size()) {
+      fresh = true;
       b.maps_capacity = b.members.size();
       b.command = gl::make_buffer();
       glNamedBufferStorage(b.command.get(), kBatchCounts + static_cast<GLsizeiptr>(b.maps_capacity) * kBatchBytesPerMap, nullptr, 0);
@@ -1324,6 +1335,7 @@ struct CausticsEngine::Impl {
       glNamedBufferStorage(b.maps.get(), static_cast<GLsizeiptr>(b.maps_capacity * sizeof(BatchMap)), nullptr, GL_DYNAMIC_STORAGE_BIT);
     }
     if (!b.window_depth.get()) {
+      fresh = true;
       b.window_depth = gl::make_texture(GL_TEXTURE_2D_ARRAY);
       glTextureStorage3D(b.window_depth.get(), 1, GL_DEPTH_COMPONENT16, size, size, static_cast<GLsizei>(b.members.size()));
       b.window_surface = gl::make_texture(GL_TEXTURE_2D_ARRAY);
@@ -1333,6 +1345,12 @@ struct CausticsEngine::Impl {
       glNamedFramebufferTexture(b.fbo.get(), GL_DEPTH_ATTACHMENT, b.window_depth.get(), 0);
       for (const std::size_t j : b.members) maps[j].batched = true;
     }
+    if (fresh) {
+      for (const std::size_t j : b.members) maps[j].windows_made.reset();
+    }
+    const auto windows_key = [&](const MapGpu& m) { return std::pair<PlanKey, std::uint32_t>{*m.plan, m.caustics_size}; };
+    bool keep_windows = which.size() == b.members.size();
+    for (const std::size_t i : which) keep_windows = keep_windows && maps[i].windows_made == windows_key(maps[i]);
     const auto batch_maps = static_cast<unsigned>(b.maps_capacity);
     const auto upload = [&] {
       glNamedBufferSubData(b.maps.get(), 0, static_cast<GLsizeiptr>(which.size() * sizeof(BatchMap)), batch_info.data());
@@ -1347,7 +1365,26 @@ struct CausticsEngine::Impl {
     };
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the shared list may still feed the last draw
     clear_counts();
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, b.command.get());
+    const auto cull_dispatch = [&](std::size_t first) {
+      return kBatchCounts + static_cast<GLintptr>(first) * kBatchCountBytes + kBatchCullDispatch;
+    };
+    const auto fixup_run = [&](int stage, std::size_t first, std::size_t count) {
+      fixup_batch.use();
+      fixup_batch.set("u_stage", stage);
+      fixup_batch.set("u_map_base", static_cast<unsigned>(first));
+      fixup_batch.set("u_count", static_cast<unsigned>(count));
+      fixup_batch.set("u_batch_maps", batch_maps);
+      fixup_batch.set("u_windows", keep_windows ? 0u : 1u);
+      glDispatchCompute((static_cast<GLuint>(count) + 63) / 64, 1, 1);
+    };
     auto cull_run = [&](std::size_t first, std::size_t count) {
+      if (o.cull) {
+        // As many groups as the run's largest water rectangle needs
+        // (caustics_batch_fixup.comp), not the grid's for every map.
+        fixup_run(0, first, count);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+      }
       cull_batch.use();
       cull_batch.set("u_triangles", water->triangle_count());
       cull_batch.set("u_frame_cull", o.cull ? 1 : 0);
@@ -1359,7 +1396,11 @@ struct CausticsEngine::Impl {
       glBindTextureUnit(0, positions.tiles.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, list.get());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, primitives.get());
-      glDispatchCompute((water->triangle_count() + 63) / 64, static_cast<GLuint>(count), 1);
+      if (o.cull) {
+        glDispatchComputeIndirect(cull_dispatch(first));
+      } else {
+        glDispatchCompute((water->triangle_count() + 63) / 64, static_cast<GLuint>(count), 1);
+      }
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     };
 
@@ -1408,6 +1449,14 @@ struct CausticsEngine::Impl {
     // presence), geometry, draw.
     glBindFramebuffer(GL_FRAMEBUFFER, b.fbo.get());
     glViewport(0, 0, size, size);
+    if (keep_windows) {
+      // Every layer's irradiance, the presence kept: the windows pass,
+      // which would clear the maps one by one, does not run.
+      const float zero[4] = {0, 0, 0, 0};
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+      glClearNamedFramebufferfv(b.fbo.get(), GL_COLOR, 0, zero);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
     glDisable(GL_CULL_FACE);
     glBindVertexArray(empty_vao.get());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, b.command.get());
@@ -1419,15 +1468,15 @@ struct CausticsEngine::Impl {
         const gl::TimedPass timed("level maps: cull", gl::PassKind::kCompute);
         cull_run(first, end - first);
         // Each map's count becomes its draw (caustics_batch_fixup.comp).
-        fixup_batch.use();
-        fixup_batch.set("u_map_base", static_cast<unsigned>(first));
-        fixup_batch.set("u_count", static_cast<unsigned>(count));
-        fixup_batch.set("u_batch_maps", batch_maps);
-        glDispatchCompute((static_cast<GLuint>(count) + 63) / 64, 1, 1);
+        fixup_run(1, first, end - first);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
       }
       glBindTextureUnit(0, positions.positions.get());
-      {
+      if (keep_windows) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+      } else {
         // 3a. Each texel's window into the layers' depth, and the drawn
         // maps' irradiance cleared (caustics_windows.frag).
         const gl::TimedPass timed("level maps: windows", gl::PassKind::kRaster);
@@ -1443,6 +1492,7 @@ struct CausticsEngine::Impl {
         glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
+        for (std::size_t k = first; k < end; ++k) maps[which[k]].windows_made = windows_key(maps[which[k]]);
       }
       // 3. Geometry of every listed primitive, then 4. one rectangle each
       // in its map's layer, map after map, and the several-windows draws
@@ -1486,6 +1536,7 @@ struct CausticsEngine::Impl {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
     stats.volumes_total += std::uint64_t{water->triangle_count()} * which.size();
   }
