@@ -105,12 +105,14 @@ TEST_F(Caustics, FlatPoolTransmitsFresnelTimesCosine) {
 
 // Photon splatting (Mihalik 2008 ch. 8): each photon carries E0 cos T of its
 // water patch, so the mean is the flat-water value; the spread per pixel is
-// the photon grid against the caustics texels (tent-filtered splats), and
+// the photon grid against the caustics texels (filtered splats), and
 // shrinks with more photons.
 TEST_F(Caustics, SplatFlatPoolMeanAndSpread) {
   auto r = renderer(scene("flat_pool"));
   const double expected = fresnel_t(std::cos(30 * kPi / 180), 1.33) * std::cos(30 * kPi / 180);
-  for (auto [photons, spread] : {std::pair{1024u, 0.05}, std::pair{2048u, 0.01}}) {
+  // Measured 1.1 % and 0.11 % with the smooth filter (the tent's were
+  // about 4 % and 0.3 %).
+  for (auto [photons, spread] : {std::pair{1024u, 0.02}, std::pair{2048u, 0.003}}) {
     IrradianceRequest q{"floor", -2, -2, 2, 2, 64, 64, 0.0f, {}};
     q.caustics.method = CausticsMethod::kSplat;
     q.caustics.photons = photons;
@@ -120,6 +122,7 @@ TEST_F(Caustics, SplatFlatPoolMeanAndSpread) {
       sum += v;
       worst = std::max(worst, std::fabs(v / expected - 1));
     }
+    std::printf("[splat] %u photons: mean %.5f of the exact value, worst pixel %.4f off\n", photons, sum / img.rgb.size() / expected, worst);
     EXPECT_NEAR(sum / img.rgb.size() / expected, 1.0, 0.005) << photons << " photons";
     EXPECT_LT(worst, spread) << photons << " photons";
   }

@@ -958,6 +958,10 @@ struct CausticsEngine::Impl {
     glBlendFunc(GL_ONE, GL_ONE);
     splat_points.use();
     splat_points.set("u_size", static_cast<float>(m.caustics_size));
+    // Photons per texel along a side (the window is the map's, grown): the
+    // wider filter where they are fewer than one (splat_points.vert).
+    const float per_texel = static_cast<float>(p) / ((1 + 2 * kMargin) * static_cast<float>(m.caustics_size));
+    splat_points.set("u_wide", per_texel < 1.0f ? 1 : 0);
     glBindVertexArray(photon_vao.get());
     glEnable(GL_PROGRAM_POINT_SIZE);
     glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(p * p));
