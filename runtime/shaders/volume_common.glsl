@@ -29,7 +29,9 @@ uniform vec4 u_glass_size[kMaxGlass];      // xyz voxels
 uniform vec4 u_glass_ss[kMaxGlass];        // rgb sigma_s; w Schlick k
 uniform vec4 u_glass_st[kMaxGlass];        // rgb sigma_t; w phase (1 isotropic, 2 Schlick)
 // R: filtered coverage; G: octree level / 15 (texelFetch). Border 0 (outside).
-layout(binding = 0) uniform sampler3D u_index[kMaxGlass];
+// Units 0.. as many as there are grids (one at least; volume.cpp's
+// CAUSTIX_GRID_UNITS): the viewing pass's light sources take the next.
+layout(binding = 0) uniform sampler3D u_index[CAUSTIX_GRID_UNITS];
 
 // ---- the other media ----
 uniform int u_fog_on;  // the medium box

@@ -6,12 +6,28 @@
 // transmittance T = e^(-sum sigma_t ds); it stops behind the opaque scene
 // (its depth at the point's pixel). Output: L x u_scale, plus the scene's
 // colour x T when composited (blending adds further lights' L).
+// Beyond the paper, one march serves kViewLights lights (volume.cpp's
+// CAUSTIX_VIEW_LIGHTS, as many as the texture units 0-5 hold beside the
+// index grids): the path, its transmittance, the grids and the scene's
+// depth are the same for every light, only each light's source (and mean
+// direction) is read per step; a scene with more lights draws the pass
+// again for the next ones.
 layout(location = 0, index = 0) out vec4 o_color;
 // Compositing by dual-source blending (u_composite 2): the transmittance.
 layout(location = 0, index = 1) out vec4 o_transmittance;
 
-layout(binding = 4) uniform sampler3D u_source;     // per light: rgb S (volume_resolve); the focus grid after the radiance grid's slices
-layout(binding = 5) uniform sampler3D u_direction;  // per light: mean direction of travel, laid out as u_source
+const int kViewLights = CAUSTIX_VIEW_LIGHTS;
+// Per light: rgb S (volume_resolve), the focus grid after the radiance
+// grid's slices; and its mean direction of travel, laid out alike.
+layout(binding = CAUSTIX_GRID_UNITS) uniform sampler3D u_source[kViewLights];
+#if CAUSTIX_DIRECTIONS
+layout(binding = CAUSTIX_GRID_UNITS + CAUSTIX_VIEW_LIGHTS) uniform sampler3D u_direction[kViewLights];
+#endif
+// Per light: its focus grid's box (volume_common's u_focus_* for the
+// photons of one light), and the view step inside it (metres).
+uniform int u_light_focus_on[kViewLights];
+uniform vec3 u_light_focus_lo[kViewLights], u_light_focus_hi[kViewLights];
+uniform float u_light_step_focus[kViewLights];
 layout(binding = 6) uniform sampler2D u_scene_depth;
 layout(binding = 7) uniform sampler2D u_scene_color;
 uniform mat4 u_view_proj, u_inv_view_proj;
@@ -20,7 +36,6 @@ uniform int u_composite;        // 1: colour x T + L; 2: L, and T for blending o
 uniform int u_water_excluded;   // composite: the water's own attenuation is the water surface's
 uniform float u_scale;
 uniform float u_view_step;      // metres
-uniform float u_view_step_focus;  // metres, inside the focus grid
 uniform vec3 u_atlas;           // u_source's size in texels
 uniform float u_step;           // voxels, in index grids
 uniform int u_octree;
@@ -43,27 +58,41 @@ bool behind_scene(vec3 x) {
   return 0.5 * ndc.z + 0.5 > texture(u_scene_depth, uv).r;
 }
 
-// u_source's coordinate for x: the focus grid's where x lies in it, else
-// the radiance grid's, each clamped to its own texel centres (the edge
-// clamping of a texture of its own).
-vec3 grid_coord(vec3 x) {
+bool in_focus_of(int l, vec3 x) {
+  return u_light_focus_on[l] != 0 && all(greaterThanEqual(x, u_light_focus_lo[l])) && all(lessThanEqual(x, u_light_focus_hi[l]));
+}
+
+// Light l's source coordinate for x: its focus grid's where x lies in it,
+// else the radiance grid's, each clamped to its own texel centres (the
+// edge clamping of a texture of its own).
+vec3 grid_coord(int l, vec3 x) {
   vec3 t;
-  if (in_focus(x)) {
-    t = clamp((x - u_focus_lo) / (u_focus_hi - u_focus_lo) * vec3(u_focus_n), vec3(0.5), vec3(u_focus_n) - 0.5) + vec3(0.0, 0.0, u_grid_n.z);
+  if (in_focus_of(l, x)) {
+    vec3 lo = u_light_focus_lo[l], hi = u_light_focus_hi[l];
+    t = clamp((x - lo) / (hi - lo) * vec3(u_focus_n), vec3(0.5), vec3(u_focus_n) - 0.5) + vec3(0.0, 0.0, u_grid_n.z);
   } else {
     t = clamp((x - u_grid_lo) / (u_grid_hi - u_grid_lo) * vec3(u_grid_n), vec3(0.5), vec3(u_grid_n) - 0.5);
   }
   return t / u_atlas;
 }
 
-// The view step at x: finer inside the focus grid, and a step outside it
-// ends inside it, `jitter` of a fine step past where the ray enters it
+// The view step at x: finer inside a light's focus grid (the finest of
+// those x lies in), and a step outside them ends inside the first it
+// would enter, `jitter` of a fine step past where the ray enters it
 // (against banding there too).
 float view_step_at(vec3 x, vec3 d, float jitter) {
-  if (u_focus_on == 0) return u_view_step;
-  if (in_focus(x)) return u_view_step_focus;
-  vec2 r = box_range(x, d, u_focus_lo, u_focus_hi);
-  return r.y > r.x && r.x > 0.0 ? min(u_view_step, r.x + (1e-4 + jitter) * u_view_step_focus) : u_view_step;
+  float inside = 1e30;
+  for (int l = 0; l < kViewLights; ++l) {
+    if (in_focus_of(l, x)) inside = min(inside, u_light_step_focus[l]);
+  }
+  if (inside < 1e30) return inside;
+  float outside = u_view_step;
+  for (int l = 0; l < kViewLights; ++l) {
+    if (u_light_focus_on[l] == 0) continue;
+    vec2 r = box_range(x, d, u_light_focus_lo[l], u_light_focus_hi[l]);
+    if (r.y > r.x && r.x > 0.0) outside = min(outside, r.x + (1e-4 + jitter) * u_light_step_focus[l]);
+  }
+  return outside;
 }
 
 // The march's state: in-scatter, optical depth (all media; those the
@@ -101,12 +130,20 @@ void add_step(vec3 x0, vec3 x, vec3 d0, float len, const bool clear) {
   Medium m = clear ? medium_outside_grids(mid, wet) : medium_at(mid, wet);
   if (any(greaterThan(m.ss, vec3(0.0)))) {
     if (in_box(mid, u_grid_lo, u_grid_hi)) {
-      vec3 gc = grid_coord(mid);
-      vec3 S = texture(u_source, gc).rgb;
-      vec3 md = kDirections ? texture(u_direction, gc).xyz : vec3(0.0);
-      float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
+      vec3 scattered = vec3(0.0);  // each light's source times its phase
+      for (int l = 0; l < kViewLights; ++l) {
+        vec3 gc = grid_coord(l, mid);
+        vec3 S = texture(u_source[l], gc).rgb;
+#if CAUSTIX_DIRECTIONS
+        vec3 md = texture(u_direction[l], gc).xyz;
+        float cos_a = dot(md, md) > 0.0 ? dot(normalize(md), -d0) : 0.0;
+#else
+        float cos_a = 0.0;
+#endif
+        scattered += phase_value(m, cos_a) * S;
+      }
       // The step's own attenuation: the source at its midpoint.
-      L += tr * phase_value(m, cos_a) * S * exp(-(tau + 0.5 * m.st * len)) * len;
+      L += tr * scattered * exp(-(tau + 0.5 * m.st * len)) * len;
     }
   }
   tau += m.st * len;

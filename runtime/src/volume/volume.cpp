@@ -135,7 +135,10 @@ Box focus_box(const std::vector<ExitRay>& rays, const Box& grid, const glm::ivec
 
 constexpr int kTallyWords = 16;  // per light: see volume_photons.comp.glsl
 constexpr int kMaxSteps = 4096;
-constexpr GLuint kGridUnit = 0, kSourceUnit = 4, kDirectionUnit = 5, kDepthUnit = 6, kColorUnit = 7;
+// Texture units: the index grids from 0 (one at least), then the viewing
+// pass's lights' sources and mean directions up to 5; the scene's depth and
+// colour. All within the units 0-7 that the engine's state guard saves.
+constexpr GLuint kGridUnit = 0, kDepthUnit = 6, kColorUnit = 7;
 
 }  // namespace
 
@@ -178,6 +181,8 @@ struct VolumeEngine::Impl {
   std::vector<PerLight> lights;
   std::uint64_t index_bytes = 0;
   bool ran = false;        // the effect is on and has a grid
+  GLuint grid_units = 1;   // units the index grids take (CAUSTIX_GRID_UNITS)
+  std::size_t view_lights = 1;  // lights one viewing pass marches for (CAUSTIX_VIEW_LIGHTS)
   bool counting = false;   // some light was remade this frame: its tallies are this frame's
   // What each light's radiance was made from.
   MadeFrom<LightInputs> made;
@@ -262,7 +267,7 @@ struct VolumeEngine::Impl {
   }
 
   void bind_index_grids() const {
-    for (GLuint u = 0; u < kMaxObjects; ++u) {
+    for (GLuint u = 0; u < grid_units; ++u) {
       glBindTextureUnit(kGridUnit + u, u < glass.size() ? glass[u].texture.get() : dummy_3d.get());
     }
   }
@@ -378,11 +383,19 @@ Result<std::unique_ptr<VolumeEngine>> VolumeEngine::create(const SceneDesc& scen
     for (Impl::Glass& g : s.glass) g.under_water = s.grid_world_box(scene, g).hi.y < s.water_level;
   }
 
+  // The viewing pass marches for as many lights at once as units 0-5 hold
+  // beside the index grids: a source each, and a mean direction each where
+  // a phase function needs it.
+  s.grid_units = static_cast<GLuint>(std::max<std::size_t>(s.glass.size(), 1));
+  const std::size_t per_light = s.anisotropic() ? 2 : 1;
+  s.view_lights = std::clamp<std::size_t>(scene.lights.size(), 1, (kDepthUnit - s.grid_units) / per_light);
   const std::string common = insert_after_version(lighting_prefix.c_str(), "#define CAUSTIX_GLASS_COUNT " + std::to_string(s.glass.size()) +
+                                                                                "\n#define CAUSTIX_GRID_UNITS " + std::to_string(s.grid_units) +
                                                                                 "\n#define CAUSTIX_DIRECTIONS " + (s.anisotropic() ? "1" : "0") + "\n") +
                              shaders::k_volume_common_glsl;
   const std::string photons_src = insert_after_version(common.c_str(), "#define CAUSTIX_NO_DERIVATIVES\n") + shaders::k_volume_photons_comp_glsl;
-  const std::string view_src = common + shaders::k_volume_view_frag_glsl;
+  const std::string view_src =
+      insert_after_version(common.c_str(), "#define CAUSTIX_VIEW_LIGHTS " + std::to_string(s.view_lights) + "\n") + shaders::k_volume_view_frag_glsl;
   CAUSTIX_RETURN_IF_ERROR(gl::build_programs({{&s.photons, "volume_photons", photons_src.c_str()},
                                               {&s.resolve, "volume_resolve", shaders::k_volume_resolve_comp_glsl},
                                               {&s.view, "volume_view", shaders::k_fullscreen_vert_glsl, view_src.c_str()}}));
@@ -677,6 +690,7 @@ Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, co
   p.set("u_step", o.step);
   p.set("u_octree", o.octree ? 1 : 0);
   p.set("u_max_steps", kMaxSteps);
+  glProgramUniform3i(p.id(), p.loc("u_focus_n"), s.focus_n, s.focus_n, s.focus_n);
   s.bind_index_grids();
   glBindTextureUnit(kDepthUnit, depth_read);
   glBindTextureUnit(kColorUnit, color_read);
@@ -687,8 +701,13 @@ Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, co
   glDisable(GL_CULL_FACE);
   glBindVertexArray(s.empty_vao.get());
   bool first = true;
-  for (std::size_t li = 0; li < s.lights.size(); ++li) {
-    if (!s.lights[li].valid) continue;  // no photons yet
+  // The lights in groups of view_lights, a march each (volume_view.frag).
+  for (std::size_t group = 0; group < s.lights.size(); group += s.view_lights) {
+    const std::size_t end = std::min(group + s.view_lights, s.lights.size());
+    if (std::none_of(s.lights.begin() + static_cast<std::ptrdiff_t>(group), s.lights.begin() + static_cast<std::ptrdiff_t>(end),
+                     [](const Impl::PerLight& l) { return l.valid; })) {
+      continue;  // no photons yet
+    }
     const bool composite = scene_color && first;
     first = false;
     p.set("u_composite", !composite ? 0 : blend_over ? 2 : 1);
@@ -701,14 +720,23 @@ Status VolumeEngine::draw(const SceneDesc& scene, const glm::mat4& view_proj, co
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
     }
-    const Impl::PerLight& pl = s.lights[li];
-    s.set_focus(p, pl);
-    if (!pl.focus.empty()) {
-      const glm::vec3 hf = (pl.focus.hi - pl.focus.lo) / static_cast<float>(s.focus_n);
-      p.set("u_view_step_focus", o.view_step * std::min({hf.x, hf.y, hf.z}));
+    for (std::size_t k = 0; k < s.view_lights; ++k) {
+      // A slot past the last light, or a light without photons yet: no
+      // source (the 1-voxel zero texture) and no focus.
+      const Impl::PerLight* pl = group + k < end && s.lights[group + k].valid ? &s.lights[group + k] : nullptr;
+      const std::string at = "[" + std::to_string(k) + "]";
+      const bool focus = pl && s.focus_n > 0 && !pl->focus.empty();
+      p.set(("u_light_focus_on" + at).c_str(), focus ? 1 : 0);
+      p.set(("u_light_focus_lo" + at).c_str(), focus ? pl->focus.lo : glm::vec3(0.0f));
+      p.set(("u_light_focus_hi" + at).c_str(), focus ? pl->focus.hi : glm::vec3(0.0f));
+      if (focus) {
+        const glm::vec3 hf = (pl->focus.hi - pl->focus.lo) / static_cast<float>(s.focus_n);
+        p.set(("u_light_step_focus" + at).c_str(), o.view_step * std::min({hf.x, hf.y, hf.z}));
+      }
+      const auto unit = static_cast<GLuint>(s.grid_units + k);
+      glBindTextureUnit(unit, pl ? pl->source.get() : s.dummy_3d.get());
+      if (s.anisotropic()) glBindTextureUnit(unit + static_cast<GLuint>(s.view_lights), pl ? pl->direction.get() : s.dummy_3d.get());
     }
-    glBindTextureUnit(kSourceUnit, s.lights[li].source.get());
-    glBindTextureUnit(kDirectionUnit, s.lights[li].direction.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
   glBindVertexArray(0);
