@@ -40,6 +40,16 @@ class Volume : public GlTest {
     EXPECT_TRUE(img.ok()) << img.error().message;
     return img.ok() ? std::move(*img) : InscatterImage{};
   }
+  // The fog box (media_oracle.h) seen whole: 24 x 24 pixels of 12.5 cm,
+  // 4 x 4 rays each, at the bake's options.
+  static InscatterRequest fog_box_view(Renderer& r) {
+    InscatterRequest q;
+    q.x0 = -1.5, q.y0 = -0.5, q.x1 = 1.5, q.y1 = 2.5;
+    q.width = q.height = 24;
+    q.pixel_samples = 4;
+    q.caustics = r.engine().default_options();
+    return q;
+  }
 };
 
 // The energy split of one run, to fixed-point rounding (the GPU adds
@@ -56,11 +66,7 @@ TEST_F(Volume, FogWithoutObjectsIsTheAnalyticIntegral) {
   const double ss = 0.5, sa = 0.25, st = ss + sa;
   auto r = make(fog_box(ss, sa), "volume_fog");
   ASSERT_TRUE(r);
-  InscatterRequest q;
-  q.x0 = -1.5, q.y0 = -0.5, q.x1 = 1.5, q.y1 = 2.5;
-  q.width = q.height = 24;
-  q.pixel_samples = 4;
-  q.caustics = r->engine().default_options();
+  const InscatterRequest q = fog_box_view(*r);
   const InscatterImage img = inscatter(*r, q);
   ASSERT_EQ(img.rgb.size(), 24u * 24u * 3u);
   const std::vector<double> want = fog_box_image(ss, st, q.x0, q.y0, q.x1, q.y1, 24, 24);
@@ -112,11 +118,7 @@ TEST_F(Volume, SeveralSunsInOneMarchAddUp) {
   }
   auto r = make(j, "volume_seven_suns");
   ASSERT_TRUE(r);
-  InscatterRequest q;
-  q.x0 = -1.5, q.y0 = -0.5, q.x1 = 1.5, q.y1 = 2.5;
-  q.width = q.height = 24;
-  q.pixel_samples = 4;
-  q.caustics = r->engine().default_options();
+  const InscatterRequest q = fog_box_view(*r);
   const InscatterImage img = inscatter(*r, q);
   ASSERT_EQ(img.rgb.size(), 24u * 24u * 3u);
   // The path from p to the box [-1, 1] x [0, 2] x [-1, 1] along s.
