@@ -1301,9 +1301,11 @@ struct CausticsEngine::Impl {
   // texels as it goes, so that those of the batch this update keeps are
   // untouched, and writes their presence (make_mips follows). As drawn
   // alone, the pass does not run again while its inputs hold: when every
-  // map of the batch is drawn and keeps its windows, one clear of the
-  // arrays' irradiance (not the presence in alpha) takes its place.
-  void draw_batch(const BatchKey& key, const std::vector<std::size_t>& which, const CausticsOptions& o) {
+  // map of the batch is drawn in this update (`whole`: those in `which`
+  // and any without planes, which draw_map clears) and each keeps its
+  // windows, one clear of the arrays' irradiance (not the presence in
+  // alpha) takes its place.
+  void draw_batch(const BatchKey& key, const std::vector<std::size_t>& which, const CausticsOptions& o, bool whole) {
     Batch& b = batches.at(key);
     const std::uint32_t side = std::get<1>(key);
     const auto size = static_cast<GLsizei>(side);
@@ -1353,7 +1355,7 @@ struct CausticsEngine::Impl {
       for (const std::size_t j : b.members) maps[j].windows_made.reset();
     }
     const auto windows_key = [&](const MapGpu& m) { return std::pair<PlanKey, std::uint32_t>{*m.plan, m.caustics_size}; };
-    bool keep_windows = which.size() == b.members.size();
+    bool keep_windows = whole;
     for (const std::size_t i : which) keep_windows = keep_windows && maps[i].windows_made == windows_key(maps[i]);
     const auto batch_maps = static_cast<unsigned>(b.maps_capacity);
     const auto upload = [&] {
@@ -1900,7 +1902,8 @@ Status CausticsEngine::update_light(std::uint32_t light, const std::vector<Light
       }
       if (s.batch_drawn.empty()) continue;  // every map kept: no pass, no window depth
       if (o.map_batching == MapBatching::kAlways || s.batch_drawn.size() >= kBatchMinMaps) {
-        s.draw_batch(batch_key, s.batch_drawn, o);
+        const bool whole = std::all_of(b.members.begin(), b.members.end(), [&](std::size_t i) { return draws[i]; });
+        s.draw_batch(batch_key, s.batch_drawn, o, whole);
         continue;
       }
       for (const std::size_t i : s.batch_drawn) {
