@@ -594,6 +594,10 @@ struct CausticsEngine::Impl {
     glTextureStorage2D(m.window_surface.get(), 1, GL_R16, size, size);
   }
 
+  // What a map's windows are made for (MapGpu::windows_made): its planes
+  // and its side.
+  static std::pair<PlanKey, std::uint32_t> windows_key(const MapGpu& m) { return {*m.plan, m.caustics_size}; }
+
   static void release_windows(MapGpu& m) {
     m.window_depth.reset();
     m.window_surface.reset();
@@ -1186,8 +1190,7 @@ struct CausticsEngine::Impl {
       glNamedFramebufferTexture(m.fbo.get(), GL_DEPTH_ATTACHMENT, m.window_depth.get(), 0);
       glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
       glViewport(0, 0, size, size);
-      const std::pair<PlanKey, std::uint32_t> windows_key{*m.plan, m.caustics_size};
-      const bool windows_kept = m.windows_made == windows_key;
+      const bool windows_kept = m.windows_made == windows_key(m);
       // The irradiance, and the presence too where the windows pass
       // writes it again.
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, windows_kept ? GL_FALSE : GL_TRUE);
@@ -1219,7 +1222,7 @@ struct CausticsEngine::Impl {
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        m.windows_made = windows_key;
+        m.windows_made = windows_key(m);
       }
       glEnable(GL_DEPTH_TEST);
       glDepthMask(GL_FALSE);
@@ -1354,7 +1357,6 @@ struct CausticsEngine::Impl {
     if (fresh) {
       for (const std::size_t j : b.members) maps[j].windows_made.reset();
     }
-    const auto windows_key = [&](const MapGpu& m) { return std::pair<PlanKey, std::uint32_t>{*m.plan, m.caustics_size}; };
     bool keep_windows = whole;
     for (const std::size_t i : which) keep_windows = keep_windows && maps[i].windows_made == windows_key(maps[i]);
     const auto batch_maps = static_cast<unsigned>(b.maps_capacity);
