@@ -197,7 +197,7 @@ float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }
 // the triangle keeps its flux; 1 where the triangle keeps the constant.
 float corner_factor() {
   vec4 c = prims[PRIM_STRIDE * v_prim + 3];
-  if (c.w <= 0.0) return 1.0;
+  if (c.x < 0.0) return 1.0;  // the triangle's own irradiance (caustics_geometry.comp)
   vec2 x = g_centroid;
   float twice = cross2(v_q1 - v_q0, v_q2 - v_q0);
   if (abs(twice) <= 1e-12) return 1.0;

@@ -17,6 +17,10 @@ layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
+// A listed pair's primitive (caustics_geometry.comp), 20 words, by its
+// place in the list: word 15 takes the depths of the surface beneath it
+// until the geometry pass reads them and writes the primitive.
+layout(std430, binding = 8) writeonly buffer Primitives { uint prim_words[]; };
 layout(std430, binding = 6) buffer Command { uint cmd[]; };          // [8] list length, [9] overflow
 // The planes (binding 7), planned on the CPU or by caustics_plan.comp:
 // caustics_windows.glsl, prefixed.
@@ -98,10 +102,13 @@ vec2 surface_depths(vec2 lo, vec2 hi) {
 }
 
 // The planes volume t is listed through: first and n (n 0: none; outside
-// pair mode, 1 where the volume is listed).
-void select_planes(uint t, out int first, out int n) {
+// pair mode, 1 where the volume is listed), and the depths [vmin, vmax] of
+// the surface beneath it (every depth where unknown).
+void select_planes(uint t, out int first, out int n, out float vmin, out float vmax) {
   first = 0;
   n = 0;
+  vmin = -1e30;
+  vmax = 1e30;
   if (t >= u_triangles || PLANE_COUNT == 0u) return;
   vec2 lo, hi;
   if (!footprint(t, vec2(DEPTH_HI, DEPTH_LO), lo, hi)) return;
@@ -118,7 +125,8 @@ void select_planes(uint t, out int first, out int n) {
     footprint(t, range.yx, l2, h2);
     range = surface_depths(l2 - u_texel, h2 + u_texel);
   }
-  float vmin = range.x, vmax = range.y;
+  vmin = range.x;
+  vmax = range.y;
   if (vmin > vmax) return;  // no surface under the footprint
   // Planes whose half-open window (D - eps, D + eps] meets [vmin, vmax].
   first = -1;
@@ -154,7 +162,8 @@ void main() {
     t = 2u * (r.y + row) * rect_bounds[6] + 2u * r.x + (t - row * per_row);
   }
   int first, n;
-  select_planes(t, first, n);
+  float vmin, vmax;
+  select_planes(t, first, n, vmin, vmax);
   if (u_pairs == 0) {
     if (n == 0) return;
     uint slot = atomicAdd(cmd[8], 1u);
@@ -176,5 +185,12 @@ void main() {
     uint at = base + slot + uint(k);
     list[2u * at] = t;
     list[2u * at + 1u] = uint(first + k) | map_bits;
+    // The part of the plane's window that the surface beneath fills, as
+    // fractions of eps either side of the plane, rounded outwards: the
+    // fragment shader moves the triangle to depths within it, and the draw
+    // covers no more than that (caustics_intersect.vert).
+    vec2 pl = PLANE(first + k);
+    vec2 part = clamp((vec2(vmin, vmax) - pl.x) / max(pl.y, 1e-30), -1.0, 1.0);
+    prim_words[20u * at + 15u] = packSnorm2x16(vec2(floor(part.x * 32767.0), ceil(part.y * 32767.0)) / 32767.0);
   }
 }

@@ -77,8 +77,20 @@ void main() {
   v_prim = prim;
   float delta = 0.7072;  // half a texel diagonal, rounded up
 #ifdef DEPTH_SHIFT
+  // caustics_levelmap.frag moves vertex k by (v - D) s_k to the receiver's
+  // depth v, which the cull bounded to D + shift +- reach
+  // (caustics_geometry.comp): the triangle at D + shift, dilated by how
+  // far a vertex moves over +- reach, holds it at every such depth. (Over
+  // the whole window, +- eps, a flat floor's triangles two texels wide
+  // covered some fifty texels each, nearly all of them then dropped by
+  // the depth test.)
   vec4 p2 = prims[PRIM_STRIDE * prim + 2], p4 = prims[PRIM_STRIDE * prim + 4];
-  delta += p2.y * max(length(p2.zw * u_texels_per_metre), max(length(p4.xy * u_texels_per_metre), length(p4.zw * u_texels_per_metre)));
+  float shift = p2.y, reach = prims[PRIM_STRIDE * prim + 3].w;
+  vec2 s0 = p2.zw * u_texels_per_metre, s1 = p4.xy * u_texels_per_metre, s2 = p4.zw * u_texels_per_metre;
+  q0 += shift * s0;
+  q1 += shift * s1;
+  q2 += shift * s2;
+  delta += reach * max(length(s0), max(length(s1), length(s2)));
 #endif
   // Quad corners (0,0) (1,0) (0,1) (1,1), drawn as triangles 0-1-3 and 0-3-2.
   int j = gl_VertexID % 6;
