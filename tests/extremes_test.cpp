@@ -315,9 +315,7 @@ TEST_P(CanonicalCorners, StayFinite) {
     // The caustics map as fine as the position map: its size changes how
     // many texels each of the 4096 planes draws, not the arithmetic that
     // could turn a value infinite (that is per plane and per position-map
-    // texel). A coarser map would draw every primitive twice (the texels
-    // spanning several planes' windows, caustics_levelmap.frag): 128^2
-    // took thesis_teapot_dense 39 s on llvmpipe, 512^2 10 s.
+    // texel).
     f.caustics.map_size = corner.map_size;
     f.caustics.photons = 256;
     const Status st = (*r)->render(f);

@@ -147,7 +147,7 @@ TEST_F(FrameCost, AStillLightAndStillGlassAreNotRemade) {
 // result, and the kept result gives the image a fresh engine gives. A new
 // plan (the uniform method's planes) runs it again, once. Maps at 64^2,
 // coarser than the default pool's position maps, so that texels span
-// several windows and the second draw (and its kept flag) takes part.
+// several windows and take the window of their samples' mean depth.
 // Cost: about 3 s on llvmpipe.
 TEST_F(FrameCost, TheWindowsPassRunsOnlyWhenItsInputsChange) {
   nlohmann::json j = test::canonical_scene("default");

@@ -37,16 +37,11 @@ CausticsMap batch_frame(uint map) {
 // culls of different maps add to them at once: a cache line each; the
 // first map of a run keeps the run's cull dispatch in words 4..6 of its
 // line); then per map its level-map draw {count, 1, first, 0}
-// (glMultiDrawArraysIndirect), then per map its several-windows draw
-// (caustics_windows.frag); u_batch_maps maps each. Last, per layer of the
-// batch's arrays, whether the windows pass found texels of several
-// windows there, kept with the windows while the pass does not run.
+// (glMultiDrawArraysIndirect); u_batch_maps maps each.
 uniform uint u_batch_maps;
 uint batch_counts(uint k) { return 16u + 16u * k; }
 uint batch_cull_dispatch(uint k) { return batch_counts(k) + 4u; }
 uint batch_draw(uint k) { return 16u + 16u * u_batch_maps + 4u * k; }
-uint batch_draw2(uint k) { return 16u + 20u * u_batch_maps + 4u * k; }
-uint batch_several(uint layer) { return 16u + 24u * u_batch_maps + layer; }
 
 // A list entry's plane and map (caustics_cull.comp packs them in one word:
 // plane indices stay below 8192, kMaxPlanes), and a primitive's window

@@ -9,13 +9,8 @@
 // counts line, cleared with the counts).
 //
 // u_stage 1, after the cull: each map gets its entries drawn (its count,
-// clamped to its part of the list) and its level-map draw command, and a
-// several-windows command: caustics_fixup.comp, a map at a time. With
-// u_windows the windows pass follows and gives that command the first's
-// count where the map has such texels (caustics_windows.frag), so it
-// starts with no vertices and the map's several-windows flag cleared;
-// without it the windows pass's results are kept, and the flag it left
-// says whether the second draw has work.
+// clamped to its part of the list) and its level-map draw command:
+// caustics_fixup.comp, a map at a time.
 layout(local_size_x = 64) in;
 layout(std430, binding = 6) buffer Command { uint cmd[]; };
 layout(std430, binding = 12) readonly buffer Rects {
@@ -25,7 +20,6 @@ layout(std430, binding = 12) readonly buffer Rects {
 uniform uint u_map_base;
 uniform uint u_count;    // maps in the run
 uniform int u_stage;     // 0: the cull's dispatch; 1: the draws
-uniform uint u_windows;  // stage 1: the windows pass runs after
 void main() {
   if (gl_GlobalInvocationID.x >= u_count) return;
   uint k = u_map_base + gl_GlobalInvocationID.x;
@@ -41,14 +35,9 @@ void main() {
   uvec2 list = batch_maps[k].list.xy;
   uint n = min(cmd[batch_counts(k)], list.y);
   cmd[batch_counts(k) + 2u] = n;
-  uint d = batch_draw(k), d2 = batch_draw2(k), several = batch_several(batch_maps[k].ints.x);
+  uint d = batch_draw(k);
   cmd[d] = 6u * n;  // DrawArraysIndirect {count, instances, first, base instance}
   cmd[d + 1u] = 1u;
   cmd[d + 2u] = 6u * list.x;
   cmd[d + 3u] = 0u;
-  if (u_windows != 0u) cmd[several] = 0u;
-  cmd[d2] = u_windows == 0u && cmd[several] != 0u ? 6u * n : 0u;
-  cmd[d2 + 1u] = 1u;
-  cmd[d2 + 2u] = 6u * list.x;
-  cmd[d2 + 3u] = 0u;
 }

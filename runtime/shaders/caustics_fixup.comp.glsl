@@ -5,11 +5,7 @@
 // thousands of tiny primitives costs per-instance overhead on some drivers.
 layout(local_size_x = 1) in;
 layout(std430, binding = 6) buffer Command { uint cmd[]; };
-// cmd: [0..3] draw {6 n, 1, 0, 0}, [4] unused; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n;
-// [11..14] the second level-map draw {0, 1, 0, 0}, with the first's count
-// where a texel spans several windows: [15] says so, written by
-// caustics_windows.frag, which the draws that keep its result do not run
-// (it also gives [11] the count itself).
+// cmd: [0..3] draw {6 n, 1, 0, 0}, [4] unused; [5..7] dispatch {x, 1, 1}; [8] list length; [9] overflow; [10] n.
 uniform uint u_capacity;
 void main() {
   uint n = min(cmd[8], u_capacity);
@@ -22,8 +18,4 @@ void main() {
   cmd[6] = 1u;
   cmd[7] = 1u;
   cmd[10] = n;
-  cmd[11] = cmd[15] != 0u ? 6u * n : 0u;
-  cmd[12] = 1u;
-  cmd[13] = 0u;
-  cmd[14] = 0u;
 }

@@ -34,14 +34,9 @@ uniform vec3 u_texel_map;
 #if defined(DEPTH_SHIFT) && !defined(BATCH)
 uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by up to eps (s_u, s_w), its own direction
 #endif
-#ifdef WINDOW_DEPTH
-// Level maps: 0, plane k's primitives at depth (k + 1) / 65535, where
-// caustics_windows.frag put the texels whose surface lies in k's window
-// alone; 1, every primitive at depth 1, where it put the texels of several
-// windows. Exact in the 16-bit depth buffer, as the depth test (GL_EQUAL)
-// needs (caustics_windows.frag).
-uniform int u_several_windows;
-#endif
+// WINDOW_DEPTH (level maps): plane k's primitives at depth (k + 1) / 65535,
+// where caustics_windows.frag put the texels whose surface is lit through
+// k. Exact in the 16-bit depth buffer, as the depth test (GL_EQUAL) needs.
 
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
@@ -129,7 +124,7 @@ void main() {
   }
   float z = 0.0;
 #ifdef WINDOW_DEPTH
-  z = u_several_windows != 0 ? 1.0 : window * (2.0 / 65535.0) - 1.0;  // window depth (k + 1) / 65535
+  z = window * (2.0 / 65535.0) - 1.0;  // window depth (k + 1) / 65535
 #endif
   gl_Position = p1.w > 0.0 ? vec4(p / u_map_size * 2.0 - 1.0, z, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
 #ifdef GLASS_WIDE

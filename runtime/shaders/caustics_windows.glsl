@@ -39,20 +39,6 @@ bool in_window(float v, uint k) {
   return d <= p.y && d > -p.y;
 }
 
-// Whether the surface depth v is plane k's.
-bool sample_window(float v, uint k) { return in_window(v, k) && (k == 0u || !in_window(v, k - 1u)); }
-
-// A texel of several windows, lo..hi, in caustics_windows.frag's 16-bit
-// surface texel (unused there otherwise): lo in the low 12 bits (planes
-// stay below 4097), hi - lo in the high 4 (15: 15 or more). The second
-// level-map draw reads it to drop, before testing any sample, the
-// fragments of a plane the texel's surface does not reach.
-float several_windows_code(uint lo, uint hi) { return float(lo | (min(hi - lo, 15u) << 12u)) / 65535.0; }
-bool several_windows_holds(float code, uint k) {
-  uint c = uint(code * 65535.0 + 0.5), lo = c & 0xfffu, span = c >> 12u;
-  return k >= lo && (span == 15u || k - lo <= span);
-}
-
 // The plane whose window holds v, or 0xffffffff: the first window whose
 // lower bound lies below v (the bounds fall with k, windows far wider than
 // rounding), then it and its neighbours by the test above.

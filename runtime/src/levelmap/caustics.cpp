@@ -32,22 +32,17 @@ constexpr GLsizeiptr kPlanesBytes = kPlanesHeader + 8 * GLsizeiptr{kMaxPlanes};
 // command words 8..10 (listed, overflow, drawn) and the plane count.
 constexpr std::size_t kCounterBytes = 16;
 // A map's command buffer (caustics_fixup.comp): the draw, the geometry
-// dispatch, the counters, at word 11 the second level-map draw and at
-// word 15 whether the windows pass found texels of several windows.
-constexpr GLsizeiptr kCommandBytes = 64;
-constexpr GLsizeiptr kSecondDrawOffset = 44;
-constexpr GLintptr kSeveralFlagOffset = 60;  // caustics_fixup.comp's word 15
+// dispatch, the counters.
+constexpr GLsizeiptr kCommandBytes = 44;
 // A batch's command buffer (Impl::Batch; caustics_batch.glsl's layout):
 // from kBatchCounts each map's count of entries, overflow and entries
 // drawn, a cache line apart (a run's first map's also holds the run's
-// cull dispatch, kBatchCullDispatch on), then each map's draw and
-// several-windows draw, 16 bytes each, then a several-windows flag per
-// layer.
+// cull dispatch, kBatchCullDispatch on), then each map's draw, 16 bytes.
 constexpr GLintptr kBatchCounts = 64;
 constexpr GLsizeiptr kBatchCountBytes = 64;
 constexpr GLintptr kBatchCullDispatch = 16;
 constexpr GLsizeiptr kBatchDrawBytes = 16;
-constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + 2 * kBatchDrawBytes + 4;
+constexpr GLsizeiptr kBatchBytesPerMap = kBatchCountBytes + kBatchDrawBytes;
 // The cull's water rectangles (caustics_rects.comp): the water's bounds,
 // then per map its dispatch and its rectangle.
 constexpr GLsizeiptr kRectsHeader = 32;
@@ -138,16 +133,15 @@ struct MapGpu {
   // Its last draw's windows pass wrote the presence (caustics_windows.frag).
   bool windows_presence = false;
   // Drawn alone (not in a batch): the windows pass's depth, which plane's
-  // window each texel's surface lies in, and surface, the mean frame V of
-  // the samples of a texel in one window (R16, as a position code) that
-  // the draw reads instead of the samples (caustics_windows.frag), at
+  // window each texel's surface lies in, and surface, the texel's depth
+  // (the mean frame V of its samples, R16, as a position code) that the
+  // draw follows the beams to (caustics_windows.frag), at
   // caustics_size. `windows_made`: the planes and side they were made for,
   // in these textures or in its batch's layer, whichever the map was
   // last drawn with. The pass runs again only when those change (the
   // planes' key holds the position map's version) or the textures were
-  // remade; until then the depth, the surface, the presence in the map's
-  // alpha and the several-windows flag (caustics_fixup.comp's word 15, or
-  // the batch's per layer) stay.
+  // remade; until then the depth, the surface and the presence in the
+  // map's alpha stay.
   gl::Texture window_depth, window_surface;
   std::uint32_t window_size = 0;
   std::optional<std::pair<PlanKey, std::uint32_t>> windows_made;
@@ -1096,8 +1090,7 @@ struct CausticsEngine::Impl {
     timed_cull.emplace("level maps: cull", gl::PassKind::kCompute);
     for (int attempt = 0; attempt < (measure ? 2 : 1); ++attempt) {
       ensure_list();
-      // All but the several-windows flag, which the windows pass keeps.
-      glClearNamedBufferSubData(m.command.get(), GL_R32UI, 0, kSeveralFlagOffset, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+      glClearNamedBufferData(m.command.get(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
       cull.use();
       set_frame(cull, f);
       cull.set("u_triangles", water->triangle_count());
@@ -1160,9 +1153,7 @@ struct CausticsEngine::Impl {
     const auto size = static_cast<GLsizei>(m.caustics_size);
     const float zero[4] = {0, 0, 0, 0};
     // 3. Geometry of every listed primitive, then 4. one rectangle each.
-    // `several_windows`: the level-map draw again, every primitive at the
-    // depth of the texels that span several planes' windows.
-    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane, bool several_windows = false) {
+    auto geometry_then_draw = [&](const gl::Program& draw_program, int plane) {
       {
         const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the last plane's draw read the primitives
@@ -1176,12 +1167,6 @@ struct CausticsEngine::Impl {
       draw_program.set("u_map_size", static_cast<float>(m.caustics_size));
       glBindVertexArray(empty_vao.get());
       glDrawArraysIndirect(GL_TRIANGLES, nullptr);
-      if (several_windows) {
-        // Its command (caustics_fixup.comp's words 11..14) has the first
-        // draw's count only where the windows pass found such texels.
-        draw_program.set("u_several_windows", 1);
-        glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t{kSecondDrawOffset}));
-      }
     };
 
     if (pairs) {
@@ -1207,8 +1192,6 @@ struct CausticsEngine::Impl {
         const float no_window = 0.0f;
         glDepthMask(GL_TRUE);
         glClearNamedFramebufferfv(m.fbo.get(), GL_DEPTH, 0, &no_window);
-        // The several-windows flag (caustics_fixup.comp's word 15).
-        glClearNamedBufferSubData(m.command.get(), GL_R32UI, kSeveralFlagOffset, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_ALWAYS);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);  // and the presence in alpha
@@ -1216,11 +1199,10 @@ struct CausticsEngine::Impl {
         windows.set("u_map_scale", glm::vec2(scale));
         windows.set("u_samples", samples);
         windows.set("u_half_v", f.half[1]);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.command.get());
         glBindImageTexture(0, m.window_surface.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16);
         glBindVertexArray(empty_vao.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         m.windows_made = windows_key(m);
       }
@@ -1230,15 +1212,10 @@ struct CausticsEngine::Impl {
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
       glBindTextureUnit(1, m.window_surface.get());
-      levelmap.set("u_map_scale", glm::vec2(scale));
-      levelmap.set("u_samples", samples);
       levelmap.set("u_half_v", f.half[1]);
       levelmap.set("u_texels_per_metre", glm::vec2(static_cast<float>(m.caustics_size) / (2 * f.half[0]),
                                                    static_cast<float>(m.caustics_size) / (2 * f.half[2])));
-      // With one sample a texel every texel is one plane's: the second
-      // draw would find no texel at depth 1.
-      levelmap.set("u_several_windows", 0);
-      geometry_then_draw(levelmap, 0, samples > 1);
+      geometry_then_draw(levelmap, 0);
       glDisable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       glDepthMask(GL_TRUE);
@@ -1314,13 +1291,11 @@ struct CausticsEngine::Impl {
     const auto size = static_cast<GLsizei>(side);
     const PositionArrays& positions = position_arrays.at({std::get<0>(key), std::get<2>(key)});
     batch_info.resize(which.size());
-    bool several = false;  // some map's texels are coarser than its position map's
     for (std::size_t k = 0; k < which.size(); ++k) {
       MapGpu& m = maps[which[k]];
       if (m.window_depth.get()) release_windows(m);  // drawn alone last: its batch's layer serves, made again
       const BoundingFrame& f = m.lm->frame;
       const auto [scale, samples] = texel_sampling(m);
-      several = several || samples > 1;
       // As draw_map: the cull widens footprints by a caustics texel where
       // it is coarser than the position map's.
       const glm::vec2 texel = glm::vec2(2.0f * f.half[0], 2.0f * f.half[2]) / static_cast<float>(side);
@@ -1383,7 +1358,6 @@ struct CausticsEngine::Impl {
       fixup_batch.set("u_map_base", static_cast<unsigned>(first));
       fixup_batch.set("u_count", static_cast<unsigned>(count));
       fixup_batch.set("u_batch_maps", batch_maps);
-      fixup_batch.set("u_windows", keep_windows ? 0u : 1u);
       glDispatchCompute((static_cast<GLuint>(count) + 63) / 64, 1, 1);
     };
     auto cull_run = [&](std::size_t first, std::size_t count) {
@@ -1497,14 +1471,13 @@ struct CausticsEngine::Impl {
         windows_batch.set("u_batch_maps", batch_maps);
         glBindImageTexture(0, b.window_surface.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 3, count);
-        glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
         for (std::size_t k = first; k < end; ++k) maps[which[k]].windows_made = windows_key(maps[which[k]]);
       }
       // 3. Geometry of every listed primitive, then 4. one rectangle each
-      // in its map's layer, map after map, and the several-windows draws
-      // (draw_map's).
+      // in its map's layer, map after map.
       {
         const gl::TimedPass timed("level maps: geometry", gl::PassKind::kCompute);
         geometry_batch.use();
@@ -1522,18 +1495,9 @@ struct CausticsEngine::Impl {
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
         levelmap_batch.use();
-        levelmap_batch.set("u_several_windows", 0);
         glBindTextureUnit(1, b.window_surface.get());
-        const auto draws = [&](std::uint32_t group) {
-          const auto offset = static_cast<std::uintptr_t>(kBatchCounts + b.maps_capacity * kBatchCountBytes +
-                                                          ((group - 1) * b.maps_capacity + first) * kBatchDrawBytes);
-          glMultiDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(offset), count, 0);
-        };
-        draws(1);
-        if (several) {
-          levelmap_batch.set("u_several_windows", 1);
-          draws(2);
-        }
+        const auto offset = static_cast<std::uintptr_t>(kBatchCounts + b.maps_capacity * kBatchCountBytes + first * kBatchDrawBytes);
+        glMultiDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(offset), count, 0);
         glDisable(GL_BLEND);
         glDisable(GL_DEPTH_TEST);
       }
@@ -1578,7 +1542,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
   const std::string splat_fs = with_optics((code + shaders::k_splat_photon_frag_glsl).c_str());
   const std::string levelmap_vs =
       insert_after_version(shaders::k_caustics_intersect_vert_glsl, "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
-  const std::string levelmap_fs = coverage + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
+  const std::string levelmap_fs = coverage + code + shaders::k_caustics_levelmap_frag_glsl;
   const std::string windows_fs =
       std::string("#version 450 core\n") + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
   const std::string presence_fs = insert_after_version(shaders::k_caustics_presence_frag_glsl, code);
@@ -1621,7 +1585,7 @@ Result<std::unique_ptr<CausticsEngine>> CausticsEngine::create(std::vector<Level
     const std::string levelmap_batch_vs =
         insert_after_version(shaders::k_caustics_intersect_vert_glsl, layer_vs + "#define DEPTH_SHIFT\n#define WINDOW_DEPTH\n");
     const std::string levelmap_batch_fs = std::string("#version 450 core\n") + batch + shaders::k_caustics_coverage_glsl + code +
-                                          shaders::k_caustics_windows_glsl + shaders::k_caustics_levelmap_frag_glsl;
+                                          shaders::k_caustics_levelmap_frag_glsl;
     const std::string quad_vs = std::string("#version 450 core\n") + layer_vs + shaders::k_caustics_batch_vert_glsl;
     const std::string windows_batch_fs =
         std::string("#version 450 core\n") + batch + code + shaders::k_caustics_windows_glsl + shaders::k_caustics_windows_frag_glsl;
