@@ -107,9 +107,12 @@ TEST_F(Temporal, GlassCausticMapsHoldStillAsTheSunTurns) {
 // brightest stretch jumps by at most 1.5 % a frame. rho, the change that
 // does not follow the motion smoothly, read 0.90 while each photon's track
 // gave its light to the voxels it crossed alone (a track nearly parallel to
-// a grid axis moved all of it to the next column at once) and 0.77 with
-// its footprint shared across the track (volume_photons.comp); the bound
-// lies between.
+// a grid axis moved all of it to the next column at once), 0.77 with its
+// footprint shared across the track (volume_photons.comp), and 0.41 with
+// the glass's photons on a square that turns with the light, the focus
+// grid's box kept while it serves, a smooth share of each track between
+// the focus grid's voxels and Fresnel taken where a step crosses the
+// surface (docs/temporal.md); the bound lies between.
 TEST_F(Temporal, FogFocusHoldsItsPowerAsTheSunTurns) {
   auto r = renderer("fog_ball");
   ASSERT_TRUE(r);
@@ -122,7 +125,7 @@ TEST_F(Temporal, FogFocusHoldsItsPowerAsTheSunTurns) {
   std::printf("[fog_ball] focus jump %.3f %% a frame at 0.1 deg (rho %.4f)\n", 100 * s.focus_jump.value_or(0), s.rho);
   ASSERT_TRUE(s.focus_jump);
   EXPECT_LT(*s.focus_jump, 0.015);
-  EXPECT_LT(s.rho, 0.84);
+  EXPECT_LT(s.rho, 0.6);
 }
 
 // The default pool's floor in 15 mm pixels, the water advanced 4.2 ms a

@@ -147,9 +147,9 @@ float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 // The step crosses the octree node around x when it is uniform and
 // `octree` is set, else it is `step` voxels. Returns the length; x and d
 // are advanced, `c0`/`c1` are the coverage before and after (a crossing
-// of 1/2 is the object's surface: Fresnel). No step exceeds max_len metres.
-float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octree, float max_len, out float c0, out float c1,
-                out vec3 grad) {
+// of 1/2 is the object's surface: Fresnel, crossing_transmittance). No
+// step exceeds max_len metres.
+float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octree, float max_len, out float c0, out float c1) {
   float h = u_glass_ior[g].z;
   float len_voxels = step;
   int level = octree ? octree_level(g, u) : 0;
@@ -163,9 +163,7 @@ float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octr
   }
   float len = min(len_voxels * h, max_len);
   c0 = coverage(g, u);
-  float n = index_of(g, c0);
-  grad = index_gradient(g, u);
-  vec3 v = n * d + len * grad;
+  vec3 v = index_of(g, c0) * d + len * index_gradient(g, u);
   x += len * d;
   d = normalize(v);
   c1 = coverage(g, voxel_of(g, x));
@@ -183,4 +181,17 @@ float surface_transmittance(int g, float c0, float c1, vec3 d, vec3 grad) {
   float cos_i = abs(dot(d, normalize(grad)));
   float r = caustix_fresnel_reflectance(cos_i, eta);
   return r >= 1.0 ? 1.0 : 1.0 - r;
+}
+
+// surface_transmittance for the step from x0 (direction d0) to x1
+// (direction d1) of grid_step, with the normal and the direction where the
+// coverage crosses 1/2 along the step (linearly between its ends). Taken at
+// the step's start, they changed at once when the ray moved a little and
+// the crossing fell into the next step: a ray grazing the surface, whose
+// transmittance changes fastest with its angle, then jumped in power as
+// the light turned.
+float crossing_transmittance(int g, vec3 x0, vec3 x1, vec3 d0, vec3 d1, float c0, float c1) {
+  if ((c0 - 0.5) * (c1 - 0.5) > 0.0) return 1.0;
+  float f = clamp((0.5 - c0) / (c1 - c0), 0.0, 1.0);
+  return surface_transmittance(g, c0, c1, normalize(mix(d0, d1, f)), index_gradient(g, voxel_of(g, mix(x0, x1, f))));
 }

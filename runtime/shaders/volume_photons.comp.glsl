@@ -19,10 +19,16 @@ layout(std430, binding = 3) readonly buffer WaterNormals { vec4 water_nrm[]; };
 
 uniform uint u_side;           // photons per axis
 uniform uint u_seed;
-uniform int u_source;          // 0: the light's window at y = u_window_y; 1: the water surface
+uniform int u_source;          // 0: the light's window at y = u_window_y; 1: the water surface; 2: the lens's square
 uniform vec4 u_window;         // x0, z0, x1, z1 (source 0); the water's extent (source 1)
-uniform vec4 u_skip;           // x0, z0, x1, z1: photons starting here are another dispatch's (x1 > x0)
 uniform float u_window_y;
+// The lens's square (source 2, and the rays of source 0 it takes): centre,
+// half-side vectors across the light, and its normal (towards the light's
+// travel). It turns with the light about the lens's centre, so that a
+// photon's path through the lens stays where it was as the light turns
+// (docs/volume.md, "Photon generation").
+uniform int u_square_on;
+uniform vec3 u_square_c, u_square_u, u_square_v, u_square_n;
 uniform uvec2 u_water_cells;
 uniform float u_water_ior;
 uniform vec3 u_light_color;    // linear colour x E0 (directional) or I (point), / E0 of the scene
@@ -99,10 +105,21 @@ vec2 footprint_share(float t, float foot) {
 }
 
 // In the focus grid the glass's photons have converged: their beams are
-// narrower than their source cells, and a footprint the cell's width took
-// fog_ball's focal line peak from -6 % to -8 % of the optics'; a quarter
-// of it keeps the peak.
-const float kFocusFootprint = 0.25;
+// narrower than their source cells (a footprint the cell's width took
+// fog_ball's focal line peak from -6 % to -8 % of the optics'), and a
+// quarter of the cell, narrower than a focus voxel, gave a voxel a share
+// that rose from 0 to all of a track's light over half a voxel, with kinks
+// at both ends, while the focal line moves 0.6 of a voxel a frame under a
+// sun turning 0.2 degrees a frame. There a track's light goes to the two
+// voxel centres around it along each axis across it by the cubic
+// 1 - 3 d^2 + 2 |d|^3 of its distance d from them (in voxels; as photon
+// splatting's filter): the shares move with the track with no kink, and
+// the line keeps its peak (-6.9 % of optics against -6.1 %; docs/volume.md).
+// Returns what footprint_share does.
+vec2 smooth_share(float t) {
+  float dd = abs(t - 0.5);
+  return vec2(dd * dd * (3.0 - 2.0 * dd), t < 0.5 ? -1.0 : 1.0);
+}
 
 // The accumulator index of voxel c of a grid of n voxels whose first is at
 // `base`.
@@ -124,14 +141,15 @@ void deposit_voxel(int v, vec3 sc, vec3 d) {
 // `base` in the accumulator) that it crosses (Amanatides-Woo traversal,
 // the exact decay in each voxel), p the power at s = 0, each piece
 // shared with its neighbours across the track by the photon's footprint
-// (foot_scale x its source cell's). With `stop_at_surfaces`
+// (its source cell's), or by smooth_share where `smooth_kernel` is set (the
+// focus grid). With `stop_at_surfaces`
 // it ends where an opaque surface is met and returns that s, else b.
-float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int base, vec3 p, Medium m, bool stop_at_surfaces, float foot_scale) {
+float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int base, vec3 p, Medium m, bool stop_at_surfaces, bool smooth_kernel) {
   vec3 h = (hi - lo) / vec3(n);
   vec3 ad = abs(d);
   int main_axis = ad.x >= ad.y && ad.x >= ad.z ? 0 : (ad.y >= ad.z ? 1 : 2);
   int a1 = main_axis == 0 ? 1 : 0, a2 = main_axis == 2 ? 1 : 2;  // the axes across the track
-  vec2 width = foot_scale * vec2(foot[a1] / h[a1], foot[a2] / h[a2]);  // the footprint, voxels
+  vec2 width = vec2(foot[a1] / h[a1], foot[a2] / h[a2]);  // the footprint, voxels
   vec3 start = o + d * (0.5 * (a + min(b, a + 1e-6)));
   ivec3 cell = clamp(ivec3(floor((start - lo) / h)), ivec3(0), n - 1);
   ivec3 stp;
@@ -158,7 +176,8 @@ float deposit(vec3 o, vec3 d, float a, float b, vec3 lo, vec3 hi, ivec3 n, int b
       // the neighbour on the nearer side in each of the two axes across
       // the track's main one, kept in the piece's voxel at the grid's side.
       vec3 t = (o + d * (0.5 * (s + e)) - lo) / h - vec3(cell);
-      vec2 fa = footprint_share(t[a1], width.x), fb = footprint_share(t[a2], width.y);
+      vec2 fa = smooth_kernel ? smooth_share(t[a1]) : footprint_share(t[a1], width.x);
+      vec2 fb = smooth_kernel ? smooth_share(t[a2]) : footprint_share(t[a2], width.y);
       ivec3 ca = cell, cb = cell;
       ca[a1] += int(fa.y);
       cb[a2] += int(fb.y);
@@ -194,7 +213,7 @@ bool march_chord(vec3 o, vec3 d, float len, bool along_light, inout vec3 p, Medi
     // map coordinates and depth grows, so if the chord's end is lit all of
     // it is, and its voxels need no test each.
     bool test_each = !along_light || occluded(o + d * b);
-    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, test_each, 1.0);
+    float stop = deposit(o, d, a, b, u_grid_lo, u_grid_hi, u_grid_n, 0, p, m, test_each, false);
     if (stop < b) {
       end = stop;
       blocked = true;
@@ -203,7 +222,7 @@ bool march_chord(vec3 o, vec3 d, float len, bool along_light, inout vec3 p, Medi
       vec2 f = box_range(o, d, u_focus_lo, u_focus_hi);
       float fa = max(f.x, 0.0), fb = min(f.y, min(end, b));
       if (fb > fa) deposit(o, d, fa, fb, u_focus_lo, u_focus_hi, u_focus_n, 6 * u_grid_n.x * u_grid_n.y * u_grid_n.z, p, m, false,
-                              kFocusFootprint);
+                              true);
     }
   }
   if (!blocked && occluded(o + d * len)) blocked = true;
@@ -245,10 +264,26 @@ void main() {
   bool wet = false;
   bool along_light = true;  // until refracted
   if (u_source == 0) {
-    if (u_skip.z > u_skip.x && all(greaterThanEqual(xz, u_skip.xy)) && all(lessThan(xz, u_skip.zw))) return;
     x = vec3(xz.x, u_window_y, xz.y);
     d = point ? normalize(x - lp) : caustix_light.light_direction.xyz;
+    if (u_square_on != 0) {
+      // Where this ray crosses the lens's square, the square's photons
+      // stand for it.
+      vec3 q = x + d * (dot(u_square_c - x, u_square_n) / dot(d, u_square_n)) - u_square_c;
+      if (abs(dot(q, u_square_u)) < dot(u_square_u, u_square_u) && abs(dot(q, u_square_v)) < dot(u_square_v, u_square_v)) return;
+    }
     float e = point ? abs(d.y) / dot(x - lp, x - lp) * caustix_spot_factor(d, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : abs(d.y);
+    p = u_light_color * (e * area);
+  } else if (u_source == 2) {
+    // A cell of the square across the light, the ray through it started
+    // back at the window's height: power = the light's intensity x the
+    // cell's solid angle (a point) or irradiance x its area (the sun).
+    vec3 q = u_square_c + (2.0 * f.x - 1.0) * u_square_u + (2.0 * f.y - 1.0) * u_square_v;
+    area = 4.0 * length(u_square_u) * length(u_square_v) / float(u_side * u_side);
+    foot = vec3(2.0 * length(u_square_u) / float(u_side), sqrt(area), 2.0 * length(u_square_v) / float(u_side));
+    d = point ? normalize(q - lp) : caustix_light.light_direction.xyz;
+    x = q + d * ((u_window_y - q.y) / d.y);
+    float e = point ? abs(dot(d, u_square_n)) / dot(q - lp, q - lp) * caustix_spot_factor(d, caustix_light.light_direction.xyz, caustix_light.spot.xyz) : 1.0;
     p = u_light_color * (e * area);
   } else {
     // On the water surface as the caustics see it this frame (Pfeuti:
@@ -285,10 +320,9 @@ void main() {
     float tr = 1.0;
     if (g >= 0) {
       float c0, c1;
-      vec3 grad;
-      grid_step(g, u, x, d, u_step, u_octree != 0, 1e30, c0, c1, grad);
+      grid_step(g, u, x, d, u_step, u_octree != 0, 1e30, c0, c1);
       along_light = false;
-      tr = surface_transmittance(g, c0, c1, d0, grad);
+      tr = crossing_transmittance(g, x0, x, d0, d, c0, c1);
       ++grid_steps;
     } else {
       float len = next_event(x, d, wet);

@@ -221,9 +221,8 @@ void main() {
           straight = false;
           vec3 x0 = x, d0 = d;
           float c0, c1;
-          vec3 grad;
-          float len = grid_step(g, u, x, d, u_step, u_octree != 0, view_step_at(x, d, jitter), c0, c1, grad);
-          tr *= surface_transmittance(g, c0, c1, d0, grad);
+          float len = grid_step(g, u, x, d, u_step, u_octree != 0, view_step_at(x, d, jitter), c0, c1);
+          tr *= crossing_transmittance(g, x0, x, d0, d, c0, c1);
           add_step(x0, x, d0, len, false);
           g = glass_at(x, u);
         } while (++it < u_max_steps && travelled < t1 && g >= 0);

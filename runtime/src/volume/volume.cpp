@@ -58,12 +58,37 @@ float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0
 // kFocusMinRays rays, with one cell more on every side, are the box.
 constexpr double kFocusConcentration = 16.0;
 constexpr int kFocusMinRays = 4;
-// Photons per axis over the glass's own window, with a focus grid, for P
+// Photons per axis over the glass's own square, with a focus grid, for P
 // per axis over the light's (update_light). fog_ball: twice the light
 // window's density over the glass; P^2 cost 76 % more per frame with the
 // light turning (llvmpipe), P/3 gives no more photons than the light's
 // window did.
 std::uint32_t glass_side(std::uint32_t photons) { return std::max(1u, photons / 2); }
+
+// The glass's photons start on a square across the light through the
+// lens's centre, its sides the lens box's half-widths along x and z, turned
+// from the horizontal by the least rotation that takes straight down to the
+// light's direction n. On a window of fixed height, as the glass's was, a
+// light turning by a small angle moved every photon across the lens (the
+// window's width grows with the lens's height x the tangent of the light's
+// angle: fog_ball's photons by up to 1.7 cells a frame at 0.2 degrees),
+// and the few photons bent far sideways by the rim sprang to new paths
+// every frame. Over the square a photon keeps its place on the lens as the
+// light turns about it: a ball lens's photons all turn with the light. The
+// square's size does not depend on the light; where a lens reaches past
+// it (a tall lens under a low sun) the light's window keeps those rays.
+struct LensSquare {
+  glm::vec3 c{0.0f}, u{0.0f}, v{0.0f}, n{0.0f, -1.0f, 0.0f};
+};
+LensSquare lens_square(const Box& lens, const glm::vec3& n) {
+  // The rotation taking e = (0, -1, 0) to n (n.y < 0):
+  // R = I + [w]x + [w]x^2 / (1 + e.n), w = e x n.
+  const glm::vec3 e(0.0f, -1.0f, 0.0f), w = glm::cross(e, n);
+  const float k = 1.0f / (1.0f + glm::dot(e, n));
+  const auto rotate = [&](const glm::vec3& a) { return a + glm::cross(w, a) + k * glm::cross(w, glm::cross(w, a)); };
+  const glm::vec3 half = 0.5f * (lens.hi - lens.lo);
+  return {0.5f * (lens.lo + lens.hi), rotate(glm::vec3(half.x, 0.0f, 0.0f)), rotate(glm::vec3(0.0f, 0.0f, half.z)), n};
+}
 
 // Per-cell tallies of focus_box, kept between calls (zero between them):
 // a light turning every frame fits a box every frame, and clearing and
@@ -76,8 +101,16 @@ struct FocusScratch {
   std::vector<std::size_t> touched;
 };
 
-// The box of the concentrated cells of `grid` (n cells), or an empty box.
-Box focus_box(const std::vector<ExitRay>& rays, const Box& grid, const glm::ivec3& n, FocusScratch& t) {
+// The box of the concentrated cells of `grid` (n cells) with one cell more
+// on every side, or an empty box; the light turning moves it by whole
+// cells, so the box kept from the last update (`kept`) stays while it
+// serves: while it holds every concentrated cell and no cell past those
+// that reach a quarter of the concentration (with their margin). On fog_ball at
+// the fast preset (9.4 cm cells), the box had changed 3 times in 12
+// frames of a sun turning 0.2 degrees a frame, from a cell crossing the
+// threshold: the focal line, on a cell face under the sun straight down,
+// puts its light into one cell or into four as it drifts across.
+Box focus_box(const std::vector<ExitRay>& rays, const Box& grid, const glm::ivec3& n, const Box& kept, FocusScratch& t) {
   const glm::vec3 h = (grid.hi - grid.lo) / glm::vec3(n);
   const std::size_t cells = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
   if (t.fluence.size() != cells) t = FocusScratch{std::vector<double>(cells, 0.0), std::vector<int>(cells, 0), std::vector<int>(cells, -1), {}};
@@ -114,13 +147,17 @@ Box focus_box(const std::vector<ExitRay>& rays, const Box& grid, const glm::ivec
     }
   }
   const double volume = double(h.x) * double(h.y) * double(h.z);
-  glm::ivec3 lo(n), hi(-1);
+  glm::ivec3 lo(n), hi(-1), loose_lo(n), loose_hi(-1);  // cells at the concentration; at a quarter of it
   for (const std::size_t v : t.touched) {
-    if (t.count[v] >= kFocusMinRays && t.fluence[v] >= kFocusConcentration * volume) {
+    if (t.count[v] >= kFocusMinRays && t.fluence[v] >= 0.25 * kFocusConcentration * volume) {
       const glm::ivec3 c(static_cast<int>(v % std::size_t(n.x)), static_cast<int>(v / std::size_t(n.x) % std::size_t(n.y)),
                          static_cast<int>(v / (std::size_t(n.x) * std::size_t(n.y))));
-      lo = glm::min(lo, c);
-      hi = glm::max(hi, c);
+      loose_lo = glm::min(loose_lo, c);
+      loose_hi = glm::max(loose_hi, c);
+      if (t.fluence[v] >= kFocusConcentration * volume) {
+        lo = glm::min(lo, c);
+        hi = glm::max(hi, c);
+      }
     }
     t.fluence[v] = 0.0;
     t.count[v] = 0;
@@ -128,9 +165,13 @@ Box focus_box(const std::vector<ExitRay>& rays, const Box& grid, const glm::ivec
   }
   t.touched.clear();
   if (hi.x < 0) return Box{};
-  lo = glm::max(lo - 1, glm::ivec3(0));
-  hi = glm::min(hi + 2, n);
-  return Box{grid.lo + glm::vec3(lo) * h, grid.lo + glm::vec3(hi) * h};
+  const auto box = [&](const glm::ivec3& a, const glm::ivec3& b) { return Box{grid.lo + glm::vec3(a) * h, grid.lo + glm::vec3(b) * h}; };
+  const Box core = box(lo, hi + 1), loose = box(glm::max(loose_lo - 1, glm::ivec3(0)), glm::min(loose_hi + 2, n));
+  const auto holds = [](const Box& outer, const Box& inner) {
+    return glm::all(glm::lessThanEqual(outer.lo, inner.lo)) && glm::all(glm::greaterThanEqual(outer.hi, inner.hi));
+  };
+  if (!kept.empty() && holds(kept, core) && holds(loose, kept)) return kept;
+  return box(glm::max(lo - 1, glm::ivec3(0)), glm::min(hi + 2, n));
 }
 
 constexpr int kTallyWords = 16;  // per light: see volume_photons.comp.glsl
@@ -159,8 +200,9 @@ struct VolumeEngine::Impl {
     bool valid = false;  // source and direction hold this light's radiance for the current grid
     bool timed = false;  // remade this frame: its photons and timer queries are this frame's
     double scale = 1, tally_scale = 1;  // fixed-point units per unit of power (light units)
-    std::uint64_t photons = 0, glass_photons = 0;  // emitted; of which over the glass's own window
-    Box focus;  // the light's focus grid; empty: none
+    std::uint64_t photons = 0, glass_photons = 0;  // emitted; of which over the glass's own square
+    Box focus;   // the light's focus grid; empty: none
+    Box fitted;  // the box focus_box gave at the last update (kept while it serves)
   };
   std::vector<Glass> glass;
   std::optional<Box> fog_box, water_box;
@@ -450,7 +492,10 @@ Status VolumeEngine::begin_frame(const SceneDesc& scene, const VolumeOptions& o)
     s.focus_n = focus_n;
     s.atlas = focus_n > 0 ? glm::ivec3(std::max(n.x, focus_n), std::max(n.y, focus_n), n.z + focus_n) : n;
     s.made.forget_all();  // new grids: every light's radiance is remade
-    for (Impl::PerLight& l : s.lights) l.valid = false;
+    for (Impl::PerLight& l : s.lights) {
+      l.valid = false;
+      l.fitted = Box{};
+    }
     s.accumulator = gl::make_buffer();
     glNamedBufferStorage(s.accumulator.get(), static_cast<GLsizeiptr>((voxels + s.focus_voxels()) * 6 * 4), nullptr, 0);
     const glm::ivec3 a = s.atlas;
@@ -483,7 +528,8 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   s.counting = true;
   Impl::PerLight& pl = s.lights[li];
   pl.photons = pl.glass_photons = 0;
-  pl.focus = s.focus_n > 0 && focus_rays ? focus_box(focus_rays(), s.grid_box, s.grid_n, s.focus_scratch) : Box{};
+  pl.focus = s.focus_n > 0 && focus_rays ? focus_box(focus_rays(), s.grid_box, s.grid_n, pl.fitted, s.focus_scratch) : Box{};
+  pl.fitted = pl.focus;
   if (!pl.focus.empty()) {
     // Only where its voxels are at least twice as fine as the radiance
     // grid's (by volume, 8 times).
@@ -509,16 +555,18 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     if (!g.under_water) air.add(s.grid_world_box(scene, g));
     under_scatters = under_scatters || (g.under_water && g.c.scatters());
   }
+  // The kinds, as volume_photons.comp reads u_source.
+  constexpr int kLightWindow = 0, kWaterSurface = 1, kLensSquare = 2;
   struct Source {
     int kind;
     glm::vec4 window;
     float y = 0;
-    double bound = 0;  // largest power per unit of the window's area
-    glm::vec4 skip{0.0f};  // photons starting in this rectangle are another source's (x1 > x0)
-    bool glass = false;      // the glass's own window (other jitter than the light's)
+    double bound = 0;        // largest power per unit of the window's area (the square's)
+    bool square = false;     // kLightWindow: the lens's square takes the rays that cross it
     std::uint32_t side = 0;  // photons per axis
   };
   std::vector<Source> sources;
+  LensSquare sq;
   if (!air.empty()) {
     const float y_top = air.hi.y + 1e-3f;
     // A box's window: its corners back along the light's rays to y = y_top.
@@ -536,8 +584,9 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     if (ok) {
       const double bound = point ? 1.0 / double(lp.y - y_top) / double(lp.y - y_top) : -dir.y;
       const glm::vec4 win = window_of(air);
-      // With a focus grid, the glass's own window gets photons of its own,
-      // (P/2)^2 (glass_side), and the light's window leaves it to them: the
+      // With a focus grid, the glass gets photons of its own, (P/2)^2
+      // (glass_side), on a square across the light over the lens, and the
+      // light's window leaves the rays through that square to them: the
       // focal line is drawn by the photons that cross the glass, which the
       // light's window spreads thinly (fog_ball: 1 in 11 of them cross the
       // ball; their tracks showed as streaks in the 4 mm voxels).
@@ -547,11 +596,12 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
           if (!g.under_water) lens.add(s.grid_world_box(scene, g));
         }
       }
-      glm::vec4 gw = lens.empty() ? glm::vec4(0.0f) : window_of(lens);
-      gw = glm::vec4(std::max(gw.x, win.x), std::max(gw.y, win.y), std::min(gw.z, win.z), std::min(gw.w, win.w));
-      const bool split = gw.z > gw.x && gw.w > gw.y;
-      sources.push_back({0, win, y_top, bound, split ? gw : glm::vec4(0.0f), false, o.photons});
-      if (split) sources.push_back({0, gw, y_top, bound, glm::vec4(0.0f), true, glass_side(o.photons)});
+      if (!lens.empty()) sq = lens_square(lens, point ? glm::normalize(0.5f * (lens.lo + lens.hi) - lp) : dir);
+      sources.push_back({kLightWindow, win, y_top, bound, !lens.empty(), o.photons});
+      if (!lens.empty()) {
+        const float dist = glm::dot(sq.c - lp, sq.n);
+        sources.push_back({kLensSquare, win, y_top, point ? 1.0 / double(dist * dist) : 1.0, false, glass_side(o.photons)});
+      }
     }
   }
   if (under_scatters && water) {
@@ -559,8 +609,8 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     const bool lit = point ? lp.y > s.water_box->hi.y : dir.y < 0.0f;
     if (lit) {
       const double d = lp.y - s.water_box->hi.y;
-      sources.push_back({1, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y,
-                         glm::vec4(0.0f), false, o.photons});
+      sources.push_back({kWaterSurface, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y,
+                         false, o.photons});
     }
   }
   // Fixed point: one photon crossing one voxel deposits at most
@@ -568,7 +618,10 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   // that share of all the power emitted (2^29: room for a path that turns
   // back through a voxel).
   double total = 0;
-  for (const Source& src : sources) total += src.bound * double(src.window.z - src.window.x) * double(src.window.w - src.window.y);
+  for (const Source& src : sources) {
+    total += src.bound * (src.kind == kLensSquare ? 4.0 * double(glm::length(sq.u)) * double(glm::length(sq.v))
+                                        : double(src.window.z - src.window.x) * double(src.window.w - src.window.y));
+  }
   const double cmax = std::max({color.r, color.g, color.b, 1e-30f});
   const glm::vec3 hg = (s.grid_box.hi - s.grid_box.lo) / glm::vec3(s.grid_n);
   const double share = std::min(1.0, double(s.max_scattering()) * std::sqrt(3.0) * double(std::max({hg.x, hg.y, hg.z})));
@@ -616,15 +669,19 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
       s.set_media(p, scene, w.nm);
     }
     for (const Source& src : sources) {
-      p.set("u_seed", 0x9E3779B9u * (li + 1) + (src.glass ? 0x632BE5ABu : 0u));
+      p.set("u_seed", 0x9E3779B9u * (li + 1) + (src.kind == kLensSquare ? 0x632BE5ABu : 0u));
       p.set("u_source", src.kind);
       p.set("u_window", src.window);
       p.set("u_window_y", src.y);
-      p.set("u_skip", src.skip);
+      p.set("u_square_on", src.square ? 1 : 0);
+      p.set("u_square_c", sq.c);
+      p.set("u_square_u", sq.u);
+      p.set("u_square_v", sq.v);
+      p.set("u_square_n", sq.n);
       p.set("u_side", src.side);
       glDispatchCompute((src.side * src.side + 63) / 64, 1, 1);
       pl.photons += std::uint64_t{src.side} * src.side;
-      if (src.glass) pl.glass_photons += std::uint64_t{src.side} * src.side;
+      if (src.kind == kLensSquare) pl.glass_photons += std::uint64_t{src.side} * src.side;
     }
   }
   glEndQuery(GL_TIME_ELAPSED);

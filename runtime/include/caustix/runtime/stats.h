@@ -200,7 +200,7 @@ struct VolumeStats {
   // Engine::volume_stats() waits.
   std::uint64_t tallies_frame = 0;
   std::uint64_t photons = 0;           // emitted
-  std::uint64_t glass_photons = 0;     // of which over the glass's own window (focus grids)
+  std::uint64_t glass_photons = 0;     // of which over the glass's own square across the light (focus grids)
   std::uint64_t steps = 0;             // marching steps (curved steps in index grids + straight runs)
   std::uint64_t grid_steps = 0;        // of which inside index grids
   double power_in = 0;                 // entered a medium
