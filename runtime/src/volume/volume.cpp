@@ -596,9 +596,9 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
           if (!g.under_water) lens.add(s.grid_world_box(scene, g));
         }
       }
-      if (!lens.empty()) sq = lens_square(lens, point ? glm::normalize(0.5f * (lens.lo + lens.hi) - lp) : dir);
       sources.push_back({kLightWindow, win, y_top, bound, !lens.empty(), o.photons});
       if (!lens.empty()) {
+        sq = lens_square(lens, point ? glm::normalize(0.5f * (lens.lo + lens.hi) - lp) : dir);
         const float dist = glm::dot(sq.c - lp, sq.n);
         sources.push_back({kLensSquare, win, y_top, point ? 1.0 / double(dist * dist) : 1.0, false, glass_side(o.photons)});
       }
