@@ -2,12 +2,18 @@
 // exact area of the intersection triangle inside this fragment's texel,
 // and its centroid, from the triangle's three edges by Green's theorem
 // (edge_moments).
-// PRIM_STRIDE: vec4s per primitive (5 for water caustics, 6 for glass).
+// PRIM_STRIDE: vec4s per primitive (4 for water caustics, 6 for glass).
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 5
+#define PRIM_STRIDE 4
 #endif
 flat in int v_prim;
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
+#if PRIM_STRIDE == 4
+// Water caustics' pairs of half floats (caustics_geometry.comp), read as
+// the words they are.
+layout(std430, binding = 8) readonly buffer PrimitiveWords { uint prim_words[]; };
+vec2 primitive_halves(int word) { return unpackHalf2x16(prim_words[4 * PRIM_STRIDE * v_prim + word]); }
+#endif
 
 // This fragment's primitive (caustics_geometry.comp).
 vec2 v_q0, v_q1, v_q2, v_plane, v_slopes;
@@ -28,11 +34,10 @@ void load_primitive() {
 #endif
   v_irradiance = b.z;
   v_plane = c.xy;
-#if PRIM_STRIDE == 5
-  vec4 e = prims[PRIM_STRIDE * v_prim + 4];
-  v_s0 = c.zw;
-  v_s1 = e.xy;
-  v_s2 = e.zw;
+#if PRIM_STRIDE == 4
+  v_s0 = primitive_halves(11);
+  v_s1 = primitive_halves(12);
+  v_s2 = primitive_halves(13);
   v_slopes = (v_s0 + v_s1 + v_s2) / 3.0;  // the beam's mean direction
 #endif
 }
@@ -189,14 +194,14 @@ float texel_coverage_shifted(vec2 shift) {
 
 float texel_coverage() { return texel_coverage_shifted(vec2(0.0)); }
 
-#if PRIM_STRIDE == 5
-// Water caustics (caustics_geometry.comp's fourth vec4): the factor on the
+#if PRIM_STRIDE == 4
+// Water caustics (caustics_geometry.comp's words 14 and 15): the factor on the
 // triangle's irradiance over the part texel_coverage*() just measured -- its
 // corners' ratios interpolated at that part's centroid (barycentric: exact
 // for the part's mean of the linear interpolant), over their mean, so that
 // the triangle keeps its flux; 1 where the triangle keeps the constant.
 float corner_factor() {
-  vec4 c = prims[PRIM_STRIDE * v_prim + 3];
+  vec3 c = vec3(primitive_halves(14), primitive_halves(15).x);
   if (c.x < 0.0) return 1.0;  // the triangle's own irradiance (caustics_geometry.comp)
   vec2 x = g_centroid;
   float twice = cross2(v_q1 - v_q0, v_q2 - v_q0);

@@ -17,7 +17,7 @@ layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 layout(std430, binding = 3) readonly buffer Refracted { vec4 refracted[]; };
 layout(std430, binding = 5) writeonly buffer List { uint list[]; };  // volumes, or (volume, plane) pairs
-// A listed pair's primitive (caustics_geometry.comp), 20 words, by its
+// A listed pair's primitive (caustics_geometry.comp), 16 words, by its
 // place in the list: word 15 takes the depths of the surface beneath it
 // until the geometry pass reads them and writes the primitive.
 layout(std430, binding = 8) writeonly buffer Primitives { uint prim_words[]; };
@@ -191,6 +191,6 @@ void main() {
     // covers no more than that (caustics_intersect.vert).
     vec2 pl = PLANE(first + k);
     vec2 part = clamp((vec2(vmin, vmax) - pl.x) / max(pl.y, 1e-30), -1.0, 1.0);
-    prim_words[20u * at + 15u] = packSnorm2x16(vec2(floor(part.x * 32767.0), ceil(part.y * 32767.0)) / 32767.0);
+    prim_words[16u * at + 15u] = packSnorm2x16(vec2(floor(part.x * 32767.0), ceil(part.y * 32767.0)) / 32767.0);
   }
 }

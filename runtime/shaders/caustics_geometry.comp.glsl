@@ -17,22 +17,27 @@ layout(std430, binding = 4) readonly buffer Flux { vec2 flux[]; };
 layout(std430, binding = 5) readonly buffer List { uint list[]; };
 layout(std430, binding = 6) readonly buffer Command { uint cmd[]; };
 // The planes (binding 7): caustics_windows.glsl, prefixed.
-// Per primitive, five vec4: (q0, q1), (q2, irradiance, reached),
-// (plane offset D, shift, s0), (c0, c1, c2, reach): the corners' irradiance
-// over the triangle's (below; c0 = -1 where they are the triangle's own),
-// (s1, s2). The fragment shader moves the triangle from D to the
-// receiver's depth within the plane's window; the cull found that depth
-// within D + shift +- reach (metres), so the draw covers the triangle
-// there and no wider (caustics_intersect.vert). s_k: vertex k's direction of
-// travel d as (d.U / d.V, d.W / d.V). Their mean is the beam's, so that a
-// receiver with normal n gets I_c (n.V + s_u n.U + s_w n.W) = I_c n.d / V.d
-// (beyond the thesis, whose casting takes n.V: under waves the light does
-// not arrive along V, docs/caustics.md "Local light direction"); each
-// vertex's carries it from the plane to the receiver's depth
-// (caustics_levelmap.frag).
-layout(std430, binding = 8) buffer Primitives { vec4 prims[]; };
+// Per primitive, four vec4 (16 words; caustics_intersect.vert and
+// caustics_coverage.glsl read them):
+// (q0, q1), (q2, irradiance, reached), (plane offset D, shift, reach, s0)
+// and (s1, s2, c0 c1, c2): s_k and c_k each a pair of half floats in one
+// word. c_k: the corners' irradiance over the triangle's (below; c0 = -1
+// where they are the triangle's own). The fragment shader moves the
+// triangle from D to the receiver's depth within the plane's window; the
+// cull found that depth within D + shift +- reach (metres), so the draw
+// covers the triangle there and no wider (caustics_intersect.vert). s_k:
+// vertex k's direction of travel d as (d.U / d.V, d.W / d.V). Their mean is
+// the beam's, so that a receiver with normal n gets
+// I_c (n.V + s_u n.U + s_w n.W) = I_c n.d / V.d (beyond the thesis, whose
+// casting takes n.V: under waves the light does not arrive along V,
+// docs/caustics.md "Local light direction"); each vertex's carries it from
+// the plane to the receiver's depth (caustics_levelmap.frag). Half floats
+// (11 significant bits) move a vertex by at most 2^-11 |s| (v - D), under
+// 0.1 mm over a 10 cm window, and the corners' rounding keeps the
+// triangle's flux (corner_factor divides by their own mean).
+layout(std430, binding = 8) writeonly buffer Primitives { uvec4 prims[]; };
 // The same, as words: the cull left a pair's depths in word 15 of its
-// primitive (caustics_cull.comp).
+// primitive (caustics_cull.comp), read here before the primitive is.
 layout(std430, binding = 8) readonly buffer PrimitiveWords { uint prim_words[]; };
 
 #ifdef BATCH
@@ -95,7 +100,7 @@ void make_primitive(uint p) {
   uint plane_index = u_pairs != 0 ? list[2u * p + 1u] : uint(u_plane);
   // The window's part the surface fills, in eps (caustics_cull.comp); all
   // of it outside pair mode.
-  vec2 part = u_pairs != 0 ? unpackSnorm2x16(prim_words[20u * p + 15u]) : vec2(-1.0, 1.0);
+  vec2 part = u_pairs != 0 ? unpackSnorm2x16(prim_words[16u * p + 15u]) : vec2(-1.0, 1.0);
   float window_bits = 0.0;  // the map, in the primitive's w (batch)
 #ifdef BATCH
   uint map = batch_entry_map(plane_index);
@@ -125,7 +130,7 @@ void make_primitive(uint p) {
   float area = 0.5 * abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y));
   vec2 f = flux[t];
   float irradiance = f.x / max(area * texel_area, f.y / u_max_magnification);
-  vec4 corners = vec4(-1.0, 1.0, 1.0, 0.0);
+  vec3 corners = vec3(-1.0, 1.0, 1.0);
   if (u_smooth != 0 && reached && irradiance > 0.0) {
     uint i0 = indices[3u * t], i1 = indices[3u * t + 1u], i2 = indices[3u * t + 2u];
     float water_tri = 0.5 * length(cross(positions[i1].xyz - positions[i0].xyz, positions[i2].xyz - positions[i0].xyz));
@@ -144,15 +149,15 @@ void make_primitive(uint p) {
       if (keep > 0.0) corners.xyz = mix(vec3(1.0), c, keep);
     }
   }
-  prims[5u * p] = vec4(q[0], q[1]);
   // w: 0 where the plane is not reached, else the plane's index + 1 (the
   // level-map draw's depth, caustics_windows.frag; in a batch plus 8192
   // times the map, caustics_batch.glsl).
-  prims[5u * p + 1u] = vec4(q[2], irradiance, reached ? float(plane_index + 1u) + window_bits : 0.0);
-  prims[5u * p + 2u] = vec4(plane.x, 0.5 * (part.x + part.y) * plane.y, slopes[0]);
-  corners.w = 0.5 * (part.y - part.x) * plane.y;
-  prims[5u * p + 3u] = corners;
-  prims[5u * p + 4u] = vec4(slopes[1], slopes[2]);
+  float window = reached ? float(plane_index + 1u) + window_bits : 0.0;
+  float reach = 0.5 * (part.y - part.x) * plane.y;
+  prims[4u * p] = floatBitsToUint(vec4(q[0], q[1]));
+  prims[4u * p + 1u] = floatBitsToUint(vec4(q[2], irradiance, window));
+  prims[4u * p + 2u] = uvec4(floatBitsToUint(vec3(plane.x, 0.5 * (part.x + part.y) * plane.y, reach)), packHalf2x16(slopes[0]));
+  prims[4u * p + 3u] = uvec4(packHalf2x16(slopes[1]), packHalf2x16(slopes[2]), packHalf2x16(corners.xy), packHalf2x16(vec2(corners.z, 0.0)));
 }
 
 void main() {

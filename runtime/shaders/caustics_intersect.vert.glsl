@@ -10,9 +10,13 @@
 // touches gets a fragment, and the fragment shader deposits the irradiance
 // times the exact area of the triangle inside the texel.
 #ifndef PRIM_STRIDE
-#define PRIM_STRIDE 5  // vec4s per primitive (glass: 6, defined by the renderer)
+#define PRIM_STRIDE 4  // vec4s per primitive (glass: 6, defined by the renderer)
 #endif
 layout(std430, binding = 8) readonly buffer Primitives { vec4 prims[]; };
+#ifdef DEPTH_SHIFT
+// Water caustics' directions, pairs of half floats (caustics_geometry.comp).
+layout(std430, binding = 8) readonly buffer PrimitiveWords { uint prim_words[]; };
+#endif
 
 #ifdef BATCH
 // Each primitive in its map's layer (caustics_batch.glsl, prefixed with
@@ -79,9 +83,12 @@ void main() {
   // the whole window, +- eps, the 8 x 8 m pool's 16 mm texels had the
   // draw shade 4.0 M fragments a frame with 4 objects for 1.2 M kept;
   // with the surface's part of it, 2.2 M: docs/runtime-speed.md.)
-  vec4 p2 = prims[PRIM_STRIDE * prim + 2], p4 = prims[PRIM_STRIDE * prim + 4];
-  float shift = p2.y, reach = prims[PRIM_STRIDE * prim + 3].w;
-  vec2 s0 = p2.zw * u_texels_per_metre, s1 = p4.xy * u_texels_per_metre, s2 = p4.zw * u_texels_per_metre;
+  vec4 p2 = prims[PRIM_STRIDE * prim + 2];
+  float shift = p2.y, reach = p2.z;
+  int words = 4 * PRIM_STRIDE * prim;
+  vec2 s0 = unpackHalf2x16(prim_words[words + 11]) * u_texels_per_metre;
+  vec2 s1 = unpackHalf2x16(prim_words[words + 12]) * u_texels_per_metre;
+  vec2 s2 = unpackHalf2x16(prim_words[words + 13]) * u_texels_per_metre;
   q0 += shift * s0;
   q1 += shift * s1;
   q2 += shift * s2;

@@ -22,7 +22,7 @@ constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile 
 // Most primitives one map may list: 4 M ((volume, plane) pairs; 352 MB with
 // their geometry).
 constexpr std::uint64_t kMaxPrimitives = 4u << 20;
-constexpr GLsizeiptr kPrimitiveBytes = 80;  // five vec4, caustics_geometry.comp
+constexpr GLsizeiptr kPrimitiveBytes = 64;  // four vec4, caustics_geometry.comp
 constexpr GLsizeiptr kListBytes = 8;        // a (volume, plane) pair
 // The planes buffer: a 16-byte header (count, depth range, widest window;
 // caustics_plan.comp) and (offset, eps) per plane.
