@@ -123,7 +123,7 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
   const auto want = test::landing_image(ball_lens(0.5, 0.75, 1.5, 20000), n, x0, pix);
   auto r = sample::Renderer::create(bake_and_load(scene("glass_ball")));
   ASSERT_TRUE(r.ok()) << r.error().message;
-  const auto render = [&](bool focus, float wide) {
+  const auto render = [&](bool focus, float wide, bool tent = false) {
     sample::IrradianceRequest q;
     q.receiver = "floor";
     q.x0 = q.z0 = static_cast<float>(x0);
@@ -131,6 +131,7 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
     q.width = q.height = n;
     q.caustics.glass_focus = focus;
     q.caustics.glass_focus_wide = wide;
+    q.caustics.glass_focus_tent = tent;
     auto img = (*r)->render_irradiance(q);
     EXPECT_TRUE(img.ok()) << img.error().message;
     std::vector<double> e;
@@ -186,6 +187,29 @@ TEST_F(Glass, BallLensFocusAgreesWithOptics) {
     std::printf("[glass_ball, %s] brightest 2 mm pixel %.1f vs %.1f E0 optics (%+.1f %%)\n", label, gp, wp, 100 * (gp / wp - 1));
     if (focus) EXPECT_NEAR(gp / wp, 1.0, 0.25);
   }
+  // The window's texels by the tent (CausticsOptions::glass_focus_tent):
+  // the same light, spread by a texel more, within the same bounds.
+  const std::vector<double> box = render(true, runtime::CausticsOptions{}.glass_focus_wide);
+  const std::vector<double> tent = render(true, runtime::CausticsOptions{}.glass_focus_wide, true);
+  double diff = 0, total = 0, flux = 0;
+  for (std::size_t i = 0; i < box.size(); ++i) {
+    diff += std::fabs(tent[i] - box[i]);
+    total += box[i];
+    flux += tent[i];
+  }
+  std::printf("[glass_ball, focus window by the tent] against the box: relative L1 %.2e, flux %.5f\n", diff / total, flux / total);
+  EXPECT_GT(diff / total, 1e-3) << "the tent changed nothing";
+  EXPECT_NEAR(flux / total, 1.0, 0.001);
+  for (const double radius : {0.005, 0.01, 0.02, 0.05}) {
+    const double g = test::power_within(tent, n, x0, pix, radius), w = test::power_within(want, n, x0, pix, radius);
+    std::printf("[glass_ball, focus window by the tent] power within %.3f m: %.5f vs %.5f optics (%+.1f %%)\n", radius, g, w,
+                100 * (g / w - 1));
+    EXPECT_NEAR(g / w, 1.0, radius < 0.01 ? 0.10 : 0.05) << "within " << radius << " m";
+  }
+  const double gp = test::peak_block(tent, n, 4), wp = test::peak_block(want, n, 4);
+  std::printf("[glass_ball, focus window by the tent] brightest 2 mm pixel %.1f vs %.1f E0 optics (%+.1f %%)\n", gp, wp,
+              100 * (gp / wp - 1));
+  EXPECT_NEAR(gp / wp, 1.0, 0.25);
 }
 
 // Smooth glass caustics ("the glass ball's shadow ring has radial

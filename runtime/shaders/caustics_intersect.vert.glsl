@@ -42,6 +42,9 @@ uniform vec2 u_texels_per_metre;  // caustics_levelmap.frag moves each vertex by
 // where caustics_windows.frag put the texels whose surface is lit through
 // k. Exact in the 16-bit depth buffer, as the depth test (GL_EQUAL) needs.
 
+#ifdef GLASS_TENT
+uniform int u_tent;  // CausticsOptions::glass_focus_tent, in a focus window
+#endif
 flat out int v_prim;  // the fragment shader fetches the primitive itself (one varying to set up)
 
 void main() {
@@ -75,6 +78,11 @@ void main() {
 #endif
   v_prim = prim;
   float delta = 0.7072;  // half a texel diagonal, rounded up
+#ifdef GLASS_TENT
+  // glass_illumination.frag's tent reaches a texel from a triangle up to a
+  // texel away along each axis: a centre within a whole diagonal.
+  if (u_tent != 0) delta = 1.4143;
+#endif
 #ifdef DEPTH_SHIFT
   // caustics_levelmap.frag moves vertex k by (v - D) s_k to the receiver's
   // depth v, which the cull bounded to D + shift +- reach

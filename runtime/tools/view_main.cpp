@@ -290,6 +290,7 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
     pow2_combo("illumination texture", c.glass_map_size, 64, 4096);
     ImGui::Checkbox("smooth glass caustics", &c.glass_smooth);
     ImGui::Checkbox("focus windows", &c.glass_focus);
+    ImGui::Checkbox("focus windows by the tent (steadier in motion)", &c.glass_focus_tent);
     ImGui::Checkbox("dispersive windows at half texels", &c.glass_focus_spectral_coarse);
     combo("view through glass", st.glass_view.method, {{GlassView::kTable, "table"}, {GlassView::kNearby, "nearby geometry"}});
     CausticMapOptions& m = c.caustic_map;

@@ -188,6 +188,7 @@ void GlassEngine::Impl::illuminate(const SceneDesc& scene, Target& t, const Caus
         p->set("u_texel_map", map);
         p->set("u_wide_texels", wide);
       }
+      illumination.set("u_tent", window == 1 && co.glass_focus_tent ? 1 : 0);
       for (std::uint32_t k = 0; k < planes; ++k) {
         const GLint layer = static_cast<GLint>(k + (window == 0 ? 0 : planes));
         glNamedFramebufferTextureLayer(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.illumination.get(), 0, layer);
@@ -253,7 +254,8 @@ Result<std::unique_ptr<GlassEngine>> GlassEngine::create(const SceneDesc& scene,
   const std::string nearby_fs = with_optics((environment + shaders::k_glass_nearby_frag_glsl).c_str());
   const std::string thin_fs = with_optics((environment + shaders::k_glass_thin_frag_glsl).c_str());
   const std::string stride = "#define PRIM_STRIDE 6\n#define TEXEL_MAP\n";
-  const std::string illum_vs = insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + shaders::k_glass_window_split_glsl);
+  const std::string illum_vs =
+      insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + "#define GLASS_TENT\n" + shaders::k_glass_window_split_glsl);
   const std::string wide_fs = version + stride + shaders::k_caustics_coverage_glsl + shaders::k_glass_illumination_wide_frag_glsl;
   const std::string wide_vs =
       insert_after_version(shaders::k_caustics_intersect_vert_glsl, stride + "#define GLASS_WIDE\n" + shaders::k_glass_window_split_glsl);
