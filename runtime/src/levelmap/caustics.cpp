@@ -19,7 +19,7 @@ namespace caustix::runtime {
 namespace {
 
 constexpr std::uint32_t kTileTexels = 8;  // position-map texels per depth tile side
-// Most primitives one map may list: 4 M ((volume, plane) pairs; 352 MB with
+// Most primitives one map may list: 4 M ((volume, plane) pairs; 288 MB with
 // their geometry).
 constexpr std::uint64_t kMaxPrimitives = 4u << 20;
 constexpr GLsizeiptr kPrimitiveBytes = 64;  // four vec4, caustics_geometry.comp
