@@ -561,12 +561,13 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     int kind;
     glm::vec4 window;
     float y = 0;
-    double bound = 0;        // largest power per unit of the window's area (the square's)
+    double power = 0;        // most it emits: the largest power per unit of its area x that area
     bool square = false;     // kLightWindow: the lens's square takes the rays that cross it
     std::uint32_t side = 0;  // photons per axis
   };
   std::vector<Source> sources;
   LensSquare sq;
+  const auto area_of = [](const glm::vec4& w) { return double(w.z - w.x) * double(w.w - w.y); };
   if (!air.empty()) {
     const float y_top = air.hi.y + 1e-3f;
     // A box's window: its corners back along the light's rays to y = y_top.
@@ -596,11 +597,12 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
           if (!g.under_water) lens.add(s.grid_world_box(scene, g));
         }
       }
-      sources.push_back({kLightWindow, win, y_top, bound, !lens.empty(), o.photons});
+      sources.push_back({kLightWindow, win, y_top, bound * area_of(win), !lens.empty(), o.photons});
       if (!lens.empty()) {
         sq = lens_square(lens, point ? glm::normalize(0.5f * (lens.lo + lens.hi) - lp) : dir);
         const float dist = glm::dot(sq.c - lp, sq.n);
-        sources.push_back({kLensSquare, win, y_top, point ? 1.0 / double(dist * dist) : 1.0, false, glass_side(o.photons)});
+        const double square_area = 4.0 * double(glm::length(sq.u)) * double(glm::length(sq.v));
+        sources.push_back({kLensSquare, win, y_top, (point ? 1.0 / double(dist * dist) : 1.0) * square_area, false, glass_side(o.photons)});
       }
     }
   }
@@ -609,8 +611,8 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
     const bool lit = point ? lp.y > s.water_box->hi.y : dir.y < 0.0f;
     if (lit) {
       const double d = lp.y - s.water_box->hi.y;
-      sources.push_back({kWaterSurface, glm::vec4(w.extent[0], w.extent[1], w.extent[2], w.extent[3]), 0.0f, point ? 1.0 / (d * d) : -dir.y,
-                         false, o.photons});
+      const glm::vec4 extent(w.extent[0], w.extent[1], w.extent[2], w.extent[3]);
+      sources.push_back({kWaterSurface, extent, 0.0f, (point ? 1.0 / (d * d) : -dir.y) * area_of(extent), false, o.photons});
     }
   }
   // Fixed point: one photon crossing one voxel deposits at most
@@ -618,10 +620,7 @@ Status VolumeEngine::update_light(const SceneDesc& scene, std::uint32_t li, cons
   // that share of all the power emitted (2^29: room for a path that turns
   // back through a voxel).
   double total = 0;
-  for (const Source& src : sources) {
-    total += src.bound * (src.kind == kLensSquare ? 4.0 * double(glm::length(sq.u)) * double(glm::length(sq.v))
-                                        : double(src.window.z - src.window.x) * double(src.window.w - src.window.y));
-  }
+  for (const Source& src : sources) total += src.power;
   const double cmax = std::max({color.r, color.g, color.b, 1e-30f});
   const glm::vec3 hg = (s.grid_box.hi - s.grid_box.lo) / glm::vec3(s.grid_n);
   const double share = std::min(1.0, double(s.max_scattering()) * std::sqrt(3.0) * double(std::max({hg.x, hg.y, hg.z})));
