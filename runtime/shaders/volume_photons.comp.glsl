@@ -313,47 +313,64 @@ void main() {
   bool in_medium = false;
   float p_start = luminance(p);
   int it = 0;
-  for (; it < u_max_steps; ++it) {
-    vec3 u;
-    int g = glass_at(x, u);
-    vec3 x0 = x, d0 = d;
-    float tr = 1.0;
-    if (g >= 0) {
-      float c0, c1;
-      grid_step(g, u, x, d, u_step, u_octree != 0, 1e30, c0, c1);
-      along_light = false;
-      tr = crossing_transmittance(g, x0, x, d0, d, c0, c1);
-      ++grid_steps;
-    } else {
-      float len = next_event(x, d, wet);
-      if (len < 0.0) break;
-      x += len * d;
+  // Runs of steps, each ended where the photon stops or meets an object's
+  // surface (refraction at the surface: grid_march); the surface's normal
+  // is taken after the run, once for all lanes that met it, not at every
+  // step that some lane of a SIMD rasteriser's meets one.
+  int crossed_grid;
+  do {
+    crossed_grid = -1;
+    for (; it < u_max_steps; ++it) {
+      vec3 u;
+      int g = glass_at(x, u);
+      vec3 x0 = x, d0 = d;
+      float tr = 1.0;
+      bool crossed = false;
+      if (g >= 0) {
+        grid_march(g, u, x, d, u_step, u_octree != 0, 1e30, tr, crossed);
+        along_light = false;
+        ++grid_steps;
+      } else {
+        float len = next_event(x, d, wet);
+        if (len < 0.0) break;
+        x += len * d;
+      }
+      ++steps;
+      vec3 chord = x - x0;
+      float len = length(chord);
+      vec3 cd = len > 0.0 ? chord / len : d0;
+      Medium m = medium_at(x0 + 0.5 * chord, wet);
+      bool blocked;
+      if (any(greaterThan(m.st, vec3(0.0)))) {
+        if (!in_medium) t_in += luminance(p);
+        in_medium = true;
+        blocked = march_chord(x0, cd, len, along_light, p, m, t_sc, t_ab);
+      } else {
+        if (in_medium) t_lv += luminance(p);
+        in_medium = false;
+        blocked = occluded(x);
+      }
+      if (blocked) break;
+      if (tr < 1.0) {
+        if (in_medium) t_rf += luminance(p) * (1.0 - tr);
+        p *= tr;
+      }
+      // Light above the water stops where it reaches it (the water's own
+      // photons start at its surface).
+      if (u_water_on != 0 && !wet && in_box(x, u_water_lo, u_water_hi)) break;
+      if (luminance(p) < 1e-7 * p_start) break;
+      if (crossed) {
+        crossed_grid = g;
+        ++it;
+        break;
+      }
     }
-    ++steps;
-    vec3 chord = x - x0;
-    float len = length(chord);
-    vec3 cd = len > 0.0 ? chord / len : d0;
-    Medium m = medium_at(x0 + 0.5 * chord, wet);
-    bool blocked;
-    if (any(greaterThan(m.st, vec3(0.0)))) {
-      if (!in_medium) t_in += luminance(p);
-      in_medium = true;
-      blocked = march_chord(x0, cd, len, along_light, p, m, t_sc, t_ab);
-    } else {
-      if (in_medium) t_lv += luminance(p);
-      in_medium = false;
-      blocked = occluded(x);
-    }
-    if (blocked) break;
-    if (tr < 1.0) {
+    if (crossed_grid >= 0) {
+      float tr = surface_refract(crossed_grid, x, d);
       if (in_medium) t_rf += luminance(p) * (1.0 - tr);
       p *= tr;
     }
-    // Light above the water stops where it reaches it (the water's own
-    // photons start at its surface).
-    if (u_water_on != 0 && !wet && in_box(x, u_water_lo, u_water_hi)) break;
-    if (luminance(p) < 1e-7 * p_start) break;
-  }
+  } while (crossed_grid >= 0);
   if (in_medium) {
     if (it >= u_max_steps) t_tr += luminance(p);
     else t_lv += luminance(p);

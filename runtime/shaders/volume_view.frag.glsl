@@ -217,15 +217,20 @@ void main() {
     while (it < u_max_steps && travelled < t1) {
       int g = glass_at(x, u);
       if (g >= 0) {
+        bool crossed;
         do {
           straight = false;
           vec3 x0 = x, d0 = d;
-          float c0, c1;
-          float len = grid_step(g, u, x, d, u_step, u_octree != 0, view_step_at(x, d, jitter), c0, c1);
-          tr *= crossing_transmittance(g, x0, x, d0, d, c0, c1);
+          float t_s;
+          float len = grid_march(g, u, x, d, u_step, u_octree != 0, view_step_at(x, d, jitter), t_s, crossed);
+          tr *= t_s;
           add_step(x0, x, d0, len, false);
+          ++it;
+          if (crossed) break;
           g = glass_at(x, u);
-        } while (++it < u_max_steps && travelled < t1 && g >= 0);
+        } while (it < u_max_steps && travelled < t1 && g >= 0);
+        // The surface met: its normal once for all lanes that met it.
+        if (crossed) tr *= surface_refract(g, x, d);
         continue;
       }
       // (Two copies: on the pixel's own ray the scene's surface is a

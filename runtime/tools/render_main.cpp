@@ -214,6 +214,11 @@ int main(int argc, char** argv) {
   app.add_option("--view-step", volume.view_step, "media: viewing-pass steps, radiance-grid voxels")
       ->check(CLI::Range(0.05f, 16.0f))->capture_default_str();
   app.add_flag("--no-octree", no_octree, "media: uniform steps inside index grids (measures what the octree saves)");
+  std::string volume_refraction = volume.surface_refraction ? "surface" : "gradient";
+  app.add_option("--volume-refraction", volume_refraction,
+                 "media: how rays cross an object's surface in its index grid: surface (Snell where the coverage crosses 1/2) "
+                 "or gradient (the seed's curved path through the blurred index)")
+      ->check(CLI::IsMember({"surface", "gradient"}))->capture_default_str();
   app.add_flag("--no-media", no_media, "media: no volume caustics or single scattering");
   // The water surface (Mihalik 2008).
   WaterLook look;
@@ -318,6 +323,7 @@ int main(int argc, char** argv) {
   caustics.shadows = shadow_options;
   if (photons > 0) caustics.photons = photons;
   caustics.volume.octree = !no_octree;
+  caustics.volume.surface_refraction = volume_refraction == "surface";
   caustics.volume.enabled = !no_media;
   caustics.volume.step = volume.step;
   caustics.volume.view_step = volume.view_step;

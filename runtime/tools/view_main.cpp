@@ -308,6 +308,7 @@ bool draw_panel(ViewState& st, caustix::sample::Renderer& r, const TimeHistory& 
     slider_u32("media photons", c.volume.photons, 16, 2048, ImGuiSliderFlags_Logarithmic);
     slider_u32("radiance grid", c.volume.grid, 8, 256, ImGuiSliderFlags_Logarithmic);
     ImGui::Checkbox("octree steps", &c.volume.octree);
+    ImGui::Checkbox("refraction at the surface (else curved paths)", &c.volume.surface_refraction);
   }
   if (ImGui::CollapsingHeader("Water surface")) {
     WaterLook& w = st.look;

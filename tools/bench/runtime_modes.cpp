@@ -246,6 +246,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t out_of_view = 0;
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
   std::string glass_focus_spectral, map_batching = "auto";
+  std::string volume_refraction = runtime::VolumeOptions{}.surface_refraction ? "surface" : "gradient";
   CLI::App *fr = nullptr, *me = nullptr, *wa = nullptr, *ws = nullptr, *rc = nullptr;
   std::string sim_scene;
 
@@ -270,6 +271,8 @@ struct RuntimeModes final : Modes {
     fr->add_option("--map-batching", map_batching, "level maps in batches: auto, always or never (CausticsOptions::map_batching)")
         ->check(CLI::IsMember({"auto", "always", "never"}));
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
+    fr->add_option("--volume-refraction", volume_refraction, "media: surface or gradient (VolumeOptions::surface_refraction)")
+        ->check(CLI::IsMember({"surface", "gradient"}))->capture_default_str();
     fr->add_flag("--glass-focus-tent", glass_focus_tent,
                  "glass (table): focus windows' texels by the tent (CausticsOptions::glass_focus_tent, docs/temporal.md)");
     fr->add_option("--glass-focus-wide", glass_focus_wide,
@@ -358,6 +361,7 @@ struct RuntimeModes final : Modes {
     co.glass_focus_wide = glass_focus_wide;
     co.glass_focus_tent = glass_focus_tent;
     co.volume.focus_grid = volume_focus;
+    co.volume.surface_refraction = volume_refraction == "surface";
     co.map_size = csize;
     co.texel_size = texel;
     co.memory_budget = budget_mb >= 0 ? static_cast<std::uint64_t>(budget_mb * 1048576.0) : kPresetBudget;

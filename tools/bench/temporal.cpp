@@ -47,6 +47,7 @@ struct Request {
   bool set_method = false, set_glass_method = false;
   bool glass_no_focus = false, glass_focus_tent = false, cmap_no_focus = false;
   int volume_focus = -1;  // media focus grid; -1: the file's
+  std::string volume_refraction;  // media: surface or gradient; empty: the default
   std::string write_frames;  // a folder for the stacks' images; empty: none
 };
 
@@ -83,6 +84,7 @@ int temporal(Request q, const Motion& m, const std::string& label) {
   if (q.glass_focus_tent) co.glass_focus_tent = true;
   if (q.cmap_no_focus) co.caustic_map.focus = false;
   if (q.volume_focus >= 0) co.volume.focus_grid = static_cast<std::uint32_t>(q.volume_focus);
+  if (!q.volume_refraction.empty()) co.volume.surface_refraction = q.volume_refraction == "surface";
   q.caustics = co;
   if (!q.inscatter && q.receiver.empty()) {
     return cli::fail("caustix-bench", make_error(ErrorCode::kUsage, "temporal: --receiver or --inscatter"));
@@ -145,6 +147,8 @@ class TemporalMode : public Modes {
     cmd_->add_flag("--cmap-no-focus", q_.cmap_no_focus, "caustic maps: no focus window (docs/caustic-maps.md)");
     cmd_->add_option("--volume-focus", q_.volume_focus, "media: focus-grid voxels a side (0: none; default: the file's)")
         ->check(CLI::Range(0, 128));
+    cmd_->add_option("--volume-refraction", q_.volume_refraction, "media: surface or gradient (VolumeOptions::surface_refraction)")
+        ->check(CLI::IsMember({"surface", "gradient"}));
     cmd_->add_option("--write-frames", q_.write_frames, "write both stacks' images to this folder (step_K.exr, half_K.exr)");
     cmd_->add_option("--label", label_, "first CSV column");
     cmd_->add_flag("--header", header_, "print the CSV header first");

@@ -71,6 +71,8 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.caustics.volume.photons = static_cast<std::uint32_t>(v); }, true},
       {"volume-step", {0.25, 0.5, 1, 2}, false, false, [](Setting& s, double v) { s.caustics.volume.step = static_cast<float>(v); }, true},
       {"octree", {1, 0}, false, false, [](Setting& s, double v) { s.caustics.volume.octree = v != 0; }, true},
+      {"surface-refraction", {0, 1}, false, false,
+       [](Setting& s, double v) { s.caustics.volume.surface_refraction = v != 0; }, true},
       {"octree-eps", {0, 0.003, 0.01, 0.03, 0.1}, false, false,
        [](Setting& s, double v) { s.bake.index_grid.epsilon = static_cast<float>(v); }, true},
       {"volume-res", {32, 64, 128}, false, false,

@@ -64,6 +64,12 @@ struct VolumeOptions {
   // step everywhere inside the grid (the uniform baseline).
   float step = 0.5f;
   bool octree = true;
+  // How a ray crosses an object's surface in its index grid: false follows
+  // the seed's curved path through the blurred index (x += (ds / n) v,
+  // v += ds grad n), true goes straight on either side and refracts by
+  // Snell's law, with Fresnel, where the coverage crosses 1/2
+  // (docs/volume.md, "Photon marching").
+  bool surface_refraction = true;
   // Viewing pass: steps along the camera's rays, in radiance-grid voxels
   // (focus-grid voxels inside the focus grid).
   float view_step = 0.5f;
