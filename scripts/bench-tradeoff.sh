@@ -51,6 +51,6 @@ run_media fog_ball -1.5,0,1.5,2.5 120x100 4000000
 # The focal line: 1 cm pixels over the ball's focus; peak_ratio
 # is the brightest pixel's in-scatter against the reference's, peak_m how
 # far apart the two lie.
-run_media fog_ball -0.1,0.3,0.1,0.75 20x45 16000000 focus --knobs focus-grid volume-grid volume-photons volume-res view-step presets
+run_media fog_ball -0.1,0.3,0.1,0.75 20x45 16000000 focus --knobs focus-grid volume-grid volume-photons volume-res view-step surface-refraction presets
 run_media shafts_pool -1.5,0,1.5,2.2 120x88 2000000
 /usr/bin/python3 scripts/plot_tradeoff.py docs/results wavy_pool thesis_teapot glass_ball fog_ball shafts_pool

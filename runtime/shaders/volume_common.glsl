@@ -230,7 +230,7 @@ float coverage_root(int g, vec3 x, vec3 d, float a, float b, float fa, float fb,
 }
 
 // The surface's normal at voxel coordinate u on it, in voxel coordinates,
-// towards growing coverage. The gradient of the blurred coverage follows
+// towards growing coverage (gc: the coverage's gradient there). The gradient of the blurred coverage follows
 // the voxelised mesh's flat facets (sphere.obj's are 7.5 degrees wide: the
 // gradient was 1.3 degrees off the sphere's normal on average) and, taken
 // by central differences across a ramp about as wide as their spacing,
@@ -243,10 +243,7 @@ float coverage_root(int g, vec3 x, vec3 d, float a, float b, float fa, float fb,
 // (a thin or sharp part), or the plane's normal is more than 15 degrees
 // from the gradient's (an edge, which the plane would round), the
 // gradient's direction.
-vec3 surface_normal_voxels(int g, vec3 u) {
-  vec3 gc = vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
-                 coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
-                 coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1)));
+vec3 surface_normal_voxels(int g, vec3 u, vec3 gc) {
   if (dot(gc, gc) < 1e-20) return vec3(0.0);
   vec3 n0 = normalize(gc);
   vec3 t1 = normalize(abs(n0.x) < 0.9 ? cross(n0, vec3(1, 0, 0)) : cross(n0, vec3(0, 1, 0)));
@@ -294,29 +291,53 @@ float surface_advance(int g, vec3 u, inout vec3 x, vec3 d, float step, bool octr
 }
 
 // Turns the ray at x on object g's surface (where surface_advance stopped
-// it): Snell's law at the surface's normal, or, beyond the critical angle,
-// reflection. Moves x a hundredth of a voxel off the surface to the side
-// the ray now goes. Returns the Fresnel transmittance (1 when reflected
-// whole).
+// it, between a step's ends): one Newton step along the ray onto coverage
+// 1/2, then Snell's law at the surface's normal, or, beyond the critical
+// angle, reflection; x then moves off the surface to the side the ray now
+// goes, as far as it takes (a ray left on the side it came from would
+// refract again at its next step). Returns the Fresnel transmittance (1
+// when reflected whole).
 float surface_refract(int g, inout vec3 x, inout vec3 d) {
-  vec3 nu = surface_normal_voxels(g, voxel_of(g, x));
+  mat3 a = mat3(u_world_to_voxel[g]);
+  float h = u_glass_ior[g].z;
+  vec3 u = voxel_of(g, x);
+  vec3 gc = 0.5 * vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
+                       coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
+                       coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1)));
+  vec3 du = a * d;
+  float slope = dot(gc, du);  // coverage per metre along the ray
+  if (abs(slope) * h > 1e-4) {
+    float s = clamp((0.5 - coverage(g, u)) / slope, -h, h);
+    x += s * d;
+    u += s * du;
+  }
+  bool entering = slope > 0.0;  // the coverage grows along the ray
+  vec3 nu = surface_normal_voxels(g, u, gc);
   if (dot(nu, nu) == 0.0) return 1.0;
   // A normal is a covector: world = A^T n for u = A x + b.
-  vec3 nrm = normalize(transpose(mat3(u_world_to_voxel[g])) * nu);
-  bool entering = dot(nrm, d) > 0.0;  // towards growing coverage
-  if (entering) nrm = -nrm;            // against the ray
+  vec3 n_in = normalize(transpose(a) * nu);
+  vec3 nrm = entering ? -n_in : n_in;  // against the ray
   float eta = entering ? u_glass_ior[g].x / u_glass_ior[g].y : u_glass_ior[g].y / u_glass_ior[g].x;
   float cos_i = -dot(d, nrm);
-  vec3 t = refract(d, nrm, eta);
   float tr = 1.0;
-  if (dot(t, t) == 0.0) {
-    d = reflect(d, nrm);
-  } else {
-    float r = caustix_fresnel_reflectance(cos_i, eta);
-    tr = r >= 1.0 ? 1.0 : 1.0 - r;
-    d = normalize(t);
+  bool reflected = false;
+  // (cos_i <= 0: the ray grazes the plane from its far side; it goes on.)
+  if (cos_i > 0.0) {
+    vec3 t = refract(d, nrm, eta);
+    reflected = dot(t, t) == 0.0;
+    if (reflected) {
+      d = reflect(d, nrm);
+    } else {
+      float r = caustix_fresnel_reflectance(cos_i, eta);
+      tr = r >= 1.0 ? 1.0 : 1.0 - r;
+      d = normalize(t);
+    }
   }
-  x += (0.01 * u_glass_ior[g].z * sign(dot(d, nrm))) * nrm;
+  bool inside = entering != reflected;
+  vec3 off = (inside ? h : -h) * n_in;
+  float push = 0.02;
+  for (int i = 0; i < 2 && (coverage(g, voxel_of(g, x + push * off)) >= 0.5) != inside; ++i) push *= 8.0;
+  x += push * off;
   return tr;
 }
 
