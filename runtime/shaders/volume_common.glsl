@@ -86,14 +86,18 @@ int glass_at(vec3 x, out vec3 u) {
   return -1;
 }
 
-// World gradient of n at voxel coordinate u (central differences of the
-// trilinear coverage, one voxel apart).
+// Gradient of the coverage at voxel coordinate u, per voxel (central
+// differences of the trilinear coverage, one voxel apart).
+vec3 coverage_gradient(int g, vec3 u) {
+  return 0.5 * vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
+                    coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
+                    coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1)));
+}
+
+// World gradient of n at voxel coordinate u.
 vec3 index_gradient(int g, vec3 u) {
-  vec3 gc = vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
-                 coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
-                 coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1))) * 0.5;
   // u = A x + b: grad_x = A^T grad_u.
-  return (u_glass_ior[g].y - u_glass_ior[g].x) * (transpose(mat3(u_world_to_voxel[g])) * gc);
+  return (u_glass_ior[g].y - u_glass_ior[g].x) * (transpose(mat3(u_world_to_voxel[g])) * coverage_gradient(g, u));
 }
 
 // The octree node around voxel coordinate u (Pfeuti "Octree
@@ -142,14 +146,11 @@ vec3 power_length(vec3 p, vec3 st, float a, float b) {
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
-// One step of a ray through object g's index grid from x along unit d
-// (Pfeuti "Photon Marching": x += (ds / n) v, v += ds grad n, |v| = n).
-// The step crosses the octree node around x when it is uniform and
-// `octree` is set, else it is `step` voxels. Returns the length; x and d
-// are advanced, `c0`/`c1` are the coverage before and after (a crossing
-// of 1/2 is the object's surface: Fresnel, crossing_transmittance). No
-// step exceeds max_len metres.
-float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octree, float max_len, out float c0, out float c1) {
+// The length (metres) of a step through object g's index grid from voxel
+// coordinate u along unit d: across the octree node around u when it is
+// uniform and `octree` is set (Pfeuti "Photon Marching": as large as the
+// octree allows), else `step` voxels; at most max_len.
+float grid_step_length(int g, vec3 u, vec3 d, float step, bool octree, float max_len) {
   float h = u_glass_ior[g].z;
   float len_voxels = step;
   int level = octree ? octree_level(g, u) : 0;
@@ -161,7 +162,16 @@ float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octr
     vec2 r = box_range(u, du, lo, lo + side);
     len_voxels = max(r.y / h, step) + 0.01;
   }
-  float len = min(len_voxels * h, max_len);
+  return min(len_voxels * h, max_len);
+}
+
+// One step of a ray through object g's index grid from x along unit d
+// (Pfeuti "Photon Marching": x += (ds / n) v, v += ds grad n, |v| = n), of
+// grid_step_length. Returns the length; x and d are advanced, `c0`/`c1`
+// are the coverage before and after (a crossing of 1/2 is the object's
+// surface: Fresnel, crossing_transmittance).
+float grid_step(int g, vec3 u, inout vec3 x, inout vec3 d, float step, bool octree, float max_len, out float c0, out float c1) {
+  float len = grid_step_length(g, u, d, step, octree, max_len);
   c0 = coverage(g, u);
   vec3 v = index_of(g, c0) * d + len * index_gradient(g, u);
   x += len * d;
@@ -207,42 +217,37 @@ float crossing_transmittance(int g, vec3 x0, vec3 x1, vec3 d0, vec3 d1, float c0
 
 // The point on the segment x + s d, s in [a, b], where the coverage
 // crosses 1/2, given its values there less 1/2 (fa, fb, of opposite
-// signs): the Illinois variant of regula falsi, a fixed number of
-// iterations, so that the point moves continuously with the segment.
-float coverage_root(int g, vec3 x, vec3 d, float a, float b, float fa, float fb, int iterations) {
-  int side = 0;
-  for (int i = 0; i < iterations; ++i) {
-    float s = (a * fb - b * fa) / (fb - fa);
-    float fs = coverage(g, x + s * d) - 0.5;
-    if (fs * fb > 0.0) {
-      b = s;
-      fb = fs;
-      if (side == -1) fa *= 0.5;
-      side = -1;
-    } else {
-      a = s;
-      fa = fs;
-      if (side == 1) fb *= 0.5;
-      side = 1;
-    }
+// signs): one step of regula falsi (the interpolated point's value read,
+// then the interpolation within the part that holds the crossing), which
+// moves continuously with the segment.
+float coverage_root(int g, vec3 x, vec3 d, float a, float b, float fa, float fb) {
+  float s = (a * fb - b * fa) / (fb - fa);
+  float fs = coverage(g, x + s * d) - 0.5;
+  if (fs * fb > 0.0) {
+    b = s;
+    fb = fs;
+  } else {
+    a = s;
+    fa = fs;
   }
   return (a * fb - b * fa) / (fb - fa);
 }
 
 // The surface's normal at voxel coordinate u on it, in voxel coordinates,
-// towards growing coverage (gc: the coverage's gradient there). The gradient of the blurred coverage follows
-// the voxelised mesh's flat facets (sphere.obj's are 7.5 degrees wide: the
-// gradient was 1.3 degrees off the sphere's normal on average) and, taken
-// by central differences across a ramp about as wide as their spacing,
-// leans away from the grid's axes; a ball refracting by it focused
-// fog_ball's line 7 cm short. This is the normal of the plane through four
-// points of the surface 4 voxels around u, each found along the
-// gradient's direction (between its values a voxel either side, a step of
-// regula falsi: the ramp's shape shifts the four alike, which moves the
-// plane and not its normal): the facets average out. Where the surface is not met within 1 voxel of that plane
-// (a thin or sharp part), or the plane's normal is more than 15 degrees
-// from the gradient's (an edge, which the plane would round), the
-// gradient's direction.
+// towards growing coverage (gc: the coverage's gradient there). The
+// gradient of the blurred coverage follows the voxelised mesh's flat
+// facets (sphere.obj's are 7.5 degrees wide: the gradient was 1.3 degrees
+// off the sphere's normal on average) and, taken by central differences
+// across a ramp about as wide as their spacing, leans away from the grid's
+// axes; a ball refracting by it focused fog_ball's line 7 cm short. This
+// is the normal of the plane through four points of the surface 4 voxels
+// around u, each found along the gradient's direction between the
+// coverage's values a voxel either side (coverage_root: the ramp's shape
+// shifts the four alike, which moves the plane and not its normal): the
+// facets average out. Where the surface is not met within a voxel of
+// that plane (a thin or sharp part), or the plane's normal is more than
+// 15 degrees from the gradient's (an edge, which the plane would round),
+// the gradient's direction.
 vec3 surface_normal_voxels(int g, vec3 u, vec3 gc) {
   if (dot(gc, gc) < 1e-20) return vec3(0.0);
   vec3 n0 = normalize(gc);
@@ -254,7 +259,7 @@ vec3 surface_normal_voxels(int g, vec3 u, vec3 gc) {
     vec3 q = u + rho * (k == 0 ? t1 : k == 1 ? t2 : k == 2 ? -t1 : -t2);
     float f0 = coverage(g, q - n0) - 0.5, f1 = coverage(g, q + n0) - 0.5;
     if (f0 >= 0.0 || f1 < 0.0) return n0;
-    p[k] = q + coverage_root(g, q, n0, -1.0, 1.0, f0, f1, 1) * n0;
+    p[k] = q + coverage_root(g, q, n0, -1.0, 1.0, f0, f1) * n0;
   }
   vec3 n = cross(p[0] - p[2], p[1] - p[3]);
   if (dot(n, n) == 0.0) return n0;
@@ -272,16 +277,7 @@ vec3 surface_normal_voxels(int g, vec3 u, vec3 gc) {
 // nodes the coverage does not cross 1/2), and a search here would run for
 // every SIMD lane whenever one lane crosses. Returns the length.
 float surface_advance(int g, vec3 u, inout vec3 x, vec3 d, float step, bool octree, float max_len, out bool crossed) {
-  float h = u_glass_ior[g].z;
-  float len_voxels = step;
-  int level = octree ? octree_level(g, u) : 0;
-  if (level > 0) {
-    float side = float(1 << level);
-    vec3 lo = floor(u / side) * side;
-    vec2 r = box_range(u, mat3(u_world_to_voxel[g]) * d, lo, lo + side);
-    len_voxels = max(r.y / h, step) + 0.01;
-  }
-  float len = min(len_voxels * h, max_len);
+  float len = grid_step_length(g, u, d, step, octree, max_len);
   vec3 du = mat3(u_world_to_voxel[g]) * d;
   float f0 = coverage(g, u) - 0.5, f1 = coverage(g, u + len * du) - 0.5;
   crossed = (f0 >= 0.0) != (f1 >= 0.0);
@@ -301,9 +297,7 @@ float surface_refract(int g, inout vec3 x, inout vec3 d) {
   mat3 a = mat3(u_world_to_voxel[g]);
   float h = u_glass_ior[g].z;
   vec3 u = voxel_of(g, x);
-  vec3 gc = 0.5 * vec3(coverage(g, u + vec3(1, 0, 0)) - coverage(g, u - vec3(1, 0, 0)),
-                       coverage(g, u + vec3(0, 1, 0)) - coverage(g, u - vec3(0, 1, 0)),
-                       coverage(g, u + vec3(0, 0, 1)) - coverage(g, u - vec3(0, 0, 1)));
+  vec3 gc = coverage_gradient(g, u);
   vec3 du = a * d;
   float slope = dot(gc, du);  // coverage per metre along the ray
   if (abs(slope) * h > 1e-4) {
