@@ -13,6 +13,10 @@ constexpr int kMaxShifts = 200;
 constexpr double kSettled = 1e-3;
 // Sub-samples a pixel axis where a pixel straddles the focus's circle.
 constexpr int kCoverSamples = 16;
+// The focus's pattern search: the eight compass moves, down to this
+// fraction of a pixel (the circle's coverage is resolved to 1/16).
+constexpr double kFinestStep = 1.0 / 32;
+constexpr double kCompass[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
 
 // Each pixel's luminance weighted by the share of its area inside the
 // circle (cx, cz, radius): the sum, and the weighted centre. Counting whole
@@ -109,21 +113,41 @@ TemporalStats temporal_stats(const std::vector<Image>& frames, const std::option
     const double sx = (rg[2] - rg[0]) / w, sz = (rg[3] - rg[1]) / h;
     const auto p = peak_position(frames.front());
     double cx = rg[0] + p[0] * sx, cz = rg[1] + p[1] * sz;
+    // The first frame's focus: mean shift from the brightest pixel until it
+    // settles, onto the brightest part nearby (on a focal line, its
+    // brightest stretch).
+    for (int iteration = 0; iteration < kMaxShifts; ++iteration) {
+      const Covered c = covered(frames.front(), rg, cx, cz, focus_radius);
+      if (!(c.power > 0)) break;
+      const double moved = std::hypot((c.x - cx) / sx, (c.z - cz) / sz);
+      cx = c.x;
+      cz = c.z;
+      if (moved < kSettled) break;
+    }
     std::vector<double> power;
     for (const Image& f : frames) {
-      // Mean shift until it settles: the centre moves to the weighted
-      // centre of the light within the radius, and so onto the brightest
-      // part nearby (on a focal line, its brightest stretch). Settled, the
-      // centre depends on the frame only, not on how many steps were taken.
-      for (int iteration = 0; iteration < kMaxShifts; ++iteration) {
-        const Covered c = covered(f, rg, cx, cz, focus_radius);
-        if (!(c.power > 0)) break;
-        const double moved = std::hypot((c.x - cx) / sx, (c.z - cz) / sz);
-        cx = c.x;
-        cz = c.z;
-        if (moved < kSettled) break;
+      // Then in every frame, from the last frame's centre, the centre whose
+      // circle holds the most light (a local maximum, by pattern search).
+      // There the power is stationary: a centre a little off costs it only
+      // to second order. The mean shift's centre is not such a point: on a
+      // focal line it slid along the line as the line changed, and the
+      // power within it changed at first order with the slide.
+      double best = covered(f, rg, cx, cz, focus_radius).power;
+      for (double step = 1.0; step >= kFinestStep;) {
+        bool better = false;
+        for (int d = 0; d < 8; ++d) {
+          const double px = cx + step * sx * kCompass[d][0], pz = cz + step * sz * kCompass[d][1];
+          const double trial = covered(f, rg, px, pz, focus_radius).power;
+          if (trial > best) {
+            best = trial;
+            cx = px;
+            cz = pz;
+            better = true;
+          }
+        }
+        if (!better) step *= 0.5;
       }
-      power.push_back(covered(f, rg, cx, cz, focus_radius).power);
+      power.push_back(best);
     }
     s.focus_jump = largest_change(power, 1);
   }

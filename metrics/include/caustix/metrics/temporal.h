@@ -28,11 +28,13 @@ struct TemporalStats {
   double flux_jump = 0, peak_jump = 0, peak_second = 0;
   // With a region and a radius: the luminance power within the radius of
   // the focus, its largest change from one frame to the next relative to
-  // its mean. The focus is followed from frame to frame: from the last
-  // frame's centre (at first the brightest pixel), mean-shift steps to the
-  // luminance-weighted centre of the light within the radius until the
-  // centre settles. Pixels count by the share of their area inside the
-  // circle, so that the measure moves continuously with the centre.
+  // its mean. The focus is the centre whose circle holds the most light,
+  // followed from frame to frame as a local maximum: in the first frame
+  // from where mean-shift steps from the brightest pixel settle, then from
+  // the last frame's centre. At a maximum the power is stationary, so a
+  // centre a little off changes it only to second order. Pixels count by
+  // the share of their area inside the circle, so that the measure moves
+  // continuously with the centre.
   std::optional<double> focus_jump;
 };
 
