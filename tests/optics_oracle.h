@@ -165,6 +165,47 @@ inline std::vector<double> landing_image(const std::vector<Landing>& l, int n, d
   return img;
 }
 
+// Exact landings (a radially symmetric pattern about (cx, cz)) as an
+// n x n image of E/E0 averaged over pixels `pix` wide, pixel (i, j) over
+// [x0 + j pix, x0 + (j + 1) pix] x [x0 + i pix, ...]: each landing's ring
+// of light split among the pixels by the exact length of its arc in each
+// (the angles where the circle crosses the pixel grid's lines), so that
+// the image changes continuously as the pattern moves, unlike points.
+inline std::vector<double> ring_image(const std::vector<Landing>& l, int n, double x0, double pix, double cx, double cz) {
+  std::vector<double> img(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  const auto add = [&](double x, double z, double w) {
+    const int j = static_cast<int>(std::floor((x - x0) / pix)), i = static_cast<int>(std::floor((z - x0) / pix));
+    if (i >= 0 && j >= 0 && i < n && j < n) img[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] += w;
+  };
+  std::vector<double> angles;
+  for (const Landing& ring : l) {
+    const double r = ring.rho, w = ring.weight / (pix * pix);
+    if (r < 1e-12) {
+      add(cx, cz, w);
+      continue;
+    }
+    angles.assign({0.0, 2 * kPi});
+    for (int k = 0; k <= n; ++k) {
+      const double line = x0 + k * pix, c = (line - cx) / r, s = (line - cz) / r;
+      if (std::fabs(c) < 1) {
+        angles.push_back(std::acos(c));
+        angles.push_back(2 * kPi - std::acos(c));
+      }
+      if (std::fabs(s) < 1) {
+        const double a = std::asin(s);
+        angles.push_back(a < 0 ? a + 2 * kPi : a);
+        angles.push_back(kPi - a);
+      }
+    }
+    std::sort(angles.begin(), angles.end());
+    for (std::size_t q = 0; q + 1 < angles.size(); ++q) {
+      const double d = angles[q + 1] - angles[q], mid = 0.5 * (angles[q] + angles[q + 1]);
+      if (d > 0) add(cx + r * std::cos(mid), cz + r * std::sin(mid), w * d / (2 * kPi));
+    }
+  }
+  return img;
+}
+
 // Focal measures of an n x n image of E/E0 (pixels `pix` wide, corner at
 // (x0, x0)): the power (m^2 E0) of the pixels whose centres lie within r
 // of the origin, and the brightest `bin` x `bin` block of pixels' mean

@@ -28,6 +28,7 @@
 #include "caustix/sample/motion.h"
 #include "bake_fixture.h"
 #include "gl_fixture.h"
+#include "optics_oracle.h"
 #include "scene_fixture.h"
 
 namespace caustix {
@@ -74,11 +75,11 @@ sample::StackRequest floor_request(const sample::Renderer& r, float half, int si
 }
 
 // glass_ball's focus on the floor, 1 mm pixels of 4 x 4 samples (the
-// tables' focus window has 1.4 mm texels at the fast preset), the sun
+// tables' focus window has 1.1 mm texels at the fast preset), the sun
 // turned 0.05 deg a frame: the focus moves 0.65 mm a frame. Its power
 // within 1 cm jumps by under 1 % a frame.
 // At most `ratio` of rho at half the step.
-void glass_focus_holds_still(runtime::GlassMethod method, const char* label, bool tent = false, double ratio = 0.7) {
+void glass_focus_holds_still(runtime::GlassMethod method, const char* label, bool tent = true, double ratio = 0.7) {
   auto made = Temporal::renderer("glass_ball");
   ASSERT_TRUE(made);
   sample::Renderer& r = *made;
@@ -95,16 +96,58 @@ void glass_focus_holds_still(runtime::GlassMethod method, const char* label, boo
 
 // The tables' focus jumped by 1.6 and 1.1 % a frame (2 x 2 samples) while
 // their texels were weighted at their centres and the window snapped to
-// the frame's cells.
+// the frame's cells. Its window's texels by the tent (the default,
+// CausticsOptions::glass_focus_tent): rho's ratio 0.56; by the box 0.67
+// (below). The bound lies between.
 TEST_F(Temporal, GlassTablesFocusHoldsStillAsTheSunTurns) {
-  glass_focus_holds_still(runtime::GlassMethod::kTable, "glass_ball, tables");
+  glass_focus_holds_still(runtime::GlassMethod::kTable, "glass_ball, tables", true, 0.61);
 }
 
-// The window's texels by the tent (CausticsOptions::glass_focus_tent): the
-// box reads a ratio of 0.67 here (its share of a spot narrower than a
-// texel jumps at the texels' edges), the tent 0.55; the bound lies between.
-TEST_F(Temporal, GlassTablesByTheTentHoldStillerThanByTheBox) {
-  glass_focus_holds_still(runtime::GlassMethod::kTable, "glass_ball, tables, tent", true, 0.61);
+// By the box a spot narrower than a texel gives all its light to one
+// texel and jumps to the next at the texel's edge: rho's ratio 0.67 at
+// this preset (and 0.83 at balanced, where the focus moves nearly a
+// texel a frame; docs/temporal.md). Still within the target.
+TEST_F(Temporal, GlassTablesByTheBoxHoldStill) {
+  glass_focus_holds_still(runtime::GlassMethod::kTable, "glass_ball, tables, box", false, 0.7);
+}
+
+// The statistics of exact optics: glass_ball's ball lens traced exactly
+// (optics_oracle.h), its rings of light averaged over the pixels by their
+// arcs, the pattern moved 0.75 m x tan(tilt) as the sun turns 0.05 deg a
+// frame (about the ball's centre, 0.75 m over the floor; the stretch and
+// the tilt's defocus, under 5e-5 and 0.05 mm over the stack, left out).
+// - The focus measure adds no jumps of its own: the light within 1 cm of
+//   the exact focus changes by 0.006 % a frame in 1 mm pixels and 0.1 % in
+//   4 mm ones (bounds 0.05 and 0.2 %).
+// - In 4 mm pixels the exact motion is smooth to the statistic: rho's
+//   ratio 0.55 (bound 0.6). In the 1 mm pixels of the cases above it
+//   reads 0.71: the exact spot's core, far narrower than a pixel, crosses
+//   the pixels' edges as it moves, and that alone keeps the ratio at the
+//   cases' bound of 0.7 (printed; docs/temporal.md).
+TEST(TemporalOptics, ExactBallLensFocusMovesSmoothly) {
+  const auto rings = test::ball_lens(0.5, 0.75, 1.5, 10000);
+  for (const int n : {200, 50}) {
+    const double half = 0.1, pix = 2 * half / n;
+    std::array<TemporalStats, 2> s;
+    for (int h = 0; h < 2; ++h) {
+      const double step = (h == 0 ? 0.05 : 0.025) * test::kPi / 180;
+      std::vector<metrics::Image> frames;
+      for (int k = 0; k < 12; ++k) {
+        const std::vector<double> e = test::ring_image(rings, n, -half, pix, 0.75 * std::tan(k * step), 0.0);
+        metrics::Image im{n, n, {}};
+        for (const double v : e) im.rgb.insert(im.rgb.end(), 3, static_cast<float>(v));
+        frames.push_back(std::move(im));
+      }
+      s[static_cast<std::size_t>(h)] = metrics::temporal_stats(frames, std::array<double, 4>{-half, -half, half, half}, 0.01);
+    }
+    std::printf("[exact ball lens, %.0f mm pixels] rho %.4f -> %.4f (ratio %.3f); focus jump %.4f -> %.4f %%\n", 1000 * pix, s[0].rho,
+                s[1].rho, s[1].rho / s[0].rho, 100 * s[0].focus_jump.value_or(1), 100 * s[1].focus_jump.value_or(1));
+    ASSERT_TRUE(s[0].focus_jump && s[1].focus_jump);
+    const double bound = n == 200 ? 5e-4 : 2e-3;
+    EXPECT_LT(*s[0].focus_jump, bound);
+    EXPECT_LT(*s[1].focus_jump, bound);
+    if (n == 50) EXPECT_LE(s[1].rho / s[0].rho, 0.6);
+  }
 }
 
 TEST_F(Temporal, GlassCausticMapsHoldStillAsTheSunTurns) {

@@ -97,10 +97,10 @@ int main(int argc, char** argv) {
   bool glass_no_focus = false;
   app.add_flag("--glass-no-focus", glass_no_focus,
                "glass (table): no focus windows, one illumination texture per plane over each whole receiver, as Iwasaki et al. (docs/glass-focus.md)");
-  bool glass_focus_tent = false;
-  app.add_flag("--glass-focus-tent", glass_focus_tent,
-               "glass (table): a focus window's texels take the light within a texel of their centres by the tent, so a moving focus "
-               "changes them smoothly, for a focus spread by a texel more (docs/temporal.md)");
+  bool glass_focus_box = false;
+  app.add_flag("--glass-focus-box", glass_focus_box,
+               "glass (table): a focus window's texels take the light inside them (the box) instead of by the tent: a focus a "
+               "little sharper that steps from texel to texel as it moves (docs/temporal.md)");
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
   app.add_option("--glass-focus-wide", glass_focus_wide,
                  "glass (table): in a focus window, triangles at least this many of its texels high are drawn by a second program that "
@@ -296,7 +296,7 @@ int main(int argc, char** argv) {
   caustics.glass_smooth = !glass_flat;
   caustics.glass_focus = !glass_no_focus;
   caustics.glass_focus_wide = glass_focus_wide;
-  caustics.glass_focus_tent = glass_focus_tent;
+  caustics.glass_focus_tent = !glass_focus_box;
   if (!glass_focus_spectral.empty()) caustics.glass_focus_spectral_coarse = glass_focus_spectral == "coarse";
   caustics.water_smooth = !caustics_flat;
   caustics.cull = !no_cull;

@@ -241,7 +241,7 @@ struct RuntimeModes final : Modes {
   std::uint32_t planes = 0, csize = 0, gsize = 0, volume_focus = runtime::VolumeOptions{}.focus_grid;
   int warmup = 3, count = 10, wframes = 5, supersample = 1;
   std::uint32_t wavelengths = runtime::CausticsOptions{}.wavelengths;
-  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, glass_focus_tent = false,
+  bool no_cull = false, header = false, move_light = false, still = false, glass_no_focus = false, glass_focus_box = false,
        cmap_no_focus = false;
   std::uint32_t out_of_view = 0;
   float glass_focus_wide = runtime::CausticsOptions{}.glass_focus_wide;
@@ -273,8 +273,9 @@ struct RuntimeModes final : Modes {
     fr->add_flag("--glass-no-focus", glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
     fr->add_option("--volume-refraction", volume_refraction, "media: surface or gradient (VolumeOptions::surface_refraction)")
         ->check(CLI::IsMember({"surface", "gradient"}))->capture_default_str();
-    fr->add_flag("--glass-focus-tent", glass_focus_tent,
-                 "glass (table): focus windows' texels by the tent (CausticsOptions::glass_focus_tent, docs/temporal.md)");
+    fr->add_flag("--glass-focus-box", glass_focus_box,
+                 "glass (table): focus windows' texels by the box, not the tent (CausticsOptions::glass_focus_tent off, "
+                 "docs/temporal.md)");
     fr->add_option("--glass-focus-wide", glass_focus_wide,
                    "glass (table): focus windows' wide triangles, in window texels (0: every triangle clipped; docs/glass-focus.md)")
         ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
@@ -359,7 +360,7 @@ struct RuntimeModes final : Modes {
                                                : runtime::MapBatching::kAuto;
     co.glass_focus = !glass_no_focus;
     co.glass_focus_wide = glass_focus_wide;
-    co.glass_focus_tent = glass_focus_tent;
+    co.glass_focus_tent = !glass_focus_box;
     co.volume.focus_grid = volume_focus;
     co.volume.surface_refraction = volume_refraction == "surface";
     co.map_size = csize;

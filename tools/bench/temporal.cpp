@@ -7,7 +7,7 @@
 //
 //   caustix-bench temporal SCENE.cxb --motion light|water|object --step S
 //       [--receiver NAME --region x0,z0,x1,z1 | --inscatter --region x0,y0,x1,y1]
-//       [--frames N] [--size N] [--pixel-samples N] [--method M] [--glass-method G] [--glass-focus-tent]
+//       [--frames N] [--size N] [--pixel-samples N] [--method M] [--glass-method G] [--glass-focus-box]
 //       [--object NAME] [--time T] [--focus-radius R] [--write-frames DIR] [--label L] [--header]
 
 #include "temporal.h"
@@ -45,7 +45,7 @@ struct Request {
   double time = 0, focus_radius = 0.01;
   runtime::CausticsOptions caustics;
   bool set_method = false, set_glass_method = false;
-  bool glass_no_focus = false, glass_focus_tent = false, cmap_no_focus = false;
+  bool glass_no_focus = false, glass_focus_box = false, cmap_no_focus = false;
   int volume_focus = -1;  // media focus grid; -1: the file's
   std::string volume_refraction;  // media: surface or gradient; empty: the default
   std::string write_frames;  // a folder for the stacks' images; empty: none
@@ -81,7 +81,7 @@ int temporal(Request q, const Motion& m, const std::string& label) {
   if (q.set_method) co.method = q.caustics.method;
   if (q.set_glass_method) co.glass_method = q.caustics.glass_method;
   if (q.glass_no_focus) co.glass_focus = false;
-  if (q.glass_focus_tent) co.glass_focus_tent = true;
+  if (q.glass_focus_box) co.glass_focus_tent = false;
   if (q.cmap_no_focus) co.caustic_map.focus = false;
   if (q.volume_focus >= 0) co.volume.focus_grid = static_cast<std::uint32_t>(q.volume_focus);
   if (!q.volume_refraction.empty()) co.volume.surface_refraction = q.volume_refraction == "surface";
@@ -143,7 +143,8 @@ class TemporalMode : public Modes {
     cmd_->add_option("--glass-method", glass_method_, "light through glass: table or caustic-map (default: the file's)")
         ->check(CLI::IsMember({"table", "caustic-map"}));
     cmd_->add_flag("--glass-no-focus", q_.glass_no_focus, "glass (table): no focus windows (docs/glass-focus.md)");
-    cmd_->add_flag("--glass-focus-tent", q_.glass_focus_tent, "glass (table): focus windows' texels by the tent (CausticsOptions::glass_focus_tent)");
+    cmd_->add_flag("--glass-focus-box", q_.glass_focus_box,
+                   "glass (table): focus windows' texels by the box, not the tent (CausticsOptions::glass_focus_tent off)");
     cmd_->add_flag("--cmap-no-focus", q_.cmap_no_focus, "caustic maps: no focus window (docs/caustic-maps.md)");
     cmd_->add_option("--volume-focus", q_.volume_focus, "media: focus-grid voxels a side (0: none; default: the file's)")
         ->check(CLI::Range(0, 128));

@@ -64,6 +64,8 @@ const std::vector<Knob>& knobs() {
        [](Setting& s, double v) { s.bake.glass_refine.max_turn_deg = v; }},
       {"glass-size", {128, 256, 512, 1024, 2048}, true, false,
        [](Setting& s, double v) { s.caustics.glass_map_size = static_cast<std::uint32_t>(v); }},
+      // The glass focus window's texels by the tent (1) or by the box (0).
+      {"glass-focus-tent", {1, 0}, false, false, [](Setting& s, double v) { s.caustics.glass_focus_tent = v != 0; }},
       // Media (Pfeuti): judged on in-scatter images.
       {"volume-grid", {16, 32, 64, 128}, false, false,
        [](Setting& s, double v) { s.caustics.volume.grid = static_cast<std::uint32_t>(v); }, true},

@@ -44,7 +44,7 @@ constexpr std::size_t kMinSampleVertices = 64;
 // 0.92; the sampling stride alone can put two or three rays in a cell).
 // The window is the square around the concentrated cells and one cell
 // more, no larger than kFocusMaxHalf of the frame (else the main texture
-// does nearly as well) and no smaller than kFocusMinHalf (at most 32
+// does nearly as well) and no smaller than kFocusMinHalf (at most 42
 // times the main texture's resolution, with kFocusTexels). The caustic
 // maps' windows use the same constants (gl/focus_window.h).
 constexpr int kFocusBins = focus::kBins;
@@ -53,10 +53,14 @@ constexpr int kFocusMinRays = focus::kMinSamples;
 constexpr float kFocusMaxHalf = focus::kMaxHalf;
 constexpr float kFocusMinHalf = focus::kMinHalf;
 // The window's texels per side, as a fraction of the main texture's: its
-// layers hold it in their lower-left quarter. A full layer would cost the
+// layers hold it in their lower corner. A full layer would cost the
 // illumination pass several times its time for little more of the focus
-// (docs/glass-focus.md measures both).
-constexpr float kFocusTexels = focus::kTexels;
+// (docs/glass-focus.md measures both). 0.65 rather than the caustic maps'
+// half: by the tent (CausticsOptions::glass_focus_tent) a focus spreads by
+// a texel more, and at 0.65 it is sharper than it was at a half by the
+// box; beside it there is still room for a coarse window at half its
+// texels (0.65 + 0.325 < 1, window_squares).
+constexpr float kFocusTexels = 0.65f;
 
 inline glm::mat4 to_glm(const Mat4f& m) { return glm::make_mat4(m.data()); }
 

@@ -82,7 +82,7 @@ struct LightBlock {
   // n..2n-1 of the illumination texture hold the same planes over the
   // square of half-size glass_half.w (texture-coordinate units, 0: no
   // window) centred at (glass_v.w, glass_w.w), drawn into the layers'
-  // lower-left quarter (half their texels per side: caustix.glsl's
+  // lower corner (0.65 of their texels per side: caustix.glsl's
   // CAUSTIX_GLASS_FOCUS_TEXELS), with mips.
   glm::vec4 glass_v{0};         // w: the focus window's centre, u
   glm::vec4 glass_w{0};         // w: the focus window's centre, v

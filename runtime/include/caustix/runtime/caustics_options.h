@@ -250,18 +250,17 @@ struct CausticsOptions {
   float glass_focus_wide = 4.0f;
   // In a focus window, each texel takes the light of the triangles' parts
   // within one texel of its centre, weighted by the tent
-  // (1 - |dx|)(1 - |dy|), instead of the light inside it (the box): a
-  // focus that moves across the window's texels then changes them
-  // continuously instead of jumping at their edges (docs/temporal.md,
+  // (1 - |dx|)(1 - |dy|); false: the light inside it (the box). By the box
+  // a focus narrower than a texel jumps from texel to texel as it moves;
+  // by the tent it moves between them continuously (docs/temporal.md,
   // "The glass tables' tent": with the sun turning 0.05 deg a frame,
-  // rho's ratio 0.83 -> 0.61 at balanced). The cost: the spot spread by
-  // the tent (glass_ball's brightest 2 mm pixel -17.8 -> -21.0 % against
-  // optics at balanced, the power within 5 mm -2.5 -> -2.6 %) and four
-  // clippings for each of the window's fragments (1.6 % more of them on
-  // glass_ball; the pass's time within llvmpipe's run-to-run spread). The
-  // closed-form wide triangles (glass_focus_wide) and the main textures
-  // keep the box. Off by default, so that the focus keeps its peak.
-  bool glass_focus_tent = false;
+  // glass_ball's rho ratio 0.83 -> 0.61 at balanced). The tent spreads
+  // the spot by a texel more, so the window has 0.65 of the texture's
+  // texels a side up to 512^2 textures (docs/glass-focus.md), where the box
+  // had half: glass_ball's brightest 2 mm pixel against optics -17.8 % by
+  // the box then, -17.4 % by the tent now. The closed-form wide triangles
+  // (glass_focus_wide) and the main textures keep the box.
+  bool glass_focus_tent = true;
   // Where glass disperses, a focus window is drawn once per traced
   // wavelength; true: at half its texels a side, into a square beside it,
   // and interpolated into its own (docs/glass-focus.md, "A window per

@@ -127,9 +127,10 @@ vec2 caustix_texture_coords(int projection, vec3 row0, vec3 row1, vec2 uv, vec3 
 // fragment shader has.
 //
 // The glass focus windows' texels per side, as a fraction of their
-// illumination texture's (LightBlock::glass_half.w): a window's
-// layers hold it in their lower-left quarter. The engine's kFocusTexels.
-const float CAUSTIX_GLASS_FOCUS_TEXELS = 0.5;
+// illumination texture's (LightBlock::glass_half.w says where a window
+// lies): a window's layers hold it in their lower corner. The engine's
+// kFocusTexels.
+const float CAUSTIX_GLASS_FOCUS_TEXELS = 0.65;
 
 // One (receiver, light): caustix::runtime::LightBlock field for field (the
 // per-receiver block, and each entry of the all-receivers table).
@@ -394,7 +395,7 @@ vec3 caustix_glass_irradiance(vec3 p) {
   // The focus window: where the light through the glass
   // concentrates, layers n..2n-1 hold the same planes over a square of
   // half-size glass_half.w around (glass_v.w, glass_w.w), in uv units, in
-  // their lower-left quarter (CAUSTIX_GLASS_FOCUS_TEXELS of the side; the
+  // their lower corner (CAUSTIX_GLASS_FOCUS_TEXELS of the side; the
   // texture has mips, so that a focus finer than the pixel is averaged,
   // not aliased). Read there, blended into the main layers over the
   // window's outer tenth and where its mip level is no finer than the main
