@@ -33,7 +33,7 @@ run thesis_teapot teapot -1.25,-0.8,1.35,0.8 104x64 128000000
 run glass_ball floor -1,-1,1,1 128x128 32000000
 # The focus: 1 mm pixels over +-5 cm, the focal columns
 # (focus_1cm, focus_2cm, peak_ratio) judge what the eye goes to first.
-run glass_ball floor -0.05,-0.05,0.05,0.05 100x100 24000000 focus --knobs glass-size glass-turn ltt-resolution glass-method cmap-size cmap-focus presets
+run glass_ball floor -0.05,-0.05,0.05,0.05 100x100 24000000 focus --knobs glass-size glass-focus-tent glass-turn ltt-resolution glass-method cmap-size cmap-focus presets
 # Media (docs/volume.md): in-scatter references, the media's knobs.
 # An optional fifth argument names a second sweep of the same scene and the
 # knobs after it limit it.
