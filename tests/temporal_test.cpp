@@ -105,8 +105,8 @@ TEST_F(Temporal, GlassTablesFocusHoldsStillAsTheSunTurns) {
 
 // By the box a spot narrower than a texel gives all its light to one
 // texel and jumps to the next at the texel's edge: rho's ratio 0.67 at
-// this preset (and 0.83 at balanced, where the focus moves nearly a
-// texel a frame; docs/temporal.md). Still within the target.
+// this preset (and 0.80 at balanced; docs/temporal.md). Still within
+// the target here.
 TEST_F(Temporal, GlassTablesByTheBoxHoldStill) {
   glass_focus_holds_still(runtime::GlassMethod::kTable, "glass_ball, tables, box", false, 0.7);
 }

@@ -154,7 +154,7 @@ void GlassEngine::Impl::illuminate(const SceneDesc& scene, Target& t, const Caus
     glBindVertexArray(empty_vao.get());
     // The main layers, then the focus window's: the same
     // primitives, their texel coordinates q taken to the window's
-    // (q - offset) * scale, over the layer's lower-left quarter
+    // (q - offset) * scale, over the layer's lower corner
     // (kFocusTexels: 0.42 of the fragments of a full layer); a
     // coarse window (update_light) at half that scale into the square
     // beside it (window_squares), which resolve_window interpolates.

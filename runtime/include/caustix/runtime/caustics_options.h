@@ -254,11 +254,11 @@ struct CausticsOptions {
   // a focus narrower than a texel jumps from texel to texel as it moves;
   // by the tent it moves between them continuously (docs/temporal.md,
   // "The glass tables' tent": with the sun turning 0.05 deg a frame,
-  // glass_ball's rho ratio 0.83 -> 0.61 at balanced). The tent spreads
+  // glass_ball's rho ratio 0.83 -> 0.60 at balanced). The tent spreads
   // the spot by a texel more, so the window has 0.65 of the texture's
-  // texels a side up to 512^2 textures (docs/glass-focus.md), where the box
-  // had half: glass_ball's brightest 2 mm pixel against optics -17.8 % by
-  // the box then, -17.4 % by the tent now. The closed-form wide triangles
+  // texels a side (docs/glass-focus.md), where the box had half:
+  // glass_ball's brightest 2 mm pixel against optics -17.8 % by the box
+  // then, -17.4 % by the tent now. The closed-form wide triangles
   // (glass_focus_wide) and the main textures keep the box.
   bool glass_focus_tent = true;
   // Where glass disperses, a focus window is drawn once per traced
